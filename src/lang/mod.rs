@@ -1,0 +1,1 @@
+//! Text to scene graph: the pest grammar, expression evaluation, `#declare` and `#include`.

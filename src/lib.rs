@@ -1,0 +1,7 @@
+//! raydiance: a physically based renderer for a POV-Ray-like scene language.
+#![forbid(unsafe_code)]
+
+pub mod diagnostic;
+pub mod image;
+pub mod lang;
+pub mod scene;

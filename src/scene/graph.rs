@@ -1,0 +1,166 @@
+//! The scene graph: what a `.scn` file says, evaluated (numbers, not expressions) but not yet
+//! flattened. Produced by `lang`, consumed by `scene::build`. Every node keeps its span so that
+//! errors found while building still point at the text.
+
+use std::sync::Arc;
+
+use glam::{Affine3A, Mat3, Vec3};
+
+use crate::diagnostic::Span;
+
+#[derive(Debug, Clone)]
+pub struct SceneGraph {
+    pub settings: Settings,
+    pub camera: CameraDesc,
+    pub lights: Vec<PointLightDesc>,
+    pub objects: Vec<ObjectNode>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IntegratorKind {
+    Direct,
+    Path,
+}
+
+impl IntegratorKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Direct => "direct",
+            IntegratorKind::Path => "path",
+        }
+    }
+}
+
+/// `settings { ... }`; `Default` gives the language's defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    pub samples: u32,
+    pub integrator: IntegratorKind,
+    pub max_depth: u32,
+    pub seed: u64,
+    pub background: Vec3,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            width: 256,
+            height: 256,
+            samples: 16,
+            integrator: IntegratorKind::Path,
+            max_depth: 32,
+            seed: 0,
+            background: Vec3::ZERO,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum CameraForm {
+    /// The lab's camera: image plane `origin + forward + a*left + b*up`, a, b in [-1, 1].
+    Lab { origin: Vec3, left: Vec3, up: Vec3, forward: Vec3 },
+    /// POV-Ray's camera: `angle` is the horizontal field of view in degrees.
+    LookAt { location: Vec3, look_at: Vec3, up: Vec3, angle: f32 },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct CameraDesc {
+    pub form: CameraForm,
+    /// Thin-lens radius; 0 is a pinhole.
+    pub aperture: f32,
+    /// Distance along the view direction that is in focus; `None` means the image plane's.
+    pub focal_distance: Option<f32>,
+    pub span: Span,
+}
+
+/// `light_source { <c> power rgb p }`: p acts as radiant intensity (the seed's formula).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointLightDesc {
+    pub position: Vec3,
+    pub power: Vec3,
+    pub span: Span,
+}
+
+/// `material { ... }`, all fields explicit (defaults filled in by `lang`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialDesc {
+    /// The declared name, if it came from `#declare Name = material {...}`; for messages.
+    pub name: Option<String>,
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    pub transmission: Vec3,
+    pub ior: f32,
+    pub emission: Vec3,
+    pub fresnel: bool,
+    pub span: Span,
+}
+
+/// A transform as written; `ObjectNode::transforms` applies them first written, first applied.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Transform {
+    Translate(Vec3),
+    /// Degrees about x, then y, then z (POV-Ray).
+    Rotate(Vec3),
+    Scale(Vec3),
+    /// POV-Ray's `matrix <m00, .., m22, t0, t1, t2>`: x' = m00 x + m10 y + m20 z + t0, and so on,
+    /// so `linear` is `Mat3::from_cols_array` of the first nine numbers in written order.
+    Matrix { linear: Mat3, translation: Vec3 },
+}
+
+impl Transform {
+    pub fn to_affine(self) -> Affine3A {
+        match self {
+            Transform::Translate(v) => Affine3A::from_translation(v),
+            Transform::Rotate(deg) => {
+                let r = deg * (std::f32::consts::PI / 180.0);
+                // About x first, then y, then z: R = Rz * Ry * Rx. In the left-handed space
+                // this is the same matrix POV-Ray uses (rotations are about the axis, clockwise
+                // when looking along it from the positive end).
+                Affine3A::from_rotation_z(r.z)
+                    * Affine3A::from_rotation_y(r.y)
+                    * Affine3A::from_rotation_x(r.x)
+            }
+            Transform::Scale(s) => Affine3A::from_scale(s),
+            Transform::Matrix { linear, translation } => {
+                Affine3A::from_mat3_translation(linear, translation)
+            }
+        }
+    }
+}
+
+/// The composition of transforms in written order (first written, first applied).
+pub fn compose(transforms: &[Transform]) -> Affine3A {
+    transforms
+        .iter()
+        .fold(Affine3A::IDENTITY, |acc, t| t.to_affine() * acc)
+}
+
+#[derive(Debug, Clone)]
+pub struct ObjectNode {
+    pub shape: ShapeNode,
+    /// Applies to this node, and to children without a material of their own.
+    pub material: Option<Arc<MaterialDesc>>,
+    pub transforms: Vec<Transform>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum ShapeNode {
+    /// Points p with `normal . p + offset = 0` (the seed's convention).
+    Plane { normal: Vec3, offset: f32 },
+    Sphere { center: Vec3, radius: f32 },
+    /// Two opposite corners, in any order.
+    Box { corner_a: Vec3, corner_b: Vec3 },
+    Triangle { a: Vec3, b: Vec3, c: Vec3 },
+    /// Emits towards `edge1 x edge2`.
+    Quad { corner: Vec3, edge1: Vec3, edge2: Vec3 },
+    Disk { center: Vec3, normal: Vec3, radius: f32 },
+    /// Closed: with both caps.
+    Cylinder { base: Vec3, cap: Vec3, radius: f32 },
+    /// `union { ... }`: a group.
+    Union(Vec<ObjectNode>),
+    /// `object { Name ... }`: an instance of a declared object, shared, not copied.
+    Instance(Arc<ObjectNode>),
+}

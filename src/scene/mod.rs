@@ -1,0 +1,3 @@
+//! Scenes: the graph `lang` produces, and `build`, which turns it into a render-ready `Scene`.
+
+pub mod graph;
