@@ -1,7 +1,19 @@
 //! raydiance: a physically based renderer for a POV-Ray-like scene language.
+//!
+//! Data flows one way: text --`lang`--> `SceneGraph` --`scene::build`--> `Scene`
+//! --`render`--> `Film` --> image files --> `tonemap`.
 #![forbid(unsafe_code)]
 
+pub mod accel;
+pub mod camera;
 pub mod diagnostic;
+pub mod film;
+pub mod geometry;
 pub mod image;
+pub mod integrator;
 pub mod lang;
+pub mod light;
+pub mod material;
+pub mod render;
+pub mod sampling;
 pub mod scene;

@@ -60,9 +60,19 @@ impl Default for Settings {
 #[derive(Debug, Clone, PartialEq)]
 pub enum CameraForm {
     /// The lab's camera: image plane `origin + forward + a*left + b*up`, a, b in [-1, 1].
-    Lab { origin: Vec3, left: Vec3, up: Vec3, forward: Vec3 },
+    Lab {
+        origin: Vec3,
+        left: Vec3,
+        up: Vec3,
+        forward: Vec3,
+    },
     /// POV-Ray's camera: `angle` is the horizontal field of view in degrees.
-    LookAt { location: Vec3, look_at: Vec3, up: Vec3, angle: f32 },
+    LookAt {
+        location: Vec3,
+        look_at: Vec3,
+        up: Vec3,
+        angle: f32,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -106,7 +116,10 @@ pub enum Transform {
     Scale(Vec3),
     /// POV-Ray's `matrix <m00, .., m22, t0, t1, t2>`: x' = m00 x + m10 y + m20 z + t0, and so on,
     /// so `linear` is `Mat3::from_cols_array` of the first nine numbers in written order.
-    Matrix { linear: Mat3, translation: Vec3 },
+    Matrix {
+        linear: Mat3,
+        translation: Vec3,
+    },
 }
 
 impl Transform {
@@ -123,9 +136,10 @@ impl Transform {
                     * Affine3A::from_rotation_x(r.x)
             }
             Transform::Scale(s) => Affine3A::from_scale(s),
-            Transform::Matrix { linear, translation } => {
-                Affine3A::from_mat3_translation(linear, translation)
-            }
+            Transform::Matrix {
+                linear,
+                translation,
+            } => Affine3A::from_mat3_translation(linear, translation),
         }
     }
 }
@@ -149,16 +163,41 @@ pub struct ObjectNode {
 #[derive(Debug, Clone)]
 pub enum ShapeNode {
     /// Points p with `normal . p + offset = 0` (the seed's convention).
-    Plane { normal: Vec3, offset: f32 },
-    Sphere { center: Vec3, radius: f32 },
+    Plane {
+        normal: Vec3,
+        offset: f32,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
     /// Two opposite corners, in any order.
-    Box { corner_a: Vec3, corner_b: Vec3 },
-    Triangle { a: Vec3, b: Vec3, c: Vec3 },
+    Box {
+        corner_a: Vec3,
+        corner_b: Vec3,
+    },
+    Triangle {
+        a: Vec3,
+        b: Vec3,
+        c: Vec3,
+    },
     /// Emits towards `edge1 x edge2`.
-    Quad { corner: Vec3, edge1: Vec3, edge2: Vec3 },
-    Disk { center: Vec3, normal: Vec3, radius: f32 },
+    Quad {
+        corner: Vec3,
+        edge1: Vec3,
+        edge2: Vec3,
+    },
+    Disk {
+        center: Vec3,
+        normal: Vec3,
+        radius: f32,
+    },
     /// Closed: with both caps.
-    Cylinder { base: Vec3, cap: Vec3, radius: f32 },
+    Cylinder {
+        base: Vec3,
+        cap: Vec3,
+        radius: f32,
+    },
     /// `union { ... }`: a group.
     Union(Vec<ObjectNode>),
     /// `object { Name ... }`: an instance of a declared object, shared, not copied.

@@ -1,3 +1,109 @@
-//! Scenes: the graph `lang` produces, and `build`, which turns it into a render-ready `Scene`.
+//! Scenes: the graph `lang` produces, and `build`, which turns it into a render-ready `Scene`:
+//! world-space primitives in flat arrays under a BVH, materials, lights and the camera.
 
+mod build;
 pub mod graph;
+
+pub use build::build;
+
+use glam::Vec3;
+
+use crate::accel::Bvh;
+use crate::camera::Camera;
+use crate::geometry::{Hit, Ray, Shape};
+use crate::light::Light;
+use crate::material::Material;
+use graph::Settings;
+
+#[derive(Debug, Clone)]
+pub struct Primitive {
+    pub shape: Shape,
+    pub material: u32,
+    /// Its index in `Scene::lights` when it is an emitter sampled as an area light.
+    pub light: Option<u32>,
+}
+
+#[derive(Debug)]
+pub struct Scene {
+    pub settings: Settings,
+    pub camera: Camera,
+    /// Bounded primitives first, in BVH order, then the unbounded planes.
+    pub primitives: Vec<Primitive>,
+    bounded: usize,
+    bvh: Bvh,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    /// Cumulative distribution for choosing a light in proportion to its power.
+    light_cdf: Vec<f32>,
+    /// Things the user should know that are not errors (e.g. the camera's aspect ratio).
+    pub warnings: Vec<String>,
+}
+
+impl Scene {
+    /// The closest surface along the ray.
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let mut closest: Option<Hit> = None;
+        let bounded = &self.primitives[..self.bounded];
+        let t_max = self.bvh.closest(ray, f32::INFINITY, |i, t_max| {
+            let hit = bounded[i].shape.intersect(ray, t_max)?;
+            closest = Some(Hit {
+                primitive: i as u32,
+                ..hit
+            });
+            Some(hit.t)
+        });
+        for (i, prim) in self.planes() {
+            if let Some(hit) = prim.shape.intersect(ray, closest.map_or(t_max, |h| h.t)) {
+                closest = Some(Hit {
+                    primitive: i as u32,
+                    ..hit
+                });
+            }
+        }
+        closest
+    }
+
+    /// Whether any surface lies along the ray before `t_max` (shadow rays).
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let bounded = &self.primitives[..self.bounded];
+        self.bvh.any(ray, t_max, |i| {
+            bounded[i].shape.intersect(ray, t_max).is_some()
+        }) || self
+            .planes()
+            .any(|(_, p)| p.shape.intersect(ray, t_max).is_some())
+    }
+
+    pub fn material(&self, hit: &Hit) -> &Material {
+        &self.materials[self.primitives[hit.primitive as usize].material as usize]
+    }
+
+    /// Radiance of rays that leave the scene.
+    pub fn background(&self) -> Vec3 {
+        self.settings.background
+    }
+
+    /// A light chosen in proportion to its power, and the probability of that choice.
+    pub fn choose_light(&self, u: f32) -> Option<(usize, f32)> {
+        let total = *self.light_cdf.last()?;
+        let index = self
+            .light_cdf
+            .partition_point(|&c| c <= u * total)
+            .min(self.lights.len() - 1);
+        Some((index, self.light_probability(index)))
+    }
+
+    /// The probability that `choose_light` returns light `index`.
+    pub fn light_probability(&self, index: usize) -> f32 {
+        let total = self.light_cdf.last().copied().unwrap_or(0.0);
+        let below = if index == 0 {
+            0.0
+        } else {
+            self.light_cdf[index - 1]
+        };
+        (self.light_cdf[index] - below) / total
+    }
+
+    fn planes(&self) -> impl Iterator<Item = (usize, &Primitive)> {
+        self.primitives.iter().enumerate().skip(self.bounded)
+    }
+}

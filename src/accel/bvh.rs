@@ -1,0 +1,410 @@
+//! A bounding volume hierarchy: binned SAH build (in parallel), flattened depth-first nodes,
+//! front-to-back traversal.
+
+use glam::Vec3;
+
+use crate::geometry::{Aabb, Ray};
+
+const BINS: usize = 16;
+const MAX_LEAF: usize = 4;
+/// Cost of visiting a node relative to one primitive test (SAH).
+const TRAVERSAL_COST: f32 = 1.0;
+/// Below this many primitives a subtree is built on the current thread.
+const PARALLEL_MIN: usize = 4096;
+/// Past this depth splits are by median, which bounds the depth (and the traversal stack).
+const SAH_MAX_DEPTH: usize = 48;
+const STACK_SIZE: usize = SAH_MAX_DEPTH + 64;
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    bounds: Aabb,
+    /// Leaf: first primitive. Interior: index of the second child (the first follows the node).
+    offset: u32,
+    /// Number of primitives; 0 marks an interior node.
+    count: u16,
+    /// Split axis of an interior node, for choosing the nearer child first.
+    axis: u8,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+}
+
+#[derive(Clone, Copy)]
+struct Item {
+    bounds: Aabb,
+    centroid: Vec3,
+    index: u32,
+}
+
+enum BuildNode {
+    Leaf {
+        bounds: Aabb,
+        first: usize,
+        count: usize,
+    },
+    Interior {
+        bounds: Aabb,
+        axis: u8,
+        children: Box<[BuildNode; 2]>,
+    },
+}
+
+impl Bvh {
+    /// Builds over the given boxes. Returns the hierarchy and the order in which the primitives
+    /// must be stored: leaf ranges index that order.
+    pub fn build(bounds: &[Aabb]) -> (Bvh, Vec<u32>) {
+        let mut items: Vec<Item> = bounds
+            .iter()
+            .enumerate()
+            .map(|(i, b)| Item {
+                bounds: *b,
+                centroid: b.centroid(),
+                index: i as u32,
+            })
+            .collect();
+        if items.is_empty() {
+            return (Bvh::default(), Vec::new());
+        }
+        let root = build_node(&mut items, 0, 0);
+        let mut nodes = Vec::with_capacity(2 * items.len() / MAX_LEAF + 1);
+        flatten(&root, &mut nodes);
+        (Bvh { nodes }, items.iter().map(|it| it.index).collect())
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
+    }
+
+    /// Closest-hit traversal. `hit(i, t_max)` tests primitive `i` and returns its distance if it
+    /// is hit before `t_max`; the closest such distance is returned.
+    #[inline]
+    pub fn closest(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        mut hit: impl FnMut(usize, f32) -> Option<f32>,
+    ) -> f32 {
+        if self.nodes.is_empty() {
+            return t_max;
+        }
+        let inv_dir = ray.dir.recip();
+        let negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
+        let mut stack = [0u32; STACK_SIZE];
+        let mut top = 0;
+        let mut current = 0usize;
+        loop {
+            let node = &self.nodes[current];
+            if node
+                .bounds
+                .hit_distance(ray.origin, inv_dir, t_max)
+                .is_some()
+            {
+                if node.count > 0 {
+                    let first = node.offset as usize;
+                    for i in first..first + node.count as usize {
+                        if let Some(t) = hit(i, t_max) {
+                            t_max = t;
+                        }
+                    }
+                } else {
+                    // Visit the child on the ray's near side of the split first.
+                    let (near, far) = if negative[node.axis as usize] {
+                        (node.offset as usize, current + 1)
+                    } else {
+                        (current + 1, node.offset as usize)
+                    };
+                    stack[top] = far as u32;
+                    top += 1;
+                    current = near;
+                    continue;
+                }
+            }
+            if top == 0 {
+                return t_max;
+            }
+            top -= 1;
+            current = stack[top] as usize;
+        }
+    }
+
+    /// Any-hit traversal for shadow rays: stops at the first primitive for which `hit` is true.
+    #[inline]
+    pub fn any(&self, ray: &Ray, t_max: f32, mut hit: impl FnMut(usize) -> bool) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let inv_dir = ray.dir.recip();
+        let mut stack = [0u32; STACK_SIZE];
+        let mut top = 0;
+        let mut current = 0usize;
+        loop {
+            let node = &self.nodes[current];
+            if node
+                .bounds
+                .hit_distance(ray.origin, inv_dir, t_max)
+                .is_some()
+            {
+                if node.count > 0 {
+                    let first = node.offset as usize;
+                    if (first..first + node.count as usize).any(&mut hit) {
+                        return true;
+                    }
+                } else {
+                    stack[top] = node.offset;
+                    top += 1;
+                    current += 1;
+                    continue;
+                }
+            }
+            if top == 0 {
+                return false;
+            }
+            top -= 1;
+            current = stack[top] as usize;
+        }
+    }
+}
+
+fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
+    let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
+    if items.len() <= 1 {
+        return BuildNode::Leaf {
+            bounds,
+            first,
+            count: items.len(),
+        };
+    }
+    let sah = if depth < SAH_MAX_DEPTH {
+        split_sah(items, bounds)
+    } else {
+        None
+    };
+    let (axis, mid) = match sah {
+        Some(split) => split,
+        // A leaf is cheaper by SAH, or the centroids coincide and there are few enough.
+        None if items.len() <= 4 * MAX_LEAF => {
+            return BuildNode::Leaf {
+                bounds,
+                first,
+                count: items.len(),
+            };
+        }
+        None => split_median(items),
+    };
+    let (left, right) = items.split_at_mut(mid);
+    let (a, b) = if left.len() + right.len() >= PARALLEL_MIN {
+        rayon::join(
+            || build_node(left, first, depth + 1),
+            || build_node(right, first + mid, depth + 1),
+        )
+    } else {
+        (
+            build_node(left, first, depth + 1),
+            build_node(right, first + mid, depth + 1),
+        )
+    };
+    BuildNode::Interior {
+        bounds,
+        axis: axis as u8,
+        children: Box::new([a, b]),
+    }
+}
+
+/// Halves `items` at the median centroid along the widest axis.
+fn split_median(items: &mut [Item]) -> (usize, usize) {
+    let centroid_bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
+    let axis = centroid_bounds.extent().max_position();
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    (axis, mid)
+}
+
+/// Chooses the cheapest binned SAH split over all three axes and partitions `items` by it.
+/// Returns the axis and the size of the first part, or `None` when a leaf is cheaper or no
+/// split separates the centroids.
+fn split_sah(items: &mut [Item], bounds: Aabb) -> Option<(usize, usize)> {
+    let centroid_bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
+    let extent = centroid_bounds.extent();
+    let bin_of = |c: Vec3, axis: usize| {
+        let f = (c[axis] - centroid_bounds.min[axis]) / extent[axis] * BINS as f32;
+        (f as usize).min(BINS - 1)
+    };
+    let mut best: Option<(f32, usize, usize)> = None;
+    for axis in 0..3 {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        let mut bin_bounds = [Aabb::EMPTY; BINS];
+        let mut bin_counts = [0usize; BINS];
+        for it in items.iter() {
+            let b = bin_of(it.centroid, axis);
+            bin_bounds[b] = bin_bounds[b].union(it.bounds);
+            bin_counts[b] += 1;
+        }
+        // Sweep from the right to get the cost of every right part, then from the left.
+        let mut right_area = [0.0f32; BINS];
+        let (mut acc, mut count) = (Aabb::EMPTY, 0);
+        for b in (1..BINS).rev() {
+            acc = acc.union(bin_bounds[b]);
+            count += bin_counts[b];
+            right_area[b] = acc.surface_area() * count as f32;
+        }
+        let (mut acc, mut count) = (Aabb::EMPTY, 0);
+        for b in 0..BINS - 1 {
+            acc = acc.union(bin_bounds[b]);
+            count += bin_counts[b];
+            if count == 0 || count == items.len() {
+                continue;
+            }
+            let cost = acc.surface_area() * count as f32 + right_area[b + 1];
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, b));
+            }
+        }
+    }
+    let (cost, axis, bin) = best?;
+    let split_cost = TRAVERSAL_COST + cost / bounds.surface_area().max(f32::MIN_POSITIVE);
+    if items.len() <= MAX_LEAF && split_cost >= items.len() as f32 {
+        return None;
+    }
+    let mid = partition(items, |it| bin_of(it.centroid, axis) <= bin);
+    Some((axis, mid))
+}
+
+/// In-place partition; returns the number of items for which `left` holds (they come first).
+fn partition(items: &mut [Item], left: impl Fn(&Item) -> bool) -> usize {
+    let mut mid = 0;
+    for i in 0..items.len() {
+        if left(&items[i]) {
+            items.swap(i, mid);
+            mid += 1;
+        }
+    }
+    mid
+}
+
+fn flatten(node: &BuildNode, nodes: &mut Vec<Node>) {
+    match node {
+        BuildNode::Leaf {
+            bounds,
+            first,
+            count,
+        } => {
+            nodes.push(Node {
+                bounds: *bounds,
+                offset: *first as u32,
+                count: *count as u16,
+                axis: 0,
+            });
+        }
+        BuildNode::Interior {
+            bounds,
+            axis,
+            children,
+        } => {
+            let at = nodes.len();
+            nodes.push(Node {
+                bounds: *bounds,
+                offset: 0,
+                count: 0,
+                axis: *axis,
+            });
+            flatten(&children[0], nodes);
+            nodes[at].offset = nodes.len() as u32;
+            flatten(&children[1], nodes);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{PlanarKind, Shape};
+    use crate::sampling::{Sampler, uniform_sphere};
+
+    /// Random small triangles and spheres in the unit cube, as a BVH would see a scene.
+    fn random_shapes(n: usize) -> Vec<Shape> {
+        let mut s = Sampler::new(1, 2, 3);
+        let mut point = || Vec3::new(s.next_1d(), s.next_1d(), s.next_1d());
+        (0..n)
+            .map(|i| {
+                let origin = point() * 2.0 - Vec3::ONE;
+                if i % 5 == 0 {
+                    Shape::Sphere {
+                        center: origin,
+                        radius: 0.05 * point().x + 0.001,
+                    }
+                } else {
+                    let (edge1, edge2) = ((point() - 0.5) * 0.2, (point() - 0.5) * 0.2);
+                    let normal = edge1.cross(edge2).normalize();
+                    Shape::Planar {
+                        kind: PlanarKind::Triangle,
+                        origin,
+                        edge1,
+                        edge2,
+                        normal,
+                    }
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn closest_hit_equals_brute_force() {
+        let shapes = random_shapes(3000);
+        let bounds: Vec<Aabb> = shapes.iter().map(|s| s.bounds().unwrap()).collect();
+        let (bvh, order) = Bvh::build(&bounds);
+        let mut sorted: Vec<u32> = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(
+            sorted,
+            (0..shapes.len() as u32).collect::<Vec<_>>(),
+            "a permutation"
+        );
+        let ordered: Vec<&Shape> = order.iter().map(|&i| &shapes[i as usize]).collect();
+        let mut sampler = Sampler::new(9, 9, 9);
+        let mut hits = 0;
+        for _ in 0..2000 {
+            let origin = uniform_sphere(sampler.next_2d()) * 1.5 * sampler.next_1d();
+            let ray = Ray::new(origin, uniform_sphere(sampler.next_2d()));
+            let brute = shapes
+                .iter()
+                .filter_map(|s| s.intersect(&ray, f32::INFINITY))
+                .map(|h| h.t)
+                .fold(f32::INFINITY, f32::min);
+            let mut found = None;
+            let t = bvh.closest(&ray, f32::INFINITY, |i, t_max| {
+                let hit = ordered[i].intersect(&ray, t_max)?;
+                found = Some(i);
+                Some(hit.t)
+            });
+            assert_eq!(t, brute);
+            let any = bvh.any(&ray, f32::INFINITY, |i| {
+                ordered[i].intersect(&ray, f32::INFINITY).is_some()
+            });
+            assert_eq!(any, brute.is_finite());
+            hits += usize::from(found.is_some());
+        }
+        assert!(hits > 500, "the test rays hit something ({hits})");
+    }
+
+    #[test]
+    fn coincident_centroids_still_build_small_leaves() {
+        let bounds = vec![
+            Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::ONE
+            };
+            1000
+        ];
+        let (bvh, order) = Bvh::build(&bounds);
+        assert_eq!(order.len(), 1000);
+        assert!(
+            bvh.nodes
+                .iter()
+                .all(|n| usize::from(n.count) <= 4 * MAX_LEAF)
+        );
+    }
+}

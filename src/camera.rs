@@ -1,0 +1,109 @@
+//! The camera: the lab's image-plane form, to which POV-Ray's `look_at` form is converted.
+
+use glam::{Vec2, Vec3};
+
+use crate::diagnostic::SceneError;
+use crate::geometry::Ray;
+use crate::sampling::concentric_disk;
+use crate::scene::graph::{CameraDesc, CameraForm};
+
+/// Rays leave `origin` through `origin + forward + a * left + b * up`, a, b in [-1, 1]:
+/// a = 1 is the image's left edge (column 0), b = 1 its top edge (row 0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    pub origin: Vec3,
+    pub left: Vec3,
+    pub up: Vec3,
+    pub forward: Vec3,
+    /// Thin-lens radius (0: pinhole) and the distance along `forward` that is in focus.
+    pub aperture: f32,
+    pub focal_distance: f32,
+}
+
+impl Camera {
+    /// The camera of a description, for an image of `width` x `height` pixels. Returns a warning
+    /// too when the lab form's plane does not have the image's aspect ratio.
+    pub fn new(
+        desc: &CameraDesc,
+        width: u32,
+        height: u32,
+    ) -> Result<(Camera, Option<String>), SceneError> {
+        let aspect = width as f32 / height as f32;
+        let (origin, left, up, forward, warning) = match desc.form {
+            CameraForm::Lab {
+                origin,
+                left,
+                up,
+                forward,
+            } => {
+                let plane_aspect = left.length() / up.length();
+                let warning = ((plane_aspect / aspect - 1.0).abs() > 1e-3).then(|| {
+                    format!(
+                        "{:?}: warning: the camera's image plane has aspect {plane_aspect} \
+                         (|left| / |up|) but the image is {width}x{height} (aspect {aspect}); \
+                         pixels will not be square",
+                        desc.span
+                    )
+                });
+                (origin, left, up, forward, warning)
+            }
+            CameraForm::LookAt {
+                location,
+                look_at,
+                up,
+                angle,
+            } => {
+                // Left-handed like POV-Ray: with forward +z and up +y, right is up x forward = +x.
+                let forward = (look_at - location).normalize();
+                let right = up.cross(forward).normalize();
+                let true_up = forward.cross(right);
+                let half_width = (angle.to_radians() * 0.5).tan();
+                let half_height = half_width / aspect;
+                (
+                    location,
+                    -right * half_width,
+                    true_up * half_height,
+                    forward,
+                    None,
+                )
+            }
+        };
+        let degenerate = [left, up, forward]
+            .iter()
+            .any(|v| !v.is_finite() || v.length() == 0.0)
+            || left.cross(up).length() <= 1e-6 * left.length() * up.length();
+        if degenerate {
+            return Err(SceneError::at(
+                &desc.span,
+                "the camera's vectors are zero or parallel: no image plane",
+            ));
+        }
+        let focal_distance = desc.focal_distance.unwrap_or(forward.length());
+        let camera = Camera {
+            origin,
+            left,
+            up,
+            forward,
+            aperture: desc.aperture,
+            focal_distance,
+        };
+        Ok((camera, warning))
+    }
+
+    /// The ray through image position (x, y) in [0, 1]^2 (x to the right, y down), through the
+    /// lens position `lens` in [0, 1]^2 when the camera has an aperture.
+    #[inline]
+    pub fn ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
+        let dir = self.forward + (1.0 - 2.0 * x) * self.left + (1.0 - 2.0 * y) * self.up;
+        if self.aperture <= 0.0 {
+            return Ray::new(self.origin, dir.normalize());
+        }
+        // Thin lens: all rays through the lens meet where the pinhole ray meets the focal plane
+        // (the plane at `focal_distance` along forward).
+        let forward_unit = self.forward.normalize();
+        let focus = self.origin + dir * (self.focal_distance / dir.dot(forward_unit));
+        let disk = self.aperture * concentric_disk(lens);
+        let origin = self.origin + disk.x * self.left.normalize() + disk.y * self.up.normalize();
+        Ray::new(origin, (focus - origin).normalize())
+    }
+}

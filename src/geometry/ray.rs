@@ -1,0 +1,44 @@
+use glam::Vec3;
+
+/// A ray `origin + t * dir` with `dir` of unit length.
+#[derive(Debug, Clone, Copy)]
+pub struct Ray {
+    pub origin: Vec3,
+    pub dir: Vec3,
+}
+
+impl Ray {
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Ray { origin, dir }
+    }
+
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + t * self.dir
+    }
+}
+
+/// The closest intersection along a ray.
+#[derive(Debug, Clone, Copy)]
+pub struct Hit {
+    pub t: f32,
+    pub point: Vec3,
+    /// Unit geometric normal in the shape's own orientation (outwards for closed solids,
+    /// `edge1 x edge2` for planar shapes): it decides which side emits and which is "inside".
+    pub normal: Vec3,
+    /// A bound on the absolute error of `point`, per axis, used to offset spawned rays.
+    pub error: f32,
+    /// Index of the primitive hit, into `Scene::primitives`.
+    pub primitive: u32,
+}
+
+/// Ray origin for leaving `hit` towards `dir`: the hit point pushed past its error bound along
+/// the normal, to the side `dir` goes (pbrt's robust spawning). Scales with the scene, so a scene
+/// scaled by 1000 or 0.001 renders the same.
+pub fn offset_origin(hit: &Hit, dir: Vec3) -> Vec3 {
+    let offset = hit.normal * hit.error;
+    if hit.normal.dot(dir) >= 0.0 {
+        hit.point + offset
+    } else {
+        hit.point - offset
+    }
+}

@@ -1,0 +1,541 @@
+//! World-space shapes: intersection, bounds, area and uniform area sampling.
+
+use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
+
+use super::{Aabb, Hit, Ray};
+use crate::sampling::{concentric_disk, uniform_sphere, uniform_triangle};
+
+/// Relative error allowance for computed hit points: a few hundred ulps of the coordinates'
+/// magnitude, so that spawned rays clear the surface at any scene scale.
+const REL_ERROR: f32 = 256.0 * f32::EPSILON;
+
+/// Planar shapes are parameterised as `origin + s * edge1 + t * edge2`; the kind says which
+/// (s, t) are inside. An affine transform keeps them planar, so they are stored in world space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlanarKind {
+    /// s, t >= 0, s + t <= 1
+    Triangle,
+    /// s, t in [0, 1]
+    Quad,
+    /// s^2 + t^2 <= 1, with `origin` the centre (an ellipse under non-uniform scale)
+    Disk,
+}
+
+#[derive(Debug, Clone)]
+pub enum Shape {
+    /// Points p with `normal . p + offset = 0`, `normal` of unit length. Unbounded.
+    Plane {
+        normal: Vec3,
+        offset: f32,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Planar {
+        kind: PlanarKind,
+        origin: Vec3,
+        edge1: Vec3,
+        edge2: Vec3,
+        normal: Vec3,
+    },
+    /// The unit sphere, or the open tube x^2 + y^2 = 1, 0 <= z <= 1, under an affine map
+    /// (a sphere under non-uniform scale, the side of a cylinder).
+    Quadric {
+        kind: QuadricKind,
+        frame: Box<QuadricFrame>,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum QuadricKind {
+    Ellipsoid,
+    Tube,
+}
+
+/// The maps between a quadric's canonical space and the world.
+#[derive(Debug, Clone)]
+pub struct QuadricFrame {
+    pub to_world: Affine3A,
+    pub to_object: Affine3A,
+    /// Inverse transpose of `to_world`'s linear part: maps normals.
+    pub normal_to_world: Mat3A,
+    /// Scale of `to_world` when it is a similarity (rotation, uniform scale, translation):
+    /// then areas scale by its square and the shape can be sampled by area.
+    pub similarity_scale: Option<f32>,
+    /// Magnitude of the world coordinates, for the hit point's error bound.
+    pub magnitude: f32,
+}
+
+impl QuadricFrame {
+    pub fn new(to_world: Affine3A) -> Self {
+        let linear = to_world.matrix3;
+        let gram = linear.transpose() * linear;
+        let s2 = gram.x_axis.x;
+        let is_similarity = (gram - Mat3A::from_diagonal(Vec3::splat(s2)))
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() <= 1e-5 * s2);
+        let corners = Self::canonical_corners().map(|c| to_world.transform_point3(c).abs());
+        QuadricFrame {
+            to_world,
+            to_object: to_world.inverse(),
+            normal_to_world: linear.inverse().transpose(),
+            similarity_scale: is_similarity.then(|| s2.sqrt()),
+            magnitude: corners.iter().fold(0.0f32, |m, c| m.max(c.max_element())),
+        }
+    }
+
+    /// Corners of a box holding both canonical quadrics.
+    fn canonical_corners() -> [Vec3; 8] {
+        std::array::from_fn(|i| {
+            Vec3::new(
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { -1.0 } else { 1.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            )
+        })
+    }
+}
+
+/// A point on a surface with its unit normal (the shape's own orientation).
+#[derive(Debug, Clone, Copy)]
+pub struct SurfaceSample {
+    pub point: Vec3,
+    pub normal: Vec3,
+    /// Error bound of `point`, as in `Hit`.
+    pub error: f32,
+}
+
+impl Shape {
+    /// The closest intersection with `0 < t < t_max`; `primitive` is left 0 for the caller.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        match self {
+            Shape::Plane { normal, offset } => intersect_plane(*normal, *offset, ray, t_max),
+            Shape::Sphere { center, radius } => intersect_sphere(*center, *radius, ray, t_max),
+            Shape::Planar {
+                kind,
+                origin,
+                edge1,
+                edge2,
+                normal,
+            } => intersect_planar(*kind, *origin, *edge1, *edge2, *normal, ray, t_max),
+            Shape::Quadric { kind, frame } => intersect_quadric(*kind, frame, ray, t_max),
+        }
+    }
+
+    /// `None` for the unbounded plane.
+    pub fn bounds(&self) -> Option<Aabb> {
+        match self {
+            Shape::Plane { .. } => None,
+            Shape::Sphere { center, radius } => Some(Aabb {
+                min: center - Vec3::splat(*radius),
+                max: center + Vec3::splat(*radius),
+            }),
+            Shape::Planar {
+                kind: PlanarKind::Triangle,
+                origin,
+                edge1,
+                edge2,
+                ..
+            } => Some(Aabb::from_points(&[
+                *origin,
+                origin + edge1,
+                origin + edge2,
+            ])),
+            Shape::Planar {
+                kind: PlanarKind::Quad,
+                origin,
+                edge1,
+                edge2,
+                ..
+            } => Some(Aabb::from_points(&[
+                *origin,
+                origin + edge1,
+                origin + edge2,
+                origin + edge1 + edge2,
+            ])),
+            Shape::Planar {
+                kind: PlanarKind::Disk,
+                origin,
+                edge1,
+                edge2,
+                ..
+            } => {
+                // The ellipse origin + cos(a) e1 + sin(a) e2 reaches sqrt(e1_i^2 + e2_i^2) on axis i.
+                let half = (edge1 * edge1 + edge2 * edge2).map(f32::sqrt);
+                Some(Aabb {
+                    min: origin - half,
+                    max: origin + half,
+                })
+            }
+            Shape::Quadric { frame, .. } => Some(Aabb::from_points(
+                &QuadricFrame::canonical_corners().map(|c| frame.to_world.transform_point3(c)),
+            )),
+        }
+    }
+
+    /// Surface area, when it is finite and known in closed form.
+    pub fn area(&self) -> Option<f32> {
+        match self {
+            Shape::Plane { .. } => None,
+            Shape::Sphere { radius, .. } => Some(4.0 * std::f32::consts::PI * radius * radius),
+            Shape::Planar {
+                kind, edge1, edge2, ..
+            } => {
+                let parallelogram = edge1.cross(*edge2).length();
+                Some(match kind {
+                    PlanarKind::Triangle => 0.5 * parallelogram,
+                    PlanarKind::Quad => parallelogram,
+                    PlanarKind::Disk => std::f32::consts::PI * parallelogram,
+                })
+            }
+            Shape::Quadric { kind, frame } => {
+                let s = frame.similarity_scale?;
+                let canonical = match kind {
+                    QuadricKind::Ellipsoid => 4.0 * std::f32::consts::PI,
+                    QuadricKind::Tube => 2.0 * std::f32::consts::PI,
+                };
+                Some(canonical * s * s)
+            }
+        }
+    }
+
+    /// A point distributed uniformly by area (pdf 1 / area); `None` where `area` is `None`.
+    pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
+        match self {
+            Shape::Plane { .. } => None,
+            Shape::Sphere { center, radius } => {
+                let normal = uniform_sphere(u);
+                let point = center + *radius * normal;
+                Some(SurfaceSample {
+                    point,
+                    normal,
+                    error: sphere_error(*center, *radius),
+                })
+            }
+            Shape::Planar {
+                kind,
+                origin,
+                edge1,
+                edge2,
+                normal,
+            } => {
+                let (s, t) = match kind {
+                    PlanarKind::Triangle => uniform_triangle(u).into(),
+                    PlanarKind::Quad => u.into(),
+                    PlanarKind::Disk => concentric_disk(u).into(),
+                };
+                Some(SurfaceSample {
+                    point: origin + s * edge1 + t * edge2,
+                    normal: *normal,
+                    error: planar_error(*origin, *edge1, *edge2),
+                })
+            }
+            Shape::Quadric { kind, frame } => {
+                frame.similarity_scale?;
+                let (p, n) = match kind {
+                    QuadricKind::Ellipsoid => {
+                        let n = uniform_sphere(u);
+                        (n, n)
+                    }
+                    QuadricKind::Tube => {
+                        let phi = 2.0 * std::f32::consts::PI * u.y;
+                        let n = Vec3::new(phi.cos(), phi.sin(), 0.0);
+                        (n + Vec3::new(0.0, 0.0, u.x), n)
+                    }
+                };
+                Some(SurfaceSample {
+                    point: frame.to_world.transform_point3(p),
+                    normal: (frame.normal_to_world * Vec3A::from(n)).normalize().into(),
+                    error: REL_ERROR * frame.magnitude,
+                })
+            }
+        }
+    }
+}
+
+/// Error bound of a point on a sphere (its coordinates are at most |center| + radius).
+pub fn sphere_error(center: Vec3, radius: f32) -> f32 {
+    REL_ERROR * (center.abs().max_element() + radius)
+}
+
+fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
+    REL_ERROR * (origin.abs() + edge1.abs() + edge2.abs()).max_element()
+}
+
+#[inline]
+fn intersect_plane(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<Hit> {
+    let denom = normal.dot(ray.dir);
+    let t = -(normal.dot(ray.origin) + offset) / denom;
+    if !(t > 0.0 && t < t_max) {
+        return None;
+    }
+    // Project the point back onto the plane: its error is then that of its coordinates alone.
+    let p = ray.at(t);
+    let point = p - normal * (normal.dot(p) + offset);
+    let error = REL_ERROR * (point.abs().max_element() + offset.abs());
+    Some(Hit {
+        t,
+        point,
+        normal,
+        error,
+        primitive: 0,
+    })
+}
+
+#[inline]
+fn intersect_sphere(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<Hit> {
+    let oc = ray.origin - center;
+    let b = oc.dot(ray.dir);
+    // r^2 - |oc - b d|^2 instead of b^2 - (|oc|^2 - r^2): no cancellation for distant spheres
+    // (Ray Tracing Gems, ch. 7).
+    let perp = oc - b * ray.dir;
+    let disc = radius * radius - perp.length_squared();
+    if disc < 0.0 {
+        return None;
+    }
+    let root = disc.sqrt();
+    // q = -b - sign(b) root gives the far-from-cancellation root; c / q the other (c = |oc|^2 - r^2).
+    let q = if b > 0.0 { -b - root } else { -b + root };
+    let c = oc.length_squared() - radius * radius;
+    let (t0, t1) = {
+        let (a, b) = (q, c / q);
+        if a < b { (a, b) } else { (b, a) }
+    };
+    let t = if t0 > 0.0 { t0 } else { t1 };
+    if !(t > 0.0 && t < t_max) {
+        return None;
+    }
+    let offset = ray.at(t) - center;
+    let normal = offset / offset.length();
+    let point = center + radius * normal;
+    Some(Hit {
+        t,
+        point,
+        normal,
+        error: sphere_error(center, radius),
+        primitive: 0,
+    })
+}
+
+#[inline]
+fn intersect_planar(
+    kind: PlanarKind,
+    origin: Vec3,
+    edge1: Vec3,
+    edge2: Vec3,
+    normal: Vec3,
+    ray: &Ray,
+    t_max: f32,
+) -> Option<Hit> {
+    // Möller–Trumbore, with (s, t) the coordinates along edge1 and edge2.
+    let pvec = ray.dir.cross(edge2);
+    let det = edge1.dot(pvec);
+    if det == 0.0 {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let tvec = ray.origin - origin;
+    let s = tvec.dot(pvec) * inv_det;
+    let qvec = tvec.cross(edge1);
+    let t = ray.dir.dot(qvec) * inv_det;
+    let inside = match kind {
+        PlanarKind::Triangle => s >= 0.0 && t >= 0.0 && s + t <= 1.0,
+        PlanarKind::Quad => (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t),
+        PlanarKind::Disk => s * s + t * t <= 1.0,
+    };
+    if !inside {
+        return None;
+    }
+    let distance = edge2.dot(qvec) * inv_det;
+    if !(distance > 0.0 && distance < t_max) {
+        return None;
+    }
+    Some(Hit {
+        t: distance,
+        point: origin + s * edge1 + t * edge2,
+        normal,
+        error: planar_error(origin, edge1, edge2),
+        primitive: 0,
+    })
+}
+
+fn intersect_quadric(
+    kind: QuadricKind,
+    frame: &QuadricFrame,
+    ray: &Ray,
+    t_max: f32,
+) -> Option<Hit> {
+    // In canonical space with an unnormalised direction, t is the world distance.
+    let o = frame.to_object.transform_point3a(ray.origin.into());
+    let d = frame.to_object.transform_vector3a(ray.dir.into());
+    let (a, b, c) = match kind {
+        QuadricKind::Ellipsoid => (d.dot(d), o.dot(d), o.dot(o) - 1.0),
+        QuadricKind::Tube => (
+            d.x * d.x + d.y * d.y,
+            o.x * d.x + o.y * d.y,
+            o.x * o.x + o.y * o.y - 1.0,
+        ),
+    };
+    let disc = b * b - a * c;
+    if a == 0.0 || disc < 0.0 {
+        return None;
+    }
+    let root = disc.sqrt();
+    let q = if b > 0.0 { -b - root } else { -b + root };
+    let (t0, t1) = {
+        let (x, y) = (q / a, c / q);
+        if x < y { (x, y) } else { (y, x) }
+    };
+    let accept = |t: f32| {
+        let in_range = t > 0.0 && t < t_max;
+        in_range && (kind == QuadricKind::Ellipsoid || (0.0..=1.0).contains(&(o.z + t * d.z)))
+    };
+    let t = [t0, t1].into_iter().find(|&t| accept(t))?;
+    let p = o + t * d;
+    // Back onto the surface, then to the world.
+    let (p, n) = match kind {
+        QuadricKind::Ellipsoid => {
+            let n = p.normalize();
+            (n, n)
+        }
+        QuadricKind::Tube => {
+            let radial = Vec3A::new(p.x, p.y, 0.0).normalize();
+            (radial + Vec3A::new(0.0, 0.0, p.z), radial)
+        }
+    };
+    Some(Hit {
+        t,
+        point: frame.to_world.transform_point3a(p).into(),
+        normal: (frame.normal_to_world * n).normalize().into(),
+        error: REL_ERROR * frame.magnitude,
+        primitive: 0,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ray(origin: Vec3, dir: Vec3) -> Ray {
+        Ray::new(origin, dir.normalize())
+    }
+
+    #[test]
+    fn sphere_hit_from_outside_and_inside() {
+        let sphere = Shape::Sphere {
+            center: Vec3::new(0.0, 0.0, 5.0),
+            radius: 1.0,
+        };
+        let outside = sphere
+            .intersect(&ray(Vec3::ZERO, Vec3::Z), f32::INFINITY)
+            .unwrap();
+        assert!((outside.t - 4.0).abs() < 1e-6);
+        assert_eq!(outside.normal, -Vec3::Z);
+        let inside = sphere
+            .intersect(&ray(Vec3::new(0.0, 0.0, 5.0), Vec3::X), f32::INFINITY)
+            .unwrap();
+        assert!((inside.t - 1.0).abs() < 1e-6);
+        assert_eq!(
+            inside.normal,
+            Vec3::X,
+            "outward, whichever side the ray came from"
+        );
+        assert!(
+            sphere.intersect(&ray(Vec3::ZERO, Vec3::Z), 3.9).is_none(),
+            "t_max respected"
+        );
+    }
+
+    #[test]
+    fn planar_kinds_accept_their_own_parameter_domains() {
+        let (origin, edge1, edge2) = (Vec3::new(0.0, 0.0, 1.0), Vec3::X, Vec3::Y);
+        let shape = |kind| Shape::Planar {
+            kind,
+            origin,
+            edge1,
+            edge2,
+            normal: Vec3::Z,
+        };
+        let down = |x, y| ray(Vec3::new(x, y, 0.0), Vec3::Z);
+        let hits = |kind, x, y| shape(kind).intersect(&down(x, y), f32::INFINITY).is_some();
+        assert!(hits(PlanarKind::Quad, 0.9, 0.9) && !hits(PlanarKind::Quad, 1.1, 0.5));
+        assert!(hits(PlanarKind::Triangle, 0.4, 0.4) && !hits(PlanarKind::Triangle, 0.6, 0.6));
+        assert!(hits(PlanarKind::Disk, -0.7, 0.7) && !hits(PlanarKind::Disk, 0.8, 0.8));
+        let area = |kind| shape(kind).area().unwrap();
+        assert_eq!(area(PlanarKind::Quad), 1.0);
+        assert_eq!(area(PlanarKind::Triangle), 0.5);
+        assert!((area(PlanarKind::Disk) - std::f32::consts::PI).abs() < 1e-6);
+    }
+
+    #[test]
+    fn quadrics_under_affine_maps() {
+        // The unit sphere stretched to x radius 2: hit from +x at distance 3 from x = 5.
+        let ellipsoid = Shape::Quadric {
+            kind: QuadricKind::Ellipsoid,
+            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(
+                2.0, 1.0, 1.0,
+            )))),
+        };
+        let hit = ellipsoid
+            .intersect(&ray(Vec3::new(5.0, 0.0, 0.0), -Vec3::X), f32::INFINITY)
+            .unwrap();
+        assert!((hit.t - 3.0).abs() < 1e-5 && (hit.normal - Vec3::X).length() < 1e-6);
+        assert!(
+            ellipsoid.area().is_none(),
+            "no closed-form area: not sampled"
+        );
+        // A tube of radius 0.5 along z from 0 to 2, seen from the side and along its axis.
+        let tube = Shape::Quadric {
+            kind: QuadricKind::Tube,
+            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(
+                0.5, 0.5, 2.0,
+            )))),
+        };
+        let side = tube
+            .intersect(&ray(Vec3::new(-3.0, 0.0, 1.5), Vec3::X), f32::INFINITY)
+            .unwrap();
+        assert!((side.t - 2.5).abs() < 1e-5 && (side.normal + Vec3::X).length() < 1e-6);
+        assert!(
+            tube.intersect(&ray(Vec3::new(-3.0, 0.0, 2.5), Vec3::X), f32::INFINITY)
+                .is_none()
+        );
+        // Along the axis the ray meets the open tube from inside only at grazing: no hit.
+        assert!(
+            tube.intersect(&ray(Vec3::new(0.0, 0.0, -1.0), Vec3::Z), f32::INFINITY)
+                .is_none()
+        );
+        let similar = QuadricFrame::new(Affine3A::from_scale(Vec3::splat(3.0)));
+        assert_eq!(similar.similarity_scale, Some(3.0));
+    }
+
+    #[test]
+    fn area_samples_lie_on_the_shape() {
+        let shapes = [
+            Shape::Sphere {
+                center: Vec3::ONE,
+                radius: 2.0,
+            },
+            Shape::Planar {
+                kind: PlanarKind::Disk,
+                origin: Vec3::ZERO,
+                edge1: Vec3::X,
+                edge2: Vec3::Y,
+                normal: Vec3::Z,
+            },
+        ];
+        for shape in &shapes {
+            for i in 0..100 {
+                let u = Vec2::new((i % 10) as f32 / 10.0 + 0.05, (i / 10) as f32 / 10.0 + 0.05);
+                let s = shape.sample_area(u).unwrap();
+                // A ray from just off the surface along -normal hits at the sample itself.
+                let hit = shape
+                    .intersect(&Ray::new(s.point + s.normal * 1e-3, -s.normal), 1.0)
+                    .unwrap();
+                assert!((hit.point - s.point).length() < 1e-4, "{shape:?} {u}");
+            }
+        }
+    }
+}

@@ -1,0 +1,160 @@
+//! Lights: point lights and emissive primitives (area lights), and sampling them from a point.
+
+use std::f32::consts::PI;
+
+use glam::{Vec2, Vec3};
+
+use crate::geometry::{Hit, Ray, Shape, offset_origin, sphere_error};
+use crate::material::to_world;
+use crate::scene::Scene;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Light {
+    /// `power` acts as radiant intensity: irradiance power / r^2 (the seed's formula).
+    Point { position: Vec3, power: Vec3 },
+    /// An emissive primitive; index into `Scene::primitives`.
+    Area { primitive: u32 },
+}
+
+/// Incident light at a point from one sampled light position, already tested for visibility.
+#[derive(Debug, Clone, Copy)]
+pub struct LightSample {
+    pub wi: Vec3,
+    /// Incident radiance (for a point light, intensity / r^2: irradiance on a normal surface).
+    pub li: Vec3,
+    /// Solid-angle density of `wi`; 1 for a point light (a delta distribution).
+    pub pdf: f32,
+    pub is_delta: bool,
+}
+
+impl Light {
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Light::Point { .. })
+    }
+
+    /// Emitted power (mean over RGB), for choosing lights in proportion to it: 4 pi I for a
+    /// point light, pi A Le for a one-sided diffuse emitter.
+    pub fn power(&self, scene: &Scene) -> f32 {
+        match self {
+            Light::Point { power, .. } => 4.0 * PI * power.element_sum() / 3.0,
+            Light::Area { primitive } => {
+                let prim = &scene.primitives[*primitive as usize];
+                let emission = scene.materials[prim.material as usize].emission;
+                PI * prim.shape.area().unwrap_or(0.0) * emission.element_sum() / 3.0
+            }
+        }
+    }
+
+    /// Samples light arriving at `hit` from this light; `None` if it is occluded, arrives from
+    /// behind the emitter, or the sample carries nothing.
+    pub fn sample(&self, scene: &Scene, hit: &Hit, u: Vec2) -> Option<LightSample> {
+        let (position, li, pdf, is_delta) = match *self {
+            Light::Point { position, power } => (
+                position,
+                power / position.distance_squared(hit.point),
+                1.0,
+                true,
+            ),
+            Light::Area { primitive } => {
+                let prim = &scene.primitives[primitive as usize];
+                let (point, normal, error, pdf) = match prim.shape {
+                    Shape::Sphere { center, radius } if center.distance(hit.point) > radius => {
+                        sample_sphere_cone(center, radius, hit.point, u)
+                    }
+                    ref shape => {
+                        let s = shape.sample_area(u)?;
+                        let to_light = s.point - hit.point;
+                        let cos_light = s.normal.dot(-to_light.normalize()).abs();
+                        // Area density 1/A in solid angle: r^2 / (A cos).
+                        let pdf = to_light.length_squared() / (shape.area()? * cos_light);
+                        (s.point, s.normal, s.error, pdf)
+                    }
+                };
+                let wi = (point - hit.point).normalize();
+                let le = scene.materials[prim.material as usize].emitted(normal, -wi);
+                if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
+                    return None;
+                }
+                // Aim just off the light's surface, on the side we see, so it does not shadow itself.
+                (point + normal * error, le, pdf, false)
+            }
+        };
+        let wi = (position - hit.point).normalize();
+        visible(scene, hit, position, wi).then_some(LightSample {
+            wi,
+            li,
+            pdf,
+            is_delta,
+        })
+    }
+
+    /// The solid-angle density with which `sample` from `from` returns the direction towards
+    /// `on_light`, a hit on this (area) light.
+    pub fn pdf(&self, scene: &Scene, from: Vec3, on_light: &Hit) -> f32 {
+        let Light::Area { primitive } = *self else {
+            return 0.0;
+        };
+        let shape = &scene.primitives[primitive as usize].shape;
+        match *shape {
+            Shape::Sphere { center, radius } if center.distance(from) > radius => {
+                1.0 / cone_solid_angle(center, radius, from)
+            }
+            _ => {
+                let to_light = on_light.point - from;
+                let cos_light = on_light.normal.dot(to_light.normalize()).abs();
+                to_light.length_squared() / (shape.area().unwrap_or(f32::INFINITY) * cos_light)
+            }
+        }
+    }
+}
+
+/// Solid angle of the cone of directions from `from` that meet the sphere:
+/// 2 pi (1 - cos theta_max), with 1 - cos written as sin^2 / (1 + cos) for small cones.
+fn cone_solid_angle(center: Vec3, radius: f32, from: Vec3) -> f32 {
+    let sin2_max = radius * radius / center.distance_squared(from);
+    let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
+    2.0 * PI * sin2_max / (1.0 + cos_max)
+}
+
+/// A direction uniform in the cone the sphere subtends (pbrt-v4, 6.2.4), and the point it meets.
+/// Returns point, outward normal, error bound and solid-angle pdf.
+fn sample_sphere_cone(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> (Vec3, Vec3, f32, f32) {
+    let axis = center - from;
+    let distance = axis.length();
+    let sin2_max = radius * radius / (distance * distance);
+    let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
+    let one_minus_cos_max = sin2_max / (1.0 + cos_max);
+    let cos_theta = 1.0 - u.x * one_minus_cos_max;
+    let sin2_theta = (1.0 - cos_theta * cos_theta).max(0.0);
+    let phi = 2.0 * PI * u.y;
+    let sin_theta = sin2_theta.sqrt();
+    let wi = to_world(
+        axis / distance,
+        Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta),
+    );
+    // Nearest intersection of from + t wi with the sphere; at the silhouette the root is 0.
+    let t = distance * cos_theta
+        - (radius * radius - distance * distance * sin2_theta)
+            .max(0.0)
+            .sqrt();
+    let normal = (from + t * wi - center).normalize();
+    let point = center + radius * normal;
+    (
+        point,
+        normal,
+        sphere_error(center, radius),
+        1.0 / (2.0 * PI * one_minus_cos_max),
+    )
+}
+
+/// Whether the segment from `hit` to `target` is free of other surfaces.
+fn visible(scene: &Scene, hit: &Hit, target: Vec3, wi: Vec3) -> bool {
+    let origin = offset_origin(hit, wi);
+    let to_target = target - origin;
+    let distance = to_target.length();
+    // Stop just short of the target so that the light's own surface does not occlude it.
+    !scene.occluded(
+        &Ray::new(origin, to_target / distance),
+        distance * (1.0 - 1e-4),
+    )
+}

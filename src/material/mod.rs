@@ -1,0 +1,211 @@
+//! Materials of the course's model — Lambertian `diffuse` (kd), mirror `specular` (ks),
+//! refractive `transmission` (kt) with `ior`, `emission` — and their BSDF: `eval`, `sample`, `pdf`.
+//!
+//! Directions follow pbrt: `wo` points towards the viewer, `wi` towards the light, both unit.
+//! `n` is the shape's geometric normal; its side is "outside" for refraction.
+
+mod fresnel;
+
+pub use fresnel::{fresnel_dielectric, refract};
+
+use std::f32::consts::FRAC_1_PI;
+
+use glam::{Vec2, Vec3};
+
+use crate::sampling::cosine_hemisphere;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    pub transmission: Vec3,
+    pub ior: f32,
+    pub emission: Vec3,
+    /// Split `specular + transmission` between reflection and refraction by Fresnel's equations.
+    pub fresnel: bool,
+}
+
+/// A direction drawn from a BSDF. `weight` is f |cos| / pdf, including the probability of the
+/// lobe chosen; `pdf` is in solid angle (for a specular lobe, the discrete probability of the lobe).
+#[derive(Debug, Clone, Copy)]
+pub struct BsdfSample {
+    pub wi: Vec3,
+    pub weight: Vec3,
+    pub pdf: f32,
+    pub specular: bool,
+}
+
+/// The reflectance of each lobe seen from one `wo`, and where the specular ones send light.
+struct Lobes {
+    reflect: Vec3,
+    /// Energy carried through the boundary; the radiance it carries is `transmit / eta^2`.
+    transmit: Vec3,
+    /// eta_t / eta_i for a direction crossing the boundary from wo's side.
+    eta: f32,
+    reflect_dir: Vec3,
+    /// `None` under total internal reflection (its share then goes to `reflect`).
+    transmit_dir: Option<Vec3>,
+}
+
+impl Material {
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+
+    pub fn has_diffuse(&self) -> bool {
+        self.diffuse.max_element() > 0.0
+    }
+
+    /// Radiance emitted towards `wo`: emission is one-sided, towards the normal.
+    pub fn emitted(&self, n: Vec3, wo: Vec3) -> Vec3 {
+        if n.dot(wo) > 0.0 {
+            self.emission
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// The non-specular part of f(wo, wi): Lambert's kd / pi, reflection only (both sides).
+    pub fn eval(&self, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
+        if same_side(n, wo, wi) {
+            self.diffuse * FRAC_1_PI
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Solid-angle density with which `sample` returns `wi` through its non-specular lobe.
+    pub fn pdf(&self, n: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+        if !same_side(n, wo, wi) {
+            return 0.0;
+        }
+        let [p_diffuse, _, _] = self.lobe_probabilities(&self.lobes(n, wo));
+        p_diffuse * n.dot(wi).abs() * FRAC_1_PI
+    }
+
+    /// Chooses a lobe with probability from its reflectance (the course's per-bounce Russian
+    /// roulette over kd, ks, kt), then a direction from it: cosine-weighted for the diffuse lobe.
+    pub fn sample(&self, n: Vec3, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let lobes = self.lobes(n, wo);
+        let [p_diffuse, p_reflect, _] = self.lobe_probabilities(&lobes);
+        if u_lobe < p_diffuse {
+            let facing = if n.dot(wo) < 0.0 { -n } else { n };
+            let local = cosine_hemisphere(u);
+            let wi = to_world(facing, local);
+            let pdf = p_diffuse * local.z * FRAC_1_PI;
+            // f |cos| / pdf = (kd / pi) cos / (p cos / pi) = kd / p
+            (pdf > 0.0).then(|| BsdfSample {
+                wi,
+                weight: self.diffuse / p_diffuse,
+                pdf,
+                specular: false,
+            })
+        } else if u_lobe < p_diffuse + p_reflect {
+            Some(specular_sample(lobes.reflect_dir, lobes.reflect, p_reflect))
+        } else {
+            let wi = lobes.transmit_dir?;
+            let p_transmit = 1.0 - p_diffuse - p_reflect;
+            (p_transmit > 0.0)
+                .then(|| specular_sample(wi, lobes.transmitted_radiance(), p_transmit))
+        }
+    }
+
+    /// Samples only the specular lobes (mirror, refraction), with probabilities from their
+    /// reflectances; `None` if the material has none. Used by Whitted-style integrators.
+    pub fn sample_specular(&self, n: Vec3, wo: Vec3, u_lobe: f32) -> Option<BsdfSample> {
+        let lobes = self.lobes(n, wo);
+        let reflect = mean(lobes.reflect);
+        let transmit = mean(lobes.transmit);
+        let total = reflect + transmit;
+        if total <= 0.0 {
+            return None;
+        }
+        let p_reflect = reflect / total;
+        match lobes.transmit_dir {
+            Some(wi) if u_lobe >= p_reflect => Some(specular_sample(
+                wi,
+                lobes.transmitted_radiance(),
+                1.0 - p_reflect,
+            )),
+            _ => Some(specular_sample(lobes.reflect_dir, lobes.reflect, p_reflect)),
+        }
+    }
+
+    fn lobes(&self, n: Vec3, wo: Vec3) -> Lobes {
+        let cos_o = n.dot(wo);
+        let facing = if cos_o < 0.0 { -n } else { n };
+        let reflect_dir = 2.0 * cos_o * n - wo;
+        // Relative index of refraction eta = eta_t / eta_i across the boundary crossed by wi.
+        let eta = if cos_o >= 0.0 {
+            self.ior
+        } else {
+            1.0 / self.ior
+        };
+        let has_transmission = self.transmission.max_element() > 0.0;
+        let transmit_dir = if has_transmission || self.fresnel {
+            refract(wo, facing, eta)
+        } else {
+            None
+        };
+        let (mut reflect, mut transmit) = if self.fresnel {
+            let f = fresnel_dielectric(cos_o.abs(), eta);
+            let total = self.specular + self.transmission;
+            (f * total, (1.0 - f) * total)
+        } else {
+            (self.specular, self.transmission)
+        };
+        if transmit_dir.is_none() {
+            reflect += transmit;
+            transmit = Vec3::ZERO;
+        }
+        Lobes {
+            reflect,
+            transmit,
+            eta,
+            reflect_dir,
+            transmit_dir,
+        }
+    }
+
+    /// Probabilities of the diffuse, reflection and transmission lobes, from their mean energy.
+    fn lobe_probabilities(&self, lobes: &Lobes) -> [f32; 3] {
+        let d = mean(self.diffuse);
+        let r = mean(lobes.reflect);
+        let t = mean(lobes.transmit);
+        let total = d + r + t;
+        if total <= 0.0 {
+            return [0.0; 3];
+        }
+        [d / total, r / total, t / total]
+    }
+}
+
+impl Lobes {
+    /// Radiance is compressed by 1 / eta^2 on entering a denser medium (pbrt-v4, 9.5.2).
+    fn transmitted_radiance(&self) -> Vec3 {
+        self.transmit / (self.eta * self.eta)
+    }
+}
+
+fn specular_sample(wi: Vec3, reflectance: Vec3, probability: f32) -> BsdfSample {
+    BsdfSample {
+        wi,
+        weight: reflectance / probability,
+        pdf: probability,
+        specular: true,
+    }
+}
+
+fn same_side(n: Vec3, wo: Vec3, wi: Vec3) -> bool {
+    n.dot(wo) * n.dot(wi) > 0.0
+}
+
+fn mean(c: Vec3) -> f32 {
+    (c.x + c.y + c.z) / 3.0
+}
+
+/// Maps a direction from a frame with +z along `n` to the world (Duff et al. 2017).
+pub fn to_world(n: Vec3, local: Vec3) -> Vec3 {
+    let (t, b) = n.any_orthonormal_pair();
+    local.x * t + local.y * b + local.z * n
+}

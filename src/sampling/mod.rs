@@ -1,0 +1,7 @@
+//! Deterministic random streams and the warps that turn uniform samples into directions and points.
+
+mod sampler;
+mod warp;
+
+pub use sampler::Sampler;
+pub use warp::{concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle};

@@ -1,0 +1,91 @@
+//! Warps from the unit square (pbrt-v4, section A.5).
+
+use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+
+use glam::{Vec2, Vec3};
+
+/// Shirley–Chiu concentric map onto the unit disk (area-preserving up to a constant).
+pub fn concentric_disk(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, FRAC_PI_4 * (o.y / o.x))
+    } else {
+        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
+    };
+    r * Vec2::new(theta.cos(), theta.sin())
+}
+
+/// Uniform on the unit sphere; pdf 1 / (4 pi).
+pub fn uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Cosine-weighted on the hemisphere around +z (Malley's method); pdf cos(theta) / pi.
+pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
+    let d = concentric_disk(u);
+    Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
+}
+
+/// Barycentric coordinates (b1, b2) uniform over a triangle: the point is
+/// `a + b1 (b - a) + b2 (c - a)` (the square-root warp).
+pub fn uniform_triangle(u: Vec2) -> Vec2 {
+    let su = u.x.sqrt();
+    Vec2::new(1.0 - su, u.y * su)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Midpoint-rule grid over the unit square.
+    fn grid(n: usize) -> impl Iterator<Item = Vec2> {
+        (0..n * n).map(move |i| Vec2::new((i % n) as f32 + 0.5, (i / n) as f32 + 0.5) / n as f32)
+    }
+
+    #[test]
+    fn concentric_disk_stays_inside_and_keeps_area() {
+        // Equal areas of the square map to equal areas of the disk: the fraction of points in
+        // the inner disk of radius 1/sqrt(2) is one half.
+        let points: Vec<Vec2> = grid(200).map(concentric_disk).collect();
+        assert!(points.iter().all(|p| p.length() <= 1.0 + 1e-6));
+        let inner = points.iter().filter(|p| p.length_squared() < 0.5).count();
+        assert!((inner as f32 / points.len() as f32 - 0.5).abs() < 0.005);
+    }
+
+    #[test]
+    fn uniform_sphere_directions_are_unit_and_balanced() {
+        let dirs: Vec<Vec3> = grid(100).map(uniform_sphere).collect();
+        assert!(dirs.iter().all(|d| (d.length() - 1.0).abs() < 1e-5));
+        let mean = dirs.iter().sum::<Vec3>() / dirs.len() as f32;
+        assert!(mean.length() < 1e-3, "mean {mean}");
+    }
+
+    #[test]
+    fn cosine_hemisphere_has_mean_cosine_two_thirds() {
+        // E[cos] under pdf cos/pi is (1/pi) * integral of cos^2 over the hemisphere = 2/3.
+        let dirs: Vec<Vec3> = grid(200).map(cosine_hemisphere).collect();
+        assert!(
+            dirs.iter()
+                .all(|d| d.z >= 0.0 && (d.length() - 1.0).abs() < 1e-5)
+        );
+        let mean_cos = dirs.iter().map(|d| d.z).sum::<f32>() / dirs.len() as f32;
+        assert!((mean_cos - 2.0 / 3.0).abs() < 1e-3, "{mean_cos}");
+    }
+
+    #[test]
+    fn uniform_triangle_has_centroid_one_third() {
+        let bs: Vec<Vec2> = grid(200).map(uniform_triangle).collect();
+        assert!(
+            bs.iter()
+                .all(|b| b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 + 1e-6)
+        );
+        let mean = bs.iter().sum::<Vec2>() / bs.len() as f32;
+        assert!((mean - Vec2::splat(1.0 / 3.0)).length() < 1e-3, "{mean}");
+    }
+}

@@ -1,0 +1,278 @@
+//! SceneGraph -> Scene: flattens groups and instances into world-space primitives, resolves
+//! material inheritance, collects lights, builds the BVH and the camera.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use glam::{Affine3A, Vec3};
+
+use super::graph::{MaterialDesc, ObjectNode, SceneGraph, ShapeNode, compose};
+use super::{Primitive, Scene};
+use crate::accel::Bvh;
+use crate::camera::Camera;
+use crate::diagnostic::SceneError;
+use crate::geometry::{PlanarKind, QuadricFrame, QuadricKind, Shape};
+use crate::light::Light;
+use crate::material::Material;
+
+/// Builds the render-ready scene. `graph.settings` are final (command-line overrides applied).
+pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
+    let settings = graph.settings.clone();
+    let (camera, camera_warning) = Camera::new(&graph.camera, settings.width, settings.height)?;
+    let mut flat = Flattener::default();
+    for node in &graph.objects {
+        flat.add(node, Affine3A::IDENTITY, None)?;
+    }
+
+    let (mut bounded, planes): (Vec<Primitive>, Vec<Primitive>) = flat
+        .primitives
+        .into_iter()
+        .partition(|p| p.shape.bounds().is_some());
+    let bounds: Vec<_> = bounded.iter().filter_map(|p| p.shape.bounds()).collect();
+    let (bvh, order) = Bvh::build(&bounds);
+    let mut slots: Vec<Option<Primitive>> = bounded.drain(..).map(Some).collect();
+    let mut primitives: Vec<Primitive> = order
+        .iter()
+        .filter_map(|&i| slots[i as usize].take())
+        .collect();
+    let bounded_count = primitives.len();
+    primitives.extend(planes);
+
+    let mut lights: Vec<Light> = graph
+        .lights
+        .iter()
+        .map(|l| Light::Point {
+            position: l.position,
+            power: l.power,
+        })
+        .collect();
+    for (i, prim) in primitives.iter_mut().enumerate() {
+        if flat.materials[prim.material as usize].is_emissive() && prim.shape.area().is_some() {
+            prim.light = Some(lights.len() as u32);
+            lights.push(Light::Area {
+                primitive: i as u32,
+            });
+        }
+    }
+    let mut warnings: Vec<String> = camera_warning.into_iter().collect();
+    warnings.extend(flat.warnings);
+    let mut scene = Scene {
+        settings,
+        camera,
+        primitives,
+        bounded: bounded_count,
+        bvh,
+        materials: flat.materials,
+        lights,
+        light_cdf: Vec::new(),
+        warnings,
+    };
+    // Lights with no power are never chosen (their probability would be zero).
+    scene.light_cdf = scene
+        .lights
+        .iter()
+        .scan(0.0, |acc, light| {
+            *acc += light.power(&scene).max(0.0);
+            Some(*acc)
+        })
+        .collect();
+    if scene.light_cdf.last() == Some(&0.0) {
+        scene.light_cdf.clear();
+    }
+    Ok(scene)
+}
+
+#[derive(Default)]
+struct Flattener {
+    primitives: Vec<Primitive>,
+    materials: Vec<Material>,
+    warnings: Vec<String>,
+    /// Index of each distinct material description, by address: declared materials are shared.
+    material_index: HashMap<*const MaterialDesc, u32>,
+}
+
+impl Flattener {
+    fn add(
+        &mut self,
+        node: &ObjectNode,
+        parent: Affine3A,
+        inherited: Option<&Arc<MaterialDesc>>,
+    ) -> Result<(), SceneError> {
+        let to_world = parent * compose(&node.transforms);
+        let determinant = to_world.matrix3.determinant();
+        if !determinant.is_finite() || determinant.abs() < 1e-12 {
+            return Err(SceneError::at(
+                &node.span,
+                "the transforms of this object are singular",
+            ));
+        }
+        let material = node.material.as_ref().or(inherited);
+        match &node.shape {
+            ShapeNode::Union(children) => children
+                .iter()
+                .try_for_each(|c| self.add(c, to_world, material)),
+            ShapeNode::Instance(target) => self.add(target, to_world, material),
+            shape => {
+                let material = self.material(material);
+                for shape in world_shapes(shape, to_world) {
+                    if self.materials[material as usize].is_emissive() && shape.area().is_none() {
+                        self.warnings.push(format!(
+                            "{:?}: warning: this emitter cannot be sampled as a light (an \
+                             infinite plane, or a sphere or cylinder under non-uniform scale); \
+                             only rays that hit it see its light",
+                            node.span
+                        ));
+                    }
+                    self.primitives.push(Primitive {
+                        shape,
+                        material,
+                        light: None,
+                    });
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn material(&mut self, desc: Option<&Arc<MaterialDesc>>) -> u32 {
+        // An object with no material anywhere up its groups is black (POV-Ray's default pigment).
+        let key = desc.map_or(std::ptr::null(), Arc::as_ptr);
+        if let Some(&index) = self.material_index.get(&key) {
+            return index;
+        }
+        let index = self.materials.len() as u32;
+        self.materials.push(desc.map_or(
+            Material {
+                diffuse: Vec3::ZERO,
+                specular: Vec3::ZERO,
+                transmission: Vec3::ZERO,
+                ior: 1.0,
+                emission: Vec3::ZERO,
+                fresnel: false,
+            },
+            |d| Material {
+                diffuse: d.diffuse,
+                specular: d.specular,
+                transmission: d.transmission,
+                ior: d.ior,
+                emission: d.emission,
+                fresnel: d.fresnel,
+            },
+        ));
+        self.material_index.insert(key, index);
+        index
+    }
+}
+
+/// The world-space shapes of one primitive node under `m`.
+fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
+    // A mirroring transform would turn edge1 x edge2 inside out; normals transform by the
+    // inverse transpose and keep their side, so swap the edges to follow them.
+    let mirrored = m.matrix3.determinant() < 0.0;
+    let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
+        let (origin, e1, e2) = (
+            m.transform_point3(origin),
+            m.transform_vector3(e1),
+            m.transform_vector3(e2),
+        );
+        let (e1, e2) = if mirrored { (e2, e1) } else { (e1, e2) };
+        Shape::Planar {
+            kind,
+            origin,
+            edge1: e1,
+            edge2: e2,
+            normal: e1.cross(e2).normalize(),
+        }
+    };
+    // A disk (or cylinder cap) with the given centre and unit normal.
+    let disk = |center: Vec3, normal: Vec3, radius: f32| {
+        let (t, b) = tangents(normal);
+        planar(PlanarKind::Disk, center, t * radius, b * radius)
+    };
+    match *shape {
+        ShapeNode::Plane { normal, offset } => {
+            // n . q + d = 0 with q = A^-1 (p - t): (A^-T n) . p + d - (A^-T n) . t = 0.
+            let n = m.matrix3.inverse().transpose() * glam::Vec3A::from(normal);
+            let n = Vec3::from(n);
+            let offset = offset - n.dot(m.translation.into());
+            let length = n.length();
+            vec![Shape::Plane {
+                normal: n / length,
+                offset: offset / length,
+            }]
+        }
+        ShapeNode::Sphere { center, radius } => {
+            let to_world = m * Affine3A::from_scale_rotation_translation(
+                Vec3::splat(radius),
+                glam::Quat::IDENTITY,
+                center,
+            );
+            let frame = QuadricFrame::new(to_world);
+            match frame.similarity_scale {
+                Some(scale) => vec![Shape::Sphere {
+                    center: to_world.translation.into(),
+                    radius: scale,
+                }],
+                None => vec![Shape::Quadric {
+                    kind: QuadricKind::Ellipsoid,
+                    frame: Box::new(frame),
+                }],
+            }
+        }
+        ShapeNode::Box { corner_a, corner_b } => {
+            let (lo, size) = (corner_a.min(corner_b), (corner_a - corner_b).abs());
+            let [x, y, z] = [Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z];
+            let hi = lo + size;
+            // Each face as corner, edge1, edge2 with edge1 x edge2 pointing out of the box.
+            vec![
+                planar(PlanarKind::Quad, lo, z, y),
+                planar(PlanarKind::Quad, hi, -y, -z),
+                planar(PlanarKind::Quad, lo, x, z),
+                planar(PlanarKind::Quad, hi, -z, -x),
+                planar(PlanarKind::Quad, lo, y, x),
+                planar(PlanarKind::Quad, hi, -x, -y),
+            ]
+        }
+        ShapeNode::Triangle { a, b, c } => vec![planar(PlanarKind::Triangle, a, b - a, c - a)],
+        ShapeNode::Quad {
+            corner,
+            edge1,
+            edge2,
+        } => {
+            vec![planar(PlanarKind::Quad, corner, edge1, edge2)]
+        }
+        ShapeNode::Disk {
+            center,
+            normal,
+            radius,
+        } => vec![disk(center, normal.normalize(), radius)],
+        ShapeNode::Cylinder { base, cap, radius } => {
+            let axis = cap - base;
+            let direction = axis.normalize();
+            let (t, b) = tangents(direction);
+            let tube = m * Affine3A::from_mat3_translation(
+                glam::Mat3::from_cols(t * radius, b * radius, axis),
+                base,
+            );
+            vec![
+                Shape::Quadric {
+                    kind: QuadricKind::Tube,
+                    frame: Box::new(QuadricFrame::new(tube)),
+                },
+                disk(base, -direction, radius),
+                disk(cap, direction, radius),
+            ]
+        }
+        ShapeNode::Union(_) | ShapeNode::Instance(_) => Vec::new(),
+    }
+}
+
+/// Unit tangents (t, b) with t x b = n.
+fn tangents(n: Vec3) -> (Vec3, Vec3) {
+    let (t, b) = n.any_orthonormal_pair();
+    if t.cross(b).dot(n) < 0.0 {
+        (b, t)
+    } else {
+        (t, b)
+    }
+}
