@@ -30,12 +30,7 @@ impl Camera {
     ) -> Result<(Camera, Option<String>), SceneError> {
         let aspect = width as f32 / height as f32;
         let (origin, left, up, forward, warning) = match desc.form {
-            CameraForm::Lab {
-                origin,
-                left,
-                up,
-                forward,
-            } => {
+            CameraForm::Lab { origin, left, up, forward } => {
                 let plane_aspect = left.length() / up.length();
                 let warning = ((plane_aspect / aspect - 1.0).abs() > 1e-3).then(|| {
                     format!(
@@ -47,30 +42,17 @@ impl Camera {
                 });
                 (origin, left, up, forward, warning)
             }
-            CameraForm::LookAt {
-                location,
-                look_at,
-                up,
-                angle,
-            } => {
+            CameraForm::LookAt { location, look_at, up, angle } => {
                 // Left-handed like POV-Ray: with forward +z and up +y, right is up x forward = +x.
                 let forward = (look_at - location).normalize();
                 let right = up.cross(forward).normalize();
                 let true_up = forward.cross(right);
                 let half_width = (angle.to_radians() * 0.5).tan();
                 let half_height = half_width / aspect;
-                (
-                    location,
-                    -right * half_width,
-                    true_up * half_height,
-                    forward,
-                    None,
-                )
+                (location, -right * half_width, true_up * half_height, forward, None)
             }
         };
-        let degenerate = [left, up, forward]
-            .iter()
-            .any(|v| !v.is_finite() || v.length() == 0.0)
+        let degenerate = [left, up, forward].iter().any(|v| !v.is_finite() || v.length() == 0.0)
             || left.cross(up).length() <= 1e-6 * left.length() * up.length();
         if degenerate {
             return Err(SceneError::at(
@@ -79,14 +61,7 @@ impl Camera {
             ));
         }
         let focal_distance = desc.focal_distance.unwrap_or(forward.length());
-        let camera = Camera {
-            origin,
-            left,
-            up,
-            forward,
-            aperture: desc.aperture,
-            focal_distance,
-        };
+        let camera = Camera { origin, left, up, forward, aperture: desc.aperture, focal_distance };
         Ok((camera, warning))
     }
 

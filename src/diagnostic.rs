@@ -22,11 +22,7 @@ pub struct Span {
 impl Span {
     /// The text of the line this span points into, without its line ending.
     pub fn line_text(&self) -> &str {
-        let line = self
-            .file
-            .text
-            .lines()
-            .nth(self.line.saturating_sub(1) as usize);
+        let line = self.file.text.lines().nth(self.line.saturating_sub(1) as usize);
         line.unwrap_or("").trim_end_matches('\r')
     }
 }
@@ -49,20 +45,12 @@ pub struct SceneError {
 
 impl SceneError {
     pub fn at(span: &Span, message: impl Into<String>) -> Self {
-        SceneError {
-            span: Some(span.clone()),
-            message: message.into(),
-            notes: Vec::new(),
-        }
+        SceneError { span: Some(span.clone()), message: message.into(), notes: Vec::new() }
     }
 
     /// An error about a file as a whole (e.g. one that cannot be read).
     pub fn unlocated(message: impl Into<String>) -> Self {
-        SceneError {
-            span: None,
-            message: message.into(),
-            notes: Vec::new(),
-        }
+        SceneError { span: None, message: message.into(), notes: Vec::new() }
     }
 
     pub fn with_note(mut self, note: impl Into<String>) -> Self {

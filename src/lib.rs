@@ -14,6 +14,7 @@ pub mod integrator;
 pub mod lang;
 pub mod light;
 pub mod material;
+pub mod mesh;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -49,12 +49,9 @@ impl Light {
     /// behind the emitter, or the sample carries nothing.
     pub fn sample(&self, scene: &Scene, hit: &Hit, u: Vec2) -> Option<LightSample> {
         let (position, li, pdf, is_delta) = match *self {
-            Light::Point { position, power } => (
-                position,
-                power / position.distance_squared(hit.point),
-                1.0,
-                true,
-            ),
+            Light::Point { position, power } => {
+                (position, power / position.distance_squared(hit.point), 1.0, true)
+            }
             Light::Area { primitive } => {
                 let prim = &scene.primitives[primitive as usize];
                 let (point, normal, error, pdf) = match prim.shape {
@@ -80,12 +77,7 @@ impl Light {
             }
         };
         let wi = (position - hit.point).normalize();
-        visible(scene, hit, position, wi).then_some(LightSample {
-            wi,
-            li,
-            pdf,
-            is_delta,
-        })
+        visible(scene, hit, position, wi).then_some(LightSample { wi, li, pdf, is_delta })
     }
 
     /// The solid-angle density with which `sample` from `from` returns the direction towards
@@ -133,18 +125,11 @@ fn sample_sphere_cone(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> (Vec3, 
         Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta),
     );
     // Nearest intersection of from + t wi with the sphere; at the silhouette the root is 0.
-    let t = distance * cos_theta
-        - (radius * radius - distance * distance * sin2_theta)
-            .max(0.0)
-            .sqrt();
+    let t =
+        distance * cos_theta - (radius * radius - distance * distance * sin2_theta).max(0.0).sqrt();
     let normal = (from + t * wi - center).normalize();
     let point = center + radius * normal;
-    (
-        point,
-        normal,
-        sphere_error(center, radius),
-        1.0 / (2.0 * PI * one_minus_cos_max),
-    )
+    (point, normal, sphere_error(center, radius), 1.0 / (2.0 * PI * one_minus_cos_max))
 }
 
 /// Whether the segment from `hit` to `target` is free of other surfaces.
@@ -153,8 +138,5 @@ fn visible(scene: &Scene, hit: &Hit, target: Vec3, wi: Vec3) -> bool {
     let to_target = target - origin;
     let distance = to_target.length();
     // Stop just short of the target so that the light's own surface does not occlude it.
-    !scene.occluded(
-        &Ray::new(origin, to_target / distance),
-        distance * (1.0 - 1e-4),
-    )
+    !scene.occluded(&Ray::new(origin, to_target / distance), distance * (1.0 - 1e-4))
 }

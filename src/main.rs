@@ -1,1 +1,245 @@
-fn main() {}
+//! The `raydiance` command line: render, tonemap, check, bench.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use raydiance::render::Progress;
+use raydiance::scene::graph::IntegratorKind;
+use raydiance::tonemap::{Operator, ToneMap};
+use raydiance::{RenderRequest, bench};
+
+#[derive(Parser)]
+#[command(name = "raydiance", version, about = "A physically based renderer for .scn scenes")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to .exr (linear HDR), .ppm (HDR with #MAX) or .png (tone-mapped).
+    Render {
+        scene: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Samples per pixel (overrides the scene's `settings`).
+        #[arg(long)]
+        samples: Option<u32>,
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Worker threads (default: one per core). The image does not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        #[arg(long, value_parser = parse_integrator)]
+        integrator: Option<IntegratorKind>,
+        #[arg(long)]
+        max_depth: Option<u32>,
+        /// Time budget in seconds: render as many sample passes as fit (up to --samples if given).
+        #[arg(long)]
+        time: Option<f64>,
+        /// The integer that MAX stands for in HDR .ppm output.
+        #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES)]
+        ppm_res: u32,
+    },
+    /// Tone-map an HDR image (.exr or .ppm) to LDR .ppm (#MAX=1) or .png.
+    Tonemap {
+        input: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+        #[arg(long, default_value = "clamp-gamma")]
+        op: Operator,
+        /// Threshold V of the clamping operators.
+        #[arg(long, default_value_t = 1.0)]
+        v: f32,
+        #[arg(long, default_value_t = 2.2)]
+        gamma: f32,
+        /// Exposure in stops: values are multiplied by 2^EV first.
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        exposure: f32,
+        /// Reinhard's white point (default: the largest scaled luminance).
+        #[arg(long)]
+        white: Option<f32>,
+    },
+    /// Parse and validate a scene; print a short summary.
+    Check { scene: PathBuf },
+    /// Render scenes and print samples per second and seconds per frame.
+    Bench {
+        /// Scenes to render (default: the benchmark scenes in scenes/).
+        scenes: Vec<PathBuf>,
+        #[arg(long, default_value = "16")]
+        samples: String,
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+}
+
+fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
+    match s {
+        "direct" => Ok(IntegratorKind::Direct),
+        "path" => Ok(IntegratorKind::Path),
+        _ => Err(format!("unknown integrator `{s}` (expected `direct` or `path`)")),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render {
+            scene,
+            output,
+            samples,
+            width,
+            height,
+            seed,
+            threads,
+            integrator,
+            max_depth,
+            time,
+            ppm_res,
+        } => {
+            if let Some(t) = time.filter(|t| !(t.is_finite() && *t > 0.0)) {
+                return fail(format!("error: --time {t} must be a positive number of seconds"));
+            }
+            // With a time budget the sample count is only a ceiling.
+            let samples = samples.or(time.map(|_| raydiance::MAX_SAMPLES));
+            let request = RenderRequest { samples, width, height, seed, integrator, max_depth };
+            with_threads(threads, || render(&scene, &output, &request, ppm_res, time))
+        }
+        Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
+            let tone_map = ToneMap { op, v, gamma, exposure, white };
+            raydiance::tonemap_file(&input, &output, &tone_map).map_err(|e| e.to_string())
+        }
+        Command::Check { scene } => {
+            raydiance::check(&scene).map(|summary| println!("{summary}")).map_err(|e| e.to_string())
+        }
+        Command::Bench { scenes, samples, repeats, threads } => with_threads(threads, || {
+            bench::run(&scenes, &samples, repeats).map_err(|e| e.to_string())
+        }),
+    };
+    match result {
+        Ok(()) if INTERRUPTED.load(Ordering::SeqCst) => ExitCode::from(130),
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => fail(message),
+    }
+}
+
+fn fail(message: String) -> ExitCode {
+    eprintln!("{message}");
+    ExitCode::FAILURE
+}
+
+/// Set by Ctrl-C: the render stops after the current pass and writes what it has.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Runs `f` on a pool of `threads` workers (rayon's default pool when `None`).
+fn with_threads(
+    threads: Option<usize>,
+    f: impl FnOnce() -> Result<(), String> + Send,
+) -> Result<(), String> {
+    match threads {
+        None => f(),
+        Some(0) => Err("error: --threads must be at least 1".to_string()),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| format!("error: cannot start {n} threads: {e}"))?
+            .install(f),
+    }
+}
+
+fn render(
+    scene_path: &Path,
+    output: &Path,
+    request: &RenderRequest,
+    ppm_res: u32,
+    time: Option<f64>,
+) -> Result<(), String> {
+    // Everything that can be checked before rendering is: the output's type and folder first.
+    let format = raydiance::OutputFormat::for_path(output, ppm_res).map_err(|e| e.to_string())?;
+    let scene = raydiance::load(scene_path, request).map_err(|e| e.to_string())?;
+    for warning in &scene.warnings {
+        eprintln!("{warning}");
+    }
+    let settings = &scene.settings;
+    // A second Ctrl-C, or one before rendering starts, ends the process at once.
+    ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    })
+    .map_err(|e| format!("error: cannot handle Ctrl-C: {e}"))?;
+    let total =
+        u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.samples);
+    let deadline = time.map(|t| Instant::now() + Duration::from_secs_f64(t));
+    let progress = Bar::new(if deadline.is_some() { None } else { Some(total) }, deadline);
+    let (film, stats) = raydiance::render::render(&scene, &progress);
+    progress.bar.finish_and_clear();
+    raydiance::write_render(output, &format, &film, &stats, settings).map_err(|e| e.to_string())?;
+    if stats.dropped > 0 {
+        eprintln!("warning: {} samples were NaN or infinite and were dropped", stats.dropped);
+    }
+    if INTERRUPTED.load(Ordering::SeqCst) {
+        eprintln!(
+            "interrupted: wrote the {} of {} samples per pixel completed",
+            stats.samples_per_pixel, settings.samples
+        );
+    }
+    println!(
+        "{}: {}x{}, {} spp, {}, {:.3} s, {:.2} Msamples/s",
+        output.display(),
+        film.width,
+        film.height,
+        stats.samples_per_pixel,
+        settings.integrator.name(),
+        stats.seconds,
+        stats.samples_per_second(&film) / 1e6,
+    );
+    Ok(())
+}
+
+/// A progress bar on stderr with elapsed time and ETA (hidden when stderr is not a terminal),
+/// and the reasons to stop early: Ctrl-C and the time budget.
+struct Bar {
+    bar: ProgressBar,
+    deadline: Option<Instant>,
+}
+
+impl Bar {
+    /// `total` samples, or a spinner when the total is not known (a time budget).
+    fn new(total: Option<u64>, deadline: Option<Instant>) -> Self {
+        let (bar, template) = match total {
+            Some(total) => (
+                ProgressBar::new(total),
+                "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ETA {eta}",
+            ),
+            None => (ProgressBar::no_length(), "{spinner} [{elapsed_precise}] {human_pos} samples"),
+        };
+        bar.set_style(ProgressStyle::with_template(template).expect("the template is valid"));
+        bar.enable_steady_tick(Duration::from_millis(200));
+        Bar { bar, deadline }
+    }
+}
+
+impl Progress for Bar {
+    fn advance(&self, samples: u64) {
+        self.bar.inc(samples);
+    }
+
+    fn should_stop(&self, next_pass_seconds: f64) -> bool {
+        let over_budget = self.deadline.is_some_and(|deadline| {
+            Instant::now() + Duration::from_secs_f64(next_pass_seconds) > deadline
+        });
+        over_budget || INTERRUPTED.load(Ordering::SeqCst)
+    }
+}

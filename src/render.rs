@@ -19,8 +19,9 @@ use crate::scene::graph::IntegratorKind;
 pub trait Progress: Sync {
     /// `samples` more pixel samples are done.
     fn advance(&self, samples: u64);
-    /// Checked between passes: stop after the current one.
-    fn should_stop(&self) -> bool {
+    /// Checked between passes, with an estimate of how long the next pass would take: true
+    /// ends the render with the passes done so far.
+    fn should_stop(&self, _next_pass_seconds: f64) -> bool {
         false
     }
 }
@@ -51,25 +52,19 @@ impl RenderStats {
 /// that a render stopped between passes is still an unbiased image.
 pub fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
     match scene.settings.integrator {
-        IntegratorKind::Direct => render_with(
-            scene,
-            &Direct {
-                max_depth: scene.settings.max_depth,
-            },
-            progress,
-        ),
+        IntegratorKind::Direct => {
+            render_with(scene, &Direct { max_depth: scene.settings.max_depth }, progress)
+        }
         IntegratorKind::Path => render_with(
             scene,
-            &Path {
-                max_depth: scene.settings.max_depth,
-                strategy: Strategy::Mis,
-            },
+            &Path { max_depth: scene.settings.max_depth, strategy: Strategy::Mis },
             progress,
         ),
     }
 }
 
-fn render_with(
+/// Renders with a given integrator (e.g. a `Path` with one sampling strategy, for tests).
+pub fn render_with(
     scene: &Scene,
     integrator: &impl Integrator,
     progress: &dyn Progress,
@@ -79,8 +74,13 @@ fn render_with(
     let (width, height) = (settings.width as usize, settings.height as usize);
     let mut film = Film::new(width, height);
     let dropped = AtomicU64::new(0);
-    while film.samples < settings.samples && !(film.samples > 0 && progress.should_stop()) {
+    let mut seconds_per_sample = 0.0;
+    while film.samples < settings.samples {
         let pass = film.samples.max(1).min(settings.samples - film.samples);
+        if film.samples > 0 && progress.should_stop(seconds_per_sample * f64::from(pass)) {
+            break;
+        }
+        let pass_start = Instant::now();
         let samples = film.samples..film.samples + pass;
         film.sum
             .par_chunks_mut(width)
@@ -114,6 +114,7 @@ fn render_with(
                 progress.advance(width as u64 * u64::from(pass));
             });
         film.samples += pass;
+        seconds_per_sample = pass_start.elapsed().as_secs_f64() / f64::from(pass);
     }
     film.dropped = dropped.into_inner();
     let stats = RenderStats {

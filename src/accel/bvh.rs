@@ -39,16 +39,8 @@ struct Item {
 }
 
 enum BuildNode {
-    Leaf {
-        bounds: Aabb,
-        first: usize,
-        count: usize,
-    },
-    Interior {
-        bounds: Aabb,
-        axis: u8,
-        children: Box<[BuildNode; 2]>,
-    },
+    Leaf { bounds: Aabb, first: usize, count: usize },
+    Interior { bounds: Aabb, axis: u8, children: Box<[BuildNode; 2]> },
 }
 
 impl Bvh {
@@ -58,11 +50,7 @@ impl Bvh {
         let mut items: Vec<Item> = bounds
             .iter()
             .enumerate()
-            .map(|(i, b)| Item {
-                bounds: *b,
-                centroid: b.centroid(),
-                index: i as u32,
-            })
+            .map(|(i, b)| Item { bounds: *b, centroid: b.centroid(), index: i as u32 })
             .collect();
         if items.is_empty() {
             return (Bvh::default(), Vec::new());
@@ -96,11 +84,7 @@ impl Bvh {
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
-            if node
-                .bounds
-                .hit_distance(ray.origin, inv_dir, t_max)
-                .is_some()
-            {
+            if node.bounds.hit_distance(ray.origin, inv_dir, t_max).is_some() {
                 if node.count > 0 {
                     let first = node.offset as usize;
                     for i in first..first + node.count as usize {
@@ -141,11 +125,7 @@ impl Bvh {
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
-            if node
-                .bounds
-                .hit_distance(ray.origin, inv_dir, t_max)
-                .is_some()
-            {
+            if node.bounds.hit_distance(ray.origin, inv_dir, t_max).is_some() {
                 if node.count > 0 {
                     let first = node.offset as usize;
                     if (first..first + node.count as usize).any(&mut hit) {
@@ -170,26 +150,14 @@ impl Bvh {
 fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
     let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
     if items.len() <= 1 {
-        return BuildNode::Leaf {
-            bounds,
-            first,
-            count: items.len(),
-        };
+        return BuildNode::Leaf { bounds, first, count: items.len() };
     }
-    let sah = if depth < SAH_MAX_DEPTH {
-        split_sah(items, bounds)
-    } else {
-        None
-    };
+    let sah = if depth < SAH_MAX_DEPTH { split_sah(items, bounds) } else { None };
     let (axis, mid) = match sah {
         Some(split) => split,
         // A leaf is cheaper by SAH, or the centroids coincide and there are few enough.
         None if items.len() <= 4 * MAX_LEAF => {
-            return BuildNode::Leaf {
-                bounds,
-                first,
-                count: items.len(),
-            };
+            return BuildNode::Leaf { bounds, first, count: items.len() };
         }
         None => split_median(items),
     };
@@ -200,16 +168,9 @@ fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
             || build_node(right, first + mid, depth + 1),
         )
     } else {
-        (
-            build_node(left, first, depth + 1),
-            build_node(right, first + mid, depth + 1),
-        )
+        (build_node(left, first, depth + 1), build_node(right, first + mid, depth + 1))
     };
-    BuildNode::Interior {
-        bounds,
-        axis: axis as u8,
-        children: Box::new([a, b]),
-    }
+    BuildNode::Interior { bounds, axis: axis as u8, children: Box::new([a, b]) }
 }
 
 /// Halves `items` at the median centroid along the widest axis.
@@ -287,11 +248,7 @@ fn partition(items: &mut [Item], left: impl Fn(&Item) -> bool) -> usize {
 
 fn flatten(node: &BuildNode, nodes: &mut Vec<Node>) {
     match node {
-        BuildNode::Leaf {
-            bounds,
-            first,
-            count,
-        } => {
+        BuildNode::Leaf { bounds, first, count } => {
             nodes.push(Node {
                 bounds: *bounds,
                 offset: *first as u32,
@@ -299,18 +256,9 @@ fn flatten(node: &BuildNode, nodes: &mut Vec<Node>) {
                 axis: 0,
             });
         }
-        BuildNode::Interior {
-            bounds,
-            axis,
-            children,
-        } => {
+        BuildNode::Interior { bounds, axis, children } => {
             let at = nodes.len();
-            nodes.push(Node {
-                bounds: *bounds,
-                offset: 0,
-                count: 0,
-                axis: *axis,
-            });
+            nodes.push(Node { bounds: *bounds, offset: 0, count: 0, axis: *axis });
             flatten(&children[0], nodes);
             nodes[at].offset = nodes.len() as u32;
             flatten(&children[1], nodes);
@@ -332,20 +280,11 @@ mod tests {
             .map(|i| {
                 let origin = point() * 2.0 - Vec3::ONE;
                 if i % 5 == 0 {
-                    Shape::Sphere {
-                        center: origin,
-                        radius: 0.05 * point().x + 0.001,
-                    }
+                    Shape::Sphere { center: origin, radius: 0.05 * point().x + 0.001 }
                 } else {
                     let (edge1, edge2) = ((point() - 0.5) * 0.2, (point() - 0.5) * 0.2);
                     let normal = edge1.cross(edge2).normalize();
-                    Shape::Planar {
-                        kind: PlanarKind::Triangle,
-                        origin,
-                        edge1,
-                        edge2,
-                        normal,
-                    }
+                    Shape::Planar { kind: PlanarKind::Triangle, origin, edge1, edge2, normal }
                 }
             })
             .collect()
@@ -358,11 +297,7 @@ mod tests {
         let (bvh, order) = Bvh::build(&bounds);
         let mut sorted: Vec<u32> = order.clone();
         sorted.sort_unstable();
-        assert_eq!(
-            sorted,
-            (0..shapes.len() as u32).collect::<Vec<_>>(),
-            "a permutation"
-        );
+        assert_eq!(sorted, (0..shapes.len() as u32).collect::<Vec<_>>(), "a permutation");
         let ordered: Vec<&Shape> = order.iter().map(|&i| &shapes[i as usize]).collect();
         let mut sampler = Sampler::new(9, 9, 9);
         let mut hits = 0;
@@ -381,9 +316,8 @@ mod tests {
                 Some(hit.t)
             });
             assert_eq!(t, brute);
-            let any = bvh.any(&ray, f32::INFINITY, |i| {
-                ordered[i].intersect(&ray, f32::INFINITY).is_some()
-            });
+            let any = bvh
+                .any(&ray, f32::INFINITY, |i| ordered[i].intersect(&ray, f32::INFINITY).is_some());
             assert_eq!(any, brute.is_finite());
             hits += usize::from(found.is_some());
         }
@@ -392,19 +326,9 @@ mod tests {
 
     #[test]
     fn coincident_centroids_still_build_small_leaves() {
-        let bounds = vec![
-            Aabb {
-                min: Vec3::ZERO,
-                max: Vec3::ONE
-            };
-            1000
-        ];
+        let bounds = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 1000];
         let (bvh, order) = Bvh::build(&bounds);
         assert_eq!(order.len(), 1000);
-        assert!(
-            bvh.nodes
-                .iter()
-                .all(|n| usize::from(n.count) <= 4 * MAX_LEAF)
-        );
+        assert!(bvh.nodes.iter().all(|n| usize::from(n.count) <= 4 * MAX_LEAF));
     }
 }

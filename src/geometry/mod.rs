@@ -3,7 +3,9 @@
 mod aabb;
 mod ray;
 mod shape;
+mod triangle_mesh;
 
 pub use aabb::Aabb;
 pub use ray::{Hit, Ray, offset_origin};
 pub use shape::{PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, sphere_error};
+pub use triangle_mesh::{Placement, TriangleMesh};

@@ -25,6 +25,9 @@ pub struct Hit {
     /// Unit geometric normal in the shape's own orientation (outwards for closed solids,
     /// `edge1 x edge2` for planar shapes): it decides which side emits and which is "inside".
     pub normal: Vec3,
+    /// Unit normal for shading (interpolated vertex normals of smooth meshes; otherwise
+    /// `normal`), on the same side as `normal`.
+    pub shading_normal: Vec3,
     /// A bound on the absolute error of `point`, per axis, used to offset spawned rays.
     pub error: f32,
     /// Index of the primitive hit, into `Scene::primitives`.
@@ -36,9 +39,5 @@ pub struct Hit {
 /// scaled by 1000 or 0.001 renders the same.
 pub fn offset_origin(hit: &Hit, dir: Vec3) -> Vec3 {
     let offset = hit.normal * hit.error;
-    if hit.normal.dot(dir) >= 0.0 {
-        hit.point + offset
-    } else {
-        hit.point - offset
-    }
+    if hit.normal.dot(dir) >= 0.0 { hit.point + offset } else { hit.point - offset }
 }

@@ -1,7 +1,10 @@
 //! World-space shapes: intersection, bounds, area and uniform area sampling.
 
+use std::sync::Arc;
+
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
+use super::triangle_mesh::{Placement, TriangleMesh};
 use super::{Aabb, Hit, Ray};
 use crate::sampling::{concentric_disk, uniform_sphere, uniform_triangle};
 
@@ -44,6 +47,12 @@ pub enum Shape {
     Quadric {
         kind: QuadricKind,
         frame: Box<QuadricFrame>,
+    },
+    /// A triangle mesh, shared by its instances, each placed by its own transform (`None`: the
+    /// mesh's space is the world).
+    Mesh {
+        mesh: Arc<TriangleMesh>,
+        placement: Option<Box<Placement>>,
     },
 }
 
@@ -114,14 +123,26 @@ impl Shape {
         match self {
             Shape::Plane { normal, offset } => intersect_plane(*normal, *offset, ray, t_max),
             Shape::Sphere { center, radius } => intersect_sphere(*center, *radius, ray, t_max),
-            Shape::Planar {
-                kind,
-                origin,
-                edge1,
-                edge2,
-                normal,
-            } => intersect_planar(*kind, *origin, *edge1, *edge2, *normal, ray, t_max),
+            Shape::Planar { kind, origin, edge1, edge2, normal } => {
+                intersect_planar(*kind, *origin, *edge1, *edge2, *normal, ray, t_max)
+            }
             Shape::Quadric { kind, frame } => intersect_quadric(*kind, frame, ray, t_max),
+            Shape::Mesh { mesh, placement: None } => mesh.intersect(ray, t_max),
+            Shape::Mesh { mesh, placement: Some(placement) } => {
+                Some(placement.hit_to_world(mesh.intersect(&placement.ray_to_object(ray), t_max)?))
+            }
+        }
+    }
+
+    /// Whether the ray meets the shape before `t_max` (any hit, for shadow rays).
+    #[inline]
+    pub fn occludes(&self, ray: &Ray, t_max: f32) -> bool {
+        match self {
+            Shape::Mesh { mesh, placement: None } => mesh.occluded(ray, t_max),
+            Shape::Mesh { mesh, placement: Some(placement) } => {
+                mesh.occluded(&placement.ray_to_object(ray), t_max)
+            }
+            _ => self.intersect(ray, t_max).is_some(),
         }
     }
 
@@ -133,57 +154,44 @@ impl Shape {
                 min: center - Vec3::splat(*radius),
                 max: center + Vec3::splat(*radius),
             }),
-            Shape::Planar {
-                kind: PlanarKind::Triangle,
-                origin,
-                edge1,
-                edge2,
-                ..
-            } => Some(Aabb::from_points(&[
-                *origin,
-                origin + edge1,
-                origin + edge2,
-            ])),
-            Shape::Planar {
-                kind: PlanarKind::Quad,
-                origin,
-                edge1,
-                edge2,
-                ..
-            } => Some(Aabb::from_points(&[
-                *origin,
-                origin + edge1,
-                origin + edge2,
-                origin + edge1 + edge2,
-            ])),
-            Shape::Planar {
-                kind: PlanarKind::Disk,
-                origin,
-                edge1,
-                edge2,
-                ..
-            } => {
+            Shape::Planar { kind: PlanarKind::Triangle, origin, edge1, edge2, .. } => {
+                Some(Aabb::from_points(&[*origin, origin + edge1, origin + edge2]))
+            }
+            Shape::Planar { kind: PlanarKind::Quad, origin, edge1, edge2, .. } => {
+                Some(Aabb::from_points(&[
+                    *origin,
+                    origin + edge1,
+                    origin + edge2,
+                    origin + edge1 + edge2,
+                ]))
+            }
+            Shape::Planar { kind: PlanarKind::Disk, origin, edge1, edge2, .. } => {
                 // The ellipse origin + cos(a) e1 + sin(a) e2 reaches sqrt(e1_i^2 + e2_i^2) on axis i.
                 let half = (edge1 * edge1 + edge2 * edge2).map(f32::sqrt);
-                Some(Aabb {
-                    min: origin - half,
-                    max: origin + half,
-                })
+                Some(Aabb { min: origin - half, max: origin + half })
             }
             Shape::Quadric { frame, .. } => Some(Aabb::from_points(
                 &QuadricFrame::canonical_corners().map(|c| frame.to_world.transform_point3(c)),
             )),
+            Shape::Mesh { mesh, placement } => {
+                let local = mesh.bounds();
+                Some(match placement {
+                    None => local,
+                    Some(p) => Aabb::from_points(&QuadricFrame::canonical_corners().map(|c| {
+                        let corner = local.centroid() + 0.5 * c * local.extent();
+                        p.to_world.transform_point3(corner)
+                    })),
+                })
+            }
         }
     }
 
-    /// Surface area, when it is finite and known in closed form.
+    /// Surface area, when it is finite and known in closed form (meshes are not sampled as lights).
     pub fn area(&self) -> Option<f32> {
         match self {
-            Shape::Plane { .. } => None,
+            Shape::Plane { .. } | Shape::Mesh { .. } => None,
             Shape::Sphere { radius, .. } => Some(4.0 * std::f32::consts::PI * radius * radius),
-            Shape::Planar {
-                kind, edge1, edge2, ..
-            } => {
+            Shape::Planar { kind, edge1, edge2, .. } => {
                 let parallelogram = edge1.cross(*edge2).length();
                 Some(match kind {
                     PlanarKind::Triangle => 0.5 * parallelogram,
@@ -205,23 +213,13 @@ impl Shape {
     /// A point distributed uniformly by area (pdf 1 / area); `None` where `area` is `None`.
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
-            Shape::Plane { .. } => None,
+            Shape::Plane { .. } | Shape::Mesh { .. } => None,
             Shape::Sphere { center, radius } => {
                 let normal = uniform_sphere(u);
                 let point = center + *radius * normal;
-                Some(SurfaceSample {
-                    point,
-                    normal,
-                    error: sphere_error(*center, *radius),
-                })
+                Some(SurfaceSample { point, normal, error: sphere_error(*center, *radius) })
             }
-            Shape::Planar {
-                kind,
-                origin,
-                edge1,
-                edge2,
-                normal,
-            } => {
+            Shape::Planar { kind, origin, edge1, edge2, normal } => {
                 let (s, t) = match kind {
                     PlanarKind::Triangle => uniform_triangle(u).into(),
                     PlanarKind::Quad => u.into(),
@@ -276,13 +274,7 @@ fn intersect_plane(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<H
     let p = ray.at(t);
     let point = p - normal * (normal.dot(p) + offset);
     let error = REL_ERROR * (point.abs().max_element() + offset.abs());
-    Some(Hit {
-        t,
-        point,
-        normal,
-        error,
-        primitive: 0,
-    })
+    Some(Hit { t, point, normal, shading_normal: normal, error, primitive: 0 })
 }
 
 #[inline]
@@ -315,6 +307,7 @@ fn intersect_sphere(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<
         t,
         point,
         normal,
+        shading_normal: normal,
         error: sphere_error(center, radius),
         primitive: 0,
     })
@@ -357,6 +350,7 @@ fn intersect_planar(
         t: distance,
         point: origin + s * edge1 + t * edge2,
         normal,
+        shading_normal: normal,
         error: planar_error(origin, edge1, edge2),
         primitive: 0,
     })
@@ -373,11 +367,9 @@ fn intersect_quadric(
     let d = frame.to_object.transform_vector3a(ray.dir.into());
     let (a, b, c) = match kind {
         QuadricKind::Ellipsoid => (d.dot(d), o.dot(d), o.dot(o) - 1.0),
-        QuadricKind::Tube => (
-            d.x * d.x + d.y * d.y,
-            o.x * d.x + o.y * d.y,
-            o.x * o.x + o.y * o.y - 1.0,
-        ),
+        QuadricKind::Tube => {
+            (d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - 1.0)
+        }
     };
     let disc = b * b - a * c;
     if a == 0.0 || disc < 0.0 {
@@ -406,10 +398,12 @@ fn intersect_quadric(
             (radial + Vec3A::new(0.0, 0.0, p.z), radial)
         }
     };
+    let normal = (frame.normal_to_world * n).normalize().into();
     Some(Hit {
         t,
         point: frame.to_world.transform_point3a(p).into(),
-        normal: (frame.normal_to_world * n).normalize().into(),
+        normal,
+        shading_normal: normal,
         error: REL_ERROR * frame.magnitude,
         primitive: 0,
     })
@@ -425,40 +419,21 @@ mod tests {
 
     #[test]
     fn sphere_hit_from_outside_and_inside() {
-        let sphere = Shape::Sphere {
-            center: Vec3::new(0.0, 0.0, 5.0),
-            radius: 1.0,
-        };
-        let outside = sphere
-            .intersect(&ray(Vec3::ZERO, Vec3::Z), f32::INFINITY)
-            .unwrap();
+        let sphere = Shape::Sphere { center: Vec3::new(0.0, 0.0, 5.0), radius: 1.0 };
+        let outside = sphere.intersect(&ray(Vec3::ZERO, Vec3::Z), f32::INFINITY).unwrap();
         assert!((outside.t - 4.0).abs() < 1e-6);
         assert_eq!(outside.normal, -Vec3::Z);
-        let inside = sphere
-            .intersect(&ray(Vec3::new(0.0, 0.0, 5.0), Vec3::X), f32::INFINITY)
-            .unwrap();
+        let inside =
+            sphere.intersect(&ray(Vec3::new(0.0, 0.0, 5.0), Vec3::X), f32::INFINITY).unwrap();
         assert!((inside.t - 1.0).abs() < 1e-6);
-        assert_eq!(
-            inside.normal,
-            Vec3::X,
-            "outward, whichever side the ray came from"
-        );
-        assert!(
-            sphere.intersect(&ray(Vec3::ZERO, Vec3::Z), 3.9).is_none(),
-            "t_max respected"
-        );
+        assert_eq!(inside.normal, Vec3::X, "outward, whichever side the ray came from");
+        assert!(sphere.intersect(&ray(Vec3::ZERO, Vec3::Z), 3.9).is_none(), "t_max respected");
     }
 
     #[test]
     fn planar_kinds_accept_their_own_parameter_domains() {
         let (origin, edge1, edge2) = (Vec3::new(0.0, 0.0, 1.0), Vec3::X, Vec3::Y);
-        let shape = |kind| Shape::Planar {
-            kind,
-            origin,
-            edge1,
-            edge2,
-            normal: Vec3::Z,
-        };
+        let shape = |kind| Shape::Planar { kind, origin, edge1, edge2, normal: Vec3::Z };
         let down = |x, y| ray(Vec3::new(x, y, 0.0), Vec3::Z);
         let hits = |kind, x, y| shape(kind).intersect(&down(x, y), f32::INFINITY).is_some();
         assert!(hits(PlanarKind::Quad, 0.9, 0.9) && !hits(PlanarKind::Quad, 1.1, 0.5));
@@ -475,38 +450,22 @@ mod tests {
         // The unit sphere stretched to x radius 2: hit from +x at distance 3 from x = 5.
         let ellipsoid = Shape::Quadric {
             kind: QuadricKind::Ellipsoid,
-            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(
-                2.0, 1.0, 1.0,
-            )))),
+            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(2.0, 1.0, 1.0)))),
         };
-        let hit = ellipsoid
-            .intersect(&ray(Vec3::new(5.0, 0.0, 0.0), -Vec3::X), f32::INFINITY)
-            .unwrap();
+        let hit =
+            ellipsoid.intersect(&ray(Vec3::new(5.0, 0.0, 0.0), -Vec3::X), f32::INFINITY).unwrap();
         assert!((hit.t - 3.0).abs() < 1e-5 && (hit.normal - Vec3::X).length() < 1e-6);
-        assert!(
-            ellipsoid.area().is_none(),
-            "no closed-form area: not sampled"
-        );
+        assert!(ellipsoid.area().is_none(), "no closed-form area: not sampled");
         // A tube of radius 0.5 along z from 0 to 2, seen from the side and along its axis.
         let tube = Shape::Quadric {
             kind: QuadricKind::Tube,
-            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(
-                0.5, 0.5, 2.0,
-            )))),
+            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(0.5, 0.5, 2.0)))),
         };
-        let side = tube
-            .intersect(&ray(Vec3::new(-3.0, 0.0, 1.5), Vec3::X), f32::INFINITY)
-            .unwrap();
+        let side = tube.intersect(&ray(Vec3::new(-3.0, 0.0, 1.5), Vec3::X), f32::INFINITY).unwrap();
         assert!((side.t - 2.5).abs() < 1e-5 && (side.normal + Vec3::X).length() < 1e-6);
-        assert!(
-            tube.intersect(&ray(Vec3::new(-3.0, 0.0, 2.5), Vec3::X), f32::INFINITY)
-                .is_none()
-        );
+        assert!(tube.intersect(&ray(Vec3::new(-3.0, 0.0, 2.5), Vec3::X), f32::INFINITY).is_none());
         // Along the axis the ray meets the open tube from inside only at grazing: no hit.
-        assert!(
-            tube.intersect(&ray(Vec3::new(0.0, 0.0, -1.0), Vec3::Z), f32::INFINITY)
-                .is_none()
-        );
+        assert!(tube.intersect(&ray(Vec3::new(0.0, 0.0, -1.0), Vec3::Z), f32::INFINITY).is_none());
         let similar = QuadricFrame::new(Affine3A::from_scale(Vec3::splat(3.0)));
         assert_eq!(similar.similarity_scale, Some(3.0));
     }
@@ -514,10 +473,7 @@ mod tests {
     #[test]
     fn area_samples_lie_on_the_shape() {
         let shapes = [
-            Shape::Sphere {
-                center: Vec3::ONE,
-                radius: 2.0,
-            },
+            Shape::Sphere { center: Vec3::ONE, radius: 2.0 },
             Shape::Planar {
                 kind: PlanarKind::Disk,
                 origin: Vec3::ZERO,
@@ -531,9 +487,8 @@ mod tests {
                 let u = Vec2::new((i % 10) as f32 / 10.0 + 0.05, (i / 10) as f32 / 10.0 + 0.05);
                 let s = shape.sample_area(u).unwrap();
                 // A ray from just off the surface along -normal hits at the sample itself.
-                let hit = shape
-                    .intersect(&Ray::new(s.point + s.normal * 1e-3, -s.normal), 1.0)
-                    .unwrap();
+                let hit =
+                    shape.intersect(&Ray::new(s.point + s.normal * 1e-3, -s.normal), 1.0).unwrap();
                 assert!((hit.point - s.point).length() < 1e-4, "{shape:?} {u}");
             }
         }

@@ -12,11 +12,7 @@ pub struct Image {
 
 impl Image {
     pub fn new(width: usize, height: usize) -> Self {
-        Image {
-            width,
-            height,
-            pixels: vec![Vec3::ZERO; width * height],
-        }
+        Image { width, height, pixels: vec![Vec3::ZERO; width * height] }
     }
 
     pub fn get(&self, x: usize, y: usize) -> Vec3 {

@@ -31,8 +31,8 @@ fn direct_from_all_lights(
     for light in &scene.lights {
         let u = sampler.next_2d();
         if let Some(sample) = light.sample(scene, hit, u) {
-            let f = material.eval(hit.normal, wo, sample.wi);
-            radiance += f * sample.li * hit.normal.dot(sample.wi).abs() / sample.pdf;
+            let f = material.eval(hit.shading_normal, wo, sample.wi);
+            radiance += f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf;
         }
     }
     radiance

@@ -34,6 +34,9 @@ impl Integrator for Path {
     fn radiance(&self, scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Vec3 {
         let mut radiance = Vec3::ZERO;
         let mut beta = Vec3::ONE;
+        // Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
+        // so paths through glass are not cut for a throughput drop that the exit restores.
+        let mut eta_scale = 1.0;
         // The previous vertex and the solid-angle pdf of the direction sampled there (None for
         // the camera ray and after specular bounces: no light sample could have found this path).
         let mut previous: Option<(Hit, f32)> = None;
@@ -55,18 +58,19 @@ impl Integrator for Path {
                 radiance += beta * self.next_event(scene, &hit, wo, material, sampler);
             }
             let Some(sample) =
-                material.sample(hit.normal, wo, sampler.next_1d(), sampler.next_2d())
+                material.sample(hit.shading_normal, wo, sampler.next_1d(), sampler.next_2d())
             else {
                 break;
             };
             beta *= sample.weight;
+            eta_scale *= sample.eta * sample.eta;
             previous = (!sample.specular).then_some((hit, sample.pdf));
             ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
             // Russian roulette: continue with probability tied to the throughput and divide by
             // it, so the estimate stays unbiased.
             let u = sampler.next_1d();
             if bounces + 1 >= ROULETTE_AFTER {
-                let survive = beta.max_element().min(1.0);
+                let survive = (beta * eta_scale).max_element().min(1.0);
                 if u >= survive {
                     break;
                 }
@@ -118,7 +122,7 @@ impl Path {
         let Some(sample) = light.sample(scene, hit, u) else {
             return Vec3::ZERO;
         };
-        let f = material.eval(hit.normal, wo, sample.wi);
+        let f = material.eval(hit.shading_normal, wo, sample.wi);
         if f == Vec3::ZERO {
             return Vec3::ZERO;
         }
@@ -126,9 +130,9 @@ impl Path {
         let weight = if sample.is_delta || self.strategy == Strategy::LightSampling {
             1.0
         } else {
-            power_heuristic(light_pdf, material.pdf(hit.normal, wo, sample.wi))
+            power_heuristic(light_pdf, material.pdf(hit.shading_normal, wo, sample.wi))
         };
-        f * sample.li * hit.normal.dot(sample.wi).abs() * weight / light_pdf
+        f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf
     }
 }
 

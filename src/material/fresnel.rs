@@ -57,10 +57,7 @@ mod tests {
         let wo = Vec3::new(theta_i.sin(), 0.0, theta_i.cos());
         let wi = refract(wo, Vec3::Z, 1.5).unwrap();
         assert!((wi.length() - 1.0).abs() < 1e-6);
-        assert!(
-            wi.z < 0.0 && wi.x < 0.0,
-            "passes through, on the other side of the normal"
-        );
+        assert!(wi.z < 0.0 && wi.x < 0.0, "passes through, on the other side of the normal");
         // sin(theta_i) = 1.5 sin(theta_t)
         assert!((theta_i.sin() - 1.5 * wi.x.abs()).abs() < 1e-6);
     }

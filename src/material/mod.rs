@@ -33,6 +33,8 @@ pub struct BsdfSample {
     pub weight: Vec3,
     pub pdf: f32,
     pub specular: bool,
+    /// eta_t / eta_i of the boundary crossed by a refracted `wi`; 1 for reflection.
+    pub eta: f32,
 }
 
 /// The reflectance of each lobe seen from one `wo`, and where the specular ones send light.
@@ -58,20 +60,12 @@ impl Material {
 
     /// Radiance emitted towards `wo`: emission is one-sided, towards the normal.
     pub fn emitted(&self, n: Vec3, wo: Vec3) -> Vec3 {
-        if n.dot(wo) > 0.0 {
-            self.emission
-        } else {
-            Vec3::ZERO
-        }
+        if n.dot(wo) > 0.0 { self.emission } else { Vec3::ZERO }
     }
 
     /// The non-specular part of f(wo, wi): Lambert's kd / pi, reflection only (both sides).
     pub fn eval(&self, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
-        if same_side(n, wo, wi) {
-            self.diffuse * FRAC_1_PI
-        } else {
-            Vec3::ZERO
-        }
+        if same_side(n, wo, wi) { self.diffuse * FRAC_1_PI } else { Vec3::ZERO }
     }
 
     /// Solid-angle density with which `sample` returns `wi` through its non-specular lobe.
@@ -99,14 +93,14 @@ impl Material {
                 weight: self.diffuse / p_diffuse,
                 pdf,
                 specular: false,
+                eta: 1.0,
             })
         } else if u_lobe < p_diffuse + p_reflect {
-            Some(specular_sample(lobes.reflect_dir, lobes.reflect, p_reflect))
+            Some(specular_sample(lobes.reflect_dir, lobes.reflect, p_reflect, 1.0))
         } else {
             let wi = lobes.transmit_dir?;
             let p_transmit = 1.0 - p_diffuse - p_reflect;
-            (p_transmit > 0.0)
-                .then(|| specular_sample(wi, lobes.transmitted_radiance(), p_transmit))
+            (p_transmit > 0.0).then(|| lobes.transmission_sample(wi, p_transmit))
         }
     }
 
@@ -122,12 +116,8 @@ impl Material {
         }
         let p_reflect = reflect / total;
         match lobes.transmit_dir {
-            Some(wi) if u_lobe >= p_reflect => Some(specular_sample(
-                wi,
-                lobes.transmitted_radiance(),
-                1.0 - p_reflect,
-            )),
-            _ => Some(specular_sample(lobes.reflect_dir, lobes.reflect, p_reflect)),
+            Some(wi) if u_lobe >= p_reflect => Some(lobes.transmission_sample(wi, 1.0 - p_reflect)),
+            _ => Some(specular_sample(lobes.reflect_dir, lobes.reflect, p_reflect, 1.0)),
         }
     }
 
@@ -136,17 +126,10 @@ impl Material {
         let facing = if cos_o < 0.0 { -n } else { n };
         let reflect_dir = 2.0 * cos_o * n - wo;
         // Relative index of refraction eta = eta_t / eta_i across the boundary crossed by wi.
-        let eta = if cos_o >= 0.0 {
-            self.ior
-        } else {
-            1.0 / self.ior
-        };
+        let eta = if cos_o >= 0.0 { self.ior } else { 1.0 / self.ior };
         let has_transmission = self.transmission.max_element() > 0.0;
-        let transmit_dir = if has_transmission || self.fresnel {
-            refract(wo, facing, eta)
-        } else {
-            None
-        };
+        let transmit_dir =
+            if has_transmission || self.fresnel { refract(wo, facing, eta) } else { None };
         let (mut reflect, mut transmit) = if self.fresnel {
             let f = fresnel_dielectric(cos_o.abs(), eta);
             let total = self.specular + self.transmission;
@@ -158,13 +141,7 @@ impl Material {
             reflect += transmit;
             transmit = Vec3::ZERO;
         }
-        Lobes {
-            reflect,
-            transmit,
-            eta,
-            reflect_dir,
-            transmit_dir,
-        }
+        Lobes { reflect, transmit, eta, reflect_dir, transmit_dir }
     }
 
     /// Probabilities of the diffuse, reflection and transmission lobes, from their mean energy.
@@ -182,18 +159,13 @@ impl Material {
 
 impl Lobes {
     /// Radiance is compressed by 1 / eta^2 on entering a denser medium (pbrt-v4, 9.5.2).
-    fn transmitted_radiance(&self) -> Vec3 {
-        self.transmit / (self.eta * self.eta)
+    fn transmission_sample(&self, wi: Vec3, probability: f32) -> BsdfSample {
+        specular_sample(wi, self.transmit / (self.eta * self.eta), probability, self.eta)
     }
 }
 
-fn specular_sample(wi: Vec3, reflectance: Vec3, probability: f32) -> BsdfSample {
-    BsdfSample {
-        wi,
-        weight: reflectance / probability,
-        pdf: probability,
-        specular: true,
-    }
+fn specular_sample(wi: Vec3, reflectance: Vec3, probability: f32, eta: f32) -> BsdfSample {
+    BsdfSample { wi, weight: reflectance / probability, pdf: probability, specular: true, eta }
 }
 
 fn same_side(n: Vec3, wo: Vec3, wi: Vec3) -> bool {

@@ -1,39 +1,95 @@
 //! Sample values as a pure function of (seed, pixel, sample index, dimension), so that an image
 //! never depends on the thread count or on the order in which pixels are rendered.
+//!
+//! Each 2-D request is a point of the Sobol (0,2)-sequence, Owen-scrambled, with the sample index
+//! shuffled per dimension pair ("padding", Burley 2020, "Practical Hash-based Owen Scrambling"):
+//! the first 2^k samples of a pixel are stratified in every pair of dimensions, and dimensions
+//! are decorrelated from each other and from other pixels.
 
 use glam::Vec2;
 
-/// The random stream of one pixel sample: dimension `d` of sample `i` of pixel `p` is
-/// `hash(seed, p, i, d)`, read in order by `next_1d`/`next_2d`.
+/// The random stream of one pixel sample; `next_1d` / `next_2d` read its dimensions in order.
 #[derive(Debug, Clone)]
 pub struct Sampler {
-    stream: u64,
+    /// Hash of (seed, pixel): selects the scrambles, shared by all samples of the pixel.
+    pixel_hash: u64,
+    sample_index: u32,
     dimension: u32,
 }
 
 impl Sampler {
     pub fn new(seed: u64, pixel: u64, sample_index: u64) -> Self {
-        let stream = mix64(mix64(seed ^ 0x9e37_79b9_7f4a_7c15) ^ pixel);
         Sampler {
-            stream: mix64(stream ^ sample_index.wrapping_mul(0xd1b5_4a32_d192_ed03)),
+            pixel_hash: mix64(mix64(seed ^ 0x9e37_79b9_7f4a_7c15) ^ pixel),
+            // More than 2^32 samples per pixel is beyond any limit the renderer accepts.
+            sample_index: sample_index as u32,
             dimension: 0,
         }
     }
 
-    /// A value in [0, 1).
+    /// A value in [0, 1): a scrambled van der Corput point.
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        let bits =
-            mix64(self.stream ^ u64::from(self.dimension).wrapping_mul(0xa076_1d64_78bd_642f));
-        self.dimension += 1;
-        // The top 24 bits make every value exactly representable and below 1.
-        (bits >> 40) as f32 * (1.0 / (1u32 << 24) as f32)
+        let [shuffle, scramble] = self.next_seeds::<2>();
+        let index = nested_uniform_scramble(self.sample_index, shuffle);
+        to_unit(nested_uniform_scramble(index.reverse_bits(), scramble))
     }
 
+    /// A point in [0, 1)^2: a scrambled Sobol (0,2)-sequence point.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
-        Vec2::new(self.next_1d(), self.next_1d())
+        let [shuffle, scramble_x, scramble_y] = self.next_seeds::<3>();
+        let index = nested_uniform_scramble(self.sample_index, shuffle);
+        let (x, y) = sobol_2d(index);
+        Vec2::new(
+            to_unit(nested_uniform_scramble(x, scramble_x)),
+            to_unit(nested_uniform_scramble(y, scramble_y)),
+        )
     }
+
+    /// Independent 32-bit seeds for the next dimension.
+    fn next_seeds<const N: usize>(&mut self) -> [u32; N] {
+        let base =
+            mix64(self.pixel_hash ^ u64::from(self.dimension).wrapping_mul(0xa076_1d64_78bd_642f));
+        self.dimension += 1;
+        std::array::from_fn(|i| (mix64(base.wrapping_add(i as u64)) >> 32) as u32)
+    }
+}
+
+/// The first two dimensions of Sobol's sequence: the bit-reversed index (van der Corput) and the
+/// product with the generator matrix whose columns are v_1 = 2^31, v_k = v_(k-1) ^ (v_(k-1) >> 1).
+#[inline]
+fn sobol_2d(index: u32) -> (u32, u32) {
+    let mut y = 0;
+    let mut v = 1u32 << 31;
+    let mut bits = index;
+    while bits != 0 {
+        if bits & 1 != 0 {
+            y ^= v;
+        }
+        bits >>= 1;
+        v ^= v >> 1;
+    }
+    (index.reverse_bits(), y)
+}
+
+/// Owen scrambling of the bits of `x` (the most significant bit decides the first split): each
+/// bit is flipped by a hash of the bits above it. The Laine–Karras hash works from the least
+/// significant bit, hence the reversals (Burley 2020, with Vegdahl's improved constants).
+#[inline]
+fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    let mut v = x.reverse_bits().wrapping_add(seed);
+    v ^= v.wrapping_mul(0x6c50_b47c);
+    v ^= v.wrapping_mul(0xb82f_1e52);
+    v ^= v.wrapping_mul(0xc7af_e638);
+    v ^= v.wrapping_mul(0x8d22_f6e6);
+    v.reverse_bits()
+}
+
+/// The top 24 bits as a float in [0, 1): exactly representable, never 1.
+#[inline]
+fn to_unit(bits: u32) -> f32 {
+    (bits >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
 }
 
 /// A 64-bit finaliser with full avalanche (splitmix64's, Stafford's variant 13).
@@ -52,7 +108,7 @@ mod tests {
     fn streams_are_pure_functions_of_their_coordinates() {
         let take = |seed, pixel, index| {
             let mut s = Sampler::new(seed, pixel, index);
-            [s.next_1d(), s.next_1d(), s.next_1d()]
+            [s.next_1d(), s.next_1d(), s.next_2d().x]
         };
         assert_eq!(take(1, 2, 3), take(1, 2, 3));
         assert_ne!(take(1, 2, 3), take(0, 2, 3));
@@ -61,23 +117,61 @@ mod tests {
     }
 
     #[test]
-    fn values_are_uniform_in_unit_interval() {
+    fn values_are_uniform_across_pixels() {
         // 10 bins of 10000 values each: a chi-square with 9 degrees of freedom stays below
         // 27.9 with probability 0.999.
         let mut bins = [0u32; 10];
         for pixel in 0..1000 {
-            let mut s = Sampler::new(7, pixel, 0);
-            for _ in 0..100 {
-                let u = s.next_1d();
-                assert!((0.0..1.0).contains(&u));
-                bins[(u * 10.0) as usize] += 1;
+            for index in 0..10 {
+                let mut s = Sampler::new(7, pixel, index);
+                for _ in 0..10 {
+                    let u = s.next_1d();
+                    assert!((0.0..1.0).contains(&u));
+                    bins[(u * 10.0) as usize] += 1;
+                }
             }
         }
         let expected = 10000.0;
-        let chi2: f64 = bins
-            .iter()
-            .map(|&n| (n as f64 - expected).powi(2) / expected)
-            .sum();
+        let chi2: f64 = bins.iter().map(|&n| (n as f64 - expected).powi(2) / expected).sum();
         assert!(chi2 < 27.9, "chi2 = {chi2}, bins = {bins:?}");
+    }
+
+    #[test]
+    fn the_first_power_of_two_samples_are_a_net_in_every_dimension_pair() {
+        // A (0,4,2)-net: each of the 16 elementary intervals of area 1/16 of every shape
+        // (1 x 1/16, 1/2 x 1/8, ..., 1/16 x 1) holds exactly one of the first 16 points.
+        for pixel in [0, 17, 12345] {
+            for dimension in 0..6 {
+                let points: Vec<Vec2> = (0..16)
+                    .map(|i| {
+                        let mut s = Sampler::new(3, pixel, i);
+                        (0..dimension).for_each(|_| {
+                            s.next_2d();
+                        });
+                        s.next_2d()
+                    })
+                    .collect();
+                for log_x in 0..=4 {
+                    let (nx, ny) = (1 << log_x, 1 << (4 - log_x));
+                    let mut cells = vec![0; 16];
+                    for p in &points {
+                        cells[(p.y * ny as f32) as usize * nx + (p.x * nx as f32) as usize] += 1;
+                    }
+                    assert!(
+                        cells.iter().all(|&c| c == 1),
+                        "pixel {pixel} dim {dimension} {nx}x{ny}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn one_dimensional_values_are_stratified() {
+        let mut values: Vec<f32> = (0..8).map(|i| Sampler::new(5, 9, i).next_1d()).collect();
+        values.sort_by(f32::total_cmp);
+        for (i, v) in values.iter().enumerate() {
+            assert_eq!((v * 8.0) as usize, i, "{values:?}");
+        }
     }
 }

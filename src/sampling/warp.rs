@@ -70,10 +70,7 @@ mod tests {
     fn cosine_hemisphere_has_mean_cosine_two_thirds() {
         // E[cos] under pdf cos/pi is (1/pi) * integral of cos^2 over the hemisphere = 2/3.
         let dirs: Vec<Vec3> = grid(200).map(cosine_hemisphere).collect();
-        assert!(
-            dirs.iter()
-                .all(|d| d.z >= 0.0 && (d.length() - 1.0).abs() < 1e-5)
-        );
+        assert!(dirs.iter().all(|d| d.z >= 0.0 && (d.length() - 1.0).abs() < 1e-5));
         let mean_cos = dirs.iter().map(|d| d.z).sum::<f32>() / dirs.len() as f32;
         assert!((mean_cos - 2.0 / 3.0).abs() < 1e-3, "{mean_cos}");
     }
@@ -81,10 +78,7 @@ mod tests {
     #[test]
     fn uniform_triangle_has_centroid_one_third() {
         let bs: Vec<Vec2> = grid(200).map(uniform_triangle).collect();
-        assert!(
-            bs.iter()
-                .all(|b| b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 + 1e-6)
-        );
+        assert!(bs.iter().all(|b| b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 + 1e-6));
         let mean = bs.iter().sum::<Vec2>() / bs.len() as f32;
         assert!((mean - Vec2::splat(1.0 / 3.0)).length() < 1e-3, "{mean}");
     }

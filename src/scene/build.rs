@@ -24,34 +24,25 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         flat.add(node, Affine3A::IDENTITY, None)?;
     }
 
-    let (mut bounded, planes): (Vec<Primitive>, Vec<Primitive>) = flat
-        .primitives
-        .into_iter()
-        .partition(|p| p.shape.bounds().is_some());
+    let (mut bounded, planes): (Vec<Primitive>, Vec<Primitive>) =
+        flat.primitives.into_iter().partition(|p| p.shape.bounds().is_some());
     let bounds: Vec<_> = bounded.iter().filter_map(|p| p.shape.bounds()).collect();
     let (bvh, order) = Bvh::build(&bounds);
     let mut slots: Vec<Option<Primitive>> = bounded.drain(..).map(Some).collect();
-    let mut primitives: Vec<Primitive> = order
-        .iter()
-        .filter_map(|&i| slots[i as usize].take())
-        .collect();
+    let mut primitives: Vec<Primitive> =
+        order.iter().filter_map(|&i| slots[i as usize].take()).collect();
     let bounded_count = primitives.len();
     primitives.extend(planes);
 
     let mut lights: Vec<Light> = graph
         .lights
         .iter()
-        .map(|l| Light::Point {
-            position: l.position,
-            power: l.power,
-        })
+        .map(|l| Light::Point { position: l.position, power: l.power })
         .collect();
     for (i, prim) in primitives.iter_mut().enumerate() {
         if flat.materials[prim.material as usize].is_emissive() && prim.shape.area().is_some() {
             prim.light = Some(lights.len() as u32);
-            lights.push(Light::Area {
-                primitive: i as u32,
-            });
+            lights.push(Light::Area { primitive: i as u32 });
         }
     }
     let mut warnings: Vec<String> = camera_warning.into_iter().collect();
@@ -101,16 +92,13 @@ impl Flattener {
         let to_world = parent * compose(&node.transforms);
         let determinant = to_world.matrix3.determinant();
         if !determinant.is_finite() || determinant.abs() < 1e-12 {
-            return Err(SceneError::at(
-                &node.span,
-                "the transforms of this object are singular",
-            ));
+            return Err(SceneError::at(&node.span, "the transforms of this object are singular"));
         }
         let material = node.material.as_ref().or(inherited);
         match &node.shape {
-            ShapeNode::Union(children) => children
-                .iter()
-                .try_for_each(|c| self.add(c, to_world, material)),
+            ShapeNode::Union(children) => {
+                children.iter().try_for_each(|c| self.add(c, to_world, material))
+            }
             ShapeNode::Instance(target) => self.add(target, to_world, material),
             shape => {
                 let material = self.material(material);
@@ -123,11 +111,7 @@ impl Flattener {
                             node.span
                         ));
                     }
-                    self.primitives.push(Primitive {
-                        shape,
-                        material,
-                        light: None,
-                    });
+                    self.primitives.push(Primitive { shape, material, light: None });
                 }
                 Ok(())
             }
@@ -170,19 +154,10 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
     // inverse transpose and keep their side, so swap the edges to follow them.
     let mirrored = m.matrix3.determinant() < 0.0;
     let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
-        let (origin, e1, e2) = (
-            m.transform_point3(origin),
-            m.transform_vector3(e1),
-            m.transform_vector3(e2),
-        );
+        let (origin, e1, e2) =
+            (m.transform_point3(origin), m.transform_vector3(e1), m.transform_vector3(e2));
         let (e1, e2) = if mirrored { (e2, e1) } else { (e1, e2) };
-        Shape::Planar {
-            kind,
-            origin,
-            edge1: e1,
-            edge2: e2,
-            normal: e1.cross(e2).normalize(),
-        }
+        Shape::Planar { kind, origin, edge1: e1, edge2: e2, normal: e1.cross(e2).normalize() }
     };
     // A disk (or cylinder cap) with the given centre and unit normal.
     let disk = |center: Vec3, normal: Vec3, radius: f32| {
@@ -196,10 +171,7 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             let n = Vec3::from(n);
             let offset = offset - n.dot(m.translation.into());
             let length = n.length();
-            vec![Shape::Plane {
-                normal: n / length,
-                offset: offset / length,
-            }]
+            vec![Shape::Plane { normal: n / length, offset: offset / length }]
         }
         ShapeNode::Sphere { center, radius } => {
             let to_world = m * Affine3A::from_scale_rotation_translation(
@@ -209,14 +181,12 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             );
             let frame = QuadricFrame::new(to_world);
             match frame.similarity_scale {
-                Some(scale) => vec![Shape::Sphere {
-                    center: to_world.translation.into(),
-                    radius: scale,
-                }],
-                None => vec![Shape::Quadric {
-                    kind: QuadricKind::Ellipsoid,
-                    frame: Box::new(frame),
-                }],
+                Some(scale) => {
+                    vec![Shape::Sphere { center: to_world.translation.into(), radius: scale }]
+                }
+                None => {
+                    vec![Shape::Quadric { kind: QuadricKind::Ellipsoid, frame: Box::new(frame) }]
+                }
             }
         }
         ShapeNode::Box { corner_a, corner_b } => {
@@ -234,18 +204,12 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             ]
         }
         ShapeNode::Triangle { a, b, c } => vec![planar(PlanarKind::Triangle, a, b - a, c - a)],
-        ShapeNode::Quad {
-            corner,
-            edge1,
-            edge2,
-        } => {
+        ShapeNode::Quad { corner, edge1, edge2 } => {
             vec![planar(PlanarKind::Quad, corner, edge1, edge2)]
         }
-        ShapeNode::Disk {
-            center,
-            normal,
-            radius,
-        } => vec![disk(center, normal.normalize(), radius)],
+        ShapeNode::Disk { center, normal, radius } => {
+            vec![disk(center, normal.normalize(), radius)]
+        }
         ShapeNode::Cylinder { base, cap, radius } => {
             let axis = cap - base;
             let direction = axis.normalize();
@@ -270,9 +234,5 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
 /// Unit tangents (t, b) with t x b = n.
 fn tangents(n: Vec3) -> (Vec3, Vec3) {
     let (t, b) = n.any_orthonormal_pair();
-    if t.cross(b).dot(n) < 0.0 {
-        (b, t)
-    } else {
-        (t, b)
-    }
+    if t.cross(b).dot(n) < 0.0 { (b, t) } else { (t, b) }
 }

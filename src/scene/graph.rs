@@ -60,19 +60,9 @@ impl Default for Settings {
 #[derive(Debug, Clone, PartialEq)]
 pub enum CameraForm {
     /// The lab's camera: image plane `origin + forward + a*left + b*up`, a, b in [-1, 1].
-    Lab {
-        origin: Vec3,
-        left: Vec3,
-        up: Vec3,
-        forward: Vec3,
-    },
+    Lab { origin: Vec3, left: Vec3, up: Vec3, forward: Vec3 },
     /// POV-Ray's camera: `angle` is the horizontal field of view in degrees.
-    LookAt {
-        location: Vec3,
-        look_at: Vec3,
-        up: Vec3,
-        angle: f32,
-    },
+    LookAt { location: Vec3, look_at: Vec3, up: Vec3, angle: f32 },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -136,19 +126,16 @@ impl Transform {
                     * Affine3A::from_rotation_x(r.x)
             }
             Transform::Scale(s) => Affine3A::from_scale(s),
-            Transform::Matrix {
-                linear,
-                translation,
-            } => Affine3A::from_mat3_translation(linear, translation),
+            Transform::Matrix { linear, translation } => {
+                Affine3A::from_mat3_translation(linear, translation)
+            }
         }
     }
 }
 
 /// The composition of transforms in written order (first written, first applied).
 pub fn compose(transforms: &[Transform]) -> Affine3A {
-    transforms
-        .iter()
-        .fold(Affine3A::IDENTITY, |acc, t| t.to_affine() * acc)
+    transforms.iter().fold(Affine3A::IDENTITY, |acc, t| t.to_affine() * acc)
 }
 
 #[derive(Debug, Clone)]

@@ -46,18 +46,12 @@ impl Scene {
         let bounded = &self.primitives[..self.bounded];
         let t_max = self.bvh.closest(ray, f32::INFINITY, |i, t_max| {
             let hit = bounded[i].shape.intersect(ray, t_max)?;
-            closest = Some(Hit {
-                primitive: i as u32,
-                ..hit
-            });
+            closest = Some(Hit { primitive: i as u32, ..hit });
             Some(hit.t)
         });
         for (i, prim) in self.planes() {
             if let Some(hit) = prim.shape.intersect(ray, closest.map_or(t_max, |h| h.t)) {
-                closest = Some(Hit {
-                    primitive: i as u32,
-                    ..hit
-                });
+                closest = Some(Hit { primitive: i as u32, ..hit });
             }
         }
         closest
@@ -66,11 +60,8 @@ impl Scene {
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let bounded = &self.primitives[..self.bounded];
-        self.bvh.any(ray, t_max, |i| {
-            bounded[i].shape.intersect(ray, t_max).is_some()
-        }) || self
-            .planes()
-            .any(|(_, p)| p.shape.intersect(ray, t_max).is_some())
+        self.bvh.any(ray, t_max, |i| bounded[i].shape.intersect(ray, t_max).is_some())
+            || self.planes().any(|(_, p)| p.shape.intersect(ray, t_max).is_some())
     }
 
     pub fn material(&self, hit: &Hit) -> &Material {
@@ -85,21 +76,14 @@ impl Scene {
     /// A light chosen in proportion to its power, and the probability of that choice.
     pub fn choose_light(&self, u: f32) -> Option<(usize, f32)> {
         let total = *self.light_cdf.last()?;
-        let index = self
-            .light_cdf
-            .partition_point(|&c| c <= u * total)
-            .min(self.lights.len() - 1);
+        let index = self.light_cdf.partition_point(|&c| c <= u * total).min(self.lights.len() - 1);
         Some((index, self.light_probability(index)))
     }
 
     /// The probability that `choose_light` returns light `index`.
     pub fn light_probability(&self, index: usize) -> f32 {
         let total = self.light_cdf.last().copied().unwrap_or(0.0);
-        let below = if index == 0 {
-            0.0
-        } else {
-            self.light_cdf[index - 1]
-        };
+        let below = if index == 0 { 0.0 } else { self.light_cdf[index - 1] };
         (self.light_cdf[index] - below) / total
     }
 

@@ -1,0 +1,150 @@
+//! A triangle mesh ready for intersection: triangles as (vertex, edge, edge) in BVH order under
+//! their own BVH, in the mesh's object space. Instances share one, each with its own transform
+//! (a two-level hierarchy), so a mesh used a hundred times is stored once.
+
+use glam::{Affine3A, Mat3A, Vec3, Vec3A};
+
+use super::{Aabb, Hit, Ray};
+use crate::accel::Bvh;
+use crate::mesh::Mesh;
+
+#[derive(Debug)]
+pub struct TriangleMesh {
+    /// Per triangle, in BVH order: a vertex and the two edges from it.
+    triangles: Vec<[Vec3; 3]>,
+    /// Per triangle, in BVH order: its vertex indices, for interpolating normals.
+    indices: Vec<[u32; 3]>,
+    normals: Option<Vec<Vec3>>,
+    bvh: Bvh,
+    /// Magnitude of the coordinates, for error bounds of hit points.
+    magnitude: f32,
+}
+
+impl TriangleMesh {
+    pub fn new(mesh: Mesh) -> Self {
+        let corners = |t: &[u32; 3]| t.map(|i| mesh.positions[i as usize]);
+        let bounds: Vec<Aabb> =
+            mesh.triangles.iter().map(|t| Aabb::from_points(&corners(t))).collect();
+        let (bvh, order) = Bvh::build(&bounds);
+        let indices: Vec<[u32; 3]> = order.iter().map(|&i| mesh.triangles[i as usize]).collect();
+        let triangles = indices
+            .iter()
+            .map(|t| {
+                let [a, b, c] = corners(t);
+                [a, b - a, c - a]
+            })
+            .collect();
+        let magnitude = bvh.bounds().min.abs().max(bvh.bounds().max.abs()).max_element();
+        TriangleMesh { triangles, indices, normals: mesh.normals, bvh, magnitude }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Closest hit in object space. The normal is the face's `(b - a) x (c - a)`; with vertex
+    /// normals the shading normal is interpolated from them, turned to the normal's side.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let mut closest: Option<(usize, f32, f32, f32)> = None;
+        self.bvh.closest(ray, t_max, |i, t_max| {
+            let (t, s, u) = intersect_triangle(&self.triangles[i], ray, t_max)?;
+            closest = Some((i, t, s, u));
+            Some(t)
+        });
+        let (i, t, s, u) = closest?;
+        let [origin, edge1, edge2] = self.triangles[i];
+        let normal = edge1.cross(edge2).normalize();
+        let shading_normal = match &self.normals {
+            None => normal,
+            Some(normals) => {
+                let [a, b, c] = self.indices[i].map(|v| normals[v as usize]);
+                let n = ((1.0 - s - u) * a + s * b + u * c).normalize_or_zero();
+                if n == Vec3::ZERO { normal } else { n * n.dot(normal).signum() }
+            }
+        };
+        let hit = Hit {
+            t,
+            point: origin + s * edge1 + u * edge2,
+            normal,
+            shading_normal,
+            error: 256.0 * f32::EPSILON * self.magnitude,
+            primitive: 0,
+        };
+        Some(hit)
+    }
+
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.bvh.any(ray, t_max, |i| intersect_triangle(&self.triangles[i], ray, t_max).is_some())
+    }
+}
+
+/// Möller–Trumbore: distance and barycentric coordinates along the two edges.
+#[inline]
+fn intersect_triangle(
+    [origin, edge1, edge2]: &[Vec3; 3],
+    ray: &Ray,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
+    let pvec = ray.dir.cross(*edge2);
+    let det = edge1.dot(pvec);
+    if det == 0.0 {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let tvec = ray.origin - *origin;
+    let s = tvec.dot(pvec) * inv_det;
+    if !(0.0..=1.0).contains(&s) {
+        return None;
+    }
+    let qvec = tvec.cross(*edge1);
+    let u = ray.dir.dot(qvec) * inv_det;
+    if u < 0.0 || s + u > 1.0 {
+        return None;
+    }
+    let t = edge2.dot(qvec) * inv_det;
+    (t > 0.0 && t < t_max).then_some((t, s, u))
+}
+
+/// Where an instance puts its mesh in the world.
+#[derive(Debug, Clone)]
+pub struct Placement {
+    pub to_world: Affine3A,
+    pub to_object: Affine3A,
+    pub normal_to_world: Mat3A,
+}
+
+impl Placement {
+    pub fn new(to_world: Affine3A) -> Self {
+        Placement {
+            to_world,
+            to_object: to_world.inverse(),
+            normal_to_world: to_world.matrix3.inverse().transpose(),
+        }
+    }
+
+    /// The ray in object space. Its direction is not renormalised, so distances are the same.
+    pub fn ray_to_object(&self, ray: &Ray) -> Ray {
+        Ray {
+            origin: self.to_object.transform_point3(ray.origin),
+            dir: self.to_object.transform_vector3(ray.dir),
+        }
+    }
+
+    pub fn hit_to_world(&self, hit: Hit) -> Hit {
+        let to_world = |n: Vec3| Vec3::from((self.normal_to_world * Vec3A::from(n)).normalize());
+        let point = self.to_world.transform_point3(hit.point);
+        let scale =
+            self.to_world.matrix3.abs().to_cols_array().iter().fold(0.0f32, |m, e| m.max(*e));
+        Hit {
+            point,
+            normal: to_world(hit.normal),
+            shading_normal: to_world(hit.shading_normal),
+            error: hit.error * 3.0 * scale + 256.0 * f32::EPSILON * point.abs().max_element(),
+            ..hit
+        }
+    }
+}

@@ -1,0 +1,66 @@
+//! Triangle meshes from files: PLY (ASCII and binary) and Wavefront OBJ.
+
+mod obj;
+mod ply;
+
+use std::path::Path;
+
+use glam::Vec3;
+
+/// An indexed triangle mesh in its own (object) space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    /// Per-vertex normals, when the file has them: smooth shading.
+    pub normals: Option<Vec<Vec3>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// A mesh file that cannot be used, with where in it: `file: line N: ...` or `file: element ...`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}: {message}")]
+pub struct MeshError {
+    pub file: String,
+    pub message: String,
+}
+
+/// Reads a `.ply` or `.obj` file by its extension.
+pub fn load(path: &Path) -> Result<Mesh, MeshError> {
+    let error = |message: String| MeshError { file: path.display().to_string(), message };
+    let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read: {e}")))?;
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let mesh = match extension.as_deref() {
+        Some("ply") => ply::parse(&bytes),
+        Some("obj") => obj::parse(&bytes),
+        _ => Err("unknown mesh format (expected a .ply or .obj file)".to_string()),
+    }
+    .map_err(error)?;
+    validate(&mesh).map_err(error)?;
+    Ok(mesh)
+}
+
+/// Checks what the parsers cannot see locally: indices in range, finite coordinates, a face.
+fn validate(mesh: &Mesh) -> Result<(), String> {
+    if mesh.triangles.is_empty() {
+        return Err("the mesh has no faces".to_string());
+    }
+    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        return Err(format!("vertex {i} has a coordinate that is not a finite number"));
+    }
+    let count = mesh.positions.len();
+    for (face, triangle) in mesh.triangles.iter().enumerate() {
+        if let Some(&index) = triangle.iter().find(|&&i| i as usize >= count) {
+            return Err(format!(
+                "face {face} uses vertex {index}, but there are only {count} vertices"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Splits a polygon into a fan of triangles around its first vertex.
+fn triangulate(polygon: &[u32], triangles: &mut Vec<[u32; 3]>) {
+    for i in 1..polygon.len().saturating_sub(1) {
+        triangles.push([polygon[0], polygon[i], polygon[i + 1]]);
+    }
+}

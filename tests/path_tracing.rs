@@ -1,0 +1,197 @@
+//! The path integrator against closed forms of the rendering equation, and its estimators
+//! (light sampling, BSDF sampling, MIS) against each other, with statistical bounds.
+
+mod common;
+
+use common::{LAB_BOX, scene};
+use glam::Vec3;
+use raydiance::film::Film;
+use raydiance::integrator::{Direct, Path, Strategy};
+use raydiance::render::{Silent, render_with};
+use raydiance::scene::Scene;
+
+fn path(scene: &Scene, strategy: Strategy) -> Film {
+    render_with(scene, &Path { max_depth: scene.settings.max_depth, strategy }, &Silent).0
+}
+
+/// The mean over all pixels of a film whose pixels all estimate `expected`, checked against a
+/// bound of 5 standard errors (from the film's own variance estimate).
+fn assert_uniform_radiance(film: &Film, expected: Vec3, what: &str) {
+    let n = film.sum.len() as f32;
+    let image = film.image();
+    let mean = image.pixels.iter().sum::<Vec3>() / n;
+    let standard_error = (film.variance_of_mean().iter().sum::<Vec3>() / (n * n)).map(f32::sqrt);
+    let deviation = (mean - expected).abs();
+    assert!(
+        deviation.cmple(5.0 * standard_error + 1e-6 * expected).all(),
+        "{what}: mean {mean}, expected {expected}, standard error {standard_error}"
+    );
+    assert!(
+        standard_error.max_element() < 0.02 * expected.max_element(),
+        "{what}: too noisy to tell"
+    );
+}
+
+/// A closed box [-1, 1]^3 of six quads facing inwards with the given material, and a camera
+/// inside it looking along +z.
+fn inward_box(material: &str) -> String {
+    let faces = [
+        "<-1, -1, -1>, <0, 2, 0>, <2, 0, 0>", // z = -1, faces +z
+        "<-1, -1, 1>, <2, 0, 0>, <0, 2, 0>",  // z = +1, faces -z
+        "<-1, -1, -1>, <2, 0, 0>, <0, 0, 2>", // y = -1, faces +y
+        "<-1, 1, -1>, <0, 0, 2>, <2, 0, 0>",  // y = +1, faces -y
+        "<-1, -1, -1>, <0, 0, 2>, <0, 2, 0>", // x = -1, faces +x
+        "<1, -1, -1>, <0, 2, 0>, <0, 0, 2>",  // x = +1, faces -x
+    ];
+    let quads: String = faces.iter().map(|f| format!("quad {{ {f} }}\n")).collect();
+    format!(
+        "camera {{ location <0.1, 0.2, -0.3>  look_at <0.5, 0.3, 1>  angle 90 }}
+         union {{ {quads} material {{ {material} }} }}"
+    )
+}
+
+#[test]
+fn closed_sphere_with_a_point_light_at_its_centre() {
+    // Wall radiance a p / (pi R^2 (1 - a)): R = 2, a = 0.5, p = 4 pi gives 1.
+    let s = scene(
+        "settings { resolution 16, 16  samples 64  integrator path  max_depth 64 }
+         camera { location <0.3, -0.2, 0.1>  look_at <1, 0, 2>  angle 100 }
+         light_source { <0, 0, 0>  power rgb 4 * pi }
+         sphere { <0, 0, 0>, 2  material { diffuse rgb 0.5 } }",
+    );
+    assert_uniform_radiance(&path(&s, Strategy::Mis), Vec3::ONE, "path");
+}
+
+#[test]
+fn furnace_with_emitting_walls() {
+    // Walls of albedo a emitting Le: L = Le / (1 - a) = 0.25 / (1 - 0.75) = 1, by every estimator.
+    let s = scene(&format!(
+        "settings {{ resolution 16, 16  samples 64  integrator path  max_depth 100 }}
+         {}",
+        inward_box("diffuse rgb 0.75  emission rgb 0.25")
+    ));
+    for strategy in [Strategy::Mis, Strategy::LightSampling, Strategy::BsdfSampling] {
+        assert_uniform_radiance(&path(&s, strategy), Vec3::splat(1.0), &format!("{strategy:?}"));
+    }
+}
+
+#[test]
+fn white_furnace_with_bounded_depth_counts_each_bounce_once() {
+    // Albedo 1, emission Le, max_depth d: emission is gathered at d + 1 vertices: (d + 1) Le.
+    for depth in [0u32, 1, 3] {
+        let s = scene(&format!(
+            "settings {{ resolution 8, 8  samples 32  integrator path  max_depth {depth} }}
+             {}",
+            inward_box("diffuse rgb 1  emission rgb 0.5")
+        ));
+        let expected = Vec3::splat(0.5 * (depth + 1) as f32);
+        assert_uniform_radiance(&path(&s, Strategy::Mis), expected, &format!("max_depth {depth}"));
+    }
+}
+
+#[test]
+fn glass_sphere_in_a_uniformly_emitting_box_keeps_its_radiance() {
+    // A lossless dielectric neither adds nor removes radiance: every pixel sees Le = 1.
+    let s = scene(&format!(
+        "settings {{ resolution 16, 16  samples 16  integrator path  max_depth 64 }}
+         {}
+         sphere {{ <0.4, 0.25, 0.5>, 0.45  material {{ transmission rgb 1  ior 1.5  fresnel }} }}",
+        inward_box("emission rgb 1")
+    ));
+    let image = path(&s, Strategy::Mis).image();
+    for p in &image.pixels {
+        assert!((*p - Vec3::ONE).abs().max_element() < 1e-3, "{p}");
+    }
+}
+
+fn small_cornell(samples: u32) -> Scene {
+    scene(&format!(
+        "{LAB_BOX}
+         settings {{ resolution 24, 24  samples {samples}  integrator path  max_depth 8 }}
+         quad {{ <-0.25, 0.99, -0.25>, <0.5, 0, 0>, <0, 0, 0.5>  material {{ emission rgb 10 }} }}
+         sphere {{ <-0.5, -0.7, 0.25>, 0.3  material {{ emission rgb <0, 0, 2> diffuse rgb 0.5 }} }}
+         sphere {{ <0.5, -0.7, -0.25>, 0.3  material {{ diffuse rgb <0.8, 0.7, 0.2> }} }}"
+    ))
+}
+
+/// Per-pixel two-sample z-test: the fraction of pixel channels differing by more than 4
+/// standard errors must be what chance allows.
+fn assert_films_agree(a: &Film, b: &Film, what: &str) {
+    let (ia, ib) = (a.image(), b.image());
+    let (va, vb) = (a.variance_of_mean(), b.variance_of_mean());
+    let mut outliers = 0;
+    for i in 0..ia.pixels.len() {
+        let z = (ia.pixels[i] - ib.pixels[i]).abs()
+            / (va[i] + vb[i]).map(f32::sqrt).max(Vec3::splat(1e-6));
+        outliers += z.to_array().iter().filter(|&&z| z > 4.0).count();
+    }
+    let channels = 3 * ia.pixels.len();
+    assert!(
+        outliers * 200 < channels,
+        "{what}: {outliers} of {channels} channels differ by > 4 sigma"
+    );
+    let (ma, mb) = (common::mean(&ia), common::mean(&ib));
+    assert!((ma - mb).abs().max_element() < 0.02 * ma.max_element(), "{what}: means {ma} vs {mb}");
+}
+
+#[test]
+fn light_sampling_bsdf_sampling_and_mis_agree() {
+    let s = small_cornell(256);
+    let mis = path(&s, Strategy::Mis);
+    assert_films_agree(&mis, &path(&s, Strategy::LightSampling), "light sampling vs MIS");
+    assert_films_agree(&mis, &path(&s, Strategy::BsdfSampling), "BSDF sampling vs MIS");
+}
+
+#[test]
+fn direct_and_path_with_max_depth_one_agree() {
+    let mut s = small_cornell(128);
+    s.settings.max_depth = 1;
+    let direct = render_with(&s, &Direct { max_depth: 1 }, &Silent).0;
+    assert_films_agree(&direct, &path(&s, Strategy::Mis), "direct vs path at depth 1");
+    // With point lights only, both are exact and take the same rays.
+    let mut seed = common::scene_file("scenes/lab4-direct.scn");
+    seed.settings.width = 16;
+    seed.settings.height = 16;
+    seed.settings.max_depth = 1;
+    let direct = render_with(&seed, &Direct { max_depth: 1 }, &Silent).0.image();
+    let path = path(&seed, Strategy::Mis).image();
+    assert!(common::max_abs_difference(&direct, &path) < 1e-6);
+}
+
+#[test]
+fn max_depth_zero_shows_only_emitters() {
+    let mut s = small_cornell(8);
+    s.settings.max_depth = 0;
+    let image = path(&s, Strategy::Mis).image();
+    // Each sample sees 10 (the light), <0, 0, 2> (the emissive sphere) or nothing.
+    for p in &image.pixels {
+        let light_share = p.x / 10.0 * 8.0;
+        assert!((light_share - light_share.round()).abs() < 1e-4 && p.y == p.x, "{p}");
+        let sphere_share = (p.z - p.x) / 2.0 * 8.0;
+        assert!((sphere_share - sphere_share.round()).abs() < 1e-4, "{p}");
+    }
+    assert!(image.pixels.iter().any(|p| p.x > 0.0) && image.pixels.iter().any(|p| p.z > p.x));
+}
+
+#[test]
+fn error_falls_like_one_over_root_spp() {
+    let reference = {
+        let mut s = small_cornell(2048);
+        s.settings.seed = 99;
+        path(&s, Strategy::Mis).image()
+    };
+    let rmse = |spp| {
+        let image = path(&small_cornell(spp), Strategy::Mis).image();
+        let squared: f32 = image
+            .pixels
+            .iter()
+            .zip(&reference.pixels)
+            .map(|(a, b)| (*a - *b).length_squared())
+            .sum();
+        (squared / (3 * image.pixels.len()) as f32).sqrt()
+    };
+    let errors: Vec<f32> = [16, 64, 256].map(rmse).to_vec();
+    // Slope of log RMSE against log spp: -0.5 for plain Monte Carlo; stratification may do better.
+    let slope = (errors[2] / errors[0]).ln() / 16f32.ln();
+    assert!(slope < -0.4 && slope > -1.0, "RMSE {errors:?}, slope {slope}");
+}
