@@ -30,60 +30,89 @@ impl Sampler {
     /// A value in [0, 1): a scrambled van der Corput point.
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        let [shuffle, scramble] = self.next_seeds::<2>();
+        let [shuffle, scramble] = self.next_seeds();
         let index = nested_uniform_scramble(self.sample_index, shuffle);
-        to_unit(nested_uniform_scramble(index.reverse_bits(), scramble))
+        // The van der Corput point is reverse(index); scrambling it reverses it back first.
+        to_unit(laine_karras(index, scramble).reverse_bits())
     }
 
     /// A point in [0, 1)^2: a scrambled Sobol (0,2)-sequence point.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
-        let [shuffle, scramble_x, scramble_y] = self.next_seeds::<3>();
+        let [shuffle, scramble_x] = self.next_seeds();
+        let [scramble_y, _] = self.next_seeds();
         let index = nested_uniform_scramble(self.sample_index, shuffle);
-        let (x, y) = sobol_2d(index);
+        let y_reversed = (0..4)
+            .fold(0, |y, byte| y ^ SOBOL_1_REVERSED[byte][(index >> (8 * byte)) as usize & 0xff]);
         Vec2::new(
-            to_unit(nested_uniform_scramble(x, scramble_x)),
-            to_unit(nested_uniform_scramble(y, scramble_y)),
+            to_unit(laine_karras(index, scramble_x).reverse_bits()),
+            to_unit(laine_karras(y_reversed, scramble_y).reverse_bits()),
         )
     }
 
-    /// Independent 32-bit seeds for the next dimension.
-    fn next_seeds<const N: usize>(&mut self) -> [u32; N] {
-        let base =
+    /// Two independent 32-bit seeds; each call moves to the next dimension.
+    #[inline]
+    fn next_seeds(&mut self) -> [u32; 2] {
+        let bits =
             mix64(self.pixel_hash ^ u64::from(self.dimension).wrapping_mul(0xa076_1d64_78bd_642f));
         self.dimension += 1;
-        std::array::from_fn(|i| (mix64(base.wrapping_add(i as u64)) >> 32) as u32)
+        [bits as u32, (bits >> 32) as u32]
     }
 }
 
-/// The first two dimensions of Sobol's sequence: the bit-reversed index (van der Corput) and the
-/// product with the generator matrix whose columns are v_1 = 2^31, v_k = v_(k-1) ^ (v_(k-1) >> 1).
-#[inline]
-fn sobol_2d(index: u32) -> (u32, u32) {
-    let mut y = 0;
+/// `SOBOL_1_REVERSED[k][b]`: the contribution of byte `k` (equal to `b`) of the index to the
+/// second dimension of Sobol's sequence, bit-reversed. The generator matrix's columns are
+/// v_1 = 2^31, v_k = v_(k-1) ^ (v_(k-1) >> 1); the first dimension is the reversed index itself.
+static SOBOL_1_REVERSED: [[u32; 256]; 4] = sobol_1_tables();
+
+const fn sobol_1_tables() -> [[u32; 256]; 4] {
+    let mut columns = [0u32; 32];
     let mut v = 1u32 << 31;
-    let mut bits = index;
-    while bits != 0 {
-        if bits & 1 != 0 {
-            y ^= v;
-        }
-        bits >>= 1;
+    let mut bit = 0;
+    while bit < 32 {
+        columns[bit] = v.reverse_bits();
         v ^= v >> 1;
+        bit += 1;
     }
-    (index.reverse_bits(), y)
+    let mut tables = [[0u32; 256]; 4];
+    let mut byte = 0;
+    while byte < 4 {
+        let mut value = 0;
+        while value < 256 {
+            let mut y = 0;
+            let mut b = 0;
+            while b < 8 {
+                if value & (1 << b) != 0 {
+                    y ^= columns[8 * byte + b];
+                }
+                b += 1;
+            }
+            tables[byte][value] = y;
+            value += 1;
+        }
+        byte += 1;
+    }
+    tables
 }
 
 /// Owen scrambling of the bits of `x` (the most significant bit decides the first split): each
-/// bit is flipped by a hash of the bits above it. The Laine–Karras hash works from the least
-/// significant bit, hence the reversals (Burley 2020, with Vegdahl's improved constants).
+/// bit is flipped by a hash of the bits above it (Burley 2020, "Practical Hash-based Owen
+/// Scrambling").
 #[inline]
 fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
-    let mut v = x.reverse_bits().wrapping_add(seed);
+    laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// The Laine–Karras hash, which flips each bit by a hash of the bits below it: Owen scrambling
+/// of a bit-reversed value (with Vegdahl's improved constants).
+#[inline]
+fn laine_karras(x: u32, seed: u32) -> u32 {
+    let mut v = x.wrapping_add(seed);
     v ^= v.wrapping_mul(0x6c50_b47c);
     v ^= v.wrapping_mul(0xb82f_1e52);
     v ^= v.wrapping_mul(0xc7af_e638);
     v ^= v.wrapping_mul(0x8d22_f6e6);
-    v.reverse_bits()
+    v
 }
 
 /// The top 24 bits as a float in [0, 1): exactly representable, never 1.

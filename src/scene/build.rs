@@ -2,6 +2,7 @@
 //! material inheritance, collects lights, builds the BVH and the camera.
 
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
@@ -11,7 +12,7 @@ use super::{Primitive, Scene};
 use crate::accel::Bvh;
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
-use crate::geometry::{PlanarKind, QuadricFrame, QuadricKind, Shape};
+use crate::geometry::{Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, TriangleMesh};
 use crate::light::Light;
 use crate::material::Material;
 
@@ -78,6 +79,7 @@ struct Flattener {
     primitives: Vec<Primitive>,
     materials: Vec<Material>,
     warnings: Vec<String>,
+    meshes: HashMap<PathBuf, Arc<TriangleMesh>>,
     /// Index of each distinct material description, by address: declared materials are shared.
     material_index: HashMap<*const MaterialDesc, u32>,
 }
@@ -100,22 +102,46 @@ impl Flattener {
                 children.iter().try_for_each(|c| self.add(c, to_world, material))
             }
             ShapeNode::Instance(target) => self.add(target, to_world, material),
+            ShapeNode::Mesh { path } => {
+                let mesh = self.mesh(path, node)?;
+                let placement =
+                    (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
+                let material = self.material(material);
+                self.push(Shape::Mesh { mesh, placement }, material, node);
+                Ok(())
+            }
             shape => {
                 let material = self.material(material);
                 for shape in world_shapes(shape, to_world) {
-                    if self.materials[material as usize].is_emissive() && shape.area().is_none() {
-                        self.warnings.push(format!(
-                            "{:?}: warning: this emitter cannot be sampled as a light (an \
-                             infinite plane, or a sphere or cylinder under non-uniform scale); \
-                             only rays that hit it see its light",
-                            node.span
-                        ));
-                    }
-                    self.primitives.push(Primitive { shape, material, light: None });
+                    self.push(shape, material, node);
                 }
                 Ok(())
             }
         }
+    }
+
+    fn push(&mut self, shape: Shape, material: u32, node: &ObjectNode) {
+        if self.materials[material as usize].is_emissive() && shape.area().is_none() {
+            self.warnings.push(format!(
+                "{:?}: warning: this emitter cannot be sampled as a light (an infinite plane, a \
+                 mesh, or a sphere or cylinder under non-uniform scale); only rays that hit it \
+                 see its light",
+                node.span
+            ));
+        }
+        self.primitives.push(Primitive { shape, material, light: None });
+    }
+
+    /// The mesh of a file, loaded and accelerated once however often it is used.
+    fn mesh(&mut self, path: &Path, node: &ObjectNode) -> Result<Arc<TriangleMesh>, SceneError> {
+        if let Some(mesh) = self.meshes.get(path) {
+            return Ok(mesh.clone());
+        }
+        let mesh =
+            crate::mesh::load(path).map_err(|e| SceneError::at(&node.span, e.to_string()))?;
+        let mesh = Arc::new(TriangleMesh::new(mesh));
+        self.meshes.insert(path.to_path_buf(), mesh.clone());
+        Ok(mesh)
     }
 
     fn material(&mut self, desc: Option<&Arc<MaterialDesc>>) -> u32 {
@@ -227,7 +253,7 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
                 disk(cap, direction, radius),
             ]
         }
-        ShapeNode::Union(_) | ShapeNode::Instance(_) => Vec::new(),
+        ShapeNode::Union(_) | ShapeNode::Instance(_) | ShapeNode::Mesh { .. } => Vec::new(),
     }
 }
 

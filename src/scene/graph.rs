@@ -2,6 +2,7 @@
 //! flattened. Produced by `lang`, consumed by `scene::build`. Every node keeps its span so that
 //! errors found while building still point at the text.
 
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::{Affine3A, Mat3, Vec3};
@@ -184,6 +185,10 @@ pub enum ShapeNode {
         base: Vec3,
         cap: Vec3,
         radius: f32,
+    },
+    /// `mesh { "file.ply" }`: triangles from a PLY or OBJ file (path resolved by `lang`).
+    Mesh {
+        path: PathBuf,
     },
     /// `union { ... }`: a group.
     Union(Vec<ObjectNode>),
