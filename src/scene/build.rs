@@ -33,7 +33,7 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     let mut primitives: Vec<Primitive> =
         order.iter().filter_map(|&i| slots[i as usize].take()).collect();
     let bounded_count = primitives.len();
-    primitives.extend(planes);
+    primitives.extend(planes.iter().cloned());
 
     let mut lights: Vec<Light> = graph
         .lights
@@ -54,6 +54,13 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         primitives,
         bounded: bounded_count,
         bvh,
+        planes: planes
+            .iter()
+            .filter_map(|p| match p.shape {
+                Shape::Plane { normal, offset } => Some((normal, offset)),
+                _ => None,
+            })
+            .collect(),
         materials: flat.materials,
         lights,
         light_cdf: Vec::new(),

@@ -31,6 +31,8 @@ pub struct Scene {
     pub primitives: Vec<Primitive>,
     bounded: usize,
     bvh: Bvh,
+    /// (normal, offset) of the unbounded planes, `primitives[bounded..]`, for a tight loop.
+    planes: Vec<(Vec3, f32)>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     /// Cumulative distribution for choosing a light in proportion to its power.
@@ -49,8 +51,18 @@ impl Scene {
             closest = Some(Hit { primitive: i as u32, ..hit });
             Some(hit.t)
         });
-        for (i, prim) in self.planes() {
-            if let Some(hit) = prim.shape.intersect(ray, closest.map_or(t_max, |h| h.t)) {
+        // The nearest plane by distance alone; only its hit record is then made.
+        let mut nearest_plane = None;
+        let mut t_plane = t_max;
+        for (k, &(normal, offset)) in self.planes.iter().enumerate() {
+            let t = -(normal.dot(ray.origin) + offset) / normal.dot(ray.dir);
+            if t > 0.0 && t < t_plane {
+                (nearest_plane, t_plane) = (Some(k), t);
+            }
+        }
+        if let Some(k) = nearest_plane {
+            let i = self.bounded + k;
+            if let Some(hit) = self.primitives[i].shape.intersect(ray, t_max) {
                 closest = Some(Hit { primitive: i as u32, ..hit });
             }
         }
@@ -59,9 +71,12 @@ impl Scene {
 
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let blocked_by_plane = self.planes.iter().any(|&(normal, offset)| {
+            let t = -(normal.dot(ray.origin) + offset) / normal.dot(ray.dir);
+            t > 0.0 && t < t_max
+        });
         let bounded = &self.primitives[..self.bounded];
-        self.bvh.any(ray, t_max, |i| bounded[i].shape.intersect(ray, t_max).is_some())
-            || self.planes().any(|(_, p)| p.shape.intersect(ray, t_max).is_some())
+        blocked_by_plane || self.bvh.any(ray, t_max, |i| bounded[i].shape.occludes(ray, t_max))
     }
 
     pub fn material(&self, hit: &Hit) -> &Material {
@@ -85,9 +100,5 @@ impl Scene {
         let total = self.light_cdf.last().copied().unwrap_or(0.0);
         let below = if index == 0 { 0.0 } else { self.light_cdf[index - 1] };
         (self.light_cdf[index] - below) / total
-    }
-
-    fn planes(&self) -> impl Iterator<Item = (usize, &Primitive)> {
-        self.primitives.iter().enumerate().skip(self.bounded)
     }
 }
