@@ -20,7 +20,9 @@ pub const DEFAULT_SCENES: [&str; 4] = [
 pub fn run(scenes: &[PathBuf], samples: &str, repeats: usize) -> Result<(), String> {
     let counts: Vec<u32> = samples
         .split(',')
-        .map(|s| s.trim().parse().map_err(|_| format!("error: --samples `{s}` is not a whole number")))
+        .map(|s| {
+            s.trim().parse().map_err(|_| format!("error: --samples `{s}` is not a whole number"))
+        })
         .collect::<Result<_, _>>()?;
     let default: Vec<PathBuf> = DEFAULT_SCENES.iter().map(PathBuf::from).collect();
     let scenes = if scenes.is_empty() { &default } else { scenes };
@@ -34,7 +36,12 @@ pub fn run(scenes: &[PathBuf], samples: &str, repeats: usize) -> Result<(), Stri
 }
 
 fn bench_one(path: &Path, spp: u32, repeats: usize) -> Result<(), String> {
-    let request = RenderRequest { samples: Some(spp), width: Some(256), height: Some(256), ..Default::default() };
+    let request = RenderRequest {
+        samples: Some(spp),
+        width: Some(256),
+        height: Some(256),
+        ..Default::default()
+    };
     let start = Instant::now();
     let scene = load(path, &request).map_err(|e| e.to_string())?;
     let load_seconds = start.elapsed().as_secs_f64();

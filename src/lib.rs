@@ -5,6 +5,7 @@
 #![forbid(unsafe_code)]
 
 pub mod accel;
+pub mod bench;
 pub mod camera;
 pub mod diagnostic;
 pub mod film;
@@ -15,6 +16,13 @@ pub mod lang;
 pub mod light;
 pub mod material;
 pub mod mesh;
+mod pipeline;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod tonemap;
+
+pub use pipeline::{
+    LoadError, MAX_RESOLUTION, MAX_SAMPLES, OutputFormat, RenderRequest, check, load, tonemap_file,
+    write_render,
+};

@@ -52,6 +52,9 @@ impl Light {
             Light::Point { position, power } => {
                 (position, power / position.distance_squared(hit.point), 1.0, true)
             }
+            // Every emitter shape is convex or emits outwards only: it never lights itself
+            // (and a sample from its own surface would be degenerate).
+            Light::Area { primitive } if primitive == hit.primitive => return None,
             Light::Area { primitive } => {
                 let prim = &scene.primitives[primitive as usize];
                 let (point, normal, error, pdf) = match prim.shape {

@@ -118,7 +118,7 @@ fn main() -> ExitCode {
         }
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
             let tone_map = ToneMap { op, v, gamma, exposure, white };
-            raydiance::tonemap_file(&input, &output, &tone_map).map_err(|e| e.to_string())
+            raydiance::tonemap_file(&input, &output, &tone_map)
         }
         Command::Check { scene } => {
             raydiance::check(&scene).map(|summary| println!("{summary}")).map_err(|e| e.to_string())
@@ -166,7 +166,8 @@ fn render(
     time: Option<f64>,
 ) -> Result<(), String> {
     // Everything that can be checked before rendering is: the output's type and folder first.
-    let format = raydiance::OutputFormat::for_path(output, ppm_res).map_err(|e| e.to_string())?;
+    let format =
+        raydiance::OutputFormat::for_path(output, ppm_res).map_err(|e| format!("error: {e}"))?;
     let scene = raydiance::load(scene_path, request).map_err(|e| e.to_string())?;
     for warning in &scene.warnings {
         eprintln!("{warning}");
@@ -185,7 +186,8 @@ fn render(
     let progress = Bar::new(if deadline.is_some() { None } else { Some(total) }, deadline);
     let (film, stats) = raydiance::render::render(&scene, &progress);
     progress.bar.finish_and_clear();
-    raydiance::write_render(output, &format, &film, &stats, settings).map_err(|e| e.to_string())?;
+    raydiance::write_render(output, &format, &film, &stats, settings)
+        .map_err(|e| format!("error: {e}"))?;
     if stats.dropped > 0 {
         eprintln!("warning: {} samples were NaN or infinite and were dropped", stats.dropped);
     }

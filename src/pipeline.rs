@@ -31,7 +31,9 @@ impl RenderRequest {
     /// The scene's settings with these overrides applied; values out of range are errors.
     pub fn apply(&self, settings: &Settings) -> Result<Settings, String> {
         let check = |name: &str, value: Option<u32>, max: u32| match value {
-            Some(v) if v == 0 || v > max => Err(format!("error: --{name} {v} is out of range (1 to {max})")),
+            Some(v) if v == 0 || v > max => {
+                Err(format!("error: --{name} {v} is out of range (1 to {max})"))
+            }
             _ => Ok(()),
         };
         check("samples", self.samples, MAX_SAMPLES)?;
@@ -96,4 +98,87 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
         summary.push_str(warning);
     }
     Ok(summary)
+}
+
+/// What `render` writes, chosen by the output's extension.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OutputFormat {
+    Exr,
+    /// HDR PPM with `#MAX`, the given integer standing for MAX.
+    Ppm {
+        res: u32,
+    },
+    /// 8-bit PNG, tone-mapped with the default operator.
+    Png,
+}
+
+impl OutputFormat {
+    /// The format for `path`, after checking that it can be written (before any rendering).
+    pub fn for_path(path: &Path, ppm_res: u32) -> Result<OutputFormat, ImageError> {
+        let format = match image::extension(path).as_deref() {
+            Some("exr") => OutputFormat::Exr,
+            Some("ppm") if ppm_res > 0 => OutputFormat::Ppm { res: ppm_res },
+            Some("ppm") => return Err(ImageError::format(path, "--ppm-res must be at least 1")),
+            Some("png") => OutputFormat::Png,
+            _ => {
+                return Err(ImageError::format(
+                    path,
+                    "unknown output type (expected .exr, .ppm or .png)",
+                ));
+            }
+        };
+        image::check_writable(path)?;
+        Ok(format)
+    }
+}
+
+/// Writes a finished render to `path`.
+pub fn write_render(
+    path: &Path,
+    format: &OutputFormat,
+    film: &Film,
+    stats: &RenderStats,
+    settings: &Settings,
+) -> Result<(), ImageError> {
+    let image = film.image();
+    match *format {
+        OutputFormat::Exr => {
+            let info = RenderInfo {
+                samples_per_pixel: stats.samples_per_pixel,
+                integrator: settings.integrator.name().to_string(),
+                seed: settings.seed,
+                seconds: stats.seconds,
+            };
+            image::exr::write(path, &image, &info)
+        }
+        OutputFormat::Ppm { res } => image::ppm::write_hdr(path, &image, res),
+        OutputFormat::Png => {
+            let pixels = tonemap::quantise(&tonemap::tonemap(&image, &ToneMap::default()));
+            image::png::write(path, image.width, image.height, &pixels)
+        }
+    }
+}
+
+/// `raydiance tonemap`: reads an HDR file, writes LDR `.ppm` (`#MAX=1`) or `.png`.
+pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<(), String> {
+    params.validate().map_err(|e| format!("error: {e}"))?;
+    let ldr_ppm = match image::extension(output).as_deref() {
+        Some("ppm") => true,
+        Some("png") => false,
+        _ => {
+            return Err(format!(
+                "error: {}: unknown output type (expected .ppm or .png)",
+                output.display()
+            ));
+        }
+    };
+    image::check_writable(output).map_err(|e| format!("error: {e}"))?;
+    let hdr = image::read_hdr(input).map_err(|e| format!("error: {e}"))?;
+    let pixels = tonemap::quantise(&tonemap::tonemap(&hdr, params));
+    let written = if ldr_ppm {
+        image::ppm::write_ldr(output, hdr.width, hdr.height, &pixels)
+    } else {
+        image::png::write(output, hdr.width, hdr.height, &pixels)
+    };
+    written.map_err(|e| format!("error: {e}"))
 }

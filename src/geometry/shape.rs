@@ -69,28 +69,22 @@ pub struct QuadricFrame {
     pub to_object: Affine3A,
     /// Inverse transpose of `to_world`'s linear part: maps normals.
     pub normal_to_world: Mat3A,
-    /// Scale of `to_world` when it is a similarity (rotation, uniform scale, translation):
-    /// then areas scale by its square and the shape can be sampled by area.
-    pub similarity_scale: Option<f32>,
+    /// The world-space area, when uniform sampling of the canonical parameters (z and angle
+    /// for the tube, the sphere's directions) is uniform by area: when the map from the
+    /// canonical shape is a similarity up to the tube's own radius and height.
+    pub area: Option<f32>,
     /// Magnitude of the world coordinates, for the hit point's error bound.
     pub magnitude: f32,
 }
 
 impl QuadricFrame {
-    pub fn new(to_world: Affine3A) -> Self {
-        let linear = to_world.matrix3;
-        let gram = linear.transpose() * linear;
-        let s2 = gram.x_axis.x;
-        let is_similarity = (gram - Mat3A::from_diagonal(Vec3::splat(s2)))
-            .to_cols_array()
-            .iter()
-            .all(|e| e.abs() <= 1e-5 * s2);
+    pub fn new(to_world: Affine3A, area: Option<f32>) -> Self {
         let corners = Self::canonical_corners().map(|c| to_world.transform_point3(c).abs());
         QuadricFrame {
             to_world,
             to_object: to_world.inverse(),
-            normal_to_world: linear.inverse().transpose(),
-            similarity_scale: is_similarity.then(|| s2.sqrt()),
+            normal_to_world: to_world.matrix3.inverse().transpose(),
+            area,
             magnitude: corners.iter().fold(0.0f32, |m, c| m.max(c.max_element())),
         }
     }
@@ -199,14 +193,7 @@ impl Shape {
                     PlanarKind::Disk => std::f32::consts::PI * parallelogram,
                 })
             }
-            Shape::Quadric { kind, frame } => {
-                let s = frame.similarity_scale?;
-                let canonical = match kind {
-                    QuadricKind::Ellipsoid => 4.0 * std::f32::consts::PI,
-                    QuadricKind::Tube => 2.0 * std::f32::consts::PI,
-                };
-                Some(canonical * s * s)
-            }
+            Shape::Quadric { frame, .. } => frame.area,
         }
     }
 
@@ -232,7 +219,7 @@ impl Shape {
                 })
             }
             Shape::Quadric { kind, frame } => {
-                frame.similarity_scale?;
+                frame.area?;
                 let (p, n) = match kind {
                     QuadricKind::Ellipsoid => {
                         let n = uniform_sphere(u);
@@ -252,6 +239,15 @@ impl Shape {
             }
         }
     }
+}
+
+/// The scale of a similarity (rotation or reflection, uniform scale, translation); `None` for
+/// any other affine map.
+pub fn similarity_scale(m: &Affine3A) -> Option<f32> {
+    let gram = m.matrix3.transpose() * m.matrix3;
+    let s2 = gram.x_axis.x;
+    let off = gram - Mat3A::from_diagonal(Vec3::splat(s2));
+    off.to_cols_array().iter().all(|e| e.abs() <= 1e-5 * s2).then(|| s2.sqrt())
 }
 
 /// Error bound of a point on a sphere (its coordinates are at most |center| + radius).
@@ -450,7 +446,10 @@ mod tests {
         // The unit sphere stretched to x radius 2: hit from +x at distance 3 from x = 5.
         let ellipsoid = Shape::Quadric {
             kind: QuadricKind::Ellipsoid,
-            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(2.0, 1.0, 1.0)))),
+            frame: Box::new(QuadricFrame::new(
+                Affine3A::from_scale(Vec3::new(2.0, 1.0, 1.0)),
+                None,
+            )),
         };
         let hit =
             ellipsoid.intersect(&ray(Vec3::new(5.0, 0.0, 0.0), -Vec3::X), f32::INFINITY).unwrap();
@@ -459,15 +458,19 @@ mod tests {
         // A tube of radius 0.5 along z from 0 to 2, seen from the side and along its axis.
         let tube = Shape::Quadric {
             kind: QuadricKind::Tube,
-            frame: Box::new(QuadricFrame::new(Affine3A::from_scale(Vec3::new(0.5, 0.5, 2.0)))),
+            frame: Box::new(QuadricFrame::new(
+                Affine3A::from_scale(Vec3::new(0.5, 0.5, 2.0)),
+                None,
+            )),
         };
         let side = tube.intersect(&ray(Vec3::new(-3.0, 0.0, 1.5), Vec3::X), f32::INFINITY).unwrap();
         assert!((side.t - 2.5).abs() < 1e-5 && (side.normal + Vec3::X).length() < 1e-6);
         assert!(tube.intersect(&ray(Vec3::new(-3.0, 0.0, 2.5), Vec3::X), f32::INFINITY).is_none());
         // Along the axis the ray meets the open tube from inside only at grazing: no hit.
         assert!(tube.intersect(&ray(Vec3::new(0.0, 0.0, -1.0), Vec3::Z), f32::INFINITY).is_none());
-        let similar = QuadricFrame::new(Affine3A::from_scale(Vec3::splat(3.0)));
-        assert_eq!(similar.similarity_scale, Some(3.0));
+        let rotated = Affine3A::from_rotation_y(0.3) * Affine3A::from_scale(Vec3::splat(3.0));
+        assert!((similarity_scale(&rotated).unwrap() - 3.0).abs() < 1e-6);
+        assert_eq!(similarity_scale(&Affine3A::from_scale(Vec3::new(1.0, 2.0, 1.0))), None);
     }
 
     #[test]

@@ -1,4 +1,13 @@
-//! Linear HDR images and their files: OpenEXR, HDR PPM with `#MAX`, PNG.
+//! Linear HDR images and their files: OpenEXR, HDR PPM with `#MAX`, PNG. Every file is written
+//! to a temporary name in its folder and renamed into place, so a failure never leaves a partial
+//! file nor replaces an existing one.
+
+pub mod exr;
+pub mod png;
+pub mod ppm;
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
@@ -18,6 +27,11 @@ impl Image {
     pub fn get(&self, x: usize, y: usize) -> Vec3 {
         self.pixels[y * self.width + x]
     }
+
+    /// The largest component of any pixel (0 for an empty image).
+    pub fn max_component(&self) -> f32 {
+        self.pixels.iter().map(|p| p.max_element()).fold(0.0, f32::max)
+    }
 }
 
 /// What a render records in its output file's metadata.
@@ -27,4 +41,74 @@ pub struct RenderInfo {
     pub integrator: String,
     pub seed: u64,
     pub seconds: f64,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    #[error("{path}: {message}")]
+    Format { path: PathBuf, message: String },
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+}
+
+impl ImageError {
+    pub fn format(path: &Path, message: impl Into<String>) -> Self {
+        ImageError::Format { path: path.to_path_buf(), message: message.into() }
+    }
+
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
+        ImageError::Io { path: path.to_path_buf(), source }
+    }
+}
+
+/// Reads an HDR image (`.exr`, or `.ppm` with or without `#MAX`) by its extension.
+pub fn read_hdr(path: &Path) -> Result<Image, ImageError> {
+    match extension(path).as_deref() {
+        Some("exr") => exr::read(path),
+        Some("ppm") => {
+            let bytes = std::fs::read(path).map_err(|e| ImageError::io(path, e))?;
+            ppm::parse(&bytes).map_err(|message| ImageError::format(path, message))
+        }
+        _ => Err(ImageError::format(path, "unknown image type (expected .exr or .ppm)")),
+    }
+}
+
+pub fn extension(path: &Path) -> Option<String> {
+    path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase)
+}
+
+/// Checks, before any work, that `path` can be written: its folder exists and takes new files.
+pub fn check_writable(path: &Path) -> Result<(), ImageError> {
+    let folder = folder_of(path);
+    if !folder.is_dir() {
+        return Err(ImageError::format(
+            path,
+            format!("the folder `{}` does not exist", folder.display()),
+        ));
+    }
+    tempfile::NamedTempFile::new_in(folder).map(drop).map_err(|e| ImageError::io(path, e))
+}
+
+/// Writes `path` through `write` into a temporary file in the same folder, renamed into place
+/// only when everything succeeded.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<&mut std::fs::File>) -> Result<(), ImageError>,
+) -> Result<(), ImageError> {
+    let mut temporary =
+        tempfile::NamedTempFile::new_in(folder_of(path)).map_err(|e| ImageError::io(path, e))?;
+    {
+        let mut writer = BufWriter::new(temporary.as_file_mut());
+        write(&mut writer)?;
+        writer.flush().map_err(|e| ImageError::io(path, e))?;
+    }
+    temporary.persist(path).map_err(|e| ImageError::io(path, e.error))?;
+    Ok(())
+}
+
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
 }

@@ -182,7 +182,7 @@ mod tests {
                     .collect();
                 for log_x in 0..=4 {
                     let (nx, ny) = (1 << log_x, 1 << (4 - log_x));
-                    let mut cells = vec![0; 16];
+                    let mut cells = [0; 16];
                     for p in &points {
                         cells[(p.y * ny as f32) as usize * nx + (p.x * nx as f32) as usize] += 1;
                     }

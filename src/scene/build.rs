@@ -12,7 +12,9 @@ use super::{Primitive, Scene};
 use crate::accel::Bvh;
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
-use crate::geometry::{Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, TriangleMesh};
+use crate::geometry::{
+    Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, TriangleMesh, similarity_scale,
+};
 use crate::light::Light;
 use crate::material::Material;
 
@@ -212,13 +214,13 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
                 glam::Quat::IDENTITY,
                 center,
             );
-            let frame = QuadricFrame::new(to_world);
-            match frame.similarity_scale {
+            match similarity_scale(&to_world) {
                 Some(scale) => {
                     vec![Shape::Sphere { center: to_world.translation.into(), radius: scale }]
                 }
                 None => {
-                    vec![Shape::Quadric { kind: QuadricKind::Ellipsoid, frame: Box::new(frame) }]
+                    let frame = Box::new(QuadricFrame::new(to_world, None));
+                    vec![Shape::Quadric { kind: QuadricKind::Ellipsoid, frame }]
                 }
             }
         }
@@ -254,7 +256,12 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             vec![
                 Shape::Quadric {
                     kind: QuadricKind::Tube,
-                    frame: Box::new(QuadricFrame::new(tube)),
+                    // Side area 2 pi r h, scaled by the square of a similarity's scale.
+                    frame: Box::new(QuadricFrame::new(
+                        tube,
+                        similarity_scale(&m)
+                            .map(|s| 2.0 * std::f32::consts::PI * radius * axis.length() * s * s),
+                    )),
                 },
                 disk(base, -direction, radius),
                 disk(cap, direction, radius),

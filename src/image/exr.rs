@@ -1,0 +1,65 @@
+//! OpenEXR: linear RGB, 32-bit float, scanlines top to bottom, with the render's metadata.
+
+use std::path::Path;
+
+use ::exr::prelude::*;
+use glam::Vec3;
+
+use super::{Image, ImageError, RenderInfo, write_atomic};
+
+pub fn write(path: &Path, image: &Image, info: &RenderInfo) -> std::result::Result<(), ImageError> {
+    let channels = SpecificChannels::rgb(|position: Vec2<usize>| {
+        let p = image.get(position.x(), position.y());
+        (p.x, p.y, p.z)
+    });
+    let mut layer_attributes = LayerAttributes::named("");
+    layer_attributes.software_name = Some(Text::from("raydiance"));
+    let layer = Layer::new(
+        (image.width, image.height),
+        layer_attributes,
+        Encoding { line_order: LineOrder::Increasing, ..Encoding::SMALL_LOSSLESS },
+        channels,
+    );
+    let mut exr_image = ::exr::image::Image::from_layer(layer);
+    let other = &mut exr_image.attributes.other;
+    let spp = i32::try_from(info.samples_per_pixel).unwrap_or(i32::MAX);
+    other.insert(Text::from("raydiance:samples_per_pixel"), AttributeValue::I32(spp));
+    other.insert(
+        Text::from("raydiance:integrator"),
+        AttributeValue::Text(Text::from(info.integrator.as_str())),
+    );
+    other.insert(
+        Text::from("raydiance:seed"),
+        AttributeValue::Text(Text::from(info.seed.to_string().as_str())),
+    );
+    other.insert(Text::from("raydiance:render_seconds"), AttributeValue::F64(info.seconds));
+    write_atomic(path, |writer| {
+        exr_image.write().to_buffered(writer).map_err(|e| ImageError::format(path, e.to_string()))
+    })
+}
+
+/// Reads the first RGB(A) layer of any OpenEXR file (alpha is ignored).
+pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| Image::new(resolution.width(), resolution.height()),
+        |image: &mut Image, position, (r, g, b, _a): (f32, f32, f32, f32)| {
+            let width = image.width;
+            image.pixels[position.y() * width + position.x()] = Vec3::new(r, g, b);
+        },
+    )
+    .map_err(|e| ImageError::format(path, e.to_string()))?;
+    Ok(image.layer_data.channel_data.pixels)
+}
+
+/// The samples per pixel recorded in a file raydiance wrote.
+pub fn read_samples_per_pixel(path: &Path) -> std::result::Result<Option<i32>, ImageError> {
+    let meta = ::exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| ImageError::format(path, e.to_string()))?;
+    Ok(meta.headers.first().and_then(|h| {
+        match h.shared_attributes.other.get(&Text::from("raydiance:samples_per_pixel")) {
+            Some(AttributeValue::I32(n)) => Some(*n),
+            _ => None,
+        }
+    }))
+}

@@ -1,0 +1,216 @@
+//! The pest parser, and pest's errors turned into located `SceneError`s that say what was
+//! expected (and, for a misspelt keyword, what was probably meant).
+
+use std::sync::Arc;
+
+use pest::Parser;
+use pest::error::{ErrorVariant, InputLocation};
+use pest::iterators::Pairs;
+
+use crate::diagnostic::{SceneError, SourceFile, Span};
+
+#[derive(pest_derive::Parser)]
+#[grammar = "../grammar/scn.pest"]
+pub struct ScnParser;
+
+/// Deepest nesting of brackets accepted: beyond it the parser's recursion could overflow a
+/// thread's stack, so deeper text is an error instead.
+pub const MAX_NESTING: usize = 64;
+
+/// Parses a whole file into its statements.
+pub fn parse(file: &Arc<SourceFile>) -> Result<Pairs<'_, Rule>, SceneError> {
+    check_nesting(file)?;
+    match ScnParser::parse(Rule::scene, &file.text) {
+        Ok(mut pairs) => Ok(pairs.next().expect("`scene` matched: one pair").into_inner()),
+        Err(error) => Err(convert(file, error)),
+    }
+}
+
+pub fn span_at(file: &Arc<SourceFile>, offset: usize) -> Span {
+    let before = &file.text[..offset.min(file.text.len())];
+    let line = before.matches('\n').count() as u32 + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let col = before[line_start..].chars().count() as u32 + 1;
+    Span { file: file.clone(), line, col }
+}
+
+/// Finds brackets nested deeper than `MAX_NESTING`, and unterminated comments and strings,
+/// before pest sees the text.
+fn check_nesting(file: &Arc<SourceFile>) -> Result<(), SceneError> {
+    let text = file.text.as_bytes();
+    let mut depth = 0usize;
+    let mut i = 0;
+    while i < text.len() {
+        match text[i] {
+            b'/' if text.get(i + 1) == Some(&b'/') => {
+                while i < text.len() && text[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if text.get(i + 1) == Some(&b'*') => {
+                let end = file.text[i + 2..].find("*/").ok_or_else(|| {
+                    SceneError::at(&span_at(file, i), "unterminated block comment (no `*/`)")
+                })?;
+                i += end + 3;
+            }
+            b'"' => {
+                let end = file.text[i + 1..].find(['"', '\n']);
+                match end.map(|e| text[i + 1 + e]) {
+                    Some(b'"') => i += end.unwrap_or(0) + 1,
+                    _ => return Err(SceneError::at(&span_at(file, i), "unterminated string")),
+                }
+            }
+            b'(' | b'<' | b'{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(SceneError::at(
+                        &span_at(file, i),
+                        format!("nesting deeper than {MAX_NESTING} brackets"),
+                    ));
+                }
+            }
+            b')' | b'>' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneError {
+    let offset = match error.location {
+        InputLocation::Pos(p) => p,
+        InputLocation::Span((start, _)) => start,
+    };
+    let span = span_at(file, offset);
+    let found = token_at(&file.text[offset..]);
+    let expected: Vec<&'static str> = match &error.variant {
+        ErrorVariant::ParsingError { positives, .. } => {
+            let mut names: Vec<&str> = positives.iter().map(|r| describe(*r)).collect();
+            names.sort_unstable();
+            names.dedup();
+            names
+        }
+        ErrorVariant::CustomError { .. } => Vec::new(),
+    };
+    let found_text =
+        if found.is_empty() { "the end of the file".to_string() } else { format!("`{found}`") };
+    let mut message = match expected.as_slice() {
+        [] => format!("unexpected {found_text}"),
+        [one] => format!("expected {one}, found {found_text}"),
+        [init @ .., last] => format!("expected {} or {last}, found {found_text}", init.join(", ")),
+    };
+    let keywords = expected.iter().filter_map(|e| e.strip_prefix('`')?.strip_suffix('`'));
+    if let Some(guess) = closest(found, keywords) {
+        message.push_str(&format!("; did you mean `{guess}`?"));
+    }
+    SceneError::at(&span, message)
+}
+
+/// The word or symbol at the start of `text`.
+fn token_at(text: &str) -> &str {
+    let word =
+        text.find(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.')).unwrap_or(text.len());
+    if word > 0 { &text[..word] } else { text.chars().next().map_or("", |c| &text[..c.len_utf8()]) }
+}
+
+/// The candidate within edit distance 2 (and less than half the word) of `word`, if any.
+pub fn closest<'a>(word: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    if word.is_empty() || !word.chars().all(|c| c.is_alphanumeric() || c == '_') {
+        return None;
+    }
+    candidates
+        .map(|c| (edit_distance(word, c), c))
+        .filter(|&(d, c)| d > 0 && d <= 2 && 2 * d < word.len().max(c.len()))
+        .min()
+        .map(|(_, c)| c)
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut previous: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut current = vec![i + 1; b.len() + 1];
+        for (j, &cb) in b.iter().enumerate() {
+            current[j + 1] =
+                (previous[j] + usize::from(ca != cb)).min(previous[j + 1] + 1).min(current[j] + 1);
+        }
+        previous = current;
+    }
+    previous[b.len()]
+}
+
+/// How a rule reads in "expected ..." messages.
+fn describe(rule: Rule) -> &'static str {
+    match rule {
+        Rule::EOI => "the end of the file",
+        Rule::declare => "`#declare`",
+        Rule::include => "`#include`",
+        Rule::settings | Rule::kw_settings => "`settings`",
+        Rule::resolution | Rule::kw_resolution => "`resolution`",
+        Rule::samples | Rule::kw_samples => "`samples`",
+        Rule::integrator | Rule::kw_integrator => "`integrator`",
+        Rule::max_depth | Rule::kw_max_depth => "`max_depth`",
+        Rule::seed | Rule::kw_seed => "`seed`",
+        Rule::background | Rule::kw_background => "`background`",
+        Rule::camera | Rule::kw_camera => "`camera`",
+        Rule::camera_item | Rule::camera_key => {
+            "a camera parameter (`origin`, `left`, `up`, `forward`, `location`, `look_at`, `angle`, `aperture`, `focal_distance`)"
+        }
+        Rule::kw_origin => "`origin`",
+        Rule::kw_left => "`left`",
+        Rule::kw_up => "`up`",
+        Rule::kw_forward => "`forward`",
+        Rule::kw_location => "`location`",
+        Rule::kw_look_at => "`look_at`",
+        Rule::kw_angle => "`angle`",
+        Rule::kw_aperture => "`aperture`",
+        Rule::kw_focal_distance => "`focal_distance`",
+        Rule::light_source | Rule::kw_light_source => "`light_source`",
+        Rule::kw_power => "`power`",
+        Rule::kw_color => "`color`",
+        Rule::kw_colour => "`colour`",
+        Rule::plane | Rule::kw_plane => "`plane`",
+        Rule::sphere | Rule::kw_sphere => "`sphere`",
+        Rule::box_shape | Rule::kw_box => "`box`",
+        Rule::triangle | Rule::kw_triangle => "`triangle`",
+        Rule::quad | Rule::kw_quad => "`quad`",
+        Rule::disk | Rule::kw_disk => "`disk`",
+        Rule::cylinder | Rule::kw_cylinder => "`cylinder`",
+        Rule::mesh | Rule::kw_mesh => "`mesh`",
+        Rule::union | Rule::kw_union => "`union`",
+        Rule::instance | Rule::kw_object => "`object`",
+        Rule::material | Rule::kw_material => "`material`",
+        Rule::material_name => "a material's name",
+        Rule::transform | Rule::transform_key => {
+            "a transform (`translate`, `rotate`, `scale`, `matrix`)"
+        }
+        Rule::kw_translate => "`translate`",
+        Rule::kw_rotate => "`rotate`",
+        Rule::kw_scale => "`scale`",
+        Rule::kw_matrix => "`matrix`",
+        Rule::material_item | Rule::colour_key => {
+            "a material parameter (`diffuse`, `specular`, `transmission`, `emission`, `ior`, `fresnel`)"
+        }
+        Rule::kw_diffuse => "`diffuse`",
+        Rule::kw_specular => "`specular`",
+        Rule::kw_transmission => "`transmission`",
+        Rule::kw_emission => "`emission`",
+        Rule::kw_ior => "`ior`",
+        Rule::kw_fresnel => "`fresnel`",
+        Rule::colour | Rule::rgb_colour | Rule::kw_rgb => "a colour (`rgb <r, g, b>`)",
+        Rule::expr
+        | Rule::number
+        | Rule::vector
+        | Rule::call
+        | Rule::function
+        | Rule::kw_pi
+        | Rule::negate
+        | Rule::plus => "a number or vector",
+        Rule::add | Rule::subtract | Rule::multiply | Rule::divide => "an operator",
+        Rule::component => "a component (`.x`, `.y`, `.z`)",
+        Rule::string | Rule::string_text => "a file name in quotes",
+        Rule::ident | Rule::name => "a name",
+        _ => "something else",
+    }
+}
