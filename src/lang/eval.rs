@@ -27,8 +27,9 @@ pub struct Evaluator {
     camera: Option<CameraDesc>,
     lights: Vec<PointLightDesc>,
     objects: Vec<ObjectNode>,
-    /// The files being read, outermost first, with the `#include` that opened each.
-    open_files: Vec<(PathBuf, Option<Span>)>,
+    /// The files being read, outermost first: their identity (canonical path) and their path
+    /// as named.
+    open_files: Vec<(PathBuf, PathBuf)>,
 }
 
 /// One file's text, for locating its pairs.
@@ -50,11 +51,11 @@ impl Source<'_> {
 impl Evaluator {
     /// Evaluates the main file and returns the scene it describes.
     pub fn scene(mut self, file: Arc<SourceFile>) -> Result<SceneGraph, SceneError> {
-        self.open_files.push((identity(&file.path), None));
+        self.open_files.push((identity(&file.path), file.path.clone()));
         self.run(&file)?;
         let camera = self.camera.ok_or_else(|| {
             SceneError::at(
-                &parser::span_at(&file, file.text.len()),
+                &parser::span_at(&file, file.text.trim_end().len()),
                 "missing camera: a scene needs one `camera { ... }`",
             )
         })?;
@@ -114,7 +115,7 @@ impl Evaluator {
         }
         if self.open_files.iter().any(|(open, _)| *open == id) {
             let chain: Vec<String> =
-                self.open_files.iter().map(|(p, _)| p.display().to_string()).collect();
+                self.open_files.iter().map(|(_, p)| p.display().to_string()).collect();
             return Err(SceneError::at(
                 &at,
                 format!("include cycle: {} includes `{name}` again", chain.join(" includes ")),
@@ -123,10 +124,15 @@ impl Evaluator {
         let text = std::fs::read_to_string(&path)
             .map_err(|e| SceneError::at(&at, format!("cannot read `{}`: {e}", path.display())))?;
         let file = Arc::new(SourceFile { path, text });
-        self.open_files.push((id, Some(at.clone())));
+        self.open_files.push((id, file.path.clone()));
         let result = self.run(&file);
         self.open_files.pop();
-        result.map_err(|e| e.with_note(format!("included from {at:?}")))
+        // The whole include chain, but not a wall of notes for a runaway one.
+        result.map_err(|e| match e.notes.len() {
+            0..4 => e.with_note(format!("included from {at:?}")),
+            4 => e.with_note("(and more)"),
+            _ => e,
+        })
     }
 
     fn settings(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<(), SceneError> {
@@ -188,10 +194,16 @@ impl Evaluator {
             given.insert(key, (self.value(src, expr)?, key_span));
         }
         let vector = |key: &str| -> Result<Option<Vec3>, SceneError> {
-            given.get(key).map(|(v, at)| as_vector(v, at, key).map(|v| v.as_vec3())).transpose()
+            given
+                .get(key)
+                .map(|(v, at)| as_vector(v, at, &format!("`{key}`")).map(|v| v.as_vec3()))
+                .transpose()
         };
         let float = |key: &str| -> Result<Option<f32>, SceneError> {
-            given.get(key).map(|(v, at)| as_float(v, at, key).map(|f| f as f32)).transpose()
+            given
+                .get(key)
+                .map(|(v, at)| as_float(v, at, &format!("`{key}`")).map(|f| f as f32))
+                .transpose()
         };
         let require = |key: &str, v: Option<Vec3>| {
             v.ok_or_else(|| SceneError::at(&span, format!("the camera needs `{key}`")))
@@ -414,14 +426,17 @@ impl Evaluator {
         let value = self.value(src, expr)?;
         let key = key.into_inner().next().map_or("", |k| k.as_str());
         Ok(match key {
-            "translate" => Transform::Translate(as_vector(&value, &at, key)?.as_vec3()),
-            "rotate" => Transform::Rotate(as_vector(&value, &at, key)?.as_vec3()),
+            "translate" => Transform::Translate(as_vector(&value, &at, "`translate`")?.as_vec3()),
+            "rotate" => Transform::Rotate(as_vector(&value, &at, "`rotate`")?.as_vec3()),
             "scale" => {
-                let s = as_vector(&value, &at, key)?.as_vec3();
+                let s = as_vector(&value, &at, "`scale`")?.as_vec3();
                 if s.cmpeq(Vec3::ZERO).any() {
+                    let (x, y, z) = (s.x, s.y, s.z);
                     return Err(SceneError::at(
                         &at,
-                        format!("scale {s} has a zero component: it flattens the object"),
+                        format!(
+                            "scale <{x}, {y}, {z}> has a zero component: it flattens the object"
+                        ),
                     ));
                 }
                 Transform::Scale(s)
@@ -458,7 +473,7 @@ impl Evaluator {
         let span = src.span(&pair);
         let mut items = pair.into_inner().skip(1).peekable();
         let base = match items.peek() {
-            Some(p) if p.as_rule() == Rule::material_name => {
+            Some(p) if p.as_rule() == Rule::base_material => {
                 let named = items.next().expect("peeked");
                 Some(self.material_named(src, &named)?)
             }
@@ -556,12 +571,12 @@ impl Evaluator {
 
     fn float(&self, src: &Source, expr: Pair<'_, Rule>) -> Result<f64, SceneError> {
         let at = src.span(&expr);
-        as_float(&self.value(src, expr)?, &at, "this")
+        as_float(&self.value(src, expr)?, &at, "this value")
     }
 
     fn vector(&self, src: &Source, expr: Pair<'_, Rule>) -> Result<DVec3, SceneError> {
         let at = src.span(&expr);
-        as_vector(&self.value(src, expr)?, &at, "this")
+        as_vector(&self.value(src, expr)?, &at, "this value")
     }
 
     fn vec3(&self, src: &Source, expr: Pair<'_, Rule>) -> Result<Vec3, SceneError> {
@@ -643,7 +658,7 @@ fn as_vector(value: &Value, at: &Span, what: &str) -> Result<DVec3, SceneError> 
     match value {
         Value::Float(f) => Ok(DVec3::splat(*f)),
         Value::Vector(v) => Ok(*v),
-        other => Err(SceneError::at(at, format!("`{what}` needs a vector, not {}", other.kind()))),
+        other => Err(SceneError::at(at, format!("{what} needs a vector, not {}", other.kind()))),
     }
 }
 

@@ -82,6 +82,20 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         InputLocation::Pos(p) => p,
         InputLocation::Span((start, _)) => start,
     };
+    // A misspelt keyword is often only noticed at the token after it (it reads as a name):
+    // point at the word itself when it is close to a keyword.
+    let before = file.text[..offset].trim_end();
+    let word_start =
+        before.rfind(|c: char| !(c.is_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
+    let previous = &before[word_start..];
+    if previous.starts_with(|c: char| c.is_alphabetic() || c == '_')
+        && !KEYWORDS.contains(&previous)
+    {
+        if let Some(guess) = closest(previous, KEYWORDS.iter().copied()) {
+            let message = format!("unexpected `{previous}`; did you mean `{guess}`?");
+            return SceneError::at(&span_at(file, word_start), message);
+        }
+    }
     let span = span_at(file, offset);
     let found = token_at(&file.text[offset..]);
     let expected: Vec<&'static str> = match &error.variant {
@@ -100,12 +114,76 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         [one] => format!("expected {one}, found {found_text}"),
         [init @ .., last] => format!("expected {} or {last}, found {found_text}", init.join(", ")),
     };
-    let keywords = expected.iter().filter_map(|e| e.strip_prefix('`')?.strip_suffix('`'));
-    if let Some(guess) = closest(found, keywords) {
+    if let Some(guess) = closest(found, KEYWORDS.iter().copied()) {
         message.push_str(&format!("; did you mean `{guess}`?"));
+    } else if expected.contains(&"an operator")
+        && found.starts_with(|c: char| c.is_alphanumeric() || "<(-.".contains(c))
+    {
+        message.push_str(" (is a `,` missing?)");
     }
     SceneError::at(&span, message)
 }
+
+/// The language's keywords (the grammar's `keyword` rule; a test keeps the two the same).
+const KEYWORDS: [&str; 57] = [
+    "settings",
+    "resolution",
+    "samples",
+    "integrator",
+    "max_depth",
+    "seed",
+    "background",
+    "camera",
+    "origin",
+    "left",
+    "up",
+    "forward",
+    "location",
+    "look_at",
+    "angle",
+    "aperture",
+    "focal_distance",
+    "light_source",
+    "power",
+    "colour",
+    "color",
+    "plane",
+    "sphere",
+    "box",
+    "triangle",
+    "quad",
+    "disk",
+    "cylinder",
+    "mesh",
+    "union",
+    "object",
+    "material",
+    "translate",
+    "rotate",
+    "scale",
+    "matrix",
+    "diffuse",
+    "specular",
+    "transmission",
+    "emission",
+    "ior",
+    "fresnel",
+    "rgb",
+    "pi",
+    "sin",
+    "cos",
+    "tan",
+    "asin",
+    "acos",
+    "atan",
+    "sqrt",
+    "pow",
+    "abs",
+    "min",
+    "max",
+    "radians",
+    "degrees",
+];
 
 /// The word or symbol at the start of `text`.
 fn token_at(text: &str) -> &str {
@@ -181,7 +259,7 @@ fn describe(rule: Rule) -> &'static str {
         Rule::union | Rule::kw_union => "`union`",
         Rule::instance | Rule::kw_object => "`object`",
         Rule::material | Rule::kw_material => "`material`",
-        Rule::material_name => "a material's name",
+        Rule::material_name | Rule::base_material => "a material's name",
         Rule::transform | Rule::transform_key => {
             "a transform (`translate`, `rotate`, `scale`, `matrix`)"
         }
@@ -212,5 +290,29 @@ fn describe(rule: Rule) -> &'static str {
         Rule::string | Rule::string_text => "a file name in quotes",
         Rule::ident | Rule::name => "a name",
         _ => "something else",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keyword_list_matches_the_grammar() {
+        for word in KEYWORDS {
+            let parsed = ScnParser::parse(Rule::keyword, word).map(|p| p.as_str().len());
+            assert_eq!(parsed, Ok(word.len()), "`{word}` is a keyword of the grammar");
+        }
+        let grammar = include_str!("../../grammar/scn.pest");
+        let rule = &grammar[grammar.find("keyword = @{").unwrap()..];
+        let rule = &rule[..rule.find('}').unwrap()];
+        assert_eq!(rule.matches('"').count(), 2 * KEYWORDS.len(), "the grammar has no others");
+    }
+
+    #[test]
+    fn closest_suggests_near_misses_only() {
+        assert_eq!(closest("tranlate", KEYWORDS.iter().copied()), Some("translate"));
+        assert_eq!(closest("sphre", KEYWORDS.iter().copied()), Some("sphere"));
+        assert_eq!(closest("banana", KEYWORDS.iter().copied()), None);
     }
 }
