@@ -44,7 +44,7 @@ enum Command {
         #[arg(long)]
         max_depth: Option<u32>,
         /// Time budget in seconds: render as many sample passes as fit (up to --samples if given).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         time: Option<f64>,
         /// The integer that MAX stands for in HDR .ppm output.
         #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES)]

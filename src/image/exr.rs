@@ -56,8 +56,9 @@ pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
 pub fn read_samples_per_pixel(path: &Path) -> std::result::Result<Option<i32>, ImageError> {
     let meta = ::exr::meta::MetaData::read_from_file(path, false)
         .map_err(|e| ImageError::format(path, e.to_string()))?;
+    let key = Text::from("raydiance:samples_per_pixel");
     Ok(meta.headers.first().and_then(|h| {
-        match h.shared_attributes.other.get(&Text::from("raydiance:samples_per_pixel")) {
+        match h.shared_attributes.other.get(&key).or_else(|| h.own_attributes.other.get(&key)) {
             Some(AttributeValue::I32(n)) => Some(*n),
             _ => None,
         }

@@ -68,7 +68,9 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
     };
     let width = reader.number("the width", 1, u32::MAX.into())?;
     let height = reader.number("the height", 1, u32::MAX.into())?;
-    let res = reader.number("the maximum value", 1, 65535)?;
+    // The course's HDR files use res 10000000; binary samples hold at most 16 bits.
+    let res =
+        reader.number("the maximum value", 1, if binary { 65535 } else { u32::MAX.into() })?;
     let count = width.checked_mul(height).and_then(|n| n.checked_mul(3)).filter(|&n| n <= 1 << 34);
     let count =
         count.ok_or_else(|| format!("an image of {width} x {height} pixels is too large"))?;
@@ -101,9 +103,10 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
         }
     } else {
         for i in 0..count {
-            let token = reader
-                .token()?
-                .ok_or_else(|| format!("the pixel data ends after {i} of {count} samples"))?;
+            let token = reader.token()?.ok_or_else(|| {
+                let end = reader.place(bytes.len());
+                format!("{end}: the pixel data ends after {i} of {count} samples")
+            })?;
             let value: u64 = token.text.parse().map_err(|_| {
                 format!("{}: expected a sample value, found `{}`", token.place, token.text)
             })?;
@@ -192,7 +195,9 @@ impl<'a> Reader<'a> {
     }
 
     fn number(&mut self, what: &str, min: u64, max: u64) -> Result<u64, String> {
-        let token = self.token()?.ok_or_else(|| format!("the header ends before {what}"))?;
+        let token = self.token()?.ok_or_else(|| {
+            format!("{}: the header ends before {what}", self.place(self.bytes.len()))
+        })?;
         match token.text.parse::<u64>() {
             Ok(n) if (min..=max).contains(&n) => Ok(n),
             _ => Err(format!(

@@ -1,0 +1,179 @@
+//! The command line: exit codes, located errors on stderr, no output file on failure.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn raydiance(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raydiance")).args(args).output().unwrap()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn small(extra: &[&str]) -> Vec<String> {
+    let mut args: Vec<String> = ["--width", "16", "--height", "16", "--samples", "2"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    args.extend(extra.iter().map(|s| s.to_string()));
+    args
+}
+
+#[test]
+fn render_writes_every_format_and_prints_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["out.exr", "out.ppm", "out.png"] {
+        let out = dir.path().join(name);
+        let mut args = vec!["render", "scenes/lab4-direct.scn", "-o", out.to_str().unwrap()];
+        let extra = small(&[]);
+        args.extend(extra.iter().map(String::as_str));
+        let output = raydiance(&args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        assert!(out.exists());
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(
+            stdout.contains("16x16, 2 spp, direct") && stdout.contains("Msamples/s"),
+            "{stdout}"
+        );
+    }
+    let ppm = std::fs::read_to_string(dir.path().join("out.ppm")).unwrap();
+    assert!(
+        ppm.starts_with("P3\n#MAX=") && ppm.contains("\n# out.ppm\n16 16\n10000000\n"),
+        "{ppm:.80}"
+    );
+    let png = image::open(dir.path().join("out.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (16, 16));
+}
+
+#[test]
+fn the_same_seed_gives_the_same_file() {
+    // Same file name in different folders: the name is written into the PPM's header.
+    let render = |folder: &str, seed: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join(folder).join("same.ppm");
+        std::fs::create_dir(dir.path().join(folder)).unwrap();
+        let extra = small(&["--seed", seed]);
+        let mut args = vec!["render", "scenes/cornell-area.scn", "-o", out.to_str().unwrap()];
+        args.extend(extra.iter().map(String::as_str));
+        assert!(raydiance(&args).status.success());
+        std::fs::read(out).unwrap()
+    };
+    assert!(render("a", "5") == render("b", "5"), "same seed, same bytes");
+    assert!(render("a", "5") != render("c", "6"), "another seed, another image");
+}
+
+#[test]
+fn a_bad_scene_fails_with_its_location_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.exr");
+    let output =
+        raydiance(&["render", "tests/bad_scenes/negative_radius.scn", "-o", out.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    let err = stderr(&output);
+    assert!(err.starts_with("tests/bad_scenes/negative_radius.scn:2:30: error:"), "{err}");
+    assert!(err.contains("^"), "shows a caret:\n{err}");
+    assert!(!out.exists());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "no temporary left behind");
+}
+
+#[test]
+fn a_failed_render_leaves_the_previous_file_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("kept.png");
+    std::fs::write(&out, b"the previous image").unwrap();
+    let output =
+        raydiance(&["render", "tests/bad_scenes/missing_camera.scn", "-o", out.to_str().unwrap()]);
+    assert!(!output.status.success());
+    assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
+}
+
+#[test]
+fn unwritable_outputs_fail_before_rendering() {
+    let output = raydiance(&["render", "scenes/lab4-direct.scn", "-o", "no/such/folder/out.exr"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("the folder `no/such/folder` does not exist"),
+        "{}",
+        stderr(&output)
+    );
+    let output = raydiance(&["render", "scenes/lab4-direct.scn", "-o", "out.tiff"]);
+    assert!(stderr(&output).contains("unknown output type"), "{}", stderr(&output));
+    assert!(!Path::new("out.tiff").exists());
+}
+
+#[test]
+fn bad_command_line_values_are_errors_naming_the_value() {
+    for (args, message) in [
+        (vec!["--samples", "0"], "--samples 0 is out of range"),
+        (vec!["--width", "100000"], "--width 100000 is out of range"),
+        (vec!["--threads", "0"], "--threads must be at least 1"),
+        (vec!["--integrator", "photon"], "unknown integrator `photon`"),
+        (vec!["--time", "-3"], "--time -3 must be a positive number"),
+    ] {
+        let mut all = vec!["render", "scenes/lab4-direct.scn", "-o", "/tmp/raydiance-never.exr"];
+        all.extend(args);
+        let output = raydiance(&all);
+        assert!(!output.status.success());
+        assert!(stderr(&output).contains(message), "{message}: {}", stderr(&output));
+    }
+    assert!(!Path::new("/tmp/raydiance-never.exr").exists());
+}
+
+#[test]
+fn check_summarises_or_locates_the_error() {
+    let output = raydiance(&["check", "scenes/cornell-specular.scn"]);
+    assert!(output.status.success());
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("ok: 256x256, 64 spp, integrator path"), "{stdout}");
+    let output = raydiance(&["check", "tests/bad_scenes/unknown_identifier.scn"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("did you mean `White`?"));
+}
+
+#[test]
+fn tonemap_reproduces_the_spec_example() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("tiny.ppm");
+    std::fs::write(&input, "P3\n#MAX=4.5\n# tiny.ppm\n2 1\n255\n255 0 0     51 51 51\n").unwrap();
+    for (op, extra, second) in [
+        ("clamp", vec![], 230),
+        ("equalize", vec![], 51),
+        ("equalize-clamp", vec!["--v", "2"], 115),
+        ("gamma", vec![], 123),
+        ("clamp-gamma", vec![], 243),
+    ] {
+        let out = dir.path().join(format!("{op}.ppm"));
+        let mut args =
+            vec!["tonemap", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--op", op];
+        args.extend(extra);
+        let output = raydiance(&args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let expected =
+            format!("P3\n#MAX=1\n# {op}.ppm\n2 1\n255\n255 0 0  {second} {second} {second}\n");
+        assert_eq!(text, expected);
+    }
+}
+
+#[test]
+fn tonemap_of_a_malformed_file_says_where_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.png");
+    let output = raydiance(&[
+        "tonemap",
+        "tests/bad_ppm/non_numeric_sample.ppm",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("line 4, column 7: expected a sample value, found `zero`"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(!out.exists());
+    let output =
+        raydiance(&["tonemap", "tests/bad_ppm/wrong_magic.ppm", "-o", "x.png", "--gamma", "0"]);
+    assert!(stderr(&output).contains("--gamma 0 must be a positive number"), "{}", stderr(&output));
+}
