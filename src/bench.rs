@@ -7,12 +7,15 @@ use std::time::Instant;
 use crate::pipeline::{RenderRequest, load};
 use crate::render::{Silent, render};
 
-/// The benchmark scenes S1-S4 of `shared/bench/scenes.md`, as shipped in `scenes/`.
-pub const DEFAULT_SCENES: [&str; 4] = [
+/// The benchmark scenes S1-S6 of `shared/bench/scenes.md`, as shipped in `scenes/` (S5 and S6
+/// read their meshes from `../shared/data/`).
+pub const DEFAULT_SCENES: [&str; 6] = [
     "scenes/lab4-direct.scn",
     "scenes/lab4-gi-point.scn",
     "scenes/cornell-area.scn",
     "scenes/cornell-specular.scn",
+    "scenes/mesh-bunny.scn",
+    "scenes/mesh-heavy.scn",
 ];
 
 /// Renders each scene at 256x256 with each sample count (`"16,64"`) `repeats` times after one
@@ -51,7 +54,7 @@ fn bench_one(path: &Path, spp: u32, repeats: usize) -> Result<(), String> {
     let median = seconds[seconds.len() / 2];
     let samples = 256.0 * 256.0 * f64::from(spp);
     println!(
-        "{} spp={spp:4} load={load_seconds:.3}s median={median:.3}s {:.2} Msamples/s times={:?}",
+        "{} spp={spp:4} load+build={load_seconds:.3}s median={median:.3}s {:.2} Msamples/s times={:?}",
         path.display(),
         samples / median / 1e6,
         seconds.iter().map(|s| (s * 1000.0).round() / 1000.0).collect::<Vec<_>>(),

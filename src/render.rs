@@ -95,7 +95,12 @@ pub fn render_with(
                     for index in samples.clone() {
                         let mut sampler = Sampler::new(settings.seed, pixel, u64::from(index));
                         let jitter = sampler.next_2d();
-                        let lens = sampler.next_2d();
+                        // A pinhole camera needs no lens sample.
+                        let lens = if scene.camera.aperture > 0.0 {
+                            sampler.next_2d()
+                        } else {
+                            glam::Vec2::ZERO
+                        };
                         let ray = scene.camera.ray(
                             (x as f32 + jitter.x) / width as f32,
                             (y as f32 + jitter.y) / height as f32,

@@ -22,8 +22,6 @@ struct Node {
     offset: u32,
     /// Number of primitives; 0 marks an interior node.
     count: u16,
-    /// Split axis of an interior node, for choosing the nearer child first.
-    axis: u8,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -40,7 +38,7 @@ struct Item {
 
 enum BuildNode {
     Leaf { bounds: Aabb, first: usize, count: usize },
-    Interior { bounds: Aabb, axis: u8, children: Box<[BuildNode; 2]> },
+    Interior { bounds: Aabb, children: Box<[BuildNode; 2]> },
 }
 
 impl Bvh {
@@ -78,38 +76,58 @@ impl Bvh {
             return t_max;
         }
         let inv_dir = ray.dir.recip();
-        let negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
-        let mut stack = [0u32; STACK_SIZE];
+        if self.nodes[0].bounds.hit_distance(ray.origin, inv_dir, t_max).is_none() {
+            return t_max;
+        }
+        // Nodes still to visit, with the distance at which the ray enters them: a node entered
+        // beyond the closest hit found since it was pushed is skipped.
+        let mut stack = [(0u32, 0.0f32); STACK_SIZE];
         let mut top = 0;
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
-            if node.bounds.hit_distance(ray.origin, inv_dir, t_max).is_some() {
-                if node.count > 0 {
-                    let first = node.offset as usize;
-                    for i in first..first + node.count as usize {
-                        if let Some(t) = hit(i, t_max) {
-                            t_max = t;
-                        }
+            if node.count > 0 {
+                let first = node.offset as usize;
+                for i in first..first + node.count as usize {
+                    if let Some(t) = hit(i, t_max) {
+                        t_max = t;
                     }
-                } else {
-                    // Visit the child on the ray's near side of the split first.
-                    let (near, far) = if negative[node.axis as usize] {
-                        (node.offset as usize, current + 1)
-                    } else {
-                        (current + 1, node.offset as usize)
-                    };
-                    stack[top] = far as u32;
-                    top += 1;
-                    current = near;
-                    continue;
+                }
+            } else {
+                // Both children's boxes are tested here; the nearer is visited first.
+                let (a, b) = (current + 1, node.offset as usize);
+                let enter_a = self.nodes[a].bounds.hit_distance(ray.origin, inv_dir, t_max);
+                let enter_b = self.nodes[b].bounds.hit_distance(ray.origin, inv_dir, t_max);
+                match (enter_a, enter_b) {
+                    (Some(ta), Some(tb)) => {
+                        let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
+                        stack[top] = (far as u32, t_far);
+                        top += 1;
+                        current = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        current = a;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        current = b;
+                        continue;
+                    }
+                    (None, None) => {}
                 }
             }
-            if top == 0 {
-                return t_max;
+            loop {
+                if top == 0 {
+                    return t_max;
+                }
+                top -= 1;
+                let (node, enter) = stack[top];
+                if enter < t_max {
+                    current = node as usize;
+                    break;
+                }
             }
-            top -= 1;
-            current = stack[top] as usize;
         }
     }
 
@@ -153,7 +171,7 @@ fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
         return BuildNode::Leaf { bounds, first, count: items.len() };
     }
     let sah = if depth < SAH_MAX_DEPTH { split_sah(items, bounds) } else { None };
-    let (axis, mid) = match sah {
+    let mid = match sah {
         Some(split) => split,
         // A leaf is cheaper by SAH, or the centroids coincide and there are few enough.
         None if items.len() <= 4 * MAX_LEAF => {
@@ -170,22 +188,22 @@ fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
     } else {
         (build_node(left, first, depth + 1), build_node(right, first + mid, depth + 1))
     };
-    BuildNode::Interior { bounds, axis: axis as u8, children: Box::new([a, b]) }
+    BuildNode::Interior { bounds, children: Box::new([a, b]) }
 }
 
 /// Halves `items` at the median centroid along the widest axis.
-fn split_median(items: &mut [Item]) -> (usize, usize) {
+fn split_median(items: &mut [Item]) -> usize {
     let centroid_bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let axis = centroid_bounds.extent().max_position();
     let mid = items.len() / 2;
     items.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-    (axis, mid)
+    mid
 }
 
 /// Chooses the cheapest binned SAH split over all three axes and partitions `items` by it.
-/// Returns the axis and the size of the first part, or `None` when a leaf is cheaper or no
+/// Returns the size of the first part, or `None` when a leaf is cheaper or no
 /// split separates the centroids.
-fn split_sah(items: &mut [Item], bounds: Aabb) -> Option<(usize, usize)> {
+fn split_sah(items: &mut [Item], bounds: Aabb) -> Option<usize> {
     let centroid_bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let extent = centroid_bounds.extent();
     let bin_of = |c: Vec3, axis: usize| {
@@ -231,7 +249,7 @@ fn split_sah(items: &mut [Item], bounds: Aabb) -> Option<(usize, usize)> {
         return None;
     }
     let mid = partition(items, |it| bin_of(it.centroid, axis) <= bin);
-    Some((axis, mid))
+    Some(mid)
 }
 
 /// In-place partition; returns the number of items for which `left` holds (they come first).
@@ -249,16 +267,11 @@ fn partition(items: &mut [Item], left: impl Fn(&Item) -> bool) -> usize {
 fn flatten(node: &BuildNode, nodes: &mut Vec<Node>) {
     match node {
         BuildNode::Leaf { bounds, first, count } => {
-            nodes.push(Node {
-                bounds: *bounds,
-                offset: *first as u32,
-                count: *count as u16,
-                axis: 0,
-            });
+            nodes.push(Node { bounds: *bounds, offset: *first as u32, count: *count as u16 });
         }
-        BuildNode::Interior { bounds, axis, children } => {
+        BuildNode::Interior { bounds, children } => {
             let at = nodes.len();
-            nodes.push(Node { bounds: *bounds, offset: 0, count: 0, axis: *axis });
+            nodes.push(Node { bounds: *bounds, offset: 0, count: 0 });
             flatten(&children[0], nodes);
             nodes[at].offset = nodes.len() as u32;
             flatten(&children[1], nodes);

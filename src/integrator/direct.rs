@@ -34,6 +34,9 @@ impl Integrator for Direct {
             }
             // With both mirror and refraction one of them is followed, chosen at random with
             // its weight divided by its probability: one ray, no branching, no bias.
+            if !material.has_specular() {
+                break;
+            }
             let Some(sample) = material.sample_specular(hit.shading_normal, wo, sampler.next_1d())
             else {
                 break;

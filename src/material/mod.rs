@@ -54,6 +54,11 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 
+    /// Whether it has a mirror or refraction lobe.
+    pub fn has_specular(&self) -> bool {
+        self.specular.max_element() > 0.0 || self.transmission.max_element() > 0.0
+    }
+
     pub fn has_diffuse(&self) -> bool {
         self.diffuse.max_element() > 0.0
     }
