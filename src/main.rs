@@ -58,15 +58,15 @@ enum Command {
         #[arg(long, default_value = "clamp-gamma")]
         op: Operator,
         /// Threshold V of the clamping operators.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         v: f32,
-        #[arg(long, default_value_t = 2.2)]
+        #[arg(long, default_value_t = 2.2, allow_negative_numbers = true)]
         gamma: f32,
         /// Exposure in stops: values are multiplied by 2^EV first.
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         exposure: f32,
         /// Reinhard's white point (default: the largest scaled luminance).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         white: Option<f32>,
     },
     /// Parse and validate a scene; print a short summary.

@@ -31,6 +31,12 @@ fn render_writes_every_format_and_prints_a_summary() {
         let output = raydiance(&args);
         assert!(output.status.success(), "{}", stderr(&output));
         assert!(out.exists());
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode, 0o644, "{name} is readable like any other file");
+        }
         let stdout = String::from_utf8_lossy(&output.stdout);
         assert!(
             stdout.contains("16x16, 2 spp, direct") && stdout.contains("Msamples/s"),

@@ -95,8 +95,19 @@ pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<&mut std::fs::File>) -> Result<(), ImageError>,
 ) -> Result<(), ImageError> {
+    let mut builder = tempfile::Builder::new();
+    // A temporary file is private (0600); the image gets the permissions of the file it
+    // replaces, or the usual 0644.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let permissions = std::fs::metadata(path)
+            .map(|m| m.permissions())
+            .unwrap_or_else(|_| std::fs::Permissions::from_mode(0o644));
+        builder.permissions(permissions);
+    }
     let mut temporary =
-        tempfile::NamedTempFile::new_in(folder_of(path)).map_err(|e| ImageError::io(path, e))?;
+        builder.tempfile_in(folder_of(path)).map_err(|e| ImageError::io(path, e))?;
     {
         let mut writer = BufWriter::new(temporary.as_file_mut());
         write(&mut writer)?;

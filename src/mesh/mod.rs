@@ -27,14 +27,14 @@ pub struct MeshError {
 /// Reads a `.ply` or `.obj` file by its extension.
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
     let error = |message: String| MeshError { file: path.display().to_string(), message };
-    let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read: {e}")))?;
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let mesh = match extension.as_deref() {
-        Some("ply") => ply::parse(&bytes),
-        Some("obj") => obj::parse(&bytes),
-        _ => Err("unknown mesh format (expected a .ply or .obj file)".to_string()),
-    }
-    .map_err(error)?;
+    let parse = match extension.as_deref() {
+        Some("ply") => ply::parse,
+        Some("obj") => obj::parse,
+        _ => return Err(error("unknown mesh format (expected a .ply or .obj file)".to_string())),
+    };
+    let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read: {e}")))?;
+    let mesh = parse(&bytes).map_err(error)?;
     validate(&mesh).map_err(error)?;
     Ok(mesh)
 }
