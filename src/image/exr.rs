@@ -40,15 +40,39 @@ pub fn write(path: &Path, image: &Image, info: &RenderInfo) -> std::result::Resu
 
 /// Reads the first RGB(A) layer of any OpenEXR file (alpha is ignored).
 pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
-    let image = read_first_rgba_layer_from_file(
-        path,
-        |resolution, _| Image::new(resolution.width(), resolution.height()),
-        |image: &mut Image, position, (r, g, b, _a): (f32, f32, f32, f32)| {
-            let width = image.width;
-            image.pixels[position.y() * width + position.x()] = Vec3::new(r, g, b);
-        },
-    )
-    .map_err(|e| ImageError::format(path, e.to_string()))?;
+    let bytes = std::fs::read(path).map_err(|e| ImageError::io(path, e))?;
+    read_bytes(&bytes).map_err(|message| ImageError::format(path, message))
+}
+
+/// The most pixels an EXR may have: a corrupt header must not make the decoder exhaust memory.
+pub const MAX_PIXELS: usize = 1 << 25;
+
+/// Decodes an OpenEXR file's contents.
+pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
+    let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| e.to_string())?;
+    for header in &meta.headers {
+        let (width, height) = (header.layer_size.width(), header.layer_size.height());
+        if width.saturating_mul(height) > MAX_PIXELS {
+            return Err(format!(
+                "the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})"
+            ));
+        }
+    }
+    let image = ::exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |resolution, _| Image::new(resolution.width(), resolution.height()),
+            |image: &mut Image, position, (r, g, b, _a): (f32, f32, f32, f32)| {
+                let width = image.width;
+                image.pixels[position.y() * width + position.x()] = Vec3::new(r, g, b);
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
     Ok(image.layer_data.channel_data.pixels)
 }
 

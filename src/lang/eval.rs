@@ -487,16 +487,7 @@ impl Evaluator {
         }
         let mut material = match base {
             Some(base) => MaterialDesc { name: None, span: span.clone(), ..(*base).clone() },
-            None => MaterialDesc {
-                name: None,
-                diffuse: Vec3::ZERO,
-                specular: Vec3::ZERO,
-                transmission: Vec3::ZERO,
-                ior: 1.0,
-                emission: Vec3::ZERO,
-                fresnel: false,
-                span: span.clone(),
-            },
+            None => MaterialDesc::new(span.clone()),
         };
         material.name = name.map(str::to_string);
         for item in items {

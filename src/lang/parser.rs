@@ -85,8 +85,11 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
     // A misspelt keyword is often only noticed at the token after it (it reads as a name):
     // point at the word itself when it is close to a keyword.
     let before = file.text[..offset].trim_end();
-    let word_start =
-        before.rfind(|c: char| !(c.is_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
+    let word_start = before
+        .char_indices()
+        .rev()
+        .find(|&(_, c)| !(c.is_alphanumeric() || c == '_'))
+        .map_or(0, |(i, c)| i + c.len_utf8());
     let previous = &before[word_start..];
     if previous.starts_with(|c: char| c.is_alphabetic() || c == '_')
         && !KEYWORDS.contains(&previous)
@@ -307,6 +310,15 @@ mod tests {
         let rule = &grammar[grammar.find("keyword = @{").unwrap()..];
         let rule = &rule[..rule.find('}').unwrap()];
         assert_eq!(rule.matches('"').count(), 2 * KEYWORDS.len(), "the grammar has no others");
+    }
+
+    #[test]
+    fn errors_after_multibyte_characters_do_not_panic() {
+        // Found by fuzzing: a byte-order mark in the middle of a scene, before a parse error.
+        let text = "camera { origin <0, \u{feff}era { origin <0, 0, -3.5>  left <-1,specularup";
+        let file = Arc::new(SourceFile { path: "x.scn".into(), text: text.into() });
+        let error = parse(&file).map(|_| ()).unwrap_err();
+        assert!(error.to_string().starts_with("x.scn:1:"), "{error}");
     }
 
     #[test]

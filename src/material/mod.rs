@@ -13,6 +13,7 @@ use std::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
 use crate::sampling::cosine_hemisphere;
+use crate::scene::graph::MaterialDesc;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
@@ -23,6 +24,34 @@ pub struct Material {
     pub emission: Vec3,
     /// Split `specular + transmission` between reflection and refraction by Fresnel's equations.
     pub fresnel: bool,
+}
+
+/// The language's defaults: black, reflecting nothing, `ior 1` (POV-Ray's default pigment is
+/// black too).
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            diffuse: Vec3::ZERO,
+            specular: Vec3::ZERO,
+            transmission: Vec3::ZERO,
+            ior: 1.0,
+            emission: Vec3::ZERO,
+            fresnel: false,
+        }
+    }
+}
+
+impl From<&MaterialDesc> for Material {
+    fn from(d: &MaterialDesc) -> Self {
+        Material {
+            diffuse: d.diffuse,
+            specular: d.specular,
+            transmission: d.transmission,
+            ior: d.ior,
+            emission: d.emission,
+            fresnel: d.fresnel,
+        }
+    }
 }
 
 /// A direction drawn from a BSDF. `weight` is f |cos| / pdf, including the probability of the

@@ -28,14 +28,28 @@ pub struct MeshError {
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
     let error = |message: String| MeshError { file: path.display().to_string(), message };
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let parse = match extension.as_deref() {
-        Some("ply") => ply::parse,
-        Some("obj") => obj::parse,
+    let format = match extension.as_deref() {
+        Some("ply") => MeshFormat::Ply,
+        Some("obj") => MeshFormat::Obj,
         _ => return Err(error("unknown mesh format (expected a .ply or .obj file)".to_string())),
     };
     let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read: {e}")))?;
-    let mesh = parse(&bytes).map_err(error)?;
-    validate(&mesh).map_err(error)?;
+    parse(&bytes, format).map_err(error)
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    Ply,
+    Obj,
+}
+
+/// Parses and checks a mesh file's contents; the message says where in it the problem is.
+pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Mesh, String> {
+    let mesh = match format {
+        MeshFormat::Ply => ply::parse(bytes),
+        MeshFormat::Obj => obj::parse(bytes),
+    }?;
+    validate(&mesh)?;
     Ok(mesh)
 }
 

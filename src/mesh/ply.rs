@@ -156,7 +156,8 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                     }
                 }
             }
-        } else {
+        } else if !element.properties.is_empty() {
+            // (An element without properties takes no bytes, however many it claims.)
             for i in 0..element.count {
                 for property in &element.properties {
                     match property {
@@ -333,5 +334,8 @@ mod tests {
         let huge = ASCII_SQUARE.replace("element vertex 4", "element vertex 4000000000000");
         // The face's numbers are read as vertex 4; vertex 5 runs out.
         assert_eq!(parse(huge.as_bytes()).unwrap_err(), "vertex 5: the file ends too early");
+        // Found by fuzzing: a huge count of an element with no properties took forever.
+        let empty_element = "ply\nformat ascii 1.0\nelement junk 376000000000000000\nend_header\n";
+        assert!(parse(empty_element.as_bytes()).unwrap().triangles.is_empty());
     }
 }

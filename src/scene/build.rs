@@ -160,24 +160,7 @@ impl Flattener {
             return index;
         }
         let index = self.materials.len() as u32;
-        self.materials.push(desc.map_or(
-            Material {
-                diffuse: Vec3::ZERO,
-                specular: Vec3::ZERO,
-                transmission: Vec3::ZERO,
-                ior: 1.0,
-                emission: Vec3::ZERO,
-                fresnel: false,
-            },
-            |d| Material {
-                diffuse: d.diffuse,
-                specular: d.specular,
-                transmission: d.transmission,
-                ior: d.ior,
-                emission: d.emission,
-                fresnel: d.fresnel,
-            },
-        ));
+        self.materials.push(desc.map_or_else(Material::default, |d| Material::from(&**d)));
         self.material_index.insert(key, index);
         index
     }

@@ -98,6 +98,22 @@ pub struct MaterialDesc {
     pub span: Span,
 }
 
+impl MaterialDesc {
+    /// `material { }`: the language's defaults, all zero and `ior 1`.
+    pub fn new(span: Span) -> Self {
+        MaterialDesc {
+            name: None,
+            diffuse: Vec3::ZERO,
+            specular: Vec3::ZERO,
+            transmission: Vec3::ZERO,
+            ior: 1.0,
+            emission: Vec3::ZERO,
+            fresnel: false,
+            span,
+        }
+    }
+}
+
 /// A transform as written; `ObjectNode::transforms` applies them first written, first applied.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Transform {
