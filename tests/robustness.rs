@@ -72,6 +72,23 @@ fn nesting_at_the_limit_parses_on_a_small_stack() {
 }
 
 #[test]
+fn a_hundred_thousand_signs_are_an_error_not_a_stack_overflow() {
+    let text = format!(
+        "camera {{ location <0, 0, -5>  look_at <0, 0, 0> }} #declare X = {}1",
+        "- ".repeat(100_000)
+    );
+    let error = std::thread::Builder::new()
+        .stack_size(1 << 20)
+        .spawn(move || {
+            raydiance::lang::parse_scene(std::path::Path::new("signs.scn"), &text).unwrap_err()
+        })
+        .unwrap()
+        .join()
+        .expect("no stack overflow");
+    assert!(error.to_string().contains("signs in a row"), "{error}");
+}
+
+#[test]
 fn ctrl_c_writes_the_completed_passes_and_exits_non_zero() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("interrupted.exr");

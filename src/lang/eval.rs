@@ -19,6 +19,9 @@ use crate::scene::graph::{
 /// Includes may nest this deep.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
 
+/// Groups and instances may nest this deep (instances of instances need no brackets).
+pub const MAX_OBJECT_DEPTH: u32 = 256;
+
 #[derive(Default)]
 pub struct Evaluator {
     env: Env,
@@ -402,7 +405,11 @@ impl Evaluator {
             }
             _ => ShapeNode::Union(Vec::new()),
         };
-        let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), span };
+        let depth = match &shape {
+            ShapeNode::Instance(target) => target.depth + 1,
+            _ => 1,
+        };
+        let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         for modifier in inner {
             match modifier.as_rule() {
                 Rule::material => node.material = Some(self.material(src, modifier, None)?),
@@ -410,11 +417,18 @@ impl Evaluator {
                 Rule::transform => node.transforms.push(self.transform(src, modifier)?),
                 _ => {
                     let child = self.object(src, modifier)?;
+                    node.depth = node.depth.max(child.depth + 1);
                     if let ShapeNode::Union(children) = &mut node.shape {
                         children.push(child);
                     }
                 }
             }
+        }
+        if node.depth > MAX_OBJECT_DEPTH {
+            return Err(SceneError::at(
+                &node.span,
+                format!("objects nested more than {MAX_OBJECT_DEPTH} levels deep"),
+            ));
         }
         Ok(node)
     }

@@ -34,13 +34,28 @@ pub fn span_at(file: &Arc<SourceFile>, offset: usize) -> Span {
     Span { file: file.clone(), line, col }
 }
 
-/// Finds brackets nested deeper than `MAX_NESTING`, and unterminated comments and strings,
-/// before pest sees the text.
+/// Finds brackets nested deeper than `MAX_NESTING` (and runs of signs longer than it), and
+/// unterminated comments and strings, before pest sees the text.
 fn check_nesting(file: &Arc<SourceFile>) -> Result<(), SceneError> {
     let text = file.text.as_bytes();
     let mut depth = 0usize;
+    // Unary signs nest too (`- - - 1`): a run of them is limited like brackets.
+    let mut signs = 0usize;
     let mut i = 0;
     while i < text.len() {
+        match text[i] {
+            b'+' | b'-' => {
+                signs += 1;
+                if signs > MAX_NESTING {
+                    return Err(SceneError::at(
+                        &span_at(file, i),
+                        format!("more than {MAX_NESTING} signs in a row"),
+                    ));
+                }
+            }
+            b' ' | b'\t' | b'\r' | b'\n' => {}
+            _ => signs = 0,
+        }
         match text[i] {
             b'/' if text.get(i + 1) == Some(&b'/') => {
                 while i < text.len() && text[i] != b'\n' {

@@ -161,6 +161,9 @@ pub struct ObjectNode {
     /// Applies to this node, and to children without a material of their own.
     pub material: Option<Arc<MaterialDesc>>,
     pub transforms: Vec<Transform>,
+    /// Levels of groups and instances below and including this node (1 for a shape): kept
+    /// so that `lang` can refuse chains deep enough to overflow a stack when walked.
+    pub depth: u32,
     pub span: Span,
 }
 
