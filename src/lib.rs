@@ -20,6 +20,7 @@ mod pipeline;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod texture;
 pub mod tonemap;
 
 pub use pipeline::{

@@ -44,6 +44,11 @@ fn materials() {
 }
 
 #[test]
+fn textures() {
+    insta::assert_debug_snapshot!(graph("textures"));
+}
+
+#[test]
 fn shipped_scenes_parse_and_build() {
     for entry in std::fs::read_dir("scenes").unwrap() {
         let path = entry.unwrap().path();

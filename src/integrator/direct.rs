@@ -30,7 +30,7 @@ impl Integrator for Direct {
                 break;
             }
             if material.has_diffuse() {
-                radiance += beta * direct_from_all_lights(scene, &hit, wo, material, sampler);
+                radiance += beta * direct_from_all_lights(scene, &hit, wo, &material, sampler);
             }
             // With both mirror and refraction one of them is followed, chosen at random with
             // its weight divided by its probability: one ray, no branching, no bias.

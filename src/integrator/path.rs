@@ -55,7 +55,7 @@ impl Integrator for Path {
                 break;
             }
             if material.has_diffuse() {
-                radiance += beta * self.next_event(scene, &hit, wo, material, sampler);
+                radiance += beta * self.next_event(scene, &hit, wo, &material, sampler);
             }
             let Some(sample) =
                 material.sample(hit.shading_normal, wo, sampler.next_1d(), sampler.next_2d())

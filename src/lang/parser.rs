@@ -143,7 +143,7 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
 }
 
 /// The language's keywords (the grammar's `keyword` rule; a test keeps the two the same).
-const KEYWORDS: [&str; 57] = [
+const KEYWORDS: [&str; 70] = [
     "settings",
     "resolution",
     "samples",
@@ -201,6 +201,19 @@ const KEYWORDS: [&str; 57] = [
     "max",
     "radians",
     "degrees",
+    "checker",
+    "stripes",
+    "gradient",
+    "noise",
+    "marble",
+    "wood",
+    "image_map",
+    "mix",
+    "axis",
+    "octaves",
+    "turbulence",
+    "color_map",
+    "colour_map",
 ];
 
 /// The word or symbol at the start of `text`.

@@ -13,7 +13,7 @@ use std::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
 use crate::sampling::cosine_hemisphere;
-use crate::scene::graph::MaterialDesc;
+use crate::scene::graph::{MaterialDesc, Pattern};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
@@ -41,10 +41,15 @@ impl Default for Material {
     }
 }
 
+/// The material of a description; a textured `diffuse` is left black here and filled in per
+/// hit (`Scene::material`).
 impl From<&MaterialDesc> for Material {
     fn from(d: &MaterialDesc) -> Self {
         Material {
-            diffuse: d.diffuse,
+            diffuse: match d.diffuse.pattern {
+                Pattern::Solid(c) => c,
+                _ => Vec3::ZERO,
+            },
             specular: d.specular,
             transmission: d.transmission,
             ior: d.ior,

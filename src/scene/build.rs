@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use super::graph::{MaterialDesc, ObjectNode, SceneGraph, ShapeNode, compose};
+use super::graph::{MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use super::{Primitive, Scene};
 use crate::accel::Bvh;
 use crate::camera::Camera;
@@ -17,6 +17,7 @@ use crate::geometry::{
 };
 use crate::light::Light;
 use crate::material::Material;
+use crate::texture::{ImageMap, Texture};
 
 /// Builds the render-ready scene. `graph.settings` are final (command-line overrides applied).
 pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
@@ -64,6 +65,8 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             })
             .collect(),
         materials: flat.materials,
+        textures: flat.textures,
+        frames: flat.frames,
         lights,
         light_cdf: Vec::new(),
         warnings,
@@ -87,6 +90,10 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
 struct Flattener {
     primitives: Vec<Primitive>,
     materials: Vec<Material>,
+    textures: Vec<Option<Texture>>,
+    images: HashMap<PathBuf, Arc<ImageMap>>,
+    /// World to object space of every object that holds primitives.
+    frames: Vec<Affine3A>,
     warnings: Vec<String>,
     meshes: HashMap<PathBuf, Arc<TriangleMesh>>,
     /// Index of each distinct material description, by address: declared materials are shared.
@@ -115,12 +122,14 @@ impl Flattener {
                 let mesh = self.mesh(path, node)?;
                 let placement =
                     (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
-                let material = self.material(material);
+                let material = self.material(material)?;
+                self.frames.push(to_world.inverse());
                 self.push(Shape::Mesh { mesh, placement }, material, node);
                 Ok(())
             }
             shape => {
-                let material = self.material(material);
+                let material = self.material(material)?;
+                self.frames.push(to_world.inverse());
                 for shape in world_shapes(shape, to_world) {
                     self.push(shape, material, node);
                 }
@@ -138,7 +147,8 @@ impl Flattener {
                 node.span
             ));
         }
-        self.primitives.push(Primitive { shape, material, light: None });
+        let frame = self.frames.len() as u32 - 1;
+        self.primitives.push(Primitive { shape, material, frame, light: None });
     }
 
     /// The mesh of a file, loaded and accelerated once however often it is used.
@@ -153,16 +163,35 @@ impl Flattener {
         Ok(mesh)
     }
 
-    fn material(&mut self, desc: Option<&Arc<MaterialDesc>>) -> u32 {
+    fn material(&mut self, desc: Option<&Arc<MaterialDesc>>) -> Result<u32, SceneError> {
         // An object with no material anywhere up its groups is black (POV-Ray's default pigment).
         let key = desc.map_or(std::ptr::null(), Arc::as_ptr);
         if let Some(&index) = self.material_index.get(&key) {
-            return index;
+            return Ok(index);
         }
+        let texture = match desc {
+            Some(d) if !matches!(d.diffuse.pattern, Pattern::Solid(_)) => {
+                let images = &mut self.images;
+                let mut load = |path: &Path| match images.get(path) {
+                    Some(image) => Ok(image.clone()),
+                    None => {
+                        let image = Arc::new(ImageMap::load(path)?);
+                        images.insert(path.to_path_buf(), image.clone());
+                        Ok(image)
+                    }
+                };
+                let texture = Texture::new(&d.diffuse, &mut load).map_err(|e| {
+                    SceneError::at(&d.span, format!("cannot read the image_map: {e}"))
+                })?;
+                Some(texture)
+            }
+            _ => None,
+        };
         let index = self.materials.len() as u32;
         self.materials.push(desc.map_or_else(Material::default, |d| Material::from(&**d)));
+        self.textures.push(texture);
         self.material_index.insert(key, index);
-        index
+        Ok(index)
     }
 }
 

@@ -89,7 +89,8 @@ pub struct PointLightDesc {
 pub struct MaterialDesc {
     /// The declared name, if it came from `#declare Name = material {...}`; for messages.
     pub name: Option<String>,
-    pub diffuse: Vec3,
+    /// kd: a colour or a procedural texture.
+    pub diffuse: TextureNode,
     pub specular: Vec3,
     pub transmission: Vec3,
     pub ior: f32,
@@ -103,7 +104,7 @@ impl MaterialDesc {
     pub fn new(span: Span) -> Self {
         MaterialDesc {
             name: None,
-            diffuse: Vec3::ZERO,
+            diffuse: TextureNode::solid(Vec3::ZERO),
             specular: Vec3::ZERO,
             transmission: Vec3::ZERO,
             ior: 1.0,
@@ -112,6 +113,85 @@ impl MaterialDesc {
             span,
         }
     }
+}
+
+/// A texture: a pattern, and transforms that move the pattern (its value at p is the plain
+/// pattern's at T^-1(p)), evaluated in the object's own space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureNode {
+    pub pattern: Pattern,
+    pub transforms: Vec<Transform>,
+}
+
+impl TextureNode {
+    pub fn solid(colour: Vec3) -> Self {
+        TextureNode { pattern: Pattern::Solid(colour), transforms: Vec::new() }
+    }
+
+    /// The largest value in any channel the texture can take (for the energy check).
+    pub fn max_value(&self) -> Vec3 {
+        match &self.pattern {
+            Pattern::Solid(c) => *c,
+            Pattern::Checker(a, b) | Pattern::Stripes { a, b, .. } => {
+                a.max_value().max(b.max_value())
+            }
+            Pattern::Mix { a, b, .. } => a.max_value().max(b.max_value()),
+            Pattern::Gradient { map, .. }
+            | Pattern::Noise { map, .. }
+            | Pattern::Marble { map, .. }
+            | Pattern::Wood { map, .. } => map.iter().fold(Vec3::ZERO, |m, (_, c)| m.max(*c)),
+            // Decoded 8-bit images are at most 1.
+            Pattern::Image { .. } => Vec3::ONE,
+        }
+    }
+}
+
+/// `color_map { [position colour] ... }`, positions ascending in [0, 1].
+pub type ColorMap = Vec<(f32, Vec3)>;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Pattern {
+    Solid(Vec3),
+    /// The first where floor(x) + floor(y) + floor(z) is even.
+    Checker(Box<TextureNode>, Box<TextureNode>),
+    /// Alternating unit bands along `axis`.
+    Stripes {
+        a: Box<TextureNode>,
+        b: Box<TextureNode>,
+        axis: Vec3,
+    },
+    /// A ramp along `axis` through the map, repeating every unit.
+    Gradient {
+        axis: Vec3,
+        map: ColorMap,
+    },
+    /// Perlin fBm in [0, 1] through the map.
+    Noise {
+        octaves: u32,
+        map: ColorMap,
+    },
+    /// Bands along x perturbed by turbulence.
+    Marble {
+        turbulence: f32,
+        octaves: u32,
+        map: ColorMap,
+    },
+    /// Rings around the z axis perturbed by turbulence.
+    Wood {
+        turbulence: f32,
+        octaves: u32,
+        map: ColorMap,
+    },
+    /// An image projected onto the x-y unit square, repeating.
+    Image {
+        path: PathBuf,
+    },
+    /// a (1 - t) + b t.
+    Mix {
+        a: Box<TextureNode>,
+        b: Box<TextureNode>,
+        t: Box<TextureNode>,
+    },
 }
 
 /// A transform as written; `ObjectNode::transforms` applies them first written, first applied.

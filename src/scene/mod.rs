@@ -6,19 +6,22 @@ pub mod graph;
 
 pub use build::build;
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 
 use crate::accel::Bvh;
 use crate::camera::Camera;
 use crate::geometry::{Hit, Ray, Shape};
 use crate::light::Light;
 use crate::material::Material;
+use crate::texture::Texture;
 use graph::Settings;
 
 #[derive(Debug, Clone)]
 pub struct Primitive {
     pub shape: Shape,
     pub material: u32,
+    /// Index into `Scene::frames`: the object's own space, where textures are evaluated.
+    pub frame: u32,
     /// Its index in `Scene::lights` when it is an emitter sampled as an area light.
     pub light: Option<u32>,
 }
@@ -34,6 +37,10 @@ pub struct Scene {
     /// (normal, offset) of the unbounded planes, `primitives[bounded..]`, for a tight loop.
     planes: Vec<(Vec3, f32)>,
     pub materials: Vec<Material>,
+    /// Per material, its `diffuse` texture when that is not a plain colour.
+    textures: Vec<Option<Texture>>,
+    /// World to object space of each object, for textures.
+    frames: Vec<Affine3A>,
     pub lights: Vec<Light>,
     /// Cumulative distribution for choosing a light in proportion to its power.
     light_cdf: Vec<f32>,
@@ -79,8 +86,17 @@ impl Scene {
         blocked_by_plane || self.bvh.any(ray, t_max, |i| bounded[i].shape.occludes(ray, t_max))
     }
 
-    pub fn material(&self, hit: &Hit) -> &Material {
-        &self.materials[self.primitives[hit.primitive as usize].material as usize]
+    /// The material at a hit, with a textured `diffuse` evaluated at the hit point in the
+    /// object's own space (so patterns move with their objects).
+    pub fn material(&self, hit: &Hit) -> Material {
+        let primitive = &self.primitives[hit.primitive as usize];
+        let index = primitive.material as usize;
+        let mut material = self.materials[index].clone();
+        if let Some(texture) = &self.textures[index] {
+            let p = self.frames[primitive.frame as usize].transform_point3(hit.point);
+            material.diffuse = texture.eval(p);
+        }
+        material
     }
 
     /// Radiance of rays that leave the scene.

@@ -1,0 +1,38 @@
+//! `image_map`: a PNG or JPEG decoded from sRGB to linear, projected onto the x-y unit square
+//! (repeating).
+
+use std::path::Path;
+
+use glam::Vec3;
+
+#[derive(Debug)]
+pub struct ImageMap {
+    width: usize,
+    height: usize,
+    /// Linear RGB, rows top to bottom.
+    texels: Vec<Vec3>,
+}
+
+impl ImageMap {
+    pub fn load(path: &Path) -> Result<ImageMap, String> {
+        let decoded = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgb8();
+        let (width, height) = (decoded.width() as usize, decoded.height() as usize);
+        let texels = decoded.pixels().map(|p| Vec3::from(p.0.map(srgb_to_linear))).collect();
+        Ok(ImageMap { width, height, texels })
+    }
+
+    /// The colour at (u, v) of the unit square, v = 0 at the image's bottom row (POV-Ray's
+    /// planar map), repeating outside it; the nearest texel (POV-Ray's default, no
+    /// interpolation).
+    pub fn lookup(&self, u: f32, v: f32) -> Vec3 {
+        let x = ((u.rem_euclid(1.0) * self.width as f32) as usize).min(self.width - 1);
+        let y = (((1.0 - v.rem_euclid(1.0)) * self.height as f32) as usize).min(self.height - 1);
+        self.texels[y * self.width + x]
+    }
+}
+
+/// The sRGB transfer function inverted (IEC 61966-2-1).
+fn srgb_to_linear(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
