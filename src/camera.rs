@@ -21,13 +21,13 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// The camera of a description, for an image of `width` x `height` pixels. Returns a warning
-    /// too when the lab form's plane does not have the image's aspect ratio.
+    /// The camera of a description, for an image of `width` x `height` pixels, with warnings
+    /// (the lab form's plane not of the image's aspect ratio, a focal distance without a lens).
     pub fn new(
         desc: &CameraDesc,
         width: u32,
         height: u32,
-    ) -> Result<(Camera, Option<String>), SceneError> {
+    ) -> Result<(Camera, Vec<String>), SceneError> {
         let aspect = width as f32 / height as f32;
         let (origin, left, up, forward, warning) = match desc.form {
             CameraForm::Lab { origin, left, up, forward } => {
@@ -60,9 +60,17 @@ impl Camera {
                 "the camera's vectors are zero or parallel: no image plane",
             ));
         }
+        let mut warnings: Vec<String> = warning.into_iter().collect();
+        // Given but unused parameters are reported (as warnings: the language allows them).
+        if desc.focal_distance.is_some() && desc.aperture <= 0.0 {
+            warnings.push(format!(
+                "{:?}: warning: `focal_distance` has no effect without an `aperture`",
+                desc.span
+            ));
+        }
         let focal_distance = desc.focal_distance.unwrap_or(forward.length());
         let camera = Camera { origin, left, up, forward, aperture: desc.aperture, focal_distance };
-        Ok((camera, warning))
+        Ok((camera, warnings))
     }
 
     /// The ray through image position (x, y) in [0, 1]^2 (x to the right, y down), through the

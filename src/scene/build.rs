@@ -22,7 +22,7 @@ use crate::texture::{ImageMap, Texture};
 /// Builds the render-ready scene. `graph.settings` are final (command-line overrides applied).
 pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     let settings = graph.settings.clone();
-    let (camera, camera_warning) = Camera::new(&graph.camera, settings.width, settings.height)?;
+    let (camera, camera_warnings) = Camera::new(&graph.camera, settings.width, settings.height)?;
     let mut flat = Flattener::default();
     for node in &graph.objects {
         flat.add(node, Affine3A::IDENTITY, None)?;
@@ -49,7 +49,7 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             lights.push(Light::Area { primitive: i as u32 });
         }
     }
-    let mut warnings: Vec<String> = camera_warning.into_iter().collect();
+    let mut warnings = camera_warnings;
     warnings.extend(flat.warnings);
     let mut scene = Scene {
         settings,
