@@ -183,3 +183,26 @@ fn tonemap_of_a_malformed_file_says_where_and_writes_nothing() {
         raydiance(&["tonemap", "tests/bad_ppm/wrong_magic.ppm", "-o", "x.png", "--gamma", "0"]);
     assert!(stderr(&output).contains("--gamma 0 must be a positive number"), "{}", stderr(&output));
 }
+
+#[test]
+fn parameters_without_effect_are_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("unused.scn");
+    std::fs::write(
+        &scene,
+        "camera { location <0, 0, -5>  look_at <0, 0, 0>  focal_distance 4 }
+         sphere { 0, 1  material { diffuse rgb 0.5  ior 1.5 } }
+         sphere { 2, 1  material { diffuse rgb 0.5  fresnel } }",
+    )
+    .unwrap();
+    let output = raydiance(&["check", scene.to_str().unwrap()]);
+    assert!(output.status.success());
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    for warning in [
+        ":1:1: warning: `focal_distance` has no effect without an `aperture`",
+        ":2:25: warning: `ior` has no effect without `transmission` or `fresnel`",
+        ":3:25: warning: `fresnel` has no effect without `specular` or `transmission`",
+    ] {
+        assert!(stdout.contains(warning), "{warning}\n{stdout}");
+    }
+}

@@ -187,6 +187,22 @@ impl Flattener {
             }
             _ => None,
         };
+        if let Some(d) = desc {
+            // Given but unused parameters are reported (warnings: the language allows them).
+            let refracts = d.transmission.max_element() > 0.0;
+            if d.ior != 1.0 && !refracts && !d.fresnel {
+                self.warnings.push(format!(
+                    "{:?}: warning: `ior` has no effect without `transmission` or `fresnel`",
+                    d.span
+                ));
+            }
+            if d.fresnel && !refracts && d.specular.max_element() <= 0.0 {
+                self.warnings.push(format!(
+                    "{:?}: warning: `fresnel` has no effect without `specular` or `transmission`",
+                    d.span
+                ));
+            }
+        }
         let index = self.materials.len() as u32;
         self.materials.push(desc.map_or_else(Material::default, |d| Material::from(&**d)));
         self.textures.push(texture);
