@@ -98,6 +98,7 @@ impl Evaluator {
         let value = match value.as_rule() {
             Rule::material => Value::Material(self.material(src, value, Some(&name))?),
             Rule::rgb_colour => Value::Vector(self.colour(src, value)?.as_dvec3()),
+            Rule::texture => Value::Texture(Arc::new(self.texture_arg(src, value)?)),
             Rule::expr => self.value(src, value)?,
             _ => Value::Object(Arc::new(self.object(src, value)?)),
         };
@@ -552,6 +553,11 @@ impl Evaluator {
             _ => pair,
         };
         if pair.as_rule() == Rule::colour {
+            // A declared texture's name reads as a colour expression.
+            let value = pair.clone().into_inner().find(|p| p.as_rule() == Rule::expr);
+            if let Some(Value::Texture(texture)) = value.map(|e| self.value(src, e)).transpose()? {
+                return Ok((*texture).clone());
+            }
             return Ok(TextureNode::solid(self.colour(src, pair)?));
         }
         let node = pair.into_inner().next().expect("one kind of texture");

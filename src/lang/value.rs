@@ -10,7 +10,7 @@ use pest::pratt_parser::{Assoc, Op, PrattParser};
 
 use super::parser::Rule;
 use crate::diagnostic::SceneError;
-use crate::scene::graph::{MaterialDesc, ObjectNode};
+use crate::scene::graph::{MaterialDesc, ObjectNode, TextureNode};
 
 #[derive(Debug, Clone)]
 pub enum Value {
@@ -20,6 +20,7 @@ pub enum Value {
     Numbers(Vec<f64>),
     Material(Arc<MaterialDesc>),
     Object(Arc<ObjectNode>),
+    Texture(Arc<TextureNode>),
 }
 
 impl Value {
@@ -31,6 +32,7 @@ impl Value {
             Value::Numbers(_) => "a list of numbers",
             Value::Material(_) => "a material",
             Value::Object(_) => "an object",
+            Value::Texture(_) => "a texture",
         }
     }
 }
