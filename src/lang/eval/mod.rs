@@ -1,19 +1,21 @@
 //! Statements to scene graph: `#declare`, `#include`, settings, camera, lights, objects and
 //! materials, each checked where it is written so that every error points at its text.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{DVec3, Mat3, Vec3};
 use pest::iterators::Pair;
 
+mod camera;
+mod material;
+
 use super::parser::{self, Rule};
 use super::value::{self, Env, Value};
 use crate::diagnostic::{SceneError, SourceFile, Span};
 use crate::scene::graph::{
-    CameraDesc, CameraForm, IntegratorKind, MaterialDesc, ObjectNode, Pattern, PointLightDesc,
-    SceneGraph, Settings, ShapeNode, TextureNode, Transform,
+    CameraDesc, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
+    Transform,
 };
 
 /// Includes may nest this deep.
@@ -178,121 +180,6 @@ impl Evaluator {
             }
         }
         self.settings = Some(settings);
-        Ok(())
-    }
-
-    fn camera(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<(), SceneError> {
-        let span = src.span(&pair);
-        if self.camera.is_some() {
-            return Err(SceneError::at(&span, "a second camera (a scene has exactly one)"));
-        }
-        let mut given: HashMap<&str, (Value, Span)> = HashMap::new();
-        for item in pair.into_inner().filter(|p| p.as_rule() == Rule::camera_item) {
-            let mut inner = item.into_inner();
-            let (key, expr) = (inner.next().expect("key"), inner.next().expect("value"));
-            let key_span = src.span(&key);
-            let key = key.as_str();
-            if given.contains_key(key) {
-                return Err(SceneError::at(&key_span, format!("`{key}` is given twice")));
-            }
-            given.insert(key, (self.value(src, expr)?, key_span));
-        }
-        let vector = |key: &str| -> Result<Option<Vec3>, SceneError> {
-            given
-                .get(key)
-                .map(|(v, at)| as_vector(v, at, &format!("`{key}`")).map(|v| v.as_vec3()))
-                .transpose()
-        };
-        let float = |key: &str| -> Result<Option<f32>, SceneError> {
-            given
-                .get(key)
-                .map(|(v, at)| as_float(v, at, &format!("`{key}`")).map(|f| f as f32))
-                .transpose()
-        };
-        let require = |key: &str, v: Option<Vec3>| {
-            v.ok_or_else(|| SceneError::at(&span, format!("the camera needs `{key}`")))
-        };
-        let pov = ["location", "look_at", "angle"].iter().find(|k| given.contains_key(*k));
-        let lab = ["origin", "left", "forward"].iter().find(|k| given.contains_key(*k));
-        let form = match (pov, lab) {
-            (Some(p), Some(l)) => {
-                return Err(SceneError::at(
-                    &given[*l].1,
-                    format!("`{l}` (the lab camera) and `{p}` (POV-Ray's camera) do not mix"),
-                ));
-            }
-            (Some(_), None) => {
-                let location = require("location", vector("location")?)?;
-                let look_at = require("look_at", vector("look_at")?)?;
-                let up = vector("up")?.unwrap_or(Vec3::Y);
-                // POV-Ray's default: a horizontal field of view of 2 atan(0.5 * 4/3) degrees.
-                let angle = float("angle")?.unwrap_or(67.380_13);
-                if !(angle > 0.0 && angle < 180.0) {
-                    return Err(SceneError::at(
-                        &given["angle"].1,
-                        format!("angle {angle} must be between 0 and 180 degrees"),
-                    ));
-                }
-                let view = look_at - location;
-                if view.length() == 0.0 {
-                    return Err(SceneError::at(
-                        &span,
-                        "`look_at` is the camera's `location`: no view direction",
-                    ));
-                }
-                if up.cross(view).length() <= 1e-6 * up.length() * view.length() {
-                    return Err(SceneError::at(
-                        &span,
-                        "`up` is zero or parallel to the view direction",
-                    ));
-                }
-                CameraForm::LookAt { location, look_at, up, angle }
-            }
-            _ => {
-                let origin = require("origin", vector("origin")?)?;
-                let left = require("left", vector("left")?)?;
-                let up = require("up", vector("up")?)?;
-                let forward = require("forward", vector("forward")?)?;
-                for (key, v) in [("left", left), ("up", up), ("forward", forward)] {
-                    if v.length() == 0.0 {
-                        return Err(SceneError::at(
-                            &given[key].1,
-                            format!("`{key}` is a zero vector"),
-                        ));
-                    }
-                }
-                if left.cross(up).length() <= 1e-6 * left.length() * up.length() {
-                    return Err(SceneError::at(
-                        &given["up"].1,
-                        "`left` and `up` are parallel: no image plane",
-                    ));
-                }
-                if forward.dot(left.cross(up)).abs()
-                    <= 1e-6 * forward.length() * left.length() * up.length()
-                {
-                    return Err(SceneError::at(
-                        &given["forward"].1,
-                        "`forward` lies in the image plane of `left` and `up`",
-                    ));
-                }
-                CameraForm::Lab { origin, left, up, forward }
-            }
-        };
-        let aperture = float("aperture")?.unwrap_or(0.0);
-        if aperture < 0.0 {
-            return Err(SceneError::at(
-                &given["aperture"].1,
-                format!("aperture {aperture} is negative"),
-            ));
-        }
-        let focal_distance = float("focal_distance")?;
-        if let Some(d) = focal_distance.filter(|d| *d <= 0.0) {
-            return Err(SceneError::at(
-                &given["focal_distance"].1,
-                format!("focal_distance {d} must be positive"),
-            ));
-        }
-        self.camera = Some(CameraDesc { form, aperture, focal_distance, span });
         Ok(())
     }
 
@@ -477,202 +364,6 @@ impl Evaluator {
                 Transform::Matrix { linear, translation: Vec3::new(m[9], m[10], m[11]) }
             }
         })
-    }
-
-    fn material(
-        &self,
-        src: &Source,
-        pair: Pair<'_, Rule>,
-        name: Option<&str>,
-    ) -> Result<Arc<MaterialDesc>, SceneError> {
-        let span = src.span(&pair);
-        let mut items = pair.into_inner().skip(1).peekable();
-        let base = match items.peek() {
-            Some(p) if p.as_rule() == Rule::base_material => {
-                let named = items.next().expect("peeked");
-                Some(self.material_named(src, &named)?)
-            }
-            _ => None,
-        };
-        let mut items = items.peekable();
-        if items.peek().is_none() && name.is_none() {
-            if let Some(base) = base {
-                return Ok(base); // `material { White }`: the declared material itself, shared
-            }
-        }
-        let mut material = match base {
-            Some(base) => MaterialDesc { name: None, span: span.clone(), ..(*base).clone() },
-            None => MaterialDesc::new(span.clone()),
-        };
-        material.name = name.map(str::to_string);
-        for item in items {
-            let mut inner = item.into_inner();
-            let key = inner.next().expect("key");
-            let key_name = key.clone().into_inner().next().map_or(key.as_str(), |k| k.as_str());
-            match key_name {
-                "fresnel" => material.fresnel = true,
-                "ior" => {
-                    let expr = inner.next().expect("value");
-                    material.ior = self.positive(src, expr, "ior")?;
-                }
-                "diffuse" => {
-                    material.diffuse = self.texture_arg(src, inner.next().expect("value"))?;
-                }
-                _ => {
-                    let colour = self.colour(src, inner.next().expect("value"))?;
-                    match key_name {
-                        "specular" => material.specular = colour,
-                        "transmission" => material.transmission = colour,
-                        _ => material.emission = colour,
-                    }
-                }
-            }
-        }
-        let total = material.diffuse.max_value() + material.specular + material.transmission;
-        if let Some(channel) = (0..3).find(|&c| total[c] > 1.0 + 1e-6) {
-            let who = material
-                .name
-                .as_ref()
-                .map_or("this material".to_string(), |n| format!("material `{n}`"));
-            return Err(SceneError::at(
-                &span,
-                format!(
-                    "{who} reflects more light than it receives: diffuse + specular + transmission = {} in the {} channel (at most 1)",
-                    total[channel],
-                    ["red", "green", "blue"][channel]
-                ),
-            ));
-        }
-        Ok(Arc::new(material))
-    }
-
-    /// A colour or a texture node, where `diffuse` takes one.
-    fn texture_arg(&self, src: &Source, pair: Pair<'_, Rule>) -> Result<TextureNode, SceneError> {
-        let pair = match pair.as_rule() {
-            Rule::texture_arg => pair.into_inner().next().expect("a texture or a colour"),
-            _ => pair,
-        };
-        if pair.as_rule() == Rule::colour {
-            // A declared texture's name reads as a colour expression.
-            let value = pair.clone().into_inner().find(|p| p.as_rule() == Rule::expr);
-            if let Some(Value::Texture(texture)) = value.map(|e| self.value(src, e)).transpose()? {
-                return Ok((*texture).clone());
-            }
-            return Ok(TextureNode::solid(self.colour(src, pair)?));
-        }
-        let node = pair.into_inner().next().expect("one kind of texture");
-        let kind = node.as_rule();
-        let mut inner = node.into_inner().skip(1);
-        let mut args = Vec::new();
-        let mut transforms = Vec::new();
-        let mut map = None;
-        let (mut axis, mut octaves, mut turbulence) = (None, None, None);
-        let mut path = None;
-        for item in inner.by_ref() {
-            match item.as_rule() {
-                Rule::texture_arg => args.push(self.texture_arg(src, item)?),
-                Rule::string => path = Some(resolve(&src.file.path, &string(&item))),
-                Rule::transform => transforms.push(self.transform(src, item)?),
-                Rule::color_map => {
-                    let at = src.span(&item);
-                    let takes_map =
-                        matches!(kind, Rule::gradient | Rule::noise | Rule::marble | Rule::wood);
-                    if !takes_map {
-                        return Err(SceneError::at(
-                            &at,
-                            "`color_map` has no effect on this texture",
-                        ));
-                    }
-                    let mut entries: Vec<(f32, Vec3)> = Vec::new();
-                    for entry in item.into_inner().filter(|e| e.as_rule() == Rule::map_entry) {
-                        let mut parts = entry.into_inner();
-                        let position_pair = parts.next().expect("position");
-                        let position_at = src.span(&position_pair);
-                        let position = self.float(src, position_pair)? as f32;
-                        let colour = self.colour(src, parts.next().expect("colour"))?;
-                        let previous = entries.last().map_or(0.0, |e| e.0);
-                        if !(previous..=1.0).contains(&position) {
-                            return Err(SceneError::at(
-                                &position_at,
-                                format!(
-                                    "color_map position {position} must be in [0, 1] and not below the one before"
-                                ),
-                            ));
-                        }
-                        entries.push((position, colour));
-                    }
-                    if map.replace(entries).is_some() {
-                        return Err(SceneError::at(&at, "a second color_map"));
-                    }
-                }
-                _ => {
-                    let mut parts = item.into_inner();
-                    let key = parts.next().expect("key");
-                    let key_at = src.span(&key);
-                    let value = parts.next().expect("value");
-                    let applies = match key.as_str() {
-                        "axis" => matches!(kind, Rule::stripes | Rule::gradient),
-                        "octaves" => matches!(kind, Rule::noise | Rule::marble | Rule::wood),
-                        _ => matches!(kind, Rule::marble | Rule::wood),
-                    };
-                    if !applies {
-                        return Err(SceneError::at(
-                            &key_at,
-                            format!("`{}` has no effect on this texture", key.as_str()),
-                        ));
-                    }
-                    match key.as_str() {
-                        "axis" => axis = Some(self.nonzero(src, value, "the axis")?),
-                        "octaves" => octaves = Some(self.integer(src, value, 1, 16)? as u32),
-                        _ => {
-                            let at = src.span(&value);
-                            let t = self.float(src, value)? as f32;
-                            if t < 0.0 {
-                                return Err(SceneError::at(
-                                    &at,
-                                    format!("turbulence {t} is negative"),
-                                ));
-                            }
-                            turbulence = Some(t);
-                        }
-                    }
-                }
-            }
-        }
-        // Black to white when no map is given.
-        let map = map
-            .filter(|m| !m.is_empty())
-            .unwrap_or_else(|| vec![(0.0, Vec3::ZERO), (1.0, Vec3::ONE)]);
-        let mut args = args.into_iter().map(Box::new);
-        let mut arg = || args.next().expect("the grammar gives the arguments");
-        let octaves = octaves.unwrap_or(4);
-        let turbulence = turbulence.unwrap_or(0.0);
-        let pattern = match kind {
-            Rule::checker => Pattern::Checker(arg(), arg()),
-            Rule::stripes => Pattern::Stripes { a: arg(), b: arg(), axis: axis.unwrap_or(Vec3::X) },
-            Rule::gradient => Pattern::Gradient { axis: axis.unwrap_or(Vec3::Y), map },
-            Rule::noise => Pattern::Noise { octaves, map },
-            Rule::marble => Pattern::Marble { turbulence, octaves, map },
-            Rule::wood => Pattern::Wood { turbulence, octaves, map },
-            Rule::image_map => Pattern::Image { path: path.expect("the grammar gives a file") },
-            _ => Pattern::Mix { a: arg(), b: arg(), t: arg() },
-        };
-        Ok(TextureNode { pattern, transforms })
-    }
-
-    fn material_named(
-        &self,
-        src: &Source,
-        pair: &Pair<'_, Rule>,
-    ) -> Result<Arc<MaterialDesc>, SceneError> {
-        let ident = pair.clone().into_inner().next().unwrap_or_else(|| pair.clone());
-        match self.lookup(src, &ident)? {
-            Value::Material(m) => Ok(m),
-            other => Err(src.error(
-                &ident,
-                format!("`{}` is {}, not a material", ident.as_str(), other.kind()),
-            )),
-        }
     }
 
     fn lookup(&self, src: &Source, ident: &Pair<'_, Rule>) -> Result<Value, SceneError> {
