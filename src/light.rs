@@ -12,8 +12,8 @@ use crate::scene::Scene;
 pub enum Light {
     /// `power` acts as radiant intensity: irradiance power / r^2 (the seed's formula).
     Point { position: Vec3, power: Vec3 },
-    /// An emissive primitive; index into `Scene::primitives`.
-    Area { primitive: u32 },
+    /// An emissive primitive (index into `Scene::primitives`) and its surface area.
+    Area { primitive: u32, area: f32 },
 }
 
 /// Incident light at a point from one sampled light position, already tested for visibility.
@@ -37,10 +37,10 @@ impl Light {
     pub fn power(&self, scene: &Scene) -> f32 {
         match self {
             Light::Point { power, .. } => 4.0 * PI * power.element_sum() / 3.0,
-            Light::Area { primitive } => {
+            Light::Area { primitive, area } => {
                 let prim = &scene.primitives[*primitive as usize];
                 let emission = scene.materials[prim.material as usize].emission;
-                PI * prim.shape.area().unwrap_or(0.0) * emission.element_sum() / 3.0
+                PI * area * emission.element_sum() / 3.0
             }
         }
     }
@@ -54,8 +54,8 @@ impl Light {
             }
             // Every emitter shape is convex or emits outwards only: it never lights itself
             // (and a sample from its own surface would be degenerate).
-            Light::Area { primitive } if primitive == hit.primitive => return None,
-            Light::Area { primitive } => {
+            Light::Area { primitive, .. } if primitive == hit.primitive => return None,
+            Light::Area { primitive, area } => {
                 let prim = &scene.primitives[primitive as usize];
                 let (point, normal, error, pdf) = match prim.shape {
                     Shape::Sphere { center, radius } if center.distance(hit.point) > radius => {
@@ -66,7 +66,7 @@ impl Light {
                         let to_light = s.point - hit.point;
                         let cos_light = s.normal.dot(-to_light.normalize()).abs();
                         // Area density 1/A in solid angle: r^2 / (A cos).
-                        let pdf = to_light.length_squared() / (shape.area()? * cos_light);
+                        let pdf = to_light.length_squared() / (area * cos_light);
                         (s.point, s.normal, s.error, pdf)
                     }
                 };
@@ -86,7 +86,7 @@ impl Light {
     /// The solid-angle density with which `sample` from `from` returns the direction towards
     /// `on_light`, a hit on this (area) light.
     pub fn pdf(&self, scene: &Scene, from: Vec3, on_light: &Hit) -> f32 {
-        let Light::Area { primitive } = *self else {
+        let Light::Area { primitive, area } = *self else {
             return 0.0;
         };
         let shape = &scene.primitives[primitive as usize].shape;
@@ -97,7 +97,7 @@ impl Light {
             _ => {
                 let to_light = on_light.point - from;
                 let cos_light = on_light.normal.dot(to_light.normalize()).abs();
-                to_light.length_squared() / (shape.area().unwrap_or(f32::INFINITY) * cos_light)
+                to_light.length_squared() / (area * cos_light)
             }
         }
     }

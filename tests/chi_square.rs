@@ -147,7 +147,7 @@ fn light_sampling(scene_text: &str, point: Vec3, normal: Vec3) {
     // The light under test: the tube of a cylinder (not its caps), else the only one.
     let index = (0..scene.lights.len())
         .find(|&i| match scene.lights[i] {
-            Light::Area { primitive } => {
+            Light::Area { primitive, .. } => {
                 matches!(scene.primitives[primitive as usize].shape, Shape::Quadric { .. })
             }
             Light::Point { .. } => false,

@@ -44,9 +44,10 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         .map(|l| Light::Point { position: l.position, power: l.power })
         .collect();
     for (i, prim) in primitives.iter_mut().enumerate() {
-        if flat.materials[prim.material as usize].is_emissive() && prim.shape.area().is_some() {
+        let area = prim.shape.area();
+        if let Some(area) = area.filter(|_| flat.materials[prim.material as usize].is_emissive()) {
             prim.light = Some(lights.len() as u32);
-            lights.push(Light::Area { primitive: i as u32 });
+            lights.push(Light::Area { primitive: i as u32, area });
         }
     }
     let mut warnings = camera_warnings;

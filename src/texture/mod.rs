@@ -69,10 +69,6 @@ impl Texture {
         Ok(Texture { kind, to_pattern: compose(&node.transforms).inverse() })
     }
 
-    pub fn is_solid(&self) -> bool {
-        matches!(self.kind, Kind::Solid(_))
-    }
-
     /// The texture's value at `p`, a point in the object's own space.
     pub fn eval(&self, p: Vec3) -> Vec3 {
         let q = self.to_pattern.transform_point3(p);
