@@ -118,7 +118,7 @@ fn main() -> ExitCode {
         }
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
             let tone_map = ToneMap { op, v, gamma, exposure, white };
-            raydiance::tonemap_file(&input, &output, &tone_map)
+            raydiance::tonemap_file(&input, &output, &tone_map).map(|summary| println!("{summary}"))
         }
         Command::Check { scene } => {
             raydiance::check(&scene).map(|summary| println!("{summary}")).map_err(|e| e.to_string())

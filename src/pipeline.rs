@@ -159,8 +159,9 @@ pub fn write_render(
     }
 }
 
-/// `raydiance tonemap`: reads an HDR file, writes LDR `.ppm` (`#MAX=1`) or `.png`.
-pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<(), String> {
+/// `raydiance tonemap`: reads an HDR file, writes LDR `.ppm` (`#MAX=1`) or `.png`; returns
+/// the summary line.
+pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<String, String> {
     params.validate().map_err(|e| format!("error: {e}"))?;
     let ldr_ppm = match image::extension(output).as_deref() {
         Some("ppm") => true,
@@ -180,5 +181,16 @@ pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<(),
     } else {
         image::png::write(output, hdr.width, hdr.height, &pixels)
     };
-    written.map_err(|e| format!("error: {e}"))
+    written.map_err(|e| format!("error: {e}"))?;
+    Ok(format!(
+        "{}: {}x{}, {} (v {}, gamma {}, exposure {}), largest input value {}",
+        output.display(),
+        hdr.width,
+        hdr.height,
+        params.op,
+        params.v,
+        params.gamma,
+        params.exposure,
+        hdr.max_component()
+    ))
 }
