@@ -159,6 +159,9 @@ fn tonemap_reproduces_the_spec_example() {
         let expected =
             format!("P3\n#MAX=1\n# {op}.ppm\n2 1\n255\n255 0 0  {second} {second} {second}\n");
         assert_eq!(text, expected);
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(stdout.contains(&format!("{op}.ppm: 2x1, {op} (")), "one summary line: {stdout}");
+        assert!(stdout.contains("largest input value 4.5"), "{stdout}");
     }
 }
 
