@@ -48,39 +48,43 @@ impl Light {
     /// Samples light arriving at `hit` from this light; `None` if it is occluded, arrives from
     /// behind the emitter, or the sample carries nothing.
     pub fn sample(&self, scene: &Scene, hit: &Hit, u: Vec2) -> Option<LightSample> {
-        let (position, li, pdf, is_delta) = match *self {
+        let (target, wi, li, pdf, is_delta) = match *self {
             Light::Point { position, power } => {
-                (position, power / position.distance_squared(hit.point), 1.0, true)
+                let to_light = position - hit.point;
+                let distance_squared = to_light.length_squared();
+                let wi = to_light / distance_squared.sqrt();
+                (position, wi, power / distance_squared, 1.0, true)
             }
             // Every emitter shape is convex or emits outwards only: it never lights itself
             // (and a sample from its own surface would be degenerate).
             Light::Area { primitive, .. } if primitive == hit.primitive => return None,
             Light::Area { primitive, area } => {
                 let prim = &scene.primitives[primitive as usize];
-                let (point, normal, error, pdf) = match prim.shape {
+                let (point, normal, error, wi, pdf) = match prim.shape {
                     Shape::Sphere { center, radius } if center.distance(hit.point) > radius => {
-                        sample_sphere_cone(center, radius, hit.point, u)
+                        let (point, normal, error, pdf) =
+                            sample_sphere_cone(center, radius, hit.point, u);
+                        (point, normal, error, (point - hit.point).normalize(), pdf)
                     }
                     ref shape => {
                         let s = shape.sample_area(u)?;
                         let to_light = s.point - hit.point;
-                        let cos_light = s.normal.dot(-to_light.normalize()).abs();
+                        let distance_squared = to_light.length_squared();
+                        let wi = to_light / distance_squared.sqrt();
                         // Area density 1/A in solid angle: r^2 / (A cos).
-                        let pdf = to_light.length_squared() / (area * cos_light);
-                        (s.point, s.normal, s.error, pdf)
+                        let pdf = distance_squared / (area * s.normal.dot(wi).abs());
+                        (s.point, s.normal, s.error, wi, pdf)
                     }
                 };
-                let wi = (point - hit.point).normalize();
                 let le = scene.materials[prim.material as usize].emitted(normal, -wi);
                 if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
                     return None;
                 }
                 // Aim just off the light's surface, on the side we see, so it does not shadow itself.
-                (point + normal * error, le, pdf, false)
+                (point + normal * error, wi, le, pdf, false)
             }
         };
-        let wi = (position - hit.point).normalize();
-        visible(scene, hit, position, wi).then_some(LightSample { wi, li, pdf, is_delta })
+        visible(scene, hit, target, wi).then_some(LightSample { wi, li, pdf, is_delta })
     }
 
     /// The solid-angle density with which `sample` from `from` returns the direction towards

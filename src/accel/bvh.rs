@@ -1,7 +1,8 @@
 //! A bounding volume hierarchy: binned SAH build (in parallel), flattened depth-first nodes,
 //! front-to-back traversal.
 
-use glam::Vec3;
+use arrayvec::ArrayVec;
+use glam::{Vec3, Vec3A, Vec4};
 
 use crate::geometry::{Aabb, Ray};
 
@@ -15,13 +16,46 @@ const PARALLEL_MIN: usize = 4096;
 const SAH_MAX_DEPTH: usize = 48;
 const STACK_SIZE: usize = SAH_MAX_DEPTH + 64;
 
+/// 32 bytes, two SIMD lanes of four: the box's corners in x, y, z, and in the fourth lanes
+/// (as bits) `offset` and `count`. Leaf: first primitive and their number. Interior: the index
+/// of the second child (the first follows the node), and count 0.
 #[derive(Debug, Clone, Copy)]
 struct Node {
-    bounds: Aabb,
-    /// Leaf: first primitive. Interior: index of the second child (the first follows the node).
-    offset: u32,
-    /// Number of primitives; 0 marks an interior node.
-    count: u16,
+    min: Vec4,
+    max: Vec4,
+}
+
+impl Node {
+    fn new(bounds: Aabb, offset: u32, count: u32) -> Self {
+        Node {
+            min: bounds.min.extend(f32::from_bits(offset)),
+            max: bounds.max.extend(f32::from_bits(count)),
+        }
+    }
+
+    #[inline]
+    fn offset(&self) -> u32 {
+        self.min.w.to_bits()
+    }
+
+    #[inline]
+    fn count(&self) -> u32 {
+        self.max.w.to_bits()
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb { min: self.min.truncate(), max: self.max.truncate() }
+    }
+
+    /// Slab test: the entry distance if the ray meets the box within (0, t_max).
+    #[inline]
+    fn entry(&self, origin: Vec3A, inv_dir: Vec3A, t_max: f32) -> Option<f32> {
+        let t0 = (Vec3A::from_vec4(self.min) - origin) * inv_dir;
+        let t1 = (Vec3A::from_vec4(self.max) - origin) * inv_dir;
+        let near = t0.min(t1).max_element().max(0.0);
+        let far = t0.max(t1).min_element().min(t_max);
+        (near <= far).then_some(near)
+    }
 }
 
 #[derive(Debug, Clone, Default)]
@@ -60,7 +94,7 @@ impl Bvh {
     }
 
     pub fn bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
+        self.nodes.first().map_or(Aabb::EMPTY, Node::bounds)
     }
 
     /// Closest-hit traversal. `hit(i, t_max)` tests primitive `i` and returns its distance if it
@@ -75,34 +109,33 @@ impl Bvh {
         if self.nodes.is_empty() {
             return t_max;
         }
-        let inv_dir = ray.dir.recip();
-        if self.nodes[0].bounds.hit_distance(ray.origin, inv_dir, t_max).is_none() {
+        let (origin, inv_dir) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir).recip());
+        if self.nodes[0].entry(origin, inv_dir, t_max).is_none() {
             return t_max;
         }
         // Nodes still to visit, with the distance at which the ray enters them: a node entered
-        // beyond the closest hit found since it was pushed is skipped.
-        let mut stack = [(0u32, 0.0f32); STACK_SIZE];
-        let mut top = 0;
+        // beyond the closest hit found since it was pushed is skipped. (Not zero-filled: rays
+        // are many and most of the stack is never touched.)
+        let mut stack = ArrayVec::<(u32, f32), STACK_SIZE>::new();
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
-            if node.count > 0 {
-                let first = node.offset as usize;
-                for i in first..first + node.count as usize {
+            if node.count() > 0 {
+                let first = node.offset() as usize;
+                for i in first..first + node.count() as usize {
                     if let Some(t) = hit(i, t_max) {
                         t_max = t;
                     }
                 }
             } else {
                 // Both children's boxes are tested here; the nearer is visited first.
-                let (a, b) = (current + 1, node.offset as usize);
-                let enter_a = self.nodes[a].bounds.hit_distance(ray.origin, inv_dir, t_max);
-                let enter_b = self.nodes[b].bounds.hit_distance(ray.origin, inv_dir, t_max);
+                let (a, b) = (current + 1, node.offset() as usize);
+                let enter_a = self.nodes[a].entry(origin, inv_dir, t_max);
+                let enter_b = self.nodes[b].entry(origin, inv_dir, t_max);
                 match (enter_a, enter_b) {
                     (Some(ta), Some(tb)) => {
                         let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
-                        stack[top] = (far as u32, t_far);
-                        top += 1;
+                        stack.push((far as u32, t_far));
                         current = near;
                         continue;
                     }
@@ -118,11 +151,9 @@ impl Bvh {
                 }
             }
             loop {
-                if top == 0 {
+                let Some((node, enter)) = stack.pop() else {
                     return t_max;
-                }
-                top -= 1;
-                let (node, enter) = stack[top];
+                };
                 if enter < t_max {
                     current = node as usize;
                     break;
@@ -137,30 +168,27 @@ impl Bvh {
         if self.nodes.is_empty() {
             return false;
         }
-        let inv_dir = ray.dir.recip();
-        let mut stack = [0u32; STACK_SIZE];
-        let mut top = 0;
+        let (origin, inv_dir) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir).recip());
+        let mut stack = ArrayVec::<u32, STACK_SIZE>::new();
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
-            if node.bounds.hit_distance(ray.origin, inv_dir, t_max).is_some() {
-                if node.count > 0 {
-                    let first = node.offset as usize;
-                    if (first..first + node.count as usize).any(&mut hit) {
+            if node.entry(origin, inv_dir, t_max).is_some() {
+                if node.count() > 0 {
+                    let first = node.offset() as usize;
+                    if (first..first + node.count() as usize).any(&mut hit) {
                         return true;
                     }
                 } else {
-                    stack[top] = node.offset;
-                    top += 1;
+                    stack.push(node.offset());
                     current += 1;
                     continue;
                 }
             }
-            if top == 0 {
-                return false;
+            match stack.pop() {
+                Some(node) => current = node as usize,
+                None => return false,
             }
-            top -= 1;
-            current = stack[top] as usize;
         }
     }
 }
@@ -267,13 +295,13 @@ fn partition(items: &mut [Item], left: impl Fn(&Item) -> bool) -> usize {
 fn flatten(node: &BuildNode, nodes: &mut Vec<Node>) {
     match node {
         BuildNode::Leaf { bounds, first, count } => {
-            nodes.push(Node { bounds: *bounds, offset: *first as u32, count: *count as u16 });
+            nodes.push(Node::new(*bounds, *first as u32, *count as u32));
         }
         BuildNode::Interior { bounds, children } => {
             let at = nodes.len();
-            nodes.push(Node { bounds: *bounds, offset: 0, count: 0 });
+            nodes.push(Node::new(*bounds, 0, 0));
             flatten(&children[0], nodes);
-            nodes[at].offset = nodes.len() as u32;
+            nodes[at] = Node::new(*bounds, nodes.len() as u32, 0);
             flatten(&children[1], nodes);
         }
     }
@@ -342,6 +370,6 @@ mod tests {
         let bounds = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 1000];
         let (bvh, order) = Bvh::build(&bounds);
         assert_eq!(order.len(), 1000);
-        assert!(bvh.nodes.iter().all(|n| usize::from(n.count) <= 4 * MAX_LEAF));
+        assert!(bvh.nodes.iter().all(|n| n.count() as usize <= 4 * MAX_LEAF));
     }
 }

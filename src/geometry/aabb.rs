@@ -34,14 +34,4 @@ impl Aabb {
         let e = self.extent();
         2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
     }
-
-    /// Slab test: the entry distance if the ray meets the box within (0, t_max).
-    #[inline]
-    pub fn hit_distance(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<f32> {
-        let t0 = (self.min - origin) * inv_dir;
-        let t1 = (self.max - origin) * inv_dir;
-        let near = t0.min(t1).max_element().max(0.0);
-        let far = t0.max(t1).min_element().min(t_max);
-        (near <= far).then_some(near)
-    }
 }

@@ -8,6 +8,7 @@ mod triangle_mesh;
 pub use aabb::Aabb;
 pub use ray::{Hit, Ray, offset_origin};
 pub use shape::{
-    PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, similarity_scale, sphere_error,
+    Intersection, PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, similarity_scale,
+    sphere_error,
 };
 pub use triangle_mesh::{Placement, TriangleMesh};

@@ -89,6 +89,14 @@ impl QuadricFrame {
         }
     }
 
+    /// The ray in canonical space, direction not normalised (so distances are the world's).
+    fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
+        (
+            self.to_object.transform_point3a(ray.origin.into()),
+            self.to_object.transform_vector3a(ray.dir.into()),
+        )
+    }
+
     /// Corners of a box holding both canonical quadrics.
     fn canonical_corners() -> [Vec3; 8] {
         std::array::from_fn(|i| {
@@ -110,20 +118,105 @@ pub struct SurfaceSample {
     pub error: f32,
 }
 
+/// Where a ray meets a shape, before its hit record is made: a closest-hit search tests many
+/// shapes but makes the record (point, normals, error bound) only for the one it keeps.
+#[derive(Debug, Clone, Copy)]
+pub struct Intersection {
+    pub t: f32,
+    /// Planar shapes' and triangles' coordinates along their two edges.
+    pub st: Vec2,
+    /// The triangle of a mesh.
+    pub triangle: u32,
+}
+
+impl Intersection {
+    fn at(t: f32) -> Self {
+        Intersection { t, st: Vec2::ZERO, triangle: 0 }
+    }
+}
+
 impl Shape {
     /// The closest intersection with `0 < t < t_max`; `primitive` is left 0 for the caller.
-    #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        Some(self.hit(ray, &self.intersection(ray, t_max)?))
+    }
+
+    /// Distance (and surface coordinates) of the closest intersection with `0 < t < t_max`.
+    #[inline]
+    pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
         match self {
-            Shape::Plane { normal, offset } => intersect_plane(*normal, *offset, ray, t_max),
-            Shape::Sphere { center, radius } => intersect_sphere(*center, *radius, ray, t_max),
-            Shape::Planar { kind, origin, edge1, edge2, normal } => {
-                intersect_planar(*kind, *origin, *edge1, *edge2, *normal, ray, t_max)
+            Shape::Plane { normal, offset } => {
+                plane_distance(*normal, *offset, ray, t_max).map(Intersection::at)
             }
-            Shape::Quadric { kind, frame } => intersect_quadric(*kind, frame, ray, t_max),
-            Shape::Mesh { mesh, placement: None } => mesh.intersect(ray, t_max),
+            Shape::Sphere { center, radius } => {
+                sphere_distance(*center, *radius, ray, t_max).map(Intersection::at)
+            }
+            Shape::Planar { kind, origin, edge1, edge2, .. } => {
+                let (t, s, u) = planar_distance(*kind, *origin, *edge1, *edge2, ray, t_max)?;
+                Some(Intersection { t, st: Vec2::new(s, u), triangle: 0 })
+            }
+            Shape::Quadric { kind, frame } => {
+                let (o, d) = frame.ray_to_object(ray);
+                quadric_distance(*kind, o, d, t_max).map(Intersection::at)
+            }
+            Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
-                Some(placement.hit_to_world(mesh.intersect(&placement.ray_to_object(ray), t_max)?))
+                mesh.intersection(&placement.ray_to_object(ray), t_max)
+            }
+        }
+    }
+
+    /// The hit record of an intersection of `ray` found by `intersection`.
+    pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
+        let t = at.t;
+        let surface = |point, normal, error| Hit {
+            t,
+            point,
+            normal,
+            shading_normal: normal,
+            error,
+            primitive: 0,
+        };
+        match self {
+            Shape::Plane { normal, offset } => {
+                // Project the point back onto the plane: its error is then that of its
+                // coordinates alone.
+                let p = ray.at(t);
+                let point = p - *normal * (normal.dot(p) + offset);
+                surface(point, *normal, REL_ERROR * (point.abs().max_element() + offset.abs()))
+            }
+            Shape::Sphere { center, radius } => {
+                let normal = (ray.at(t) - *center).normalize();
+                surface(*center + *radius * normal, normal, sphere_error(*center, *radius))
+            }
+            Shape::Planar { origin, edge1, edge2, normal, .. } => surface(
+                *origin + at.st.x * *edge1 + at.st.y * *edge2,
+                *normal,
+                planar_error(*origin, *edge1, *edge2),
+            ),
+            Shape::Quadric { kind, frame } => {
+                let (o, d) = frame.ray_to_object(ray);
+                let p = o + t * d;
+                // Back onto the surface, then to the world.
+                let (p, n) = match kind {
+                    QuadricKind::Ellipsoid => {
+                        let n = p.normalize();
+                        (n, n)
+                    }
+                    QuadricKind::Tube => {
+                        let radial = Vec3A::new(p.x, p.y, 0.0).normalize();
+                        (radial + Vec3A::new(0.0, 0.0, p.z), radial)
+                    }
+                };
+                surface(
+                    frame.to_world.transform_point3a(p).into(),
+                    (frame.normal_to_world * n).normalize().into(),
+                    REL_ERROR * frame.magnitude,
+                )
+            }
+            Shape::Mesh { mesh, placement: None } => mesh.hit(at),
+            Shape::Mesh { mesh, placement: Some(placement) } => {
+                placement.hit_to_world(mesh.hit(at))
             }
         }
     }
@@ -136,7 +229,7 @@ impl Shape {
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.occluded(&placement.ray_to_object(ray), t_max)
             }
-            _ => self.intersect(ray, t_max).is_some(),
+            _ => self.intersection(ray, t_max).is_some(),
         }
     }
 
@@ -260,21 +353,13 @@ fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
 }
 
 #[inline]
-fn intersect_plane(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<Hit> {
-    let denom = normal.dot(ray.dir);
-    let t = -(normal.dot(ray.origin) + offset) / denom;
-    if !(t > 0.0 && t < t_max) {
-        return None;
-    }
-    // Project the point back onto the plane: its error is then that of its coordinates alone.
-    let p = ray.at(t);
-    let point = p - normal * (normal.dot(p) + offset);
-    let error = REL_ERROR * (point.abs().max_element() + offset.abs());
-    Some(Hit { t, point, normal, shading_normal: normal, error, primitive: 0 })
+fn plane_distance(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<f32> {
+    let t = -(normal.dot(ray.origin) + offset) / normal.dot(ray.dir);
+    (t > 0.0 && t < t_max).then_some(t)
 }
 
 #[inline]
-fn intersect_sphere(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<Hit> {
+fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f32> {
     let oc = ray.origin - center;
     let b = oc.dot(ray.dir);
     // r^2 - |oc - b d|^2 instead of b^2 - (|oc|^2 - r^2): no cancellation for distant spheres
@@ -293,33 +378,19 @@ fn intersect_sphere(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<
         if a < b { (a, b) } else { (b, a) }
     };
     let t = if t0 > 0.0 { t0 } else { t1 };
-    if !(t > 0.0 && t < t_max) {
-        return None;
-    }
-    let offset = ray.at(t) - center;
-    let normal = offset / offset.length();
-    let point = center + radius * normal;
-    Some(Hit {
-        t,
-        point,
-        normal,
-        shading_normal: normal,
-        error: sphere_error(center, radius),
-        primitive: 0,
-    })
+    (t > 0.0 && t < t_max).then_some(t)
 }
 
+/// Möller–Trumbore: distance and the coordinates (s, t) along edge1 and edge2.
 #[inline]
-fn intersect_planar(
+fn planar_distance(
     kind: PlanarKind,
     origin: Vec3,
     edge1: Vec3,
     edge2: Vec3,
-    normal: Vec3,
     ray: &Ray,
     t_max: f32,
-) -> Option<Hit> {
-    // Möller–Trumbore, with (s, t) the coordinates along edge1 and edge2.
+) -> Option<(f32, f32, f32)> {
     let pvec = ray.dir.cross(edge2);
     let det = edge1.dot(pvec);
     if det == 0.0 {
@@ -339,28 +410,11 @@ fn intersect_planar(
         return None;
     }
     let distance = edge2.dot(qvec) * inv_det;
-    if !(distance > 0.0 && distance < t_max) {
-        return None;
-    }
-    Some(Hit {
-        t: distance,
-        point: origin + s * edge1 + t * edge2,
-        normal,
-        shading_normal: normal,
-        error: planar_error(origin, edge1, edge2),
-        primitive: 0,
-    })
+    (distance > 0.0 && distance < t_max).then_some((distance, s, t))
 }
 
-fn intersect_quadric(
-    kind: QuadricKind,
-    frame: &QuadricFrame,
-    ray: &Ray,
-    t_max: f32,
-) -> Option<Hit> {
-    // In canonical space with an unnormalised direction, t is the world distance.
-    let o = frame.to_object.transform_point3a(ray.origin.into());
-    let d = frame.to_object.transform_vector3a(ray.dir.into());
+/// Distance along `o + t d` (canonical space, `d` not normalised, so t is the world distance).
+fn quadric_distance(kind: QuadricKind, o: Vec3A, d: Vec3A, t_max: f32) -> Option<f32> {
     let (a, b, c) = match kind {
         QuadricKind::Ellipsoid => (d.dot(d), o.dot(d), o.dot(o) - 1.0),
         QuadricKind::Tube => {
@@ -381,28 +435,7 @@ fn intersect_quadric(
         let in_range = t > 0.0 && t < t_max;
         in_range && (kind == QuadricKind::Ellipsoid || (0.0..=1.0).contains(&(o.z + t * d.z)))
     };
-    let t = [t0, t1].into_iter().find(|&t| accept(t))?;
-    let p = o + t * d;
-    // Back onto the surface, then to the world.
-    let (p, n) = match kind {
-        QuadricKind::Ellipsoid => {
-            let n = p.normalize();
-            (n, n)
-        }
-        QuadricKind::Tube => {
-            let radial = Vec3A::new(p.x, p.y, 0.0).normalize();
-            (radial + Vec3A::new(0.0, 0.0, p.z), radial)
-        }
-    };
-    let normal = (frame.normal_to_world * n).normalize().into();
-    Some(Hit {
-        t,
-        point: frame.to_world.transform_point3a(p).into(),
-        normal,
-        shading_normal: normal,
-        error: REL_ERROR * frame.magnitude,
-        primitive: 0,
-    })
+    [t0, t1].into_iter().find(|&t| accept(t))
 }
 
 #[cfg(test)]

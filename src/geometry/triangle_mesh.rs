@@ -2,8 +2,9 @@
 //! their own BVH, in the mesh's object space. Instances share one, each with its own transform
 //! (a two-level hierarchy), so a mesh used a hundred times is stored once.
 
-use glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
+use super::shape::Intersection;
 use super::{Aabb, Hit, Ray};
 use crate::accel::Bvh;
 use crate::mesh::Mesh;
@@ -46,16 +47,23 @@ impl TriangleMesh {
         self.triangles.len()
     }
 
-    /// Closest hit in object space. The normal is the face's `(b - a) x (c - a)`; with vertex
-    /// normals the shading normal is interpolated from them, turned to the normal's side.
-    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let mut closest: Option<(usize, f32, f32, f32)> = None;
+    /// The closest triangle the ray meets, in object space.
+    pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
+        let mut closest = None;
         self.bvh.closest(ray, t_max, |i, t_max| {
             let (t, s, u) = intersect_triangle(&self.triangles[i], ray, t_max)?;
-            closest = Some((i, t, s, u));
+            closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32 });
             Some(t)
         });
-        let (i, t, s, u) = closest?;
+        closest
+    }
+
+    /// The hit record of an intersection, in object space. The normal is the face's
+    /// `(b - a) x (c - a)`; with vertex normals the shading normal is interpolated from them,
+    /// turned to the normal's side.
+    pub fn hit(&self, at: &Intersection) -> Hit {
+        let i = at.triangle as usize;
+        let (s, u) = at.st.into();
         let [origin, edge1, edge2] = self.triangles[i];
         let normal = edge1.cross(edge2).normalize();
         let shading_normal = match &self.normals {
@@ -66,15 +74,14 @@ impl TriangleMesh {
                 if n == Vec3::ZERO { normal } else { n * n.dot(normal).signum() }
             }
         };
-        let hit = Hit {
-            t,
+        Hit {
+            t: at.t,
             point: origin + s * edge1 + u * edge2,
             normal,
             shading_normal,
             error: 256.0 * f32::EPSILON * self.magnitude,
             primitive: 0,
-        };
-        Some(hit)
+        }
     }
 
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

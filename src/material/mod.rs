@@ -112,28 +112,27 @@ impl Material {
         if !same_side(n, wo, wi) {
             return 0.0;
         }
-        let [p_diffuse, _, _] = self.lobe_probabilities(&self.lobes(n, wo));
+        let p_diffuse = if self.has_specular() {
+            self.lobe_probabilities(&self.lobes(n, wo))[0]
+        } else if self.has_diffuse() {
+            1.0
+        } else {
+            0.0
+        };
         p_diffuse * n.dot(wi).abs() * FRAC_1_PI
     }
 
     /// Chooses a lobe with probability from its reflectance (the course's per-bounce Russian
     /// roulette over kd, ks, kt), then a direction from it: cosine-weighted for the diffuse lobe.
     pub fn sample(&self, n: Vec3, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if !self.has_specular() {
+            // Lambertian alone (the common case): no lobe to choose.
+            return if self.has_diffuse() { self.sample_diffuse(n, wo, 1.0, u) } else { None };
+        }
         let lobes = self.lobes(n, wo);
         let [p_diffuse, p_reflect, _] = self.lobe_probabilities(&lobes);
         if u_lobe < p_diffuse {
-            let facing = if n.dot(wo) < 0.0 { -n } else { n };
-            let local = cosine_hemisphere(u);
-            let wi = to_world(facing, local);
-            let pdf = p_diffuse * local.z * FRAC_1_PI;
-            // f |cos| / pdf = (kd / pi) cos / (p cos / pi) = kd / p
-            (pdf > 0.0).then(|| BsdfSample {
-                wi,
-                weight: self.diffuse / p_diffuse,
-                pdf,
-                specular: false,
-                eta: 1.0,
-            })
+            self.sample_diffuse(n, wo, p_diffuse, u)
         } else if u_lobe < p_diffuse + p_reflect {
             Some(specular_sample(lobes.reflect_dir, lobes.reflect, p_reflect, 1.0))
         } else {
@@ -141,6 +140,22 @@ impl Material {
             let p_transmit = 1.0 - p_diffuse - p_reflect;
             (p_transmit > 0.0).then(|| lobes.transmission_sample(wi, p_transmit))
         }
+    }
+
+    /// The diffuse lobe, chosen with probability `p_diffuse`: cosine-weighted on wo's side.
+    fn sample_diffuse(&self, n: Vec3, wo: Vec3, p_diffuse: f32, u: Vec2) -> Option<BsdfSample> {
+        let facing = if n.dot(wo) < 0.0 { -n } else { n };
+        let local = cosine_hemisphere(u);
+        let wi = to_world(facing, local);
+        let pdf = p_diffuse * local.z * FRAC_1_PI;
+        // f |cos| / pdf = (kd / pi) cos / (p cos / pi) = kd / p
+        (pdf > 0.0).then(|| BsdfSample {
+            wi,
+            weight: self.diffuse / p_diffuse,
+            pdf,
+            specular: false,
+            eta: 1.0,
+        })
     }
 
     /// Samples only the specular lobes (mirror, refraction), with probabilities from their

@@ -13,7 +13,8 @@ use glam::Vec2;
 pub struct Sampler {
     /// Hash of (seed, pixel): selects the scrambles, shared by all samples of the pixel.
     pixel_hash: u64,
-    sample_index: u32,
+    /// The sample index, bit-reversed: the form its Owen scrambling works on.
+    index_reversed: u32,
     dimension: u32,
 }
 
@@ -22,7 +23,7 @@ impl Sampler {
         Sampler {
             pixel_hash: mix64(mix64(seed ^ 0x9e37_79b9_7f4a_7c15) ^ pixel),
             // More than 2^32 samples per pixel is beyond any limit the renderer accepts.
-            sample_index: sample_index as u32,
+            index_reversed: (sample_index as u32).reverse_bits(),
             dimension: 0,
         }
     }
@@ -31,7 +32,7 @@ impl Sampler {
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
         let [shuffle, scramble] = self.next_seeds();
-        let index = nested_uniform_scramble(self.sample_index, shuffle);
+        let index = self.shuffled_index(shuffle);
         // The van der Corput point is reverse(index); scrambling it reverses it back first.
         to_unit(laine_karras(index, scramble).reverse_bits())
     }
@@ -41,13 +42,22 @@ impl Sampler {
     pub fn next_2d(&mut self) -> Vec2 {
         let [shuffle, scramble_x] = self.next_seeds();
         let [scramble_y, _] = self.next_seeds();
-        let index = nested_uniform_scramble(self.sample_index, shuffle);
+        let index = self.shuffled_index(shuffle);
         let y_reversed = (0..4)
             .fold(0, |y, byte| y ^ SOBOL_1_REVERSED[byte][(index >> (8 * byte)) as usize & 0xff]);
         Vec2::new(
             to_unit(laine_karras(index, scramble_x).reverse_bits()),
             to_unit(laine_karras(y_reversed, scramble_y).reverse_bits()),
         )
+    }
+
+    /// The sample index under an Owen scramble of its bits (the most significant bit decides
+    /// the first split): each bit is flipped by a hash of the bits above it, which is
+    /// Laine–Karras on the reversed bits (Burley 2020). A different scramble per dimension pair
+    /// decorrelates the pairs ("padding") while the first 2^k indices stay a block of 2^k.
+    #[inline]
+    fn shuffled_index(&self, seed: u32) -> u32 {
+        laine_karras(self.index_reversed, seed).reverse_bits()
     }
 
     /// Two independent 32-bit seeds; each call moves to the next dimension.
@@ -93,14 +103,6 @@ const fn sobol_1_tables() -> [[u32; 256]; 4] {
         byte += 1;
     }
     tables
-}
-
-/// Owen scrambling of the bits of `x` (the most significant bit decides the first split): each
-/// bit is flipped by a hash of the bits above it (Burley 2020, "Practical Hash-based Owen
-/// Scrambling").
-#[inline]
-fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
-    laine_karras(x.reverse_bits(), seed).reverse_bits()
 }
 
 /// The Laine–Karras hash, which flips each bit by a hash of the bits below it: Owen scrambling

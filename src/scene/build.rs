@@ -9,7 +9,7 @@ use glam::{Affine3A, Vec3};
 
 use super::graph::{MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use super::{Primitive, Scene};
-use crate::accel::Bvh;
+use crate::accel::{Bvh, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
 use crate::geometry::{
@@ -58,13 +58,15 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         primitives,
         bounded: bounded_count,
         bvh,
-        planes: planes
-            .iter()
-            .filter_map(|p| match p.shape {
-                Shape::Plane { normal, offset } => Some((normal, offset)),
-                _ => None,
-            })
-            .collect(),
+        planes: Planes::new(
+            &planes
+                .iter()
+                .filter_map(|p| match p.shape {
+                    Shape::Plane { normal, offset } => Some((normal, offset)),
+                    _ => None,
+                })
+                .collect::<Vec<_>>(),
+        ),
         materials: flat.materials,
         textures: flat.textures,
         frames: flat.frames,

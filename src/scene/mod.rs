@@ -6,11 +6,11 @@ pub mod graph;
 
 pub use build::build;
 
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Vec2, Vec3};
 
-use crate::accel::Bvh;
+use crate::accel::{Bvh, Planes};
 use crate::camera::Camera;
-use crate::geometry::{Hit, Ray, Shape};
+use crate::geometry::{Hit, Intersection, Ray, Shape};
 use crate::light::Light;
 use crate::material::Material;
 use crate::texture::Texture;
@@ -34,8 +34,8 @@ pub struct Scene {
     pub primitives: Vec<Primitive>,
     bounded: usize,
     bvh: Bvh,
-    /// (normal, offset) of the unbounded planes, `primitives[bounded..]`, for a tight loop.
-    planes: Vec<(Vec3, f32)>,
+    /// The unbounded planes, `primitives[bounded..]`, in the same order.
+    planes: Planes,
     pub materials: Vec<Material>,
     /// Per material, its `diffuse` texture when that is not a plain colour.
     textures: Vec<Option<Texture>>,
@@ -51,39 +51,26 @@ pub struct Scene {
 impl Scene {
     /// The closest surface along the ray.
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let mut closest: Option<Hit> = None;
         let bounded = &self.primitives[..self.bounded];
+        let mut closest = None;
         let t_max = self.bvh.closest(ray, f32::INFINITY, |i, t_max| {
-            let hit = bounded[i].shape.intersect(ray, t_max)?;
-            closest = Some(Hit { primitive: i as u32, ..hit });
-            Some(hit.t)
+            let at = bounded[i].shape.intersection(ray, t_max)?;
+            closest = Some((i, at));
+            Some(at.t)
         });
-        // The nearest plane by distance alone; only its hit record is then made.
-        let mut nearest_plane = None;
-        let mut t_plane = t_max;
-        for (k, &(normal, offset)) in self.planes.iter().enumerate() {
-            let t = -(normal.dot(ray.origin) + offset) / normal.dot(ray.dir);
-            if t > 0.0 && t < t_plane {
-                (nearest_plane, t_plane) = (Some(k), t);
-            }
+        if let Some((k, t)) = self.planes.closest(ray, t_max) {
+            closest = Some((self.bounded + k, Intersection { t, st: Vec2::ZERO, triangle: 0 }));
         }
-        if let Some(k) = nearest_plane {
-            let i = self.bounded + k;
-            if let Some(hit) = self.primitives[i].shape.intersect(ray, t_max) {
-                closest = Some(Hit { primitive: i as u32, ..hit });
-            }
-        }
-        closest
+        // Only the closest intersection gets its hit record made.
+        let (i, at) = closest?;
+        Some(Hit { primitive: i as u32, ..self.primitives[i].shape.hit(ray, &at) })
     }
 
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let blocked_by_plane = self.planes.iter().any(|&(normal, offset)| {
-            let t = -(normal.dot(ray.origin) + offset) / normal.dot(ray.dir);
-            t > 0.0 && t < t_max
-        });
         let bounded = &self.primitives[..self.bounded];
-        blocked_by_plane || self.bvh.any(ray, t_max, |i| bounded[i].shape.occludes(ray, t_max))
+        self.planes.any(ray, t_max)
+            || self.bvh.any(ray, t_max, |i| bounded[i].shape.occludes(ray, t_max))
     }
 
     /// The material at a hit, with a textured `diffuse` evaluated at the hit point in the
