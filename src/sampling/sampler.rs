@@ -1,12 +1,21 @@
 //! Sample values as a pure function of (seed, pixel, sample index, dimension), so that an image
 //! never depends on the thread count or on the order in which pixels are rendered.
 //!
-//! Each 2-D request is a point of the Sobol (0,2)-sequence, Owen-scrambled, with the sample index
-//! shuffled per dimension pair ("padding", Burley 2020, "Practical Hash-based Owen Scrambling"):
-//! the first 2^k samples of a pixel are stratified in every pair of dimensions, and dimensions
-//! are decorrelated from each other and from other pixels.
+//! In the first `SOBOL_DIMENSIONS`, each 2-D request is a point of the Sobol (0,2)-sequence,
+//! Owen-scrambled, with the sample index shuffled per dimension pair ("padding", Burley 2020,
+//! "Practical Hash-based Owen Scrambling"): the first 2^k samples of a pixel are stratified in
+//! every pair of these dimensions, and dimensions are decorrelated from each other and from
+//! other pixels. Later dimensions are independent uniform values from a hash.
 
 use glam::Vec2;
+
+/// Dimensions drawn from the scrambled Sobol sequence: the camera's (2, or 4 with a lens) and
+/// a path's first bounce (7: light choice, light position, lobe, direction, roulette). They
+/// carry nearly all of the gain from stratification, at a quarter of the cost of Sobol points
+/// in every dimension. Measured on S3 and S4 at 16 and 64 spp against 4096-spp references:
+/// Sobol everywhere is 16% slower and lowers RMSE by only 0-5%; independent values
+/// everywhere double S3's RMSE.
+const SOBOL_DIMENSIONS: u32 = 11;
 
 /// The random stream of one pixel sample; `next_1d` / `next_2d` read its dimensions in order.
 #[derive(Debug, Clone)]
@@ -15,15 +24,19 @@ pub struct Sampler {
     pixel_hash: u64,
     /// The sample index, bit-reversed: the form its Owen scrambling works on.
     index_reversed: u32,
+    /// Hash of (seed, pixel, sample index): selects the independent values.
+    sample_hash: u64,
     dimension: u32,
 }
 
 impl Sampler {
     pub fn new(seed: u64, pixel: u64, sample_index: u64) -> Self {
+        let pixel_hash = mix64(mix64(seed ^ 0x9e37_79b9_7f4a_7c15) ^ pixel);
         Sampler {
-            pixel_hash: mix64(mix64(seed ^ 0x9e37_79b9_7f4a_7c15) ^ pixel),
+            pixel_hash,
             // More than 2^32 samples per pixel is beyond any limit the renderer accepts.
             index_reversed: (sample_index as u32).reverse_bits(),
+            sample_hash: mix64(pixel_hash ^ sample_index),
             dimension: 0,
         }
     }
@@ -31,6 +44,9 @@ impl Sampler {
     /// A value in [0, 1): a scrambled van der Corput point.
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
+        if self.dimension >= SOBOL_DIMENSIONS {
+            return to_unit(self.next_independent()[0]);
+        }
         let [shuffle, scramble] = self.next_seeds();
         let index = self.shuffled_index(shuffle);
         // The van der Corput point is reverse(index); scrambling it reverses it back first.
@@ -40,6 +56,12 @@ impl Sampler {
     /// A point in [0, 1)^2: a scrambled Sobol (0,2)-sequence point.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
+        if self.dimension >= SOBOL_DIMENSIONS {
+            // One hash gives both values; the second dimension is skipped to stay aligned.
+            let [x, y] = self.next_independent();
+            self.dimension += 1;
+            return Vec2::new(to_unit(x), to_unit(y));
+        }
         let [shuffle, scramble_x] = self.next_seeds();
         let [scramble_y, _] = self.next_seeds();
         let index = self.shuffled_index(shuffle);
@@ -60,11 +82,18 @@ impl Sampler {
         laine_karras(self.index_reversed, seed).reverse_bits()
     }
 
+    /// Two independent uniform 32-bit values for the current dimension, then the next one.
+    #[inline]
+    fn next_independent(&mut self) -> [u32; 2] {
+        let bits = mix64(self.sample_hash ^ dimension_key(self.dimension));
+        self.dimension += 1;
+        [bits as u32, (bits >> 32) as u32]
+    }
+
     /// Two independent 32-bit seeds; each call moves to the next dimension.
     #[inline]
     fn next_seeds(&mut self) -> [u32; 2] {
-        let bits =
-            mix64(self.pixel_hash ^ u64::from(self.dimension).wrapping_mul(0xa076_1d64_78bd_642f));
+        let bits = mix64(self.pixel_hash ^ dimension_key(self.dimension));
         self.dimension += 1;
         [bits as u32, (bits >> 32) as u32]
     }
@@ -123,6 +152,12 @@ fn to_unit(bits: u32) -> f32 {
     (bits >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
 }
 
+/// Spreads a dimension's index over 64 bits before it is mixed into a hash.
+#[inline]
+fn dimension_key(dimension: u32) -> u64 {
+    u64::from(dimension).wrapping_mul(0xa076_1d64_78bd_642f)
+}
+
 /// A 64-bit finaliser with full avalanche (splitmix64's, Stafford's variant 13).
 #[inline]
 fn mix64(mut z: u64) -> u64 {
@@ -137,9 +172,11 @@ mod tests {
 
     #[test]
     fn streams_are_pure_functions_of_their_coordinates() {
+        // Values from the Sobol dimensions and from the independent ones after them.
         let take = |seed, pixel, index| {
             let mut s = Sampler::new(seed, pixel, index);
-            [s.next_1d(), s.next_1d(), s.next_2d().x]
+            let values: Vec<f32> = (0..2 * SOBOL_DIMENSIONS).map(|_| s.next_1d()).collect();
+            [values[0], values[1], values[2 * SOBOL_DIMENSIONS as usize - 1]]
         };
         assert_eq!(take(1, 2, 3), take(1, 2, 3));
         assert_ne!(take(1, 2, 3), take(0, 2, 3));
@@ -149,30 +186,32 @@ mod tests {
 
     #[test]
     fn values_are_uniform_across_pixels() {
-        // 10 bins of 10000 values each: a chi-square with 9 degrees of freedom stays below
-        // 27.9 with probability 0.999.
-        let mut bins = [0u32; 10];
+        // Per kind of dimension (Sobol, independent), 10 bins of 10000 values each: a
+        // chi-square with 9 degrees of freedom stays below 27.9 with probability 0.999.
+        let mut bins = [[0u32; 10]; 2];
         for pixel in 0..1000 {
             for index in 0..10 {
                 let mut s = Sampler::new(7, pixel, index);
-                for _ in 0..10 {
+                for dimension in SOBOL_DIMENSIONS - 10..SOBOL_DIMENSIONS + 10 {
                     let u = s.next_1d();
                     assert!((0.0..1.0).contains(&u));
-                    bins[(u * 10.0) as usize] += 1;
+                    bins[usize::from(dimension >= SOBOL_DIMENSIONS)][(u * 10.0) as usize] += 1;
                 }
             }
         }
         let expected = 10000.0;
-        let chi2: f64 = bins.iter().map(|&n| (n as f64 - expected).powi(2) / expected).sum();
-        assert!(chi2 < 27.9, "chi2 = {chi2}, bins = {bins:?}");
+        for bins in bins {
+            let chi2: f64 = bins.iter().map(|&n| (n as f64 - expected).powi(2) / expected).sum();
+            assert!(chi2 < 27.9, "chi2 = {chi2}, bins = {bins:?}");
+        }
     }
 
     #[test]
-    fn the_first_power_of_two_samples_are_a_net_in_every_dimension_pair() {
+    fn the_first_power_of_two_samples_are_a_net_in_every_sobol_dimension_pair() {
         // A (0,4,2)-net: each of the 16 elementary intervals of area 1/16 of every shape
         // (1 x 1/16, 1/2 x 1/8, ..., 1/16 x 1) holds exactly one of the first 16 points.
         for pixel in [0, 17, 12345] {
-            for dimension in 0..6 {
+            for dimension in 0..SOBOL_DIMENSIONS.div_ceil(2) {
                 let points: Vec<Vec2> = (0..16)
                     .map(|i| {
                         let mut s = Sampler::new(3, pixel, i);
