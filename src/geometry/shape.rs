@@ -130,7 +130,8 @@ pub struct Intersection {
 }
 
 impl Intersection {
-    fn at(t: f32) -> Self {
+    /// At distance `t`, for shapes that need nothing more to make their hit record.
+    pub fn at(t: f32) -> Self {
         Intersection { t, st: Vec2::ZERO, triangle: 0 }
     }
 }

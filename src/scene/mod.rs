@@ -6,7 +6,7 @@ pub mod graph;
 
 pub use build::build;
 
-use glam::{Affine3A, Vec2, Vec3};
+use glam::{Affine3A, Vec3};
 
 use crate::accel::{Bvh, Planes};
 use crate::camera::Camera;
@@ -59,7 +59,7 @@ impl Scene {
             Some(at.t)
         });
         if let Some((k, t)) = self.planes.closest(ray, t_max) {
-            closest = Some((self.bounded + k, Intersection { t, st: Vec2::ZERO, triangle: 0 }));
+            closest = Some((self.bounded + k, Intersection::at(t)));
         }
         // Only the closest intersection gets its hit record made.
         let (i, at) = closest?;
