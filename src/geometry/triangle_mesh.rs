@@ -2,6 +2,8 @@
 //! their own BVH, in the mesh's object space. Instances share one, each with its own transform
 //! (a two-level hierarchy), so a mesh used a hundred times is stored once.
 
+use std::ops::Range;
+
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
 use super::shape::Intersection;
@@ -50,11 +52,12 @@ impl TriangleMesh {
     /// The closest triangle the ray meets, in object space.
     pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
         let mut closest = None;
-        self.bvh.closest(ray, t_max, |i, t_max| {
+        let test = |i: usize, t_max| {
             let (t, s, u) = intersect_triangle(&self.triangles[i], ray, t_max)?;
             closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32 });
             Some(t)
-        });
+        };
+        self.bvh.closest(ray, t_max, test, |leaf| self.preload(leaf));
         closest
     }
 
@@ -85,7 +88,13 @@ impl TriangleMesh {
     }
 
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.any(ray, t_max, |i| intersect_triangle(&self.triangles[i], ray, t_max).is_some())
+        let occludes = |i: usize| intersect_triangle(&self.triangles[i], ray, t_max).is_some();
+        self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
+    }
+
+    /// Starts loading a leaf's triangles, first and last (see `Bvh::closest`).
+    fn preload(&self, leaf: Range<usize>) {
+        std::hint::black_box((self.triangles[leaf.start][0].x, self.triangles[leaf.end - 1][2].z));
     }
 }
 

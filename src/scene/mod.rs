@@ -6,6 +6,8 @@ pub mod graph;
 
 pub use build::build;
 
+use std::ops::Range;
+
 use glam::{Affine3A, Vec3};
 
 use crate::accel::{Bvh, Planes};
@@ -53,11 +55,12 @@ impl Scene {
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let bounded = &self.primitives[..self.bounded];
         let mut closest = None;
-        let t_max = self.bvh.closest(ray, f32::INFINITY, |i, t_max| {
+        let test = |i: usize, t_max| {
             let at = bounded[i].shape.intersection(ray, t_max)?;
             closest = Some((i, at));
             Some(at.t)
-        });
+        };
+        let t_max = self.bvh.closest(ray, f32::INFINITY, test, |leaf| self.preload(leaf));
         if let Some((k, t)) = self.planes.closest(ray, t_max) {
             closest = Some((self.bounded + k, Intersection::at(t)));
         }
@@ -69,8 +72,13 @@ impl Scene {
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let bounded = &self.primitives[..self.bounded];
-        self.planes.any(ray, t_max)
-            || self.bvh.any(ray, t_max, |i| bounded[i].shape.occludes(ray, t_max))
+        let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
+        self.planes.any(ray, t_max) || self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
+    }
+
+    /// Starts loading primitives a traversal may test soon (see `Bvh::closest`).
+    fn preload(&self, leaf: Range<usize>) {
+        std::hint::black_box(self.primitives[leaf.start].material);
     }
 
     /// The material at a hit, with a textured `diffuse` evaluated at the hit point in the
