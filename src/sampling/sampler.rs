@@ -192,10 +192,13 @@ mod tests {
         for pixel in 0..1000 {
             for index in 0..10 {
                 let mut s = Sampler::new(7, pixel, index);
-                for dimension in SOBOL_DIMENSIONS - 10..SOBOL_DIMENSIONS + 10 {
+                for dimension in 0..SOBOL_DIMENSIONS + 10 {
                     let u = s.next_1d();
                     assert!((0.0..1.0).contains(&u));
-                    bins[usize::from(dimension >= SOBOL_DIMENSIONS)][(u * 10.0) as usize] += 1;
+                    // The last 10 Sobol dimensions and the first 10 independent ones.
+                    if dimension >= SOBOL_DIMENSIONS - 10 {
+                        bins[usize::from(dimension >= SOBOL_DIMENSIONS)][(u * 10.0) as usize] += 1;
+                    }
                 }
             }
         }
