@@ -4,8 +4,10 @@
 use std::ops::Range;
 
 use arrayvec::ArrayVec;
-use glam::{Vec3, Vec3A, Vec4};
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec3, Vec4};
 
+use super::HugeArray;
 use crate::geometry::{Aabb, Ray};
 
 const BINS: usize = 16;
@@ -20,51 +22,162 @@ const PARALLEL_MIN: usize = 4096;
 const SAH_MAX_DEPTH: usize = 48;
 const STACK_SIZE: usize = SAH_MAX_DEPTH + 64;
 
-/// 32 bytes, two SIMD lanes of four: the box's corners in x, y, z, and in the fourth lanes
-/// (as bits) `offset` and `count`. Leaf: first primitive and their number. Interior: the index
-/// of the second child (the first follows the node), and count 0.
-#[derive(Debug, Clone, Copy)]
+/// A link to a child: a node's index, or a leaf's primitives (flag bit, count - 1 in four bits,
+/// first primitive in the rest), or no child.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+#[repr(transparent)]
+struct Link(u32);
+
+impl Link {
+    const NONE: Link = Link(u32::MAX);
+    const LEAF: u32 = 1 << 31;
+    /// Leaves hold at most 16 primitives, the first below 2^27.
+    const FIRST_BITS: u32 = 27;
+
+    fn leaf(first: usize, count: usize) -> Link {
+        debug_assert!((1..=16).contains(&count) && first < 1 << Self::FIRST_BITS);
+        Link(Self::LEAF | ((count as u32 - 1) << Self::FIRST_BITS) | first as u32)
+    }
+
+    /// The primitives of a leaf, or `None` for a node.
+    #[inline]
+    fn primitives(self) -> Option<Range<usize>> {
+        (self.0 & Self::LEAF != 0).then(|| {
+            let first = (self.0 & ((1 << Self::FIRST_BITS) - 1)) as usize;
+            first..first + ((self.0 >> Self::FIRST_BITS) & 15) as usize + 1
+        })
+    }
+}
+
+/// Most primitives one hierarchy can hold (the leaf links' limit).
+pub const MAX_PRIMITIVES: usize = 1 << Link::FIRST_BITS;
+
+/// 64 bytes, one cache line: up to four children, their boxes quantized to 8 bits per plane on
+/// a grid over this node's box (`origin + q * step`, rounded outwards), as in Embree's and
+/// Ylitie et al.'s compressed wide BVHs. Traversal of a large mesh waits on memory: a quarter
+/// of the bytes per box and half the depth of a binary hierarchy of full boxes mean fewer waits.
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+#[repr(C, align(64))]
 struct Node {
-    min: Vec4,
-    max: Vec4,
+    origin: [f32; 3],
+    step: [f32; 3],
+    /// Per axis, per child: the grid cells of the box's lower and upper planes.
+    lo: [[u8; 4]; 3],
+    hi: [[u8; 4]; 3],
+    children: [Link; 4],
 }
 
 impl Node {
-    fn new(bounds: Aabb, offset: u32, count: u32) -> Self {
-        Node {
-            min: bounds.min.extend(f32::from_bits(offset)),
-            max: bounds.max.extend(f32::from_bits(count)),
+    /// A node over `bounds` with the given children (at most four).
+    fn new(bounds: Aabb, children: &[(Aabb, Link)]) -> Self {
+        let mut node = Node {
+            origin: bounds.min.to_array(),
+            step: [0.0; 3],
+            lo: [[u8::MAX; 4]; 3],
+            hi: [[0; 4]; 3],
+            children: [Link::NONE; 4],
+        };
+        for axis in 0..3 {
+            let origin = node.origin[axis];
+            // The smallest step whose grid reaches the upper bound.
+            let mut step = (bounds.max[axis] - origin) / 255.0;
+            while origin + 255.0 * step < bounds.max[axis] {
+                step = f32::from_bits(step.to_bits() + 1); // the next float up (step >= 0)
+            }
+            node.step[axis] = step;
+            // The same expression as `plane`, so the rounding is the same.
+            let at = |q: u8| origin + f32::from(q) * step;
+            let cell =
+                |x: f32| if step > 0.0 { ((x - origin) / step).clamp(0.0, 255.0) } else { 0.0 };
+            for (i, (b, _)) in children.iter().enumerate() {
+                let mut lo = cell(b.min[axis]).floor() as u8;
+                while lo > 0 && at(lo) > b.min[axis] {
+                    lo -= 1;
+                }
+                let mut hi = cell(b.max[axis]).ceil() as u8;
+                while hi < u8::MAX && at(hi) < b.max[axis] {
+                    hi += 1;
+                }
+                node.lo[axis][i] = lo;
+                node.hi[axis][i] = hi;
+            }
         }
+        for (slot, (_, link)) in node.children.iter_mut().zip(children) {
+            *slot = *link;
+        }
+        node
     }
 
+    /// The four children's planes on one axis, from their grid cells.
     #[inline]
-    fn offset(&self) -> u32 {
-        self.min.w.to_bits()
+    fn plane(&self, axis: usize, cells: &[u8; 4]) -> Vec4 {
+        let cells = Vec4::new(
+            f32::from(cells[0]),
+            f32::from(cells[1]),
+            f32::from(cells[2]),
+            f32::from(cells[3]),
+        );
+        Vec4::splat(self.origin[axis]) + cells * self.step[axis]
     }
 
+    /// Slab test of the four children at once: their entry distances, and a bit per child
+    /// the ray meets within (0, t_max). Empty slots may have bits set too.
     #[inline]
-    fn count(&self) -> u32 {
-        self.max.w.to_bits()
+    fn entries(&self, ray: &RayBox, t_max: f32) -> (Vec4, u32) {
+        let mut near = Vec4::ZERO;
+        let mut far = Vec4::splat(t_max);
+        for axis in 0..3 {
+            let (entry, exit) = if ray.positive[axis] {
+                (&self.lo[axis], &self.hi[axis])
+            } else {
+                (&self.hi[axis], &self.lo[axis])
+            };
+            let (o, inv_dir) = (ray.origin[axis], ray.inv_dir[axis]);
+            // A NaN (a ray in a slab's plane, 0 * inf) is on the left of max/min and so ignored.
+            near = ((self.plane(axis, entry) - o) * inv_dir).max(near);
+            far = ((self.plane(axis, exit) - o) * inv_dir).min(far);
+        }
+        // Ize, "Robust BVH ray traversal" (2013): exit distances scaled by 1 + 2 gamma(3) keep
+        // the test conservative under rounding.
+        (near, near.cmple(far * ROBUST_EXIT).bitmask())
     }
 
-    fn bounds(&self) -> Aabb {
-        Aabb { min: self.min.truncate(), max: self.max.truncate() }
-    }
-
-    /// Slab test: the entry distance if the ray meets the box within (0, t_max).
-    #[inline]
-    fn entry(&self, origin: Vec3A, inv_dir: Vec3A, t_max: f32) -> Option<f32> {
-        let t0 = (Vec3A::from_vec4(self.min) - origin) * inv_dir;
-        let t1 = (Vec3A::from_vec4(self.max) - origin) * inv_dir;
-        let near = t0.min(t1).max_element().max(0.0);
-        let far = t0.max(t1).min_element().min(t_max);
-        (near <= far).then_some(near)
+    /// A child's box as traversal sees it.
+    #[cfg(test)]
+    fn child_bounds(&self, i: usize) -> Aabb {
+        let plane = |axis: usize, cells: &[[u8; 4]; 3]| self.plane(axis, &cells[axis])[i];
+        Aabb {
+            min: Vec3::new(plane(0, &self.lo), plane(1, &self.lo), plane(2, &self.lo)),
+            max: Vec3::new(plane(0, &self.hi), plane(1, &self.hi), plane(2, &self.hi)),
+        }
     }
 }
 
-#[derive(Debug, Clone, Default)]
+/// 1 + 2 gamma(3), gamma(n) = n u / (1 - n u) with u the unit roundoff (pbrt's error bounds).
+const ROBUST_EXIT: f32 = {
+    let gamma3 = 3.0 * f32::EPSILON * 0.5 / (1.0 - 3.0 * f32::EPSILON * 0.5);
+    1.0 + 2.0 * gamma3
+};
+
+/// What the slab tests need of a ray.
+struct RayBox {
+    origin: Vec3,
+    inv_dir: Vec3,
+    /// Per axis, whether the ray goes towards +: the lower plane is then the one it enters by.
+    positive: [bool; 3],
+}
+
+impl RayBox {
+    fn new(ray: &Ray) -> Self {
+        let inv_dir = ray.dir.recip();
+        RayBox { origin: ray.origin, inv_dir, positive: inv_dir.to_array().map(|d| d >= 0.0) }
+    }
+}
+
+#[derive(Debug)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    nodes: HugeArray<Node>,
+    bounds: Aabb,
 }
 
 #[derive(Clone, Copy)]
@@ -79,31 +192,52 @@ enum BuildNode {
     Interior { bounds: Aabb, children: Box<[BuildNode; 2]> },
 }
 
+impl BuildNode {
+    fn bounds(&self) -> Aabb {
+        match self {
+            BuildNode::Leaf { bounds, .. } | BuildNode::Interior { bounds, .. } => *bounds,
+        }
+    }
+}
+
 impl Bvh {
-    /// Builds over the given boxes. Returns the hierarchy and the order in which the primitives
-    /// must be stored: leaf ranges index that order.
+    /// Builds over the given boxes (at most `MAX_PRIMITIVES`). Returns the hierarchy and the
+    /// order in which the primitives must be stored: leaf ranges index that order.
     pub fn build(bounds: &[Aabb]) -> (Bvh, Vec<u32>) {
+        assert!(bounds.len() <= MAX_PRIMITIVES, "callers check the primitive count");
         let mut items: Vec<Item> = bounds
             .iter()
             .enumerate()
             .map(|(i, b)| Item { bounds: *b, centroid: b.centroid(), index: i as u32 })
             .collect();
         if items.is_empty() {
-            return (Bvh::default(), Vec::new());
+            return (Bvh { nodes: HugeArray::new(Vec::new()), bounds: Aabb::EMPTY }, Vec::new());
         }
         let root = build_node(&mut items, 0, 0);
-        let mut nodes = Vec::with_capacity(2 * items.len() / MAX_LEAF + 1);
-        flatten(&root, &mut nodes);
-        (Bvh { nodes }, items.iter().map(|it| it.index).collect())
+        let mut nodes = Vec::with_capacity(items.len() / MAX_LEAF + 1);
+        // The root is always a node, so traversal starts by testing its children.
+        match &root {
+            BuildNode::Leaf { .. } => {
+                let link = link_of(&root, &mut nodes);
+                nodes.push(Node::new(root.bounds(), &[(root.bounds(), link)]));
+            }
+            BuildNode::Interior { .. } => {
+                link_of(&root, &mut nodes);
+            }
+        }
+        (
+            Bvh { nodes: HugeArray::new(nodes), bounds: root.bounds() },
+            items.iter().map(|it| it.index).collect(),
+        )
     }
 
     pub fn bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, Node::bounds)
+        self.bounds
     }
 
     /// Closest-hit traversal. `hit(i, t_max)` tests primitive `i` and returns its distance if it
     /// is hit before `t_max`; the closest such distance is returned. `preload(range)` is told
-    /// of the primitives of a leaf the ray may visit soon, to start loading them (see `warm`).
+    /// of the primitives of a leaf the ray will visit, to start loading them (see `prefetch`).
     #[inline]
     pub fn closest(
         &self,
@@ -115,55 +249,41 @@ impl Bvh {
         if self.nodes.is_empty() {
             return t_max;
         }
-        let (origin, inv_dir) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir).recip());
-        if self.nodes[0].entry(origin, inv_dir, t_max).is_none() {
-            return t_max;
-        }
-        // Nodes still to visit, with the distance at which the ray enters them: a node entered
+        let (nodes, ray) = (&*self.nodes, RayBox::new(ray));
+        // Children still to visit, with the distance at which the ray enters them: one entered
         // beyond the closest hit found since it was pushed is skipped. (Not zero-filled: rays
         // are many and most of the stack is never touched.)
-        let mut stack = ArrayVec::<(u32, f32), STACK_SIZE>::new();
-        let mut current = 0usize;
+        let mut stack = ArrayVec::<(Link, f32), STACK_SIZE>::new();
+        let mut link = Link(0);
         loop {
-            let node = &self.nodes[current];
-            if node.count() > 0 {
-                let first = node.offset() as usize;
-                for i in first..first + node.count() as usize {
-                    if let Some(t) = hit(i, t_max) {
-                        t_max = t;
+            match link.primitives() {
+                Some(primitives) => {
+                    for i in primitives {
+                        if let Some(t) = hit(i, t_max) {
+                            t_max = t;
+                        }
                     }
                 }
-            } else {
-                // Both children's boxes are tested here; the nearer is visited first.
-                let (a, b) = (current + 1, node.offset() as usize);
-                self.warm(a, &preload);
-                self.warm(b, &preload);
-                let enter_a = self.nodes[a].entry(origin, inv_dir, t_max);
-                let enter_b = self.nodes[b].entry(origin, inv_dir, t_max);
-                match (enter_a, enter_b) {
-                    (Some(ta), Some(tb)) => {
-                        let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
-                        stack.push((far as u32, t_far));
-                        current = near;
-                        continue;
+                None => {
+                    let node = &nodes[link.0 as usize];
+                    let (enter, mask) = node.entries(&ray, t_max);
+                    // The children met go on the stack farthest first; the nearest is popped next.
+                    let base = stack.len();
+                    for i in hits(mask) {
+                        if node.children[i] != Link::NONE {
+                            warm(nodes, node.children[i], &preload);
+                            stack.push((node.children[i], enter[i]));
+                        }
                     }
-                    (Some(_), None) => {
-                        current = a;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        current = b;
-                        continue;
-                    }
-                    (None, None) => {}
+                    stack[base..].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
                 }
             }
             loop {
-                let Some((node, enter)) = stack.pop() else {
+                let Some((next, enter)) = stack.pop() else {
                     return t_max;
                 };
                 if enter < t_max {
-                    current = node as usize;
+                    link = next;
                     break;
                 }
             }
@@ -183,48 +303,83 @@ impl Bvh {
         if self.nodes.is_empty() {
             return false;
         }
-        let (origin, inv_dir) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir).recip());
-        let mut stack = ArrayVec::<u32, STACK_SIZE>::new();
-        let mut current = 0usize;
+        let (nodes, ray) = (&*self.nodes, RayBox::new(ray));
+        let mut stack = ArrayVec::<Link, STACK_SIZE>::new();
+        let mut link = Link(0);
         loop {
-            let node = &self.nodes[current];
-            if node.entry(origin, inv_dir, t_max).is_some() {
-                if node.count() > 0 {
-                    let first = node.offset() as usize;
-                    if (first..first + node.count() as usize).any(&mut hit) {
+            match link.primitives() {
+                Some(mut primitives) => {
+                    if primitives.any(&mut hit) {
                         return true;
                     }
-                } else {
-                    self.warm(current + 1, &preload);
-                    self.warm(node.offset() as usize, &preload);
-                    stack.push(node.offset());
-                    current += 1;
-                    continue;
+                }
+                None => {
+                    let node = &nodes[link.0 as usize];
+                    let (_, mask) = node.entries(&ray, t_max);
+                    for i in hits(mask) {
+                        if node.children[i] != Link::NONE {
+                            warm(nodes, node.children[i], &preload);
+                            stack.push(node.children[i]);
+                        }
+                    }
                 }
             }
             match stack.pop() {
-                Some(node) => current = node as usize,
+                Some(next) => link = next,
                 None => return false,
             }
         }
     }
+}
 
-    /// Starts loading what visiting node `index` will read: its second child (the first is
-    /// the next node, likely in the same cache line), or a leaf's primitives. Traversal of a
-    /// large mesh waits on memory; a load issued (and kept by `black_box`) while this level's
-    /// boxes are tested overlaps with that work instead of stalling the next step. Measured on
-    /// S6: 8-10% faster.
-    #[inline]
-    fn warm(&self, index: usize, preload: &impl Fn(Range<usize>)) {
-        let node = &self.nodes[index];
-        let first = node.offset() as usize;
-        match node.count() {
-            0 => {
-                std::hint::black_box(self.nodes[first].min.x);
-            }
-            count => preload(first..first + count as usize),
+/// Starts loading what visiting a child the ray meets will read: its node, or its leaf's
+/// primitives, so that the loads overlap with the work on the other children.
+#[inline]
+fn warm(nodes: &[Node], child: Link, preload: &impl Fn(Range<usize>)) {
+    match child.primitives() {
+        Some(primitives) => preload(primitives),
+        None => super::prefetch(&nodes[child.0 as usize]),
+    }
+}
+
+/// The indices of the set bits of a mask, lowest first.
+#[inline]
+fn hits(mut mask: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let i = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            i
+        })
+    })
+}
+
+/// Flattens a subtree into `nodes` depth first and returns its link. A node takes up to four
+/// children by opening the binary hierarchy's largest interior children.
+fn link_of(node: &BuildNode, nodes: &mut Vec<Node>) -> Link {
+    let (bounds, children) = match node {
+        BuildNode::Leaf { first, count, .. } => return Link::leaf(*first, *count),
+        BuildNode::Interior { bounds, children } => (bounds, children),
+    };
+    let mut wide: ArrayVec<&BuildNode, 4> = children.iter().collect();
+    while wide.len() < 4 {
+        let largest = (0..wide.len())
+            .filter(|&i| matches!(wide[i], BuildNode::Interior { .. }))
+            .max_by(|&i, &j| {
+                wide[i].bounds().surface_area().total_cmp(&wide[j].bounds().surface_area())
+            });
+        let Some(i) = largest else { break };
+        if let BuildNode::Interior { children, .. } = wide[i] {
+            wide[i] = &children[0];
+            wide.insert(i + 1, &children[1]);
         }
     }
+    let at = nodes.len();
+    nodes.push(Node::new(*bounds, &[]));
+    let links: ArrayVec<(Aabb, Link), 4> =
+        wide.iter().map(|child| (child.bounds(), link_of(child, nodes))).collect();
+    nodes[at] = Node::new(*bounds, &links);
+    Link(at as u32)
 }
 
 fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
@@ -326,21 +481,6 @@ fn partition(items: &mut [Item], left: impl Fn(&Item) -> bool) -> usize {
     mid
 }
 
-fn flatten(node: &BuildNode, nodes: &mut Vec<Node>) {
-    match node {
-        BuildNode::Leaf { bounds, first, count } => {
-            nodes.push(Node::new(*bounds, *first as u32, *count as u32));
-        }
-        BuildNode::Interior { bounds, children } => {
-            let at = nodes.len();
-            nodes.push(Node::new(*bounds, 0, 0));
-            flatten(&children[0], nodes);
-            nodes[at] = Node::new(*bounds, nodes.len() as u32, 0);
-            flatten(&children[1], nodes);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -405,6 +545,69 @@ mod tests {
         let bounds = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 1000];
         let (bvh, order) = Bvh::build(&bounds);
         assert_eq!(order.len(), 1000);
-        assert!(bvh.nodes.iter().all(|n| n.count() as usize <= 4 * MAX_LEAF));
+        let leaves = leaf_ranges(&bvh);
+        assert!(leaves.iter().all(|r| r.len() <= 4 * MAX_LEAF));
+        assert_eq!(leaves.iter().map(Range::len).sum::<usize>(), 1000);
+    }
+
+    /// The leaves' primitive ranges, depth first.
+    fn leaf_ranges(bvh: &Bvh) -> Vec<Range<usize>> {
+        fn walk(bvh: &Bvh, link: Link, out: &mut Vec<Range<usize>>) {
+            match link.primitives() {
+                Some(primitives) => out.push(primitives),
+                None => {
+                    for child in bvh.nodes[link.0 as usize].children {
+                        if child != Link::NONE {
+                            walk(bvh, child, out);
+                        }
+                    }
+                }
+            }
+        }
+        let mut out = Vec::new();
+        walk(bvh, Link(0), &mut out);
+        out
+    }
+
+    /// Every quantized child box holds the boxes of all the primitives below it, and every
+    /// primitive is in exactly one leaf.
+    #[test]
+    fn quantized_boxes_hold_their_subtrees() {
+        let shapes = random_shapes(5000);
+        let bounds: Vec<Aabb> = shapes.iter().map(|s| s.bounds().unwrap()).collect();
+        let (bvh, order) = Bvh::build(&bounds);
+        let ordered: Vec<Aabb> = order.iter().map(|&i| bounds[i as usize]).collect();
+        fn check(bvh: &Bvh, link: Link, ordered: &[Aabb]) -> Aabb {
+            match link.primitives() {
+                Some(primitives) => {
+                    ordered[primitives].iter().fold(Aabb::EMPTY, |b, p| b.union(*p))
+                }
+                None => {
+                    let node = &bvh.nodes[link.0 as usize];
+                    let mut all = Aabb::EMPTY;
+                    for (i, child) in node.children.into_iter().enumerate() {
+                        if child == Link::NONE {
+                            continue;
+                        }
+                        let exact = check(bvh, child, ordered);
+                        let quantized = node.child_bounds(i);
+                        assert!(
+                            quantized.min.cmple(exact.min).all()
+                                && quantized.max.cmpge(exact.max).all(),
+                            "{quantized:?} holds {exact:?}"
+                        );
+                        all = all.union(exact);
+                    }
+                    all
+                }
+            }
+        }
+        let all = check(&bvh, Link(0), &ordered);
+        assert_eq!(all.min, bvh.bounds().min);
+        assert_eq!(all.max, bvh.bounds().max);
+        let mut covered: Vec<usize> = leaf_ranges(&bvh).into_iter().flatten().collect();
+        covered.sort_unstable();
+        assert_eq!(covered, (0..5000).collect::<Vec<_>>());
+        assert!(bvh.nodes.len() < 5000 / 2, "four-wide nodes: {}", bvh.nodes.len());
     }
 }

@@ -8,13 +8,13 @@ use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
 use super::shape::Intersection;
 use super::{Aabb, Hit, Ray};
-use crate::accel::Bvh;
+use crate::accel::{Bvh, HugeArray, prefetch};
 use crate::mesh::Mesh;
 
 #[derive(Debug)]
 pub struct TriangleMesh {
     /// Per triangle, in BVH order: a vertex and the two edges from it.
-    triangles: Vec<[Vec3; 3]>,
+    triangles: HugeArray<[Vec3; 3]>,
     /// Per triangle, in BVH order: its vertex indices, for interpolating normals.
     indices: Vec<[u32; 3]>,
     normals: Option<Vec<Vec3>>,
@@ -37,6 +37,7 @@ impl TriangleMesh {
                 [a, b - a, c - a]
             })
             .collect();
+        let triangles = HugeArray::new(triangles);
         let magnitude = bvh.bounds().min.abs().max(bvh.bounds().max.abs()).max_element();
         TriangleMesh { triangles, indices, normals: mesh.normals, bvh, magnitude }
     }
@@ -51,13 +52,13 @@ impl TriangleMesh {
 
     /// The closest triangle the ray meets, in object space.
     pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
-        let mut closest = None;
+        let (triangles, mut closest) = (&*self.triangles, None);
         let test = |i: usize, t_max| {
-            let (t, s, u) = intersect_triangle(&self.triangles[i], ray, t_max)?;
+            let (t, s, u) = intersect_triangle(&triangles[i], ray, t_max)?;
             closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32 });
             Some(t)
         };
-        self.bvh.closest(ray, t_max, test, |leaf| self.preload(leaf));
+        self.bvh.closest(ray, t_max, test, |leaf| preload(triangles, leaf));
         closest
     }
 
@@ -88,14 +89,17 @@ impl TriangleMesh {
     }
 
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let occludes = |i: usize| intersect_triangle(&self.triangles[i], ray, t_max).is_some();
-        self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
+        let triangles = &*self.triangles;
+        let occludes = |i: usize| intersect_triangle(&triangles[i], ray, t_max).is_some();
+        self.bvh.any(ray, t_max, occludes, |leaf| preload(triangles, leaf))
     }
+}
 
-    /// Starts loading a leaf's triangles, first and last (see `Bvh::closest`).
-    fn preload(&self, leaf: Range<usize>) {
-        std::hint::black_box((self.triangles[leaf.start][0].x, self.triangles[leaf.end - 1][2].z));
-    }
+/// Starts loading a leaf's triangles, first and last (see `Bvh::closest`).
+#[inline]
+fn preload(triangles: &[[Vec3; 3]], leaf: Range<usize>) {
+    prefetch(&triangles[leaf.start]);
+    prefetch(&triangles[leaf.end - 1][2]);
 }
 
 /// Möller–Trumbore: distance and barycentric coordinates along the two edges.

@@ -58,6 +58,13 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
     if mesh.triangles.is_empty() {
         return Err("the mesh has no faces".to_string());
     }
+    if mesh.triangles.len() > crate::accel::MAX_PRIMITIVES {
+        return Err(format!(
+            "the mesh has {} triangles; at most {} are supported",
+            mesh.triangles.len(),
+            crate::accel::MAX_PRIMITIVES
+        ));
+    }
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(format!("vertex {i} has a coordinate that is not a finite number"));
     }

@@ -9,7 +9,7 @@ use glam::{Affine3A, Vec3};
 
 use super::graph::{MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use super::{Primitive, Scene};
-use crate::accel::{Bvh, Planes};
+use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
 use crate::geometry::{
@@ -31,6 +31,12 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     let (mut bounded, planes): (Vec<Primitive>, Vec<Primitive>) =
         flat.primitives.into_iter().partition(|p| p.shape.bounds().is_some());
     let bounds: Vec<_> = bounded.iter().filter_map(|p| p.shape.bounds()).collect();
+    if bounds.len() > MAX_PRIMITIVES {
+        return Err(SceneError::unlocated(format!(
+            "the scene has {} bounded objects; at most {MAX_PRIMITIVES} are supported",
+            bounds.len()
+        )));
+    }
     let (bvh, order) = Bvh::build(&bounds);
     let mut slots: Vec<Option<Primitive>> = bounded.drain(..).map(Some).collect();
     let mut primitives: Vec<Primitive> =

@@ -78,7 +78,7 @@ impl Scene {
 
     /// Starts loading primitives a traversal may test soon (see `Bvh::closest`).
     fn preload(&self, leaf: Range<usize>) {
-        std::hint::black_box(self.primitives[leaf.start].material);
+        crate::accel::prefetch(&self.primitives[leaf.start]);
     }
 
     /// The material at a hit, with a textured `diffuse` evaluated at the hit point in the
