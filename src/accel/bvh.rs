@@ -20,7 +20,12 @@ const TRAVERSAL_COST: f32 = 1.0;
 const PARALLEL_MIN: usize = 4096;
 /// Past this depth splits are by median, which bounds the depth (and the traversal stack).
 const SAH_MAX_DEPTH: usize = 48;
-const STACK_SIZE: usize = SAH_MAX_DEPTH + 64;
+/// Deepest binary hierarchy: median splits take at most 24 more levels to bring
+/// `MAX_PRIMITIVES` down to leaves.
+const MAX_DEPTH: usize = SAH_MAX_DEPTH + 32;
+/// A visit pushes at most four children and pops one; a node's nearest child may be only one
+/// binary level down, so the stack grows by at most three per binary level.
+const STACK_SIZE: usize = 3 * MAX_DEPTH + 1;
 
 /// A link to a child: a node's index, or a leaf's primitives (flag bit, count - 1 in four bits,
 /// first primitive in the rest), or no child.
@@ -538,6 +543,58 @@ mod tests {
             hits += usize::from(found.is_some());
         }
         assert!(hits > 500, "the test rays hit something ({hits})");
+    }
+
+    /// Boxes shrinking geometrically towards a point make SAH peel off one at a time: a comb as deep as
+    /// the build allows, with up to four children met per node. A ray through all of them must
+    /// test every one, without overflowing the traversal stack.
+    #[test]
+    fn a_comb_of_maximal_depth_is_traversed_completely() {
+        let bounds: Vec<Aabb> = (0..120)
+            .map(|i| {
+                let (center, size) = (Vec3::X * 0.5f32.powi(i), Vec3::splat(0.4 * 0.5f32.powi(i)));
+                Aabb { min: center - size, max: center + size }
+            })
+            .collect();
+        let (bvh, _) = Bvh::build(&bounds);
+        fn depth(bvh: &Bvh, link: Link) -> usize {
+            match link.primitives() {
+                Some(_) => 0,
+                None => {
+                    let children = bvh.nodes[link.0 as usize].children;
+                    1 + children
+                        .iter()
+                        .filter(|&&c| c != Link::NONE)
+                        .map(|&c| depth(bvh, c))
+                        .max()
+                        .unwrap_or(0)
+                }
+            }
+        }
+        assert!(depth(&bvh, Link(0)) >= SAH_MAX_DEPTH / 2, "a deep comb: {}", depth(&bvh, Link(0)));
+        let ray = Ray::new(Vec3::new(-2.0, 0.0, 0.0), Vec3::X);
+        let mut tested = 0;
+        bvh.closest(
+            &ray,
+            f32::INFINITY,
+            |_, _| {
+                tested += 1;
+                None
+            },
+            |_| {},
+        );
+        assert_eq!(tested, bounds.len(), "closest tests every primitive");
+        let mut tested = 0;
+        assert!(!bvh.any(
+            &ray,
+            f32::INFINITY,
+            |_| {
+                tested += 1;
+                false
+            },
+            |_| {}
+        ));
+        assert_eq!(tested, bounds.len(), "any tests every primitive");
     }
 
     #[test]
