@@ -59,8 +59,8 @@ pub const MAX_PRIMITIVES: usize = 1 << Link::FIRST_BITS;
 
 /// 64 bytes, one cache line: up to four children, their boxes quantized to 8 bits per plane on
 /// a grid over this node's box (`origin + q * step`, rounded outwards), as in Embree's and
-/// Ylitie et al.'s compressed wide BVHs. Traversal of a large mesh waits on memory: a quarter
-/// of the bytes per box and half the depth of a binary hierarchy of full boxes mean fewer waits.
+/// Ylitie et al.'s compressed wide BVHs. Traversal of a large mesh waits on memory: half the
+/// bytes per box and half the depth of a binary hierarchy of full boxes mean fewer waits.
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 #[repr(C, align(64))]
 struct Node {
@@ -138,7 +138,8 @@ impl Node {
                 (&self.hi[axis], &self.lo[axis])
             };
             let (o, inv_dir) = (ray.origin[axis], ray.inv_dir[axis]);
-            // A NaN (a ray in a slab's plane, 0 * inf) is on the left of max/min and so ignored.
+            // A NaN (a ray in a slab's plane, 0 * inf) is on the left of max/min, which with
+            // SSE's maxps/minps returns the right operand: that slab is ignored.
             near = ((self.plane(axis, entry) - o) * inv_dir).max(near);
             far = ((self.plane(axis, exit) - o) * inv_dir).min(far);
         }
@@ -545,9 +546,9 @@ mod tests {
         assert!(hits > 500, "the test rays hit something ({hits})");
     }
 
-    /// Boxes shrinking geometrically towards a point make SAH peel off one at a time: a comb as deep as
-    /// the build allows, with up to four children met per node. A ray through all of them must
-    /// test every one, without overflowing the traversal stack.
+    /// Boxes shrinking geometrically towards a point make SAH peel off one at a time: a comb as
+    /// deep as the build allows, with up to four children met per node. A ray through all of
+    /// them must test every one, without overflowing the traversal stack.
     #[test]
     fn a_comb_of_maximal_depth_is_traversed_completely() {
         let bounds: Vec<Aabb> = (0..120)

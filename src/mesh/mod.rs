@@ -7,6 +7,8 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::accel::MAX_PRIMITIVES;
+
 /// An indexed triangle mesh in its own (object) space.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
@@ -58,11 +60,10 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
     if mesh.triangles.is_empty() {
         return Err("the mesh has no faces".to_string());
     }
-    if mesh.triangles.len() > crate::accel::MAX_PRIMITIVES {
+    if mesh.triangles.len() > MAX_PRIMITIVES {
         return Err(format!(
-            "the mesh has {} triangles; at most {} are supported",
-            mesh.triangles.len(),
-            crate::accel::MAX_PRIMITIVES
+            "the mesh has {} triangles; at most {MAX_PRIMITIVES} are supported",
+            mesh.triangles.len()
         ));
     }
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
