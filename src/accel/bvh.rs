@@ -165,9 +165,9 @@ const ROBUST_EXIT: f32 = {
     1.0 + 2.0 * gamma3
 };
 
-/// What the slab tests need of a ray.
-/// (`Vec3A`: converting a `Vec3` in the hot loop lets LLVM load 16 bytes and multiply the stray
-/// fourth lane, which may be a denormal: a microcode assist that made small scenes 30% slower.)
+/// What the slab tests need of a ray. (`Vec3A`: converting a `Vec3` in the hot loop let LLVM
+/// load 16 bytes and multiply the stray fourth lane, here a denormal: a microcode assist that
+/// made S3 30% slower in a trial build.)
 struct RayBox {
     origin: Vec3A,
     inv_dir: Vec3A,
