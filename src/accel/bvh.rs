@@ -44,7 +44,7 @@ impl Link {
         Link(Self::LEAF | ((count as u32 - 1) << Self::FIRST_BITS) | first as u32)
     }
 
-    /// The primitives of a leaf, or `None` for a node.
+    /// The primitives of a leaf, or `None` for a node. (Not for `NONE`, which callers skip.)
     #[inline]
     fn primitives(self) -> Option<Range<usize>> {
         (self.0 & Self::LEAF != 0).then(|| {
