@@ -25,14 +25,14 @@ enum Storage<T> {
 impl<T: Pod> HugeArray<T> {
     pub fn new(items: Vec<T>) -> Self {
         let bytes: &[u8] = bytemuck::cast_slice(&items);
-        let storage = match bytes.len() >= MIN_BYTES {
-            true => map_huge(bytes).map_or(Storage::Heap(items), Storage::Mapped),
-            false => Storage::Heap(items),
+        let storage = if bytes.len() >= MIN_BYTES {
+            map_huge(bytes).map_or(Storage::Heap(items), Storage::Mapped)
+        } else {
+            Storage::Heap(items)
         };
         HugeArray { storage }
     }
 
-    #[cfg(test)]
     fn is_mapped(&self) -> bool {
         matches!(self.storage, Storage::Mapped(_))
     }
@@ -63,8 +63,10 @@ impl<T: Pod> Deref for HugeArray<T> {
 
 impl<T: Pod> fmt::Debug for HugeArray<T> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mapped = matches!(self.storage, Storage::Mapped(_));
-        f.debug_struct("HugeArray").field("len", &self.len()).field("mapped", &mapped).finish()
+        f.debug_struct("HugeArray")
+            .field("len", &self.len())
+            .field("mapped", &self.is_mapped())
+            .finish()
     }
 }
 
