@@ -57,8 +57,9 @@ impl Integrator for Path {
             if material.has_diffuse() {
                 radiance += beta * self.next_event(scene, &hit, wo, &material, sampler);
             }
-            let Some(sample) =
-                material.sample(hit.shading_normal, wo, sampler.next_1d(), sampler.next_2d())
+            // Only a material with specular lobes has a lobe to choose.
+            let u_lobe = sampler.next_1d_if(material.has_specular());
+            let Some(sample) = material.sample(hit.shading_normal, wo, u_lobe, sampler.next_2d())
             else {
                 break;
             };
@@ -68,8 +69,9 @@ impl Integrator for Path {
             ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
             // Russian roulette: continue with probability tied to the throughput and divide by
             // it, so the estimate stays unbiased.
-            let u = sampler.next_1d();
-            if bounces + 1 >= ROULETTE_AFTER {
+            let roulette = bounces + 1 >= ROULETTE_AFTER;
+            let u = sampler.next_1d_if(roulette);
+            if roulette {
                 let survive = (beta * eta_scale).max_element().min(1.0);
                 if u >= survive {
                     break;
@@ -110,7 +112,7 @@ impl Path {
         material: &Material,
         sampler: &mut Sampler,
     ) -> Vec3 {
-        let u_select = sampler.next_1d();
+        let u_select = sampler.next_1d_if(scene.lights.len() > 1);
         let u = sampler.next_2d();
         let Some((index, probability)) = scene.choose_light(u_select) else {
             return Vec3::ZERO;

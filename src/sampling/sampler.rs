@@ -53,6 +53,18 @@ impl Sampler {
         to_unit(laine_karras(index, scramble).reverse_bits())
     }
 
+    /// `next_1d()` where the value will be used, else 0 at no cost: either way the later
+    /// dimensions stay where they are, so a path's decisions keep their dimensions.
+    #[inline]
+    pub fn next_1d_if(&mut self, needed: bool) -> f32 {
+        if needed {
+            self.next_1d()
+        } else {
+            self.dimension += 1;
+            0.0
+        }
+    }
+
     /// A point in [0, 1)^2: a scrambled Sobol (0,2)-sequence point.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
