@@ -177,9 +177,9 @@ struct RayBox {
 
 impl RayBox {
     fn new(ray: &Ray) -> Self {
-        let inv_dir = Vec3A::from(ray.dir).recip();
+        let inv_dir = ray.dir.recip();
         let positive = inv_dir.to_array().map(|d| d >= 0.0);
-        RayBox { origin: Vec3A::from(ray.origin), inv_dir, positive }
+        RayBox { origin: ray.origin, inv_dir, positive }
     }
 
     /// Slab test of one full-precision box: whether the ray meets it within (0, t_max).

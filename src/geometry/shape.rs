@@ -92,8 +92,8 @@ impl QuadricFrame {
     /// The ray in canonical space, direction not normalised (so distances are the world's).
     fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
         (
-            self.to_object.transform_point3a(ray.origin.into()),
-            self.to_object.transform_vector3a(ray.dir.into()),
+            self.to_object.transform_point3a(ray.origin),
+            self.to_object.transform_vector3a(ray.dir),
         )
     }
 
@@ -355,17 +355,19 @@ fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
 
 #[inline]
 fn plane_distance(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<f32> {
-    let t = -(normal.dot(ray.origin) + offset) / normal.dot(ray.dir);
+    let (origin, dir) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let t = -(normal.dot(origin) + offset) / normal.dot(dir);
     (t > 0.0 && t < t_max).then_some(t)
 }
 
 #[inline]
 fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f32> {
-    let oc = ray.origin - center;
-    let b = oc.dot(ray.dir);
+    let dir = Vec3::from(ray.dir);
+    let oc = Vec3::from(ray.origin) - center;
+    let b = oc.dot(dir);
     // r^2 - |oc - b d|^2 instead of b^2 - (|oc|^2 - r^2): no cancellation for distant spheres
     // (Ray Tracing Gems, ch. 7).
-    let perp = oc - b * ray.dir;
+    let perp = oc - b * dir;
     let disc = radius * radius - perp.length_squared();
     if disc < 0.0 {
         return None;
@@ -392,16 +394,17 @@ fn planar_distance(
     ray: &Ray,
     t_max: f32,
 ) -> Option<(f32, f32, f32)> {
-    let pvec = ray.dir.cross(edge2);
+    let dir = Vec3::from(ray.dir);
+    let pvec = dir.cross(edge2);
     let det = edge1.dot(pvec);
     if det == 0.0 {
         return None;
     }
     let inv_det = 1.0 / det;
-    let tvec = ray.origin - origin;
+    let tvec = Vec3::from(ray.origin) - origin;
     let s = tvec.dot(pvec) * inv_det;
     let qvec = tvec.cross(edge1);
-    let t = ray.dir.dot(qvec) * inv_det;
+    let t = dir.dot(qvec) * inv_det;
     let inside = match kind {
         PlanarKind::Triangle => s >= 0.0 && t >= 0.0 && s + t <= 1.0,
         PlanarKind::Quad => (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t),

@@ -109,19 +109,20 @@ fn intersect_triangle(
     ray: &Ray,
     t_max: f32,
 ) -> Option<(f32, f32, f32)> {
-    let pvec = ray.dir.cross(*edge2);
+    let (ray_origin, ray_dir) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let pvec = ray_dir.cross(*edge2);
     let det = edge1.dot(pvec);
     if det == 0.0 {
         return None;
     }
     let inv_det = 1.0 / det;
-    let tvec = ray.origin - *origin;
+    let tvec = ray_origin - *origin;
     let s = tvec.dot(pvec) * inv_det;
     if !(0.0..=1.0).contains(&s) {
         return None;
     }
     let qvec = tvec.cross(*edge1);
-    let u = ray.dir.dot(qvec) * inv_det;
+    let u = ray_dir.dot(qvec) * inv_det;
     if u < 0.0 || s + u > 1.0 {
         return None;
     }
@@ -149,8 +150,8 @@ impl Placement {
     /// The ray in object space. Its direction is not renormalised, so distances are the same.
     pub fn ray_to_object(&self, ray: &Ray) -> Ray {
         Ray {
-            origin: self.to_object.transform_point3(ray.origin),
-            dir: self.to_object.transform_vector3(ray.dir),
+            origin: self.to_object.transform_point3a(ray.origin),
+            dir: self.to_object.transform_vector3a(ray.dir),
         }
     }
 

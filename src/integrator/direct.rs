@@ -23,7 +23,7 @@ impl Integrator for Direct {
                 radiance += beta * scene.background();
                 break;
             };
-            let wo = -ray.dir;
+            let wo = -Vec3::from(ray.dir);
             let material = scene.material(&hit);
             radiance += beta * material.emitted(hit.normal, wo);
             if bounces == self.max_depth {

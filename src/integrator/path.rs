@@ -45,7 +45,7 @@ impl Integrator for Path {
                 radiance += beta * scene.background();
                 break;
             };
-            let wo = -ray.dir;
+            let wo = -Vec3::from(ray.dir);
             let material = scene.material(&hit);
             let emitted = material.emitted(hit.normal, wo);
             if emitted != Vec3::ZERO {
