@@ -3,7 +3,7 @@
 mod common;
 
 use common::{render_image, scene};
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec3A};
 
 fn camera_of(camera: &str, resolution: &str) -> raydiance::camera::Camera {
     scene(&format!("settings {{ resolution {resolution} }} {camera}")).camera
@@ -47,7 +47,7 @@ fn centre_ray_is_parallel_to_forward() {
         "camera { origin <1, 2, 3>  left <0, 0, 1>  up <0, 1, 0>  forward <2, 0, 0> }",
         "32, 32",
     );
-    assert!((camera.ray(0.5, 0.5, Vec2::ZERO).dir - Vec3::X).length() < 1e-6);
+    assert!((camera.ray(0.5, 0.5, Vec2::ZERO).dir - Vec3A::X).length() < 1e-6);
 }
 
 #[test]

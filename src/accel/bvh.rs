@@ -165,9 +165,9 @@ const ROBUST_EXIT: f32 = {
     1.0 + 2.0 * gamma3
 };
 
-/// What the slab tests need of a ray. (`Vec3A`: converting a `Vec3` in the hot loop let LLVM
-/// load 16 bytes and multiply the stray fourth lane, here a denormal: a microcode assist that
-/// made S3 30% slower in a trial build.)
+/// What the slab tests need of a ray, in `Vec3A` as the ray is. (When a `Vec3` was converted
+/// here, LLVM loaded 16 bytes and multiplied the stray fourth lane, a denormal: a microcode
+/// assist that made S3 30% slower in a trial build.)
 struct RayBox {
     origin: Vec3A,
     inv_dir: Vec3A,

@@ -106,7 +106,7 @@ mod tests {
             let one_by_one = planes
                 .iter()
                 .enumerate()
-                .map(|(k, &(n, d))| (k, -(n.dot(ray.origin) + d) / n.dot(ray.dir)))
+                .map(|(k, &(n, d))| (k, -(n.dot(ray.origin.into()) + d) / n.dot(ray.dir.into())))
                 .filter(|&(_, t)| t > 0.0 && t < t_max)
                 .min_by(|a, b| a.1.total_cmp(&b.1));
             assert_eq!(set.closest(&ray, t_max), one_by_one);

@@ -91,10 +91,7 @@ impl QuadricFrame {
 
     /// The ray in canonical space, direction not normalised (so distances are the world's).
     fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
-        (
-            self.to_object.transform_point3a(ray.origin),
-            self.to_object.transform_vector3a(ray.dir),
-        )
+        (self.to_object.transform_point3a(ray.origin), self.to_object.transform_vector3a(ray.dir))
     }
 
     /// Corners of a box holding both canonical quadrics.
