@@ -197,6 +197,20 @@ mod tests {
     }
 
     #[test]
+    fn a_skipped_value_keeps_the_later_dimensions_in_place() {
+        for dimension in [0, SOBOL_DIMENSIONS - 1, SOBOL_DIMENSIONS + 3] {
+            let (mut drawn, mut skipped) = (Sampler::new(1, 2, 3), Sampler::new(1, 2, 3));
+            for _ in 0..dimension {
+                drawn.next_1d();
+                skipped.next_1d();
+            }
+            assert_eq!(drawn.next_1d_if(true), skipped.clone().next_1d());
+            assert_eq!(skipped.next_1d_if(false), 0.0);
+            assert_eq!(drawn.next_2d(), skipped.next_2d(), "after dimension {dimension}");
+        }
+    }
+
+    #[test]
     fn values_are_uniform_across_pixels() {
         // Per kind of dimension (Sobol, independent), 10 bins of 10000 values each: a
         // chi-square with 9 degrees of freedom stays below 27.9 with probability 0.999.
