@@ -16,7 +16,7 @@ pub enum Light {
     Area { primitive: u32, area: f32 },
 }
 
-/// Incident light at a point from one sampled light position, already tested for visibility.
+/// Incident light at a point from one sampled light position, if nothing is in the way.
 #[derive(Debug, Clone, Copy)]
 pub struct LightSample {
     pub wi: Vec3,
@@ -25,6 +25,15 @@ pub struct LightSample {
     /// Solid-angle density of `wi`; 1 for a point light (a delta distribution).
     pub pdf: f32,
     pub is_delta: bool,
+    /// The segment towards the light that must be free of surfaces for the light to arrive.
+    pub shadow: ShadowRay,
+}
+
+/// A segment from a surface towards a light: `ray` up to `t_max`.
+#[derive(Debug, Clone, Copy)]
+pub struct ShadowRay {
+    pub ray: Ray,
+    pub t_max: f32,
 }
 
 impl Light {
@@ -45,8 +54,8 @@ impl Light {
         }
     }
 
-    /// Samples light arriving at `hit` from this light; `None` if it is occluded, arrives from
-    /// behind the emitter, or the sample carries nothing.
+    /// Samples light arriving at `hit` from this light, unless something is in the way (see
+    /// `LightSample::shadow`); `None` if it arrives from behind the emitter or carries nothing.
     pub fn sample(&self, scene: &Scene, hit: &Hit, u: Vec2) -> Option<LightSample> {
         let (target, wi, li, pdf, is_delta) = match *self {
             Light::Point { position, power } => {
@@ -84,7 +93,8 @@ impl Light {
                 (point + normal * error, wi, le, pdf, false)
             }
         };
-        visible(scene, hit, target, wi).then_some(LightSample { wi, li, pdf, is_delta })
+        let shadow = shadow_ray(hit, target, wi);
+        Some(LightSample { wi, li, pdf, is_delta, shadow })
     }
 
     /// The solid-angle density with which `sample` from `from` returns the direction towards
@@ -139,11 +149,11 @@ fn sample_sphere_cone(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> (Vec3, 
     (point, normal, sphere_error(center, radius), 1.0 / (2.0 * PI * one_minus_cos_max))
 }
 
-/// Whether the segment from `hit` to `target` is free of other surfaces.
-fn visible(scene: &Scene, hit: &Hit, target: Vec3, wi: Vec3) -> bool {
+/// The segment from `hit` to `target`.
+fn shadow_ray(hit: &Hit, target: Vec3, wi: Vec3) -> ShadowRay {
     let origin = offset_origin(hit, wi);
     let to_target = target - origin;
     let distance = to_target.length();
     // Stop just short of the target so that the light's own surface does not occlude it.
-    !scene.occluded(&Ray::new(origin, to_target / distance), distance * (1.0 - 1e-4))
+    ShadowRay { ray: Ray::new(origin, to_target / distance), t_max: distance * (1.0 - 1e-4) }
 }

@@ -87,12 +87,10 @@ pub fn render_with(
             .zip(film.sum_squares.par_chunks_mut(width))
             .enumerate()
             .for_each(|(y, (sum_row, squares_row))| {
-                let mut row_dropped = 0;
-                for (x, (sum, squares)) in
-                    sum_row.iter_mut().zip(squares_row.iter_mut()).enumerate()
-                {
-                    let pixel = (y * width + x) as u64;
-                    for index in samples.clone() {
+                // The row's camera samples, pixel by pixel, each pixel's in index order.
+                let mut camera_samples = (0..width).flat_map(|x| {
+                    samples.clone().map(move |index| {
+                        let pixel = (y * width + x) as u64;
                         let mut sampler = Sampler::new(settings.seed, pixel, u64::from(index));
                         let jitter = sampler.next_2d();
                         // A pinhole camera needs no lens sample.
@@ -106,10 +104,18 @@ pub fn render_with(
                             (y as f32 + jitter.y) / height as f32,
                             lens,
                         );
-                        let radiance = integrator.radiance(scene, ray, &mut sampler);
+                        (ray, sampler)
+                    })
+                });
+                let mut radiance = vec![glam::Vec3::ZERO; width * pass as usize];
+                integrator.radiance_of_all(scene, &mut camera_samples, &mut radiance);
+                let mut row_dropped = 0;
+                let pixels = sum_row.iter_mut().zip(squares_row.iter_mut());
+                for ((sum, squares), samples) in pixels.zip(radiance.chunks(pass as usize)) {
+                    for radiance in samples {
                         if radiance.is_finite() {
-                            *sum += radiance;
-                            *squares += radiance * radiance;
+                            *sum += *radiance;
+                            *squares += *radiance * *radiance;
                         } else {
                             row_dropped += 1;
                         }

@@ -4,10 +4,11 @@
 mod common;
 
 use common::{LAB_BOX, scene};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use raydiance::film::Film;
-use raydiance::integrator::{Direct, Path, Strategy};
+use raydiance::integrator::{Direct, Integrator, Path, Strategy};
 use raydiance::render::{Silent, render_with};
+use raydiance::sampling::Sampler;
 use raydiance::scene::Scene;
 
 fn path(scene: &Scene, strategy: Strategy) -> Film {
@@ -196,4 +197,25 @@ fn error_falls_like_one_over_root_spp() {
     // Slope of log RMSE against log spp: -0.5 for plain Monte Carlo; stratification may do better.
     let slope = (errors[2] / errors[0]).ln() / 16f32.ln();
     assert!(slope < -0.4 && slope > -1.0, "RMSE {errors:?}, slope {slope}");
+}
+
+#[test]
+fn paths_traced_together_get_the_radiance_each_gets_alone() {
+    // Lanes share nothing but their tests against the scene: a path's radiance must not depend
+    // on which paths it was traced beside (glass and mirrors end paths at different bounces).
+    let scene = common::scene_file("scenes/cornell-specular.scn");
+    let integrator = Path { max_depth: 32, strategy: Strategy::Mis };
+    let camera_sample = |i: u64| {
+        let mut sampler = Sampler::new(9, i % 4000, i / 4000);
+        let (x, y) = (sampler.next_1d(), sampler.next_1d());
+        (scene.camera.ray(x, y, Vec2::ZERO), sampler)
+    };
+    let count = 1001; // not a multiple of the lane count
+    let mut together = vec![Vec3::ZERO; count];
+    integrator.radiance_of_all(&scene, &mut (0..count as u64).map(camera_sample), &mut together);
+    for (i, radiance) in together.iter().enumerate() {
+        let (ray, mut sampler) = camera_sample(i as u64);
+        assert_eq!(*radiance, integrator.radiance(&scene, ray, &mut sampler), "sample {i}");
+    }
+    assert!(together.iter().filter(|r| r.max_element() > 0.0).count() > count / 2);
 }

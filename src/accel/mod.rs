@@ -1,11 +1,14 @@
-//! Acceleration structures: the BVH over bounded primitives and the set of unbounded planes.
+//! Acceleration structures: the BVH, the unbounded planes tested four at a time, and few simple
+//! shapes tested against four rays at once.
 
 mod bvh;
 mod huge_array;
+mod lanes;
 mod planes;
 
 pub use bvh::{Bvh, MAX_PRIMITIVES};
 pub use huge_array::HugeArray;
+pub use lanes::{FewShapes, LANES, RayLanes};
 pub use planes::Planes;
 
 /// Asks the CPU to start loading the cache line that holds `value`, and goes on without waiting

@@ -16,6 +16,19 @@ use crate::scene::Scene;
 pub trait Integrator: Sync {
     /// An estimate of the radiance arriving at the ray's origin from along `-ray.dir`.
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3;
+
+    /// The radiance of each camera sample, in order, into `radiance` (as long as the samples).
+    /// Integrators that trace several paths at once override this.
+    fn radiance_of_all(
+        &self,
+        scene: &Scene,
+        samples: &mut dyn Iterator<Item = (Ray, Sampler)>,
+        radiance: &mut [Vec3],
+    ) {
+        for (out, (ray, mut sampler)) in radiance.iter_mut().zip(samples) {
+            *out = self.radiance(scene, ray, &mut sampler);
+        }
+    }
 }
 
 /// Light reflected towards `wo` by the non-specular part of `material` at `hit`, one sample
@@ -30,7 +43,8 @@ fn direct_from_all_lights(
     let mut radiance = Vec3::ZERO;
     for light in &scene.lights {
         let u = sampler.next_2d();
-        if let Some(sample) = light.sample(scene, hit, u) {
+        let Some(sample) = light.sample(scene, hit, u) else { continue };
+        if !scene.occluded(&sample.shadow.ray, sample.shadow.t_max) {
             let f = material.eval(hit.shading_normal, wo, sample.wi);
             radiance += f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf;
         }

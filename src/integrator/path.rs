@@ -5,7 +5,9 @@
 use glam::Vec3;
 
 use super::Integrator;
+use crate::accel::LANES;
 use crate::geometry::{Hit, Ray, offset_origin};
+use crate::light::ShadowRay;
 use crate::material::Material;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -31,59 +33,161 @@ pub struct Path {
 const ROULETTE_AFTER: u32 = 3;
 
 impl Integrator for Path {
-    fn radiance(&self, scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Vec3 {
-        let mut radiance = Vec3::ZERO;
-        let mut beta = Vec3::ONE;
-        // Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
-        // so paths through glass are not cut for a throughput drop that the exit restores.
-        let mut eta_scale = 1.0;
-        // The previous vertex and the solid-angle pdf of the direction sampled there (None for
-        // the camera ray and after specular bounces: no light sample could have found this path).
-        let mut previous: Option<(Hit, f32)> = None;
-        for bounces in 0.. {
-            let Some(hit) = scene.intersect(&ray) else {
-                radiance += beta * scene.background();
-                break;
-            };
-            let wo = -Vec3::from(ray.dir);
-            let material = scene.material(&hit);
-            let emitted = material.emitted(hit.normal, wo);
-            if emitted != Vec3::ZERO {
-                radiance += beta * emitted * self.emission_weight(scene, &hit, previous.as_ref());
+    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
+        let mut radiance = [Vec3::ZERO];
+        self.radiance_of_all(scene, &mut std::iter::once((ray, sampler.clone())), &mut radiance);
+        radiance[0]
+    }
+
+    /// Traces `LANES` paths at a time, bounce by bounce, so that their rays and their shadow
+    /// rays meet the scene together (`Scene::intersect_lanes`); a finished path's lane takes
+    /// the next camera sample.
+    fn radiance_of_all(
+        &self,
+        scene: &Scene,
+        samples: &mut dyn Iterator<Item = (Ray, Sampler)>,
+        radiance: &mut [Vec3],
+    ) {
+        let mut samples = samples.enumerate();
+        let mut lanes: [Option<PathState>; LANES] = Default::default();
+        loop {
+            for lane in lanes.iter_mut().filter(|lane| lane.is_none()) {
+                *lane =
+                    samples.next().map(|(slot, (ray, sampler))| PathState::new(slot, ray, sampler));
             }
-            if bounces == self.max_depth {
+            let active = lanes.each_ref().map(Option::is_some);
+            if !active.contains(&true) {
                 break;
             }
-            if material.has_diffuse() {
-                radiance += beta * self.next_event(scene, &hit, wo, &material, sampler);
-            }
-            // Only a material with specular lobes has a lobe to choose.
-            let u_lobe = sampler.next_1d_if(material.has_specular());
-            let Some(sample) = material.sample(hit.shading_normal, wo, u_lobe, sampler.next_2d())
-            else {
-                break;
-            };
-            beta *= sample.weight;
-            eta_scale *= sample.eta * sample.eta;
-            previous = (!sample.specular).then_some((hit, sample.pdf));
-            ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
-            // Russian roulette: continue with probability tied to the throughput and divide by
-            // it, so the estimate stays unbiased.
-            let roulette = bounces + 1 >= ROULETTE_AFTER;
-            let u = sampler.next_1d_if(roulette);
-            if roulette {
-                let survive = (beta * eta_scale).max_element().min(1.0);
-                if u >= survive {
-                    break;
+            let rays = lanes.each_ref().map(|lane| lane.as_ref().map_or(IDLE, |path| path.ray));
+            let found = scene.intersect_lanes(&rays, active);
+            let mut shadows = [None; LANES];
+            let mut done = [false; LANES];
+            for (lane, path) in lanes.iter_mut().enumerate() {
+                if let Some(path) = path {
+                    let hit = found[lane].map(|found| scene.hit(&path.ray, &found));
+                    (shadows[lane], done[lane]) = self.bounce(scene, path, hit.as_ref());
                 }
-                beta /= survive;
+            }
+            if shadows.iter().any(Option::is_some) {
+                let rays = shadows.map(|shadow| shadow.map_or(IDLE, |s: Shadowed| s.ray.ray));
+                let t_max = shadows.map(|shadow| shadow.map_or(0.0, |s| s.ray.t_max));
+                let occluded = scene.occluded_lanes(&rays, t_max);
+                for (lane, (path, shadow)) in lanes.iter_mut().zip(shadows).enumerate() {
+                    if let (Some(path), Some(shadow)) = (path, shadow)
+                        && occluded & (1 << lane) == 0
+                    {
+                        path.radiance += shadow.radiance;
+                    }
+                }
+            }
+            for (lane, done) in lanes.iter_mut().zip(done) {
+                if done && let Some(path) = lane.take() {
+                    radiance[path.slot] = path.radiance;
+                }
             }
         }
-        radiance
     }
 }
 
+/// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).
+const IDLE: Ray = Ray { origin: glam::Vec3A::ZERO, dir: glam::Vec3A::Z };
+
+/// A path being traced: its next ray and what it has gathered so far.
+struct PathState {
+    /// Which camera sample it is: where its radiance goes.
+    slot: usize,
+    ray: Ray,
+    sampler: Sampler,
+    radiance: Vec3,
+    beta: Vec3,
+    /// Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
+    /// so paths through glass are not cut for a throughput drop that the exit restores.
+    eta_scale: f32,
+    /// The previous vertex and the solid-angle pdf of the direction sampled there (None for
+    /// the camera ray and after specular bounces: no light sample could have found this path).
+    previous: Option<(Hit, f32)>,
+    bounces: u32,
+}
+
+impl PathState {
+    fn new(slot: usize, ray: Ray, sampler: Sampler) -> Self {
+        PathState {
+            slot,
+            ray,
+            sampler,
+            radiance: Vec3::ZERO,
+            beta: Vec3::ONE,
+            eta_scale: 1.0,
+            previous: None,
+            bounces: 0,
+        }
+    }
+}
+
+/// Radiance that next-event estimation found, counted if its shadow ray is unoccluded.
+#[derive(Debug, Clone, Copy)]
+struct Shadowed {
+    ray: ShadowRay,
+    radiance: Vec3,
+}
+
 impl Path {
+    /// One bounce of a path at `hit` (`None`: the ray left the scene): emission found there,
+    /// light from next-event estimation (returned, as it waits on its shadow ray), and the
+    /// next ray. Returns whether the path ends here.
+    fn bounce(
+        &self,
+        scene: &Scene,
+        path: &mut PathState,
+        hit: Option<&Hit>,
+    ) -> (Option<Shadowed>, bool) {
+        let Some(hit) = hit else {
+            path.radiance += path.beta * scene.background();
+            return (None, true);
+        };
+        let sampler = &mut path.sampler;
+        let wo = -Vec3::from(path.ray.dir);
+        let material = scene.material(hit);
+        let emitted = material.emitted(hit.normal, wo);
+        if emitted != Vec3::ZERO {
+            let weight = self.emission_weight(scene, hit, path.previous.as_ref());
+            path.radiance += path.beta * emitted * weight;
+        }
+        if path.bounces == self.max_depth {
+            return (None, true);
+        }
+        let shadowed = if material.has_diffuse() {
+            self.next_event(scene, hit, wo, &material, sampler)
+                .map(|(ray, radiance)| Shadowed { ray, radiance: path.beta * radiance })
+        } else {
+            None
+        };
+        // Only a material with specular lobes has a lobe to choose.
+        let u_lobe = sampler.next_1d_if(material.has_specular());
+        let Some(sample) = material.sample(hit.shading_normal, wo, u_lobe, sampler.next_2d())
+        else {
+            return (shadowed, true);
+        };
+        path.beta *= sample.weight;
+        path.eta_scale *= sample.eta * sample.eta;
+        path.previous = (!sample.specular).then_some((*hit, sample.pdf));
+        path.ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
+        // Russian roulette: continue with probability tied to the throughput and divide by
+        // it, so the estimate stays unbiased.
+        let roulette = path.bounces + 1 >= ROULETTE_AFTER;
+        let u = sampler.next_1d_if(roulette);
+        if roulette {
+            let survive = (path.beta * path.eta_scale).max_element().min(1.0);
+            if u >= survive {
+                return (shadowed, true);
+            }
+            path.beta /= survive;
+        }
+        path.bounces += 1;
+        (shadowed, false)
+    }
+
     /// The weight of emission found by a BSDF-sampled ray.
     fn emission_weight(&self, scene: &Scene, hit: &Hit, previous: Option<&(Hit, f32)>) -> f32 {
         let Some((from, bsdf_pdf)) = previous else {
@@ -103,7 +207,8 @@ impl Path {
         }
     }
 
-    /// Light from one light chosen by power, weighted against BSDF sampling.
+    /// Light from one light chosen by power, weighted against BSDF sampling, if its shadow ray
+    /// is unoccluded.
     fn next_event(
         &self,
         scene: &Scene,
@@ -111,22 +216,18 @@ impl Path {
         wo: Vec3,
         material: &Material,
         sampler: &mut Sampler,
-    ) -> Vec3 {
+    ) -> Option<(ShadowRay, Vec3)> {
         let u_select = sampler.next_1d_if(scene.lights.len() > 1);
         let u = sampler.next_2d();
-        let Some((index, probability)) = scene.choose_light(u_select) else {
-            return Vec3::ZERO;
-        };
+        let (index, probability) = scene.choose_light(u_select)?;
         let light = &scene.lights[index];
         if !light.is_delta() && self.strategy == Strategy::BsdfSampling {
-            return Vec3::ZERO;
+            return None;
         }
-        let Some(sample) = light.sample(scene, hit, u) else {
-            return Vec3::ZERO;
-        };
+        let sample = light.sample(scene, hit, u)?;
         let f = material.eval(hit.shading_normal, wo, sample.wi);
         if f == Vec3::ZERO {
-            return Vec3::ZERO;
+            return None;
         }
         let light_pdf = probability * sample.pdf;
         let weight = if sample.is_delta || self.strategy == Strategy::LightSampling {
@@ -134,7 +235,8 @@ impl Path {
         } else {
             power_heuristic(light_pdf, material.pdf(hit.shading_normal, wo, sample.wi))
         };
-        f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf
+        let radiance = f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf;
+        Some((sample.shadow, radiance))
     }
 }
 

@@ -8,9 +8,9 @@ pub use build::build;
 
 use std::ops::Range;
 
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Vec3, Vec4};
 
-use crate::accel::{Bvh, Planes};
+use crate::accel::{Bvh, FewShapes, LANES, Planes, RayLanes};
 use crate::camera::Camera;
 use crate::geometry::{Hit, Intersection, Ray, Shape};
 use crate::light::Light;
@@ -28,6 +28,13 @@ pub struct Primitive {
     pub light: Option<u32>,
 }
 
+/// Where a ray meets a primitive, before its hit record is made.
+#[derive(Debug, Clone, Copy)]
+pub struct Found {
+    primitive: u32,
+    at: Intersection,
+}
+
 #[derive(Debug)]
 pub struct Scene {
     pub settings: Settings,
@@ -36,8 +43,13 @@ pub struct Scene {
     pub primitives: Vec<Primitive>,
     bounded: usize,
     bvh: Bvh,
-    /// The unbounded planes, `primitives[bounded..]`, in the same order.
+    /// The unbounded planes, `primitives[bounded..]`, in the same order, four to a group for
+    /// one ray at a time.
     planes: Planes,
+    /// For rays traced in lanes: the planes, and the bounded primitives too when they are all
+    /// simple and few (`few_holds_bounded`: the BVH is then not traversed).
+    few: FewShapes,
+    few_holds_bounded: bool,
     pub materials: Vec<Material>,
     /// Per material, its `diffuse` texture when that is not a plain colour.
     textures: Vec<Option<Texture>>,
@@ -57,16 +69,49 @@ impl Scene {
         let mut closest = None;
         let test = |i: usize, t_max| {
             let at = bounded[i].shape.intersection(ray, t_max)?;
-            closest = Some((i, at));
+            closest = Some(Found { primitive: i as u32, at });
             Some(at.t)
         };
         let t_max = self.bvh.closest(ray, f32::INFINITY, test, |leaf| self.preload(leaf));
         if let Some((k, t)) = self.planes.closest(ray, t_max) {
-            closest = Some((self.bounded + k, Intersection::at(t)));
+            closest = Some(Found { primitive: (self.bounded + k) as u32, at: Intersection::at(t) });
         }
-        // Only the closest intersection gets its hit record made.
-        let (i, at) = closest?;
-        Some(Hit { primitive: i as u32, ..self.primitives[i].shape.hit(ray, &at) })
+        Some(self.hit(ray, &closest?))
+    }
+
+    /// The closest primitive along each ray whose lane is active (`None` in the others);
+    /// `hit` makes its hit record. Costs about as much as one ray in `intersect` when the
+    /// lanes are full.
+    pub fn intersect_lanes(
+        &self,
+        rays: &[Ray; LANES],
+        active: [bool; LANES],
+    ) -> [Option<Found>; LANES] {
+        let mut closest = [None; LANES];
+        let mut t_max = active.map(|active| if active { f32::INFINITY } else { 0.0 });
+        if !self.few_holds_bounded {
+            let bounded = &self.primitives[..self.bounded];
+            for lane in (0..LANES).filter(|&lane| active[lane]) {
+                let ray = &rays[lane];
+                let test = |i: usize, t_max| {
+                    let at = bounded[i].shape.intersection(ray, t_max)?;
+                    closest[lane] = Some(Found { primitive: i as u32, at });
+                    Some(at.t)
+                };
+                t_max[lane] = self.bvh.closest(ray, t_max[lane], test, |leaf| self.preload(leaf));
+            }
+        }
+        let few = self.few.closest(&RayLanes::new(rays), Vec4::from_array(t_max));
+        std::array::from_fn(|lane| match few[lane] {
+            Some((primitive, at)) => Some(Found { primitive, at }),
+            None => closest[lane],
+        })
+    }
+
+    /// The hit record of the primitive `ray` was found to meet. (Made only for the closest.)
+    pub fn hit(&self, ray: &Ray, found: &Found) -> Hit {
+        let primitive = &self.primitives[found.primitive as usize];
+        Hit { primitive: found.primitive, ..primitive.shape.hit(ray, &found.at) }
     }
 
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
@@ -74,6 +119,24 @@ impl Scene {
         let bounded = &self.primitives[..self.bounded];
         let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
         self.planes.any(ray, t_max) || self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
+    }
+
+    /// Per lane (a bit each), whether any surface lies along the ray before its `t_max`; a
+    /// lane with `t_max` 0 is never occluded.
+    pub fn occluded_lanes(&self, rays: &[Ray; LANES], t_max: [f32; LANES]) -> u32 {
+        let mut occluded = self.few.any(&RayLanes::new(rays), Vec4::from_array(t_max));
+        if !self.few_holds_bounded {
+            let bounded = &self.primitives[..self.bounded];
+            let open = occluded;
+            for lane in (0..LANES).filter(|&lane| open & (1 << lane) == 0 && t_max[lane] > 0.0) {
+                let (ray, t_max) = (&rays[lane], t_max[lane]);
+                let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
+                if self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf)) {
+                    occluded |= 1 << lane;
+                }
+            }
+        }
+        occluded
     }
 
     /// Starts loading primitives a traversal may test soon (see `Bvh::closest`).
