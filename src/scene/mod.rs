@@ -80,8 +80,7 @@ impl Scene {
     }
 
     /// The closest primitive along each ray whose lane is active (`None` in the others);
-    /// `hit` makes its hit record. Costs about as much as one ray in `intersect` when the
-    /// lanes are full.
+    /// `hit` makes its hit record.
     pub fn intersect_lanes(
         &self,
         rays: &[Ray; LANES],
