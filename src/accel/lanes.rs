@@ -6,7 +6,7 @@
 //! Each kind computes the same expressions as its scalar test in `geometry::shape`, in the same
 //! order, so a shape has the same intersections here as there.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec3A, Vec4};
 
 use crate::geometry::{Intersection, PlanarKind, Ray, Shape};
 
@@ -22,6 +22,15 @@ struct Vec3x4 {
 }
 
 impl Vec3x4 {
+    #[inline]
+    fn from_lanes(v: [Vec3A; LANES]) -> Self {
+        Vec3x4 {
+            x: Vec4::new(v[0].x, v[1].x, v[2].x, v[3].x),
+            y: Vec4::new(v[0].y, v[1].y, v[2].y, v[3].y),
+            z: Vec4::new(v[0].z, v[1].z, v[2].z, v[3].z),
+        }
+    }
+
     fn splat(v: Vec3) -> Self {
         Vec3x4 { x: Vec4::splat(v.x), y: Vec4::splat(v.y), z: Vec4::splat(v.z) }
     }
@@ -62,18 +71,9 @@ pub struct RayLanes {
 impl RayLanes {
     #[inline]
     pub fn new(rays: &[Ray; LANES]) -> Self {
-        let (o, d) = (rays.map(|r| r.origin), rays.map(|r| r.dir));
         RayLanes {
-            origin: Vec3x4 {
-                x: Vec4::new(o[0].x, o[1].x, o[2].x, o[3].x),
-                y: Vec4::new(o[0].y, o[1].y, o[2].y, o[3].y),
-                z: Vec4::new(o[0].z, o[1].z, o[2].z, o[3].z),
-            },
-            dir: Vec3x4 {
-                x: Vec4::new(d[0].x, d[1].x, d[2].x, d[3].x),
-                y: Vec4::new(d[0].y, d[1].y, d[2].y, d[3].y),
-                z: Vec4::new(d[0].z, d[1].z, d[2].z, d[3].z),
-            },
+            origin: Vec3x4::from_lanes(rays.map(|r| r.origin)),
+            dir: Vec3x4::from_lanes(rays.map(|r| r.dir)),
         }
     }
 }
