@@ -2,9 +2,12 @@
 
 use std::f32::consts::PI;
 
-use glam::{Vec2, Vec3};
+use glam::{BVec4A, Vec2, Vec3, Vec4};
 
-use crate::geometry::{Hit, Ray, Shape, offset_origin, sphere_error};
+use crate::geometry::{
+    Hit, HitLanes, LANES, PlanarKind, Ray, Shape, Vec3x4, offset_origin, planar_coordinates,
+    planar_error, sphere_error,
+};
 use crate::material::to_world;
 use crate::scene::Scene;
 
@@ -115,6 +118,149 @@ impl Light {
             }
         }
     }
+}
+
+/// Samples of four lanes' lights, from `sample_lanes`.
+#[derive(Debug, Clone, Copy)]
+pub struct LightSampleLanes {
+    /// Lanes whose light is a point light or a planar area light: the others are left to
+    /// `Light::sample`.
+    pub handled: BVec4A,
+    /// Lanes with a sample (where `Light::sample` returns one); the fields below hold it.
+    pub found: BVec4A,
+    pub is_delta: BVec4A,
+    pub wi: Vec3x4,
+    pub li: Vec3x4,
+    pub pdf: Vec4,
+    pub shadow_origin: Vec3x4,
+    pub shadow_dir: Vec3x4,
+    pub shadow_t_max: Vec4,
+}
+
+impl LightSampleLanes {
+    /// The shadow ray of a lane with a sample.
+    pub fn shadow(&self, lane: usize) -> ShadowRay {
+        let ray = Ray::new(self.shadow_origin.lane(lane), self.shadow_dir.lane(lane));
+        ShadowRay { ray, t_max: self.shadow_t_max[lane] }
+    }
+}
+
+/// A light as `sample_lanes` reads it, gathered once per scene: a planar area light, or a
+/// point light as one of no extent (its position as `origin`, edges and normal zero, its
+/// intensity as `emission`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaneLight {
+    /// The emitter's primitive and shape; `None` for a point light.
+    pub planar: Option<(u32, PlanarKind)>,
+    pub origin: Vec3,
+    pub edge1: Vec3,
+    pub edge2: Vec3,
+    pub normal: Vec3,
+    pub emission: Vec3,
+    pub area: f32,
+    /// The error bound of points on it (`planar_error`).
+    pub error: f32,
+}
+
+impl Light {
+    /// Its form for `sample_lanes`, if it is a point light or a planar area light.
+    pub fn in_lanes(&self, scene: &Scene) -> Option<LaneLight> {
+        let (primitive, area) = match *self {
+            Light::Point { position, power } => {
+                return Some(LaneLight {
+                    planar: None,
+                    origin: position,
+                    edge1: Vec3::ZERO,
+                    edge2: Vec3::ZERO,
+                    normal: Vec3::ZERO,
+                    emission: power,
+                    area: 1.0,
+                    error: 0.0,
+                });
+            }
+            Light::Area { primitive, area } => (primitive, area),
+        };
+        let prim = &scene.primitives[primitive as usize];
+        let Shape::Planar { kind, origin, edge1, edge2, normal } = prim.shape else { return None };
+        Some(LaneLight {
+            planar: Some((primitive, kind)),
+            origin,
+            edge1,
+            edge2,
+            normal,
+            emission: scene.materials[prim.material as usize].emission,
+            area,
+            error: planar_error(origin, edge1, edge2),
+        })
+    }
+}
+
+/// `Light::sample` for four lanes at once, where a lane's light is a point light or a planar
+/// area light (quad, disk, triangle): the same operations in the same order, side by side, so
+/// each lane gets exactly what `sample` returns. `lights` holds each lane's light and point of
+/// the unit square (`None`: nothing to sample), `primitives` the primitive each lane's hit is
+/// on. `None` if no lane's light is of these kinds.
+pub fn sample_lanes(
+    scene: &Scene,
+    hits: &HitLanes,
+    primitives: [u32; LANES],
+    lights: [Option<(usize, Vec2)>; LANES],
+) -> Option<LightSampleLanes> {
+    let lanes = lights.map(|l| l.and_then(|(i, u)| Some((scene.lights_in_lanes[i].as_ref()?, u))));
+    let first = lanes.iter().flatten().next()?.0;
+    // Lanes mostly share a light (always, in a scene of one): its values are spread, not gathered.
+    let shared = lanes.iter().flatten().all(|(light, _)| std::ptr::eq(*light, first));
+    let vectors = |value: fn(&LaneLight) -> Vec3| {
+        if shared {
+            Vec3x4::splat(value(first))
+        } else {
+            Vec3x4::from_lanes(lanes.map(|l| l.map_or(Vec3::ZERO, |(light, _)| value(light))))
+        }
+    };
+    let (origin, edge1, edge2) =
+        (vectors(|l| l.origin), vectors(|l| l.edge1), vectors(|l| l.edge2));
+    let (normal, emission) = (vectors(|l| l.normal), vectors(|l| l.emission));
+    let scalars = |value: fn(&LaneLight) -> f32| {
+        Vec4::from_array(lanes.map(|l| l.map_or(1.0, |(light, _)| value(light))))
+    };
+    let (area, error) = (scalars(|l| l.area), scalars(|l| l.error));
+    let st = lanes.map(|l| match l {
+        Some((LaneLight { planar: Some((_, kind)), .. }, u)) => planar_coordinates(*kind, u),
+        _ => Vec2::ZERO,
+    });
+    let (s, t) = (Vec4::from_array(st.map(|st| st.x)), Vec4::from_array(st.map(|st| st.y)));
+    let handled = BVec4A::from_array(lanes.map(|l| l.is_some()));
+    let is_point = BVec4A::from_array(lanes.map(|l| l.is_some_and(|(l, _)| l.planar.is_none())));
+    let own = BVec4A::from_array(std::array::from_fn(|lane| {
+        lanes[lane].is_some_and(|(l, _)| l.planar.is_some_and(|(p, _)| p == primitives[lane]))
+    }));
+
+    let point = Vec3x4::select(is_point, origin, origin + s * edge1 + t * edge2);
+    let to_light = point - hits.point;
+    let distance_squared = to_light.length_squared();
+    let wi = to_light / distance_squared.sqrt();
+    // A point light's intensity / r^2; an area light's emission (`Material::emitted`:
+    // one-sided, towards the normal) with the area density in solid angle, r^2 / (A cos).
+    let emitted = Vec3x4::select(normal.dot(-wi).cmpgt(Vec4::ZERO), emission, Vec3x4::ZERO);
+    let li = Vec3x4::select(is_point, emission / distance_squared, emitted);
+    let pdf = Vec4::select(is_point, Vec4::ONE, distance_squared / (area * normal.dot(wi).abs()));
+    let area_found = !own & !li.is_zero() & pdf.cmpgt(Vec4::ZERO) & pdf.cmplt(Vec4::INFINITY);
+    // `shadow_ray` towards the light, or the point just off its surface.
+    let target = Vec3x4::select(is_point, point, point + normal * error);
+    let shadow_origin = hits.offset_origin(wi);
+    let to_target = target - shadow_origin;
+    let distance = to_target.length_squared().sqrt();
+    Some(LightSampleLanes {
+        handled,
+        found: handled & (is_point | area_found),
+        is_delta: is_point,
+        wi,
+        li,
+        pdf,
+        shadow_origin,
+        shadow_dir: to_target / distance,
+        shadow_t_max: distance * (1.0 - 1e-4),
+    })
 }
 
 /// Solid angle of the cone of directions from `from` that meet the sphere:

@@ -6,7 +6,7 @@ mod common;
 
 use common::{LAB_BOX, scene};
 use glam::Vec3;
-use raydiance::accel::LANES;
+use raydiance::geometry::LANES;
 use raydiance::geometry::{Hit, Ray};
 use raydiance::sampling::{Sampler, uniform_sphere};
 use raydiance::scene::Scene;

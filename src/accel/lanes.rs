@@ -6,60 +6,9 @@
 //! Each kind computes the same expressions as its scalar test in `geometry::shape`, in the same
 //! order, so a shape has the same intersections here as there.
 
-use glam::{Vec2, Vec3, Vec3A, Vec4};
+use glam::{Vec2, Vec4};
 
-use crate::geometry::{Intersection, PlanarKind, Ray, Shape};
-
-/// Rays traced together.
-pub const LANES: usize = 4;
-
-/// Three coordinates of four vectors, one per lane.
-#[derive(Debug, Clone, Copy)]
-struct Vec3x4 {
-    x: Vec4,
-    y: Vec4,
-    z: Vec4,
-}
-
-impl Vec3x4 {
-    #[inline]
-    fn from_lanes(v: [Vec3A; LANES]) -> Self {
-        Vec3x4 {
-            x: Vec4::new(v[0].x, v[1].x, v[2].x, v[3].x),
-            y: Vec4::new(v[0].y, v[1].y, v[2].y, v[3].y),
-            z: Vec4::new(v[0].z, v[1].z, v[2].z, v[3].z),
-        }
-    }
-
-    fn splat(v: Vec3) -> Self {
-        Vec3x4 { x: Vec4::splat(v.x), y: Vec4::splat(v.y), z: Vec4::splat(v.z) }
-    }
-
-    #[inline]
-    fn dot(self, rhs: Self) -> Vec4 {
-        self.x * rhs.x + self.y * rhs.y + self.z * rhs.z
-    }
-
-    /// In glam's order of operations, so the lanes round as `Vec3::cross` does.
-    #[inline]
-    fn cross(self, rhs: Self) -> Self {
-        Vec3x4 {
-            x: self.y * rhs.z - rhs.y * self.z,
-            y: self.z * rhs.x - rhs.z * self.x,
-            z: self.x * rhs.y - rhs.x * self.y,
-        }
-    }
-
-    #[inline]
-    fn sub(self, rhs: Self) -> Self {
-        Vec3x4 { x: self.x - rhs.x, y: self.y - rhs.y, z: self.z - rhs.z }
-    }
-
-    #[inline]
-    fn scale(self, s: Vec4) -> Self {
-        Vec3x4 { x: self.x * s, y: self.y * s, z: self.z * s }
-    }
-}
+use crate::geometry::{Intersection, LANES, PlanarKind, Ray, Shape, Vec3x4};
 
 /// Four rays, coordinate by coordinate.
 #[derive(Debug, Clone, Copy)]
@@ -180,9 +129,9 @@ impl Simple {
             Simple::Plane { normal, offset } => (-(normal.dot(o) + *offset) / normal.dot(d), None),
             // As `sphere_distance`: r^2 - |oc - b d|^2, and the root far from cancellation.
             Simple::Sphere { center, radius_squared } => {
-                let oc = o.sub(*center);
+                let oc = o - *center;
                 let b = oc.dot(d);
-                let perp = oc.sub(d.scale(b));
+                let perp = oc - d * b;
                 let disc = *radius_squared - perp.dot(perp);
                 let root = disc.sqrt(); // NaN where disc < 0: no comparison below holds
                 let q = Vec4::select(b.cmpgt(Vec4::ZERO), -b - root, -b + root);
@@ -198,7 +147,7 @@ impl Simple {
                 let pvec = d.cross(*edge2);
                 let det = edge1.dot(pvec);
                 let inv_det = Vec4::ONE / det;
-                let tvec = o.sub(*origin);
+                let tvec = o - *origin;
                 let s = tvec.dot(pvec) * inv_det;
                 let qvec = tvec.cross(*edge1);
                 let t = d.dot(qvec) * inv_det;
@@ -220,6 +169,7 @@ impl Simple {
 mod tests {
     use super::*;
     use crate::sampling::{Sampler, uniform_sphere};
+    use glam::Vec3;
 
     #[test]
     fn agrees_exactly_with_one_ray_and_one_shape_at_a_time() {

@@ -1,14 +1,16 @@
 //! Rays, hits and the shapes they hit.
 
 mod aabb;
+mod lanes;
 mod ray;
 mod shape;
 mod triangle_mesh;
 
 pub use aabb::Aabb;
+pub use lanes::{HitLanes, LANES, Vec3x4};
 pub use ray::{Hit, Ray, offset_origin};
 pub use shape::{
-    Intersection, PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, similarity_scale,
-    sphere_error,
+    Intersection, PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, planar_coordinates,
+    planar_error, similarity_scale, sphere_error,
 };
 pub use triangle_mesh::{Placement, TriangleMesh};

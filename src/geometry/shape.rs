@@ -298,11 +298,7 @@ impl Shape {
                 Some(SurfaceSample { point, normal, error: sphere_error(*center, *radius) })
             }
             Shape::Planar { kind, origin, edge1, edge2, normal } => {
-                let (s, t) = match kind {
-                    PlanarKind::Triangle => uniform_triangle(u).into(),
-                    PlanarKind::Quad => u.into(),
-                    PlanarKind::Disk => concentric_disk(u).into(),
-                };
+                let (s, t) = planar_coordinates(*kind, u).into();
                 Some(SurfaceSample {
                     point: origin + s * edge1 + t * edge2,
                     normal: *normal,
@@ -346,7 +342,19 @@ pub fn sphere_error(center: Vec3, radius: f32) -> f32 {
     REL_ERROR * (center.abs().max_element() + radius)
 }
 
-fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
+/// The coordinates along the edges of a point uniform in the area of a planar shape, from a
+/// point `u` of the unit square.
+pub fn planar_coordinates(kind: PlanarKind, u: Vec2) -> Vec2 {
+    match kind {
+        PlanarKind::Triangle => uniform_triangle(u),
+        PlanarKind::Quad => u,
+        PlanarKind::Disk => concentric_disk(u),
+    }
+}
+
+/// Error bound of a point on a planar shape (its coordinates are at most
+/// |origin| + |edge1| + |edge2|).
+pub fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
     REL_ERROR * (origin.abs() + edge1.abs() + edge2.abs()).max_element()
 }
 

@@ -10,9 +10,10 @@ pub use fresnel::{fresnel_dielectric, refract};
 
 use std::f32::consts::FRAC_1_PI;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
-use crate::sampling::cosine_hemisphere;
+use crate::geometry::{LANES, Vec3x4};
+use crate::sampling::{cosine_hemisphere, cosine_hemisphere_lanes};
 use crate::scene::graph::{MaterialDesc, Pattern};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -112,14 +113,24 @@ impl Material {
         if !same_side(n, wo, wi) {
             return 0.0;
         }
-        let p_diffuse = if self.has_specular() {
+        self.diffuse_probability(n, wo) * n.dot(wi).abs() * FRAC_1_PI
+    }
+
+    /// The probability with which `sample` chooses the diffuse lobe, seen from `wo`.
+    #[inline]
+    pub fn diffuse_probability(&self, n: Vec3, wo: Vec3) -> f32 {
+        if self.has_specular() {
             self.lobe_probabilities(&self.lobes(n, wo))[0]
         } else if self.has_diffuse() {
             1.0
         } else {
             0.0
-        };
-        p_diffuse * n.dot(wi).abs() * FRAC_1_PI
+        }
+    }
+
+    /// Whether it is a diffuse lobe alone, which `sample_lambertian_lanes` samples.
+    pub fn is_lambertian(&self) -> bool {
+        self.has_diffuse() && !self.has_specular()
     }
 
     /// Chooses a lobe with probability from its reflectance (the course's per-bounce Russian
@@ -147,7 +158,12 @@ impl Material {
         let facing = if n.dot(wo) < 0.0 { -n } else { n };
         let local = cosine_hemisphere(u);
         let wi = to_world(facing, local);
-        let pdf = p_diffuse * local.z * FRAC_1_PI;
+        self.diffuse_sample(wi, p_diffuse * local.z * FRAC_1_PI, p_diffuse)
+    }
+
+    /// The sample of direction `wi` drawn from the diffuse lobe with density `pdf`; none where
+    /// the density is not positive.
+    fn diffuse_sample(&self, wi: Vec3, pdf: f32, p_diffuse: f32) -> Option<BsdfSample> {
         // f |cos| / pdf = (kd / pi) cos / (p cos / pi) = kd / p
         (pdf > 0.0).then(|| BsdfSample {
             wi,
@@ -234,4 +250,46 @@ fn mean(c: Vec3) -> f32 {
 pub fn to_world(n: Vec3, local: Vec3) -> Vec3 {
     let (t, b) = n.any_orthonormal_pair();
     local.x * t + local.y * b + local.z * n
+}
+
+/// `to_world` in four lanes, with `Vec3::any_orthonormal_pair`'s operations in its order.
+fn to_world_lanes(n: Vec3x4, local: Vec3x4) -> Vec3x4 {
+    let sign = Vec4::ONE.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t = Vec3x4 { x: 1.0 + sign * n.x * n.x * a, y: sign * b, z: -sign * n.x };
+    let bitangent = Vec3x4 { x: b, y: sign + n.y * n.y * a, z: -n.y };
+    local.x * t + local.y * bitangent + local.z * n
+}
+
+/// `sample` for four lanes whose materials are Lambertian (`is_lambertian`), side by side:
+/// `sample_diffuse`'s operations in its order, so each lane gets exactly what `sample` returns.
+/// Lanes without a material are left `None`.
+pub fn sample_lambertian_lanes(
+    materials: [Option<&Material>; LANES],
+    n: Vec3x4,
+    wo: Vec3x4,
+    u: [Vec2; LANES],
+) -> [Option<BsdfSample>; LANES] {
+    let facing = Vec3x4::select(n.dot(wo).cmplt(Vec4::ZERO), -n, n);
+    let local = cosine_hemisphere_lanes(u);
+    let wi = to_world_lanes(facing, local);
+    // The lobe's probability is 1: pdf = 1 cos / pi.
+    let pdf = local.z * FRAC_1_PI;
+    std::array::from_fn(|lane| materials[lane]?.diffuse_sample(wi.lane(lane), pdf[lane], 1.0))
+}
+
+/// The diffuse lobe's `eval` (kd / pi) and `pdf` (p_diffuse |cos| / pi) in four lanes, both
+/// zero where `wo` and `wi` lie on different sides.
+pub fn eval_diffuse_lanes(
+    n: Vec3x4,
+    wo: Vec3x4,
+    wi: Vec3x4,
+    diffuse: Vec3x4,
+    p_diffuse: Vec4,
+) -> (Vec3x4, Vec4) {
+    let same_side = (n.dot(wo) * n.dot(wi)).cmpgt(Vec4::ZERO);
+    let f = Vec3x4::select(same_side, diffuse * Vec4::splat(FRAC_1_PI), Vec3x4::ZERO);
+    let pdf = Vec4::select(same_side, p_diffuse * n.dot(wi).abs() * FRAC_1_PI, Vec4::ZERO);
+    (f, pdf)
 }

@@ -94,9 +94,11 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         textures: flat.textures,
         frames: flat.frames,
         lights,
+        lights_in_lanes: Vec::new(),
         light_cdf: Vec::new(),
         warnings,
     };
+    scene.lights_in_lanes = scene.lights.iter().map(|light| light.in_lanes(&scene)).collect();
     // Lights with no power are never chosen (their probability would be zero).
     scene.light_cdf = scene
         .lights

@@ -10,10 +10,10 @@ use std::ops::Range;
 
 use glam::{Affine3A, Vec3, Vec4};
 
-use crate::accel::{Bvh, FewShapes, LANES, Planes, RayLanes};
+use crate::accel::{Bvh, FewShapes, Planes, RayLanes};
 use crate::camera::Camera;
-use crate::geometry::{Hit, Intersection, Ray, Shape};
-use crate::light::Light;
+use crate::geometry::{Hit, Intersection, LANES, Ray, Shape};
+use crate::light::{LaneLight, Light};
 use crate::material::Material;
 use crate::texture::Texture;
 use graph::Settings;
@@ -56,6 +56,8 @@ pub struct Scene {
     /// World to object space of each object, for textures.
     frames: Vec<Affine3A>,
     pub lights: Vec<Light>,
+    /// Per light, its form for `light::sample_lanes` if it has one.
+    pub lights_in_lanes: Vec<Option<LaneLight>>,
     /// Cumulative distribution for choosing a light in proportion to its power.
     light_cdf: Vec<f32>,
     /// Things the user should know that are not errors (e.g. the camera's aspect ratio).
@@ -163,6 +165,9 @@ impl Scene {
 
     /// A light chosen in proportion to its power, and the probability of that choice.
     pub fn choose_light(&self, u: f32) -> Option<(usize, f32)> {
+        if self.light_cdf.len() == 1 {
+            return Some((0, 1.0)); // the only light (`light_probability` is c / c = 1)
+        }
         let total = *self.light_cdf.last()?;
         let index = self.light_cdf.partition_point(|&c| c <= u * total).min(self.lights.len() - 1);
         Some((index, self.light_probability(index)))

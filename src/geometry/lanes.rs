@@ -1,0 +1,181 @@
+//! Vectors of four lanes, one per path traced together: each coordinate is a `Vec4`, so one
+//! SIMD operation does the work of four scalar ones. Operations round as glam's `Vec3` ones do
+//! (same operations in the same order), so a lane computes exactly what one path alone would.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use glam::{BVec4A, Vec3, Vec4};
+
+use super::Hit;
+
+/// Paths, rays and shadow rays traced together.
+pub const LANES: usize = 4;
+
+/// Three coordinates of four vectors, one per lane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Vec3x4 {
+    pub x: Vec4,
+    pub y: Vec4,
+    pub z: Vec4,
+}
+
+impl Vec3x4 {
+    pub const ZERO: Self = Vec3x4 { x: Vec4::ZERO, y: Vec4::ZERO, z: Vec4::ZERO };
+
+    #[inline]
+    pub fn from_lanes<V: Into<Vec3>>(v: [V; LANES]) -> Self {
+        let [a, b, c, d] = v.map(Into::into);
+        Vec3x4 {
+            x: Vec4::new(a.x, b.x, c.x, d.x),
+            y: Vec4::new(a.y, b.y, c.y, d.y),
+            z: Vec4::new(a.z, b.z, c.z, d.z),
+        }
+    }
+
+    #[inline]
+    pub fn lane(&self, lane: usize) -> Vec3 {
+        Vec3::new(self.x[lane], self.y[lane], self.z[lane])
+    }
+
+    #[inline]
+    pub fn splat(v: Vec3) -> Self {
+        Vec3x4 { x: Vec4::splat(v.x), y: Vec4::splat(v.y), z: Vec4::splat(v.z) }
+    }
+
+    /// Per lane, `if_true` where `mask` is set, else `if_false`.
+    #[inline]
+    pub fn select(mask: BVec4A, if_true: Self, if_false: Self) -> Self {
+        Vec3x4 {
+            x: Vec4::select(mask, if_true.x, if_false.x),
+            y: Vec4::select(mask, if_true.y, if_false.y),
+            z: Vec4::select(mask, if_true.z, if_false.z),
+        }
+    }
+
+    #[inline]
+    pub fn dot(self, rhs: Self) -> Vec4 {
+        self.x * rhs.x + self.y * rhs.y + self.z * rhs.z
+    }
+
+    #[inline]
+    pub fn length_squared(self) -> Vec4 {
+        self.dot(self)
+    }
+
+    /// In glam's order of operations, so the lanes round as `Vec3::cross` does.
+    #[inline]
+    pub fn cross(self, rhs: Self) -> Self {
+        Vec3x4 {
+            x: self.y * rhs.z - rhs.y * self.z,
+            y: self.z * rhs.x - rhs.z * self.x,
+            z: self.x * rhs.y - rhs.x * self.y,
+        }
+    }
+
+    #[inline]
+    pub fn abs(self) -> Self {
+        Vec3x4 { x: self.x.abs(), y: self.y.abs(), z: self.z.abs() }
+    }
+
+    /// Per lane, whether all three coordinates are zero (as `v == Vec3::ZERO`).
+    #[inline]
+    pub fn is_zero(self) -> BVec4A {
+        self.x.cmpeq(Vec4::ZERO) & self.y.cmpeq(Vec4::ZERO) & self.z.cmpeq(Vec4::ZERO)
+    }
+
+    /// Per lane, `max_element` in glam's order.
+    #[inline]
+    pub fn max_element(self) -> Vec4 {
+        self.x.max(self.y).max(self.z)
+    }
+}
+
+/// The hits of four lanes, coordinate by coordinate: the fields of `Hit` that shading reads.
+#[derive(Debug, Clone, Copy)]
+pub struct HitLanes {
+    pub point: Vec3x4,
+    pub normal: Vec3x4,
+    pub shading_normal: Vec3x4,
+    pub error: Vec4,
+}
+
+impl HitLanes {
+    /// Lanes without a hit hold zeros.
+    #[inline]
+    pub fn new(hits: [Option<&Hit>; LANES]) -> Self {
+        let field = |f: fn(&Hit) -> Vec3| Vec3x4::from_lanes(hits.map(|h| h.map_or(Vec3::ZERO, f)));
+        HitLanes {
+            point: field(|h| h.point),
+            normal: field(|h| h.normal),
+            shading_normal: field(|h| h.shading_normal),
+            error: Vec4::from_array(hits.map(|h| h.map_or(0.0, |h| h.error))),
+        }
+    }
+
+    /// `offset_origin` in four lanes.
+    #[inline]
+    pub fn offset_origin(&self, dir: Vec3x4) -> Vec3x4 {
+        let offset = self.normal * self.error;
+        let outside = self.normal.dot(dir).cmpge(Vec4::ZERO);
+        Vec3x4::select(outside, self.point + offset, self.point - offset)
+    }
+}
+
+impl Add for Vec3x4 {
+    type Output = Self;
+    #[inline]
+    fn add(self, rhs: Self) -> Self {
+        Vec3x4 { x: self.x + rhs.x, y: self.y + rhs.y, z: self.z + rhs.z }
+    }
+}
+
+impl Sub for Vec3x4 {
+    type Output = Self;
+    #[inline]
+    fn sub(self, rhs: Self) -> Self {
+        Vec3x4 { x: self.x - rhs.x, y: self.y - rhs.y, z: self.z - rhs.z }
+    }
+}
+
+impl Neg for Vec3x4 {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        Vec3x4 { x: -self.x, y: -self.y, z: -self.z }
+    }
+}
+
+/// Coordinate by coordinate (colours).
+impl Mul for Vec3x4 {
+    type Output = Self;
+    #[inline]
+    fn mul(self, rhs: Self) -> Self {
+        Vec3x4 { x: self.x * rhs.x, y: self.y * rhs.y, z: self.z * rhs.z }
+    }
+}
+
+/// Each lane's vector by that lane's scalar.
+impl Mul<Vec4> for Vec3x4 {
+    type Output = Self;
+    #[inline]
+    fn mul(self, s: Vec4) -> Self {
+        Vec3x4 { x: self.x * s, y: self.y * s, z: self.z * s }
+    }
+}
+
+impl Mul<Vec3x4> for Vec4 {
+    type Output = Vec3x4;
+    #[inline]
+    fn mul(self, v: Vec3x4) -> Vec3x4 {
+        Vec3x4 { x: self * v.x, y: self * v.y, z: self * v.z }
+    }
+}
+
+/// Each lane's vector divided by that lane's scalar (a division per coordinate, as glam's).
+impl Div<Vec4> for Vec3x4 {
+    type Output = Self;
+    #[inline]
+    fn div(self, s: Vec4) -> Self {
+        Vec3x4 { x: self.x / s, y: self.y / s, z: self.z / s }
+    }
+}
