@@ -128,6 +128,7 @@ pub struct LightSampleLanes {
     pub handled: BVec4A,
     /// Lanes with a sample (where `Light::sample` returns one); the fields below hold it.
     pub found: BVec4A,
+    /// Lanes whose light is a point light (a delta distribution, beyond MIS).
     pub is_delta: BVec4A,
     pub wi: Vec3x4,
     pub li: Vec3x4,
