@@ -72,21 +72,10 @@ impl Vec3x4 {
         }
     }
 
-    #[inline]
-    pub fn abs(self) -> Self {
-        Vec3x4 { x: self.x.abs(), y: self.y.abs(), z: self.z.abs() }
-    }
-
     /// Per lane, whether all three coordinates are zero (as `v == Vec3::ZERO`).
     #[inline]
     pub fn is_zero(self) -> BVec4A {
         self.x.cmpeq(Vec4::ZERO) & self.y.cmpeq(Vec4::ZERO) & self.z.cmpeq(Vec4::ZERO)
-    }
-
-    /// Per lane, `max_element` in glam's order.
-    #[inline]
-    pub fn max_element(self) -> Vec4 {
-        self.x.max(self.y).max(self.z)
     }
 }
 

@@ -350,7 +350,7 @@ fn sample_bsdf_lanes(
         [None; LANES]
     };
     for (lane, vertex) in vertices.iter().enumerate() {
-        if let Some(v) = vertex.as_ref().filter(|v| !v.material.is_lambertian()) {
+        if let (Some(v), None) = (vertex, lambertian[lane]) {
             samples[lane] = v.material.sample(v.hit.shading_normal, v.wo, v.u_lobe, v.u_direction);
         }
     }
