@@ -5,7 +5,8 @@
 mod common;
 
 use common::{LAB_BOX, scene};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
+use raydiance::accel::RayLanes;
 use raydiance::geometry::LANES;
 use raydiance::geometry::{Hit, Ray};
 use raydiance::sampling::{Sampler, uniform_sphere};
@@ -21,10 +22,11 @@ fn assert_lanes_agree_with_single_rays(scene: &Scene) {
         });
         // Some lanes idle, as at the end of a row.
         let active: [bool; LANES] = std::array::from_fn(|lane| (round + lane) % 7 != 0);
-        let found = scene.intersect_lanes(&rays, active);
+        let lanes = RayLanes::new(&rays);
+        let found = scene.intersect_lanes(&lanes, active);
         let t_max: [f32; LANES] =
             std::array::from_fn(|lane| if active[lane] { 2.0 * sampler.next_1d() } else { 0.0 });
-        let occluded = scene.occluded_lanes(&rays, t_max);
+        let occluded = scene.occluded_lanes(&lanes, Vec4::from_array(t_max));
         for (lane, ray) in rays.iter().enumerate() {
             let alone = scene.intersect(ray).filter(|_| active[lane]);
             let together = found[lane].map(|found| scene.hit(ray, &found));

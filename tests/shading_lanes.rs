@@ -4,7 +4,7 @@
 mod common;
 
 use common::{LAB_BOX, scene};
-use glam::{Vec2, Vec3, Vec4};
+use glam::{BVec4A, Vec2, Vec3, Vec4};
 use raydiance::geometry::{Hit, HitLanes, LANES, Ray, Vec3x4};
 use raydiance::light::sample_lanes;
 use raydiance::material::{Material, eval_diffuse_lanes, sample_lambertian_lanes};
@@ -112,7 +112,8 @@ fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
         let materials: [Material; LANES] = std::array::from_fn(|_| diffuse(&mut sampler));
         let present: [bool; LANES] = std::array::from_fn(|lane| (round + lane) % 6 != 0);
         let lanes = sample_lambertian_lanes(
-            std::array::from_fn(|lane| present[lane].then_some(&materials[lane])),
+            BVec4A::from_array(present),
+            Vec3x4::from_lanes(materials.each_ref().map(|m| m.diffuse)),
             Vec3x4::from_lanes(n),
             Vec3x4::from_lanes(wo),
             u,
@@ -120,7 +121,14 @@ fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
         for lane in 0..LANES {
             let alone =
                 materials[lane].sample(n[lane], wo[lane], 0.0, u[lane]).filter(|_| present[lane]);
-            assert_eq!(key(lanes[lane]), key(alone), "n {} wo {} u {}", n[lane], wo[lane], u[lane]);
+            assert_eq!(
+                key(lanes.lane(lane)),
+                key(alone),
+                "n {} wo {} u {}",
+                n[lane],
+                wo[lane],
+                u[lane]
+            );
         }
     }
 }

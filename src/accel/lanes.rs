@@ -11,10 +11,10 @@ use glam::{Vec2, Vec4};
 use crate::geometry::{Intersection, LANES, PlanarKind, Ray, Shape, Vec3x4};
 
 /// Four rays, coordinate by coordinate.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RayLanes {
-    origin: Vec3x4,
-    dir: Vec3x4,
+    pub origin: Vec3x4,
+    pub dir: Vec3x4,
 }
 
 impl RayLanes {
@@ -24,6 +24,17 @@ impl RayLanes {
             origin: Vec3x4::from_lanes(rays.map(|r| r.origin)),
             dir: Vec3x4::from_lanes(rays.map(|r| r.dir)),
         }
+    }
+
+    #[inline]
+    pub fn lane(&self, lane: usize) -> Ray {
+        Ray::new(self.origin.lane(lane), self.dir.lane(lane))
+    }
+
+    #[inline]
+    pub fn set_lane(&mut self, lane: usize, ray: &Ray) {
+        self.origin.set_lane(lane, ray.origin.into());
+        self.dir.set_lane(lane, ray.dir.into());
     }
 }
 

@@ -12,7 +12,7 @@ use super::Hit;
 pub const LANES: usize = 4;
 
 /// Three coordinates of four vectors, one per lane.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Vec3x4 {
     pub x: Vec4,
     pub y: Vec4,
@@ -35,6 +35,11 @@ impl Vec3x4 {
     #[inline]
     pub fn lane(&self, lane: usize) -> Vec3 {
         Vec3::new(self.x[lane], self.y[lane], self.z[lane])
+    }
+
+    #[inline]
+    pub fn set_lane(&mut self, lane: usize, v: Vec3) {
+        (self.x[lane], self.y[lane], self.z[lane]) = (v.x, v.y, v.z);
     }
 
     #[inline]

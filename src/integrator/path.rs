@@ -5,9 +5,10 @@
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use super::Integrator;
-use crate::geometry::{Hit, HitLanes, LANES, Ray, Vec3x4, offset_origin};
+use crate::accel::RayLanes;
+use crate::geometry::{Hit, HitLanes, LANES, Ray, Vec3x4};
 use crate::light::{ShadowRay, sample_lanes};
-use crate::material::{BsdfSample, Material, eval_diffuse_lanes, sample_lambertian_lanes};
+use crate::material::{BsdfSampleLanes, Material, eval_diffuse_lanes, sample_lambertian_lanes};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -40,9 +41,9 @@ impl Integrator for Path {
 
     /// Traces `LANES` paths at a time, bounce by bounce, so that their rays and their shadow
     /// rays meet the scene together (`Scene::intersect_lanes`), and light and BSDF samples of
-    /// the common kinds (point and planar lights, Lambertian materials) are computed side by side;
-    /// a finished path's lane takes the next camera sample. Each path draws its sample values in
-    /// the order it would alone, so it gets the same radiance.
+    /// the common kinds (point and planar lights, Lambertian materials) and the throughput are
+    /// computed side by side; a finished path's lane takes the next camera sample. Each path
+    /// draws its sample values in the order it would alone, so it gets the same radiance.
     fn radiance_of_all(
         &self,
         scene: &Scene,
@@ -50,93 +51,155 @@ impl Integrator for Path {
         radiance: &mut [Vec3],
     ) {
         let mut samples = samples.enumerate();
-        let mut lanes: [Option<PathState>; LANES] = Default::default();
+        let mut lanes = PathLanes::new();
         loop {
-            for lane in lanes.iter_mut().filter(|lane| lane.is_none()) {
-                *lane =
-                    samples.next().map(|(slot, (ray, sampler))| PathState::new(slot, ray, sampler));
+            for lane in 0..LANES {
+                if lanes.paths[lane].is_none()
+                    && let Some((slot, (ray, sampler))) = samples.next()
+                {
+                    lanes.start(lane, slot, &ray, sampler);
+                }
             }
-            let active = lanes.each_ref().map(Option::is_some);
+            let active = lanes.paths.each_ref().map(Option::is_some);
             if !active.contains(&true) {
                 break;
             }
-            let rays = lanes.each_ref().map(|lane| lane.as_ref().map_or(IDLE, |path| path.ray));
-            let found = scene.intersect_lanes(&rays, active);
+            let found = scene.intersect_lanes(&lanes.rays, active);
             let mut vertices: [Option<Vertex>; LANES] = Default::default();
-            let mut done = [false; LANES];
-            for (lane, path) in lanes.iter_mut().enumerate() {
-                if let Some(path) = path {
-                    let hit = found[lane].map(|found| scene.hit(&path.ray, &found));
-                    vertices[lane] = self.arrive(scene, path, hit);
-                    done[lane] = vertices[lane].is_none();
-                }
+            let mut emission = Emission::default();
+            for lane in (0..LANES).filter(|&lane| active[lane]) {
+                let ray = lanes.rays.lane(lane);
+                let hit = found[lane].map(|found| scene.hit(&ray, &found));
+                vertices[lane] = self.arrive(scene, &mut lanes, lane, hit, &mut emission);
             }
-            let hits = HitLanes::new(vertices.each_ref().map(|v| v.as_ref().map(|v| &v.hit)));
-            let wo = Vec3x4::from_lanes(
-                vertices.each_ref().map(|v| v.as_ref().map_or(Vec3::Z, |v| v.wo)),
+            lanes.radiance = Vec3x4::select(
+                emission.found,
+                lanes.radiance + lanes.beta * emission.radiance * emission.weight,
+                lanes.radiance,
             );
+            let hits = HitLanes::new(vertices.each_ref().map(|v| v.as_ref().map(|v| &v.hit)));
+            let wo = -lanes.rays.dir;
             let shadowed = self.next_event_lanes(scene, &lanes, &vertices, &hits, wo);
             let bsdf_samples = sample_bsdf_lanes(&vertices, &hits, wo);
-            for (lane, path) in lanes.iter_mut().enumerate() {
-                if let (Some(path), Some(vertex)) = (path, &vertices[lane]) {
-                    done[lane] = self.leave(path, &vertex.hit, bsdf_samples[lane]);
-                }
+            let done = lanes.leave(&hits, &bsdf_samples);
+            if shadowed.found.any() {
+                let t_max = Vec4::select(shadowed.found, shadowed.t_max, Vec4::ZERO);
+                let open = !occluded_mask(scene.occluded_lanes(&shadowed.rays, t_max));
+                lanes.radiance = Vec3x4::select(
+                    shadowed.found & open,
+                    lanes.radiance + shadowed.radiance,
+                    lanes.radiance,
+                );
             }
-            if shadowed.iter().any(Option::is_some) {
-                let rays = shadowed.map(|shadow| shadow.map_or(IDLE, |s: Shadowed| s.ray.ray));
-                let t_max = shadowed.map(|shadow| shadow.map_or(0.0, |s| s.ray.t_max));
-                let occluded = scene.occluded_lanes(&rays, t_max);
-                for (lane, (path, shadow)) in lanes.iter_mut().zip(shadowed).enumerate() {
-                    if let (Some(path), Some(shadow)) = (path, shadow)
-                        && occluded & (1 << lane) == 0
-                    {
-                        path.radiance += shadow.radiance;
-                    }
-                }
-            }
-            for (lane, done) in lanes.iter_mut().zip(done) {
-                if done && let Some(path) = lane.take() {
-                    radiance[path.slot] = path.radiance;
+            for lane in (0..LANES).filter(|&lane| done[lane]) {
+                if let Some(path) = lanes.paths[lane].take() {
+                    radiance[path.slot] = lanes.radiance.lane(lane);
                 }
             }
         }
     }
+}
+
+/// The lanes (a bit each) of `occluded_lanes` as a mask.
+fn occluded_mask(bits: u32) -> BVec4A {
+    BVec4A::from_array(std::array::from_fn(|lane| bits & (1 << lane) != 0))
 }
 
 /// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).
 const IDLE: Ray = Ray { origin: glam::Vec3A::ZERO, dir: glam::Vec3A::Z };
 
-/// A path being traced: its next ray and what it has gathered so far.
+/// Paths traced side by side, one per lane: what every bounce updates, coordinate by
+/// coordinate, and per lane what only the path's own choices read.
+struct PathLanes {
+    paths: [Option<PathState>; LANES],
+    /// Each path's next ray.
+    rays: RayLanes,
+    /// Radiance gathered so far.
+    radiance: Vec3x4,
+    /// Throughput: the product of the BSDF weights along the path.
+    beta: Vec3x4,
+    /// Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
+    /// so paths through glass are not cut for a throughput drop that the exit restores.
+    eta_scale: Vec4,
+    /// Lanes whose last direction was sampled at a non-specular vertex, where a light sample
+    /// could have found the path too (not the camera's), and there that vertex's point and
+    /// the direction's solid-angle pdf.
+    from_diffuse: BVec4A,
+    previous_point: Vec3x4,
+    previous_pdf: Vec4,
+}
+
+/// What only a path's own choices read.
 struct PathState {
     /// Which camera sample it is: where its radiance goes.
     slot: usize,
-    ray: Ray,
     sampler: Sampler,
-    radiance: Vec3,
-    beta: Vec3,
-    /// Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
-    /// so paths through glass are not cut for a throughput drop that the exit restores.
-    eta_scale: f32,
-    /// The previous vertex's point and the solid-angle pdf of the direction sampled there
-    /// (None for the camera ray and after specular bounces: no light sample could have found
-    /// this path).
-    previous: Option<(Vec3, f32)>,
     bounces: u32,
 }
 
-impl PathState {
-    fn new(slot: usize, ray: Ray, sampler: Sampler) -> Self {
-        PathState {
-            slot,
-            ray,
-            sampler,
-            radiance: Vec3::ZERO,
-            beta: Vec3::ONE,
-            eta_scale: 1.0,
-            previous: None,
-            bounces: 0,
+impl PathLanes {
+    fn new() -> Self {
+        PathLanes {
+            paths: Default::default(),
+            rays: RayLanes::new(&[IDLE; LANES]),
+            radiance: Vec3x4::ZERO,
+            beta: Vec3x4::ZERO,
+            eta_scale: Vec4::ONE,
+            from_diffuse: BVec4A::FALSE,
+            previous_point: Vec3x4::ZERO,
+            previous_pdf: Vec4::ZERO,
         }
     }
+
+    /// Starts the path of camera sample `slot` in `lane`.
+    fn start(&mut self, lane: usize, slot: usize, ray: &Ray, sampler: Sampler) {
+        self.paths[lane] = Some(PathState { slot, sampler, bounces: 0 });
+        self.rays.set_lane(lane, ray);
+        self.radiance.set_lane(lane, Vec3::ZERO);
+        self.beta.set_lane(lane, Vec3::ONE);
+        self.eta_scale[lane] = 1.0;
+        self.from_diffuse.set(lane, false);
+    }
+
+    /// Takes each path on along its BSDF sample, or ends it (no sample, or Russian roulette);
+    /// returns the lanes whose path ends. (An ending path's lane keeps values that no one reads:
+    /// `start` sets them anew.)
+    fn leave(&mut self, hits: &HitLanes, samples: &BsdfSampleLanes) -> [bool; LANES] {
+        self.beta = self.beta * samples.weight;
+        self.eta_scale *= samples.eta * samples.eta;
+        self.from_diffuse = !samples.specular;
+        self.previous_point = hits.point;
+        self.previous_pdf = samples.pdf;
+        self.rays = RayLanes { origin: hits.offset_origin(samples.wi), dir: samples.wi };
+        // Russian roulette: continue with probability tied to the throughput and divide by
+        // it, so the estimate stays unbiased.
+        let scaled = self.beta * self.eta_scale;
+        let survive = max(max(scaled.x, scaled.y), scaled.z).min(Vec4::ONE);
+        let mut divide = BVec4A::FALSE;
+        let mut done = [false; LANES];
+        for (lane, path) in self.paths.iter_mut().enumerate() {
+            let Some(path) = path else { continue };
+            if !samples.found.test(lane) {
+                done[lane] = true;
+                continue;
+            }
+            let roulette = path.bounces + 1 >= ROULETTE_AFTER;
+            let u = path.sampler.next_1d_if(roulette);
+            if roulette && u >= survive[lane] {
+                done[lane] = true;
+                continue;
+            }
+            divide.set(lane, roulette);
+            path.bounces += 1;
+        }
+        self.beta = Vec3x4::select(divide, self.beta / survive, self.beta);
+        done
+    }
+}
+
+/// `a > b ? a : b` per lane: `Vec3::max_element`'s comparison, so lanes pick as it does.
+fn max(a: Vec4, b: Vec4) -> Vec4 {
+    Vec4::select(a.cmpgt(b), a, b)
 }
 
 /// Where a path scatters this bounce, and the sample values for its choices there.
@@ -151,28 +214,54 @@ struct Vertex {
     u_direction: Vec2,
 }
 
-/// Radiance that next-event estimation found, counted if its shadow ray is unoccluded.
-#[derive(Debug, Clone, Copy)]
+/// Emitted radiance the paths found where they arrived, in the lanes of `found`, to be
+/// weighted by `weight` (multiple importance sampling) and the throughput.
+#[derive(Default)]
+struct Emission {
+    found: BVec4A,
+    radiance: Vec3x4,
+    weight: Vec4,
+}
+
+/// Shadow rays of next-event estimation, in the lanes of `found`, and the radiance each
+/// brings if it is unoccluded.
 struct Shadowed {
-    ray: ShadowRay,
-    radiance: Vec3,
+    found: BVec4A,
+    rays: RayLanes,
+    t_max: Vec4,
+    radiance: Vec3x4,
 }
 
 impl Path {
-    /// A path arrives at `hit` (`None`: its ray left the scene) and takes the emission found
-    /// there; returns where it scatters next, or `None` if it ends here.
-    fn arrive(&self, scene: &Scene, path: &mut PathState, hit: Option<Hit>) -> Option<Vertex> {
+    /// The path in `lane` arrives at `hit` (`None`: its ray left the scene) and finds the
+    /// emission there; returns where it scatters next, or `None` if it ends here.
+    fn arrive(
+        &self,
+        scene: &Scene,
+        lanes: &mut PathLanes,
+        lane: usize,
+        hit: Option<Hit>,
+        emission: &mut Emission,
+    ) -> Option<Vertex> {
         let Some(hit) = hit else {
-            path.radiance += path.beta * scene.background();
+            emission.found.set(lane, true);
+            emission.radiance.set_lane(lane, scene.background());
+            emission.weight[lane] = 1.0;
             return None;
         };
-        let wo = -Vec3::from(path.ray.dir);
+        let wo = -lanes.rays.dir.lane(lane);
         let material = scene.material(&hit);
         let emitted = material.emitted(hit.normal, wo);
         if emitted != Vec3::ZERO {
-            let weight = self.emission_weight(scene, &hit, path.previous);
-            path.radiance += path.beta * emitted * weight;
+            let previous = lanes
+                .from_diffuse
+                .test(lane)
+                .then(|| (lanes.previous_point.lane(lane), lanes.previous_pdf[lane]));
+            emission.found.set(lane, true);
+            emission.radiance.set_lane(lane, emitted);
+            emission.weight[lane] = self.emission_weight(scene, &hit, previous);
         }
+        let path = lanes.paths[lane].as_mut()?;
         if path.bounces == self.max_depth {
             return None;
         }
@@ -182,31 +271,6 @@ impl Path {
         let u_lobe = sampler.next_1d_if(material.has_specular());
         let u_direction = sampler.next_2d();
         Some(Vertex { hit, wo, material, light, u_lobe, u_direction })
-    }
-
-    /// Takes a path on along its BSDF sample, or ends it (`None`, or Russian roulette);
-    /// returns whether it ends here.
-    fn leave(&self, path: &mut PathState, hit: &Hit, sample: Option<BsdfSample>) -> bool {
-        let Some(sample) = sample else {
-            return true;
-        };
-        path.beta *= sample.weight;
-        path.eta_scale *= sample.eta * sample.eta;
-        path.previous = (!sample.specular).then_some((hit.point, sample.pdf));
-        path.ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
-        // Russian roulette: continue with probability tied to the throughput and divide by
-        // it, so the estimate stays unbiased.
-        let roulette = path.bounces + 1 >= ROULETTE_AFTER;
-        let u = path.sampler.next_1d_if(roulette);
-        if roulette {
-            let survive = (path.beta * path.eta_scale).max_element().min(1.0);
-            if u >= survive {
-                return true;
-            }
-            path.beta /= survive;
-        }
-        path.bounces += 1;
-        false
     }
 
     /// The weight of emission found by a BSDF-sampled ray.
@@ -246,18 +310,23 @@ impl Path {
     fn next_event_lanes(
         &self,
         scene: &Scene,
-        paths: &[Option<PathState>; LANES],
+        lanes: &PathLanes,
         vertices: &[Option<Vertex>; LANES],
         hits: &HitLanes,
         wo: Vec3x4,
-    ) -> [Option<Shadowed>; LANES] {
+    ) -> Shadowed {
         let lights = vertices.each_ref().map(|v| v.as_ref().and_then(|v| v.light));
         let primitives =
             vertices.each_ref().map(|v| v.as_ref().map_or(u32::MAX, |v| v.hit.primitive));
         let sampled =
             sample_lanes(scene, hits, primitives, lights.map(|l| l.map(|(i, _, u)| (i, u))));
-        let mut shadowed = [None; LANES];
-        if let Some(sampled) = sampled.filter(|s| s.found.any()) {
+        let mut shadowed = Shadowed {
+            found: BVec4A::FALSE,
+            rays: lanes.rays,
+            t_max: Vec4::ZERO,
+            radiance: Vec3x4::ZERO,
+        };
+        if let Some(sampled) = sampled.as_ref().filter(|s| s.found.any()) {
             let diffuse = Vec3x4::from_lanes(
                 vertices.each_ref().map(|v| v.as_ref().map_or(Vec3::ZERO, |v| v.material.diffuse)),
             );
@@ -280,24 +349,24 @@ impl Path {
                 ),
             };
             let radiance = f * sampled.li * n.dot(sampled.wi).abs() * weight / light_pdf;
-            let beta = Vec3x4::from_lanes(
-                paths.each_ref().map(|p| p.as_ref().map_or(Vec3::ZERO, |p| p.beta)),
-            );
-            let radiance = beta * radiance;
-            let found = sampled.found & !f.is_zero();
-            for lane in (0..LANES).filter(|&lane| found.test(lane)) {
-                shadowed[lane] =
-                    Some(Shadowed { ray: sampled.shadow(lane), radiance: radiance.lane(lane) });
-            }
+            shadowed = Shadowed {
+                found: sampled.found & !f.is_zero(),
+                rays: RayLanes { origin: sampled.shadow_origin, dir: sampled.shadow_dir },
+                t_max: sampled.shadow_t_max,
+                radiance: lanes.beta * radiance,
+            };
         }
         let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
         for lane in (0..LANES).filter(|&lane| !handled.test(lane)) {
-            if let (Some(path), Some(vertex)) = (&paths[lane], &vertices[lane])
+            if let Some(vertex) = &vertices[lane]
                 && let Some((light, probability, u)) = vertex.light
+                && let Some((shadow, radiance)) =
+                    self.next_event(scene, vertex, light, probability, u)
             {
-                shadowed[lane] = self
-                    .next_event(scene, vertex, light, probability, u)
-                    .map(|(ray, radiance)| Shadowed { ray, radiance: path.beta * radiance });
+                shadowed.found.set(lane, true);
+                shadowed.rays.set_lane(lane, &shadow.ray);
+                shadowed.t_max[lane] = shadow.t_max;
+                shadowed.radiance.set_lane(lane, lanes.beta.lane(lane) * radiance);
             }
         }
         shadowed
@@ -336,22 +405,19 @@ fn sample_bsdf_lanes(
     vertices: &[Option<Vertex>; LANES],
     hits: &HitLanes,
     wo: Vec3x4,
-) -> [Option<BsdfSample>; LANES] {
-    let lambertian = vertices.each_ref().map(|v| v.as_ref().filter(|v| v.material.is_lambertian()));
-    let mut samples = if lambertian.iter().any(Option::is_some) {
-        let u = vertices.each_ref().map(|v| v.as_ref().map_or(Vec2::ZERO, |v| v.u_direction));
-        sample_lambertian_lanes(
-            lambertian.map(|v| v.map(|v| &v.material)),
-            hits.shading_normal,
-            wo,
-            u,
-        )
-    } else {
-        [None; LANES]
-    };
+) -> BsdfSampleLanes {
+    let lambertian =
+        vertices.each_ref().map(|v| v.as_ref().is_some_and(|v| v.material.is_lambertian()));
+    let diffuse = Vec3x4::from_lanes(
+        vertices.each_ref().map(|v| v.as_ref().map_or(Vec3::ZERO, |v| v.material.diffuse)),
+    );
+    let u = vertices.each_ref().map(|v| v.as_ref().map_or(Vec2::ZERO, |v| v.u_direction));
+    let lambertian = BVec4A::from_array(lambertian);
+    let mut samples = sample_lambertian_lanes(lambertian, diffuse, hits.shading_normal, wo, u);
     for (lane, vertex) in vertices.iter().enumerate() {
-        if let (Some(v), None) = (vertex, lambertian[lane]) {
-            samples[lane] = v.material.sample(v.hit.shading_normal, v.wo, v.u_lobe, v.u_direction);
+        if let Some(v) = vertex.as_ref().filter(|_| !lambertian.test(lane)) {
+            let sample = v.material.sample(v.hit.shading_normal, v.wo, v.u_lobe, v.u_direction);
+            samples.set_lane(lane, sample);
         }
     }
     samples

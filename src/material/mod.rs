@@ -10,7 +10,7 @@ pub use fresnel::{fresnel_dielectric, refract};
 
 use std::f32::consts::FRAC_1_PI;
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use crate::geometry::{LANES, Vec3x4};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_lanes};
@@ -262,21 +262,65 @@ fn to_world_lanes(n: Vec3x4, local: Vec3x4) -> Vec3x4 {
     local.x * t + local.y * bitangent + local.z * n
 }
 
-/// `sample` for four lanes whose materials are Lambertian (`is_lambertian`), side by side:
-/// `sample_diffuse`'s operations in its order, so each lane gets exactly what `sample` returns.
-/// Lanes without a material are left `None`.
+/// BSDF samples of four lanes, coordinate by coordinate: `BsdfSample`'s fields, held in the
+/// lanes where `found` is set.
+#[derive(Debug, Clone, Copy)]
+pub struct BsdfSampleLanes {
+    pub found: BVec4A,
+    pub wi: Vec3x4,
+    pub weight: Vec3x4,
+    pub pdf: Vec4,
+    pub specular: BVec4A,
+    pub eta: Vec4,
+}
+
+impl BsdfSampleLanes {
+    #[inline]
+    pub fn lane(&self, lane: usize) -> Option<BsdfSample> {
+        self.found.test(lane).then(|| BsdfSample {
+            wi: self.wi.lane(lane),
+            weight: self.weight.lane(lane),
+            pdf: self.pdf[lane],
+            specular: self.specular.test(lane),
+            eta: self.eta[lane],
+        })
+    }
+
+    #[inline]
+    pub fn set_lane(&mut self, lane: usize, sample: Option<BsdfSample>) {
+        self.found.set(lane, sample.is_some());
+        if let Some(sample) = sample {
+            self.wi.set_lane(lane, sample.wi);
+            self.weight.set_lane(lane, sample.weight);
+            self.pdf[lane] = sample.pdf;
+            self.specular.set(lane, sample.specular);
+            self.eta[lane] = sample.eta;
+        }
+    }
+}
+
+/// `sample` in the lanes of `lambertian`, whose materials are Lambertian (`is_lambertian`) with
+/// reflectance `diffuse`: `sample_diffuse`'s operations in its order, so each lane gets exactly
+/// what `sample` returns.
 pub fn sample_lambertian_lanes(
-    materials: [Option<&Material>; LANES],
+    lambertian: BVec4A,
+    diffuse: Vec3x4,
     n: Vec3x4,
     wo: Vec3x4,
     u: [Vec2; LANES],
-) -> [Option<BsdfSample>; LANES] {
+) -> BsdfSampleLanes {
     let facing = Vec3x4::select(n.dot(wo).cmplt(Vec4::ZERO), -n, n);
     let local = cosine_hemisphere_lanes(u);
-    let wi = to_world_lanes(facing, local);
-    // The lobe's probability is 1: pdf = 1 cos / pi.
+    // The lobe's probability is 1: pdf = 1 cos / pi, and the weight kd / 1 is kd.
     let pdf = local.z * FRAC_1_PI;
-    std::array::from_fn(|lane| materials[lane]?.diffuse_sample(wi.lane(lane), pdf[lane], 1.0))
+    BsdfSampleLanes {
+        found: lambertian & pdf.cmpgt(Vec4::ZERO),
+        wi: to_world_lanes(facing, local),
+        weight: diffuse,
+        pdf,
+        specular: BVec4A::FALSE,
+        eta: Vec4::ONE,
+    }
 }
 
 /// The diffuse lobe's `eval` (kd / pi) and `pdf` (p_diffuse |cos| / pi) in four lanes, both

@@ -85,7 +85,7 @@ impl Scene {
     /// `hit` makes its hit record.
     pub fn intersect_lanes(
         &self,
-        rays: &[Ray; LANES],
+        rays: &RayLanes,
         active: [bool; LANES],
     ) -> [Option<Found>; LANES] {
         let mut closest = [None; LANES];
@@ -93,7 +93,7 @@ impl Scene {
         if !self.few_holds_bounded {
             let bounded = &self.primitives[..self.bounded];
             for lane in (0..LANES).filter(|&lane| active[lane]) {
-                let ray = &rays[lane];
+                let ray = &rays.lane(lane);
                 let test = |i: usize, t_max| {
                     let at = bounded[i].shape.intersection(ray, t_max)?;
                     closest[lane] = Some(Found { primitive: i as u32, at });
@@ -102,7 +102,7 @@ impl Scene {
                 t_max[lane] = self.bvh.closest(ray, t_max[lane], test, |leaf| self.preload(leaf));
             }
         }
-        let few = self.few.closest(&RayLanes::new(rays), Vec4::from_array(t_max));
+        let few = self.few.closest(rays, Vec4::from_array(t_max));
         std::array::from_fn(|lane| match few[lane] {
             Some((primitive, at)) => Some(Found { primitive, at }),
             None => closest[lane],
@@ -124,13 +124,13 @@ impl Scene {
 
     /// Per lane (a bit each), whether any surface lies along the ray before its `t_max`; a
     /// lane with `t_max` 0 is never occluded.
-    pub fn occluded_lanes(&self, rays: &[Ray; LANES], t_max: [f32; LANES]) -> u32 {
-        let mut occluded = self.few.any(&RayLanes::new(rays), Vec4::from_array(t_max));
+    pub fn occluded_lanes(&self, rays: &RayLanes, t_max: Vec4) -> u32 {
+        let mut occluded = self.few.any(rays, t_max);
         if !self.few_holds_bounded {
             let bounded = &self.primitives[..self.bounded];
             let open = occluded;
             for lane in (0..LANES).filter(|&lane| open & (1 << lane) == 0 && t_max[lane] > 0.0) {
-                let (ray, t_max) = (&rays[lane], t_max[lane]);
+                let (ray, t_max) = (&rays.lane(lane), t_max[lane]);
                 let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
                 if self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf)) {
                     occluded |= 1 << lane;
