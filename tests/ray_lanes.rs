@@ -29,9 +29,11 @@ fn assert_lanes_agree_with_single_rays(scene: &Scene) {
         let occluded = scene.occluded_lanes(&lanes, Vec4::from_array(t_max));
         for (lane, ray) in rays.iter().enumerate() {
             let alone = scene.intersect(ray).filter(|_| active[lane]);
-            let together = found[lane].map(|found| scene.hit(ray, &found));
-            let key = |hit: Option<Hit>| hit.map(|h| (h.primitive, h.t));
-            assert_eq!(key(together), key(alone), "ray {ray:?}");
+            // The whole hit record, made in lanes or one at a time, bit for bit.
+            let key = |hit: Option<Hit>| {
+                hit.map(|h| (h.primitive, h.t, h.point, h.normal, h.shading_normal, h.error))
+            };
+            assert_eq!(key(found.hit(lane)), key(alone), "ray {ray:?}");
             let blocked = active[lane] && scene.occluded(ray, t_max[lane]);
             assert_eq!(occluded & (1 << lane) != 0, blocked, "ray {ray:?} to {}", t_max[lane]);
             let bounded = |h: &Hit| scene.primitives[h.primitive as usize].shape.bounds().is_some();

@@ -35,12 +35,11 @@ fn lights_sampled_in_lanes_agree_with_one_at_a_time() {
             (hits[lane].is_some() && (round + lane) % 5 != 0).then_some((light, u))
         });
         let primitives = hits.map(|h| h.map_or(u32::MAX, |h| h.primitive));
-        let lanes = sample_lanes(
-            &scene,
-            &HitLanes::new(hits.each_ref().map(Option::as_ref)),
-            primitives,
-            lights,
-        );
+        let mut hit_lanes = HitLanes::default();
+        for (lane, hit) in hits.iter().enumerate().filter_map(|(l, h)| Some((l, h.as_ref()?))) {
+            hit_lanes.set_lane(lane, hit);
+        }
+        let lanes = sample_lanes(&scene, &hit_lanes, primitives, lights);
         for lane in 0..LANES {
             let (Some(hit), Some((light, u))) = (hits[lane], lights[lane]) else {
                 assert!(lanes.is_none_or(|l| !l.handled.test(lane)), "an idle lane is not handled");

@@ -6,9 +6,11 @@
 //! Each kind computes the same expressions as its scalar test in `geometry::shape`, in the same
 //! order, so a shape has the same intersections here as there.
 
-use glam::{Vec2, Vec4};
+use glam::Vec4;
 
-use crate::geometry::{Intersection, LANES, PlanarKind, Ray, Shape, Vec3x4};
+use crate::geometry::{
+    Hit, HitLanes, LANES, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error, sphere_error,
+};
 
 /// Four rays, coordinate by coordinate.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,13 +43,42 @@ impl RayLanes {
 /// A simple shape with its parameters splatted over the lanes once, at build time.
 #[derive(Debug, Clone)]
 enum Simple {
-    Plane { normal: Vec3x4, offset: Vec4 },
-    Sphere { center: Vec3x4, radius_squared: Vec4 },
-    Planar { kind: PlanarKind, origin: Vec3x4, edge1: Vec3x4, edge2: Vec3x4 },
+    Plane {
+        normal: Vec3x4,
+        offset: Vec4,
+    },
+    Sphere {
+        center: Vec3x4,
+        radius: Vec4,
+        radius_squared: Vec4,
+        error: Vec4,
+    },
+    Planar {
+        kind: PlanarKind,
+        origin: Vec3x4,
+        edge1: Vec3x4,
+        edge2: Vec3x4,
+        normal: Vec3x4,
+        error: Vec4,
+    },
 }
 
-/// The nearest shape met in each lane (`None` for none): its name and intersection.
-pub type Nearest = [Option<(u32, Intersection)>; LANES];
+/// The nearest shape met in each lane: its name (`None` for none), and there the distance
+/// and the hit record.
+#[derive(Debug, Clone, Copy)]
+pub struct Nearest {
+    pub names: [Option<u32>; LANES],
+    pub t: Vec4,
+    pub hits: HitLanes,
+}
+
+impl Nearest {
+    /// The hit record of a lane whose ray met a shape, named as its primitive.
+    #[inline]
+    pub fn hit(&self, lane: usize) -> Option<Hit> {
+        Some(self.hits.lane(lane, self.names[lane]?, self.t[lane]))
+    }
+}
 
 #[derive(Debug, Clone, Default)]
 pub struct FewShapes {
@@ -73,13 +104,17 @@ impl FewShapes {
                 }
                 Shape::Sphere { center, radius } => Simple::Sphere {
                     center: Vec3x4::splat(center),
+                    radius: Vec4::splat(radius),
                     radius_squared: Vec4::splat(radius * radius),
+                    error: Vec4::splat(sphere_error(center, radius)),
                 },
-                Shape::Planar { kind, origin, edge1, edge2, .. } => Simple::Planar {
+                Shape::Planar { kind, origin, edge1, edge2, normal } => Simple::Planar {
                     kind,
                     origin: Vec3x4::splat(origin),
                     edge1: Vec3x4::splat(edge1),
                     edge2: Vec3x4::splat(edge2),
+                    normal: Vec3x4::splat(normal),
+                    error: Vec4::splat(planar_error(origin, edge1, edge2)),
                 },
                 _ => panic!("`FewShapes::takes` does not take {shape:?}"),
             })
@@ -87,7 +122,8 @@ impl FewShapes {
         FewShapes { shapes, names }
     }
 
-    /// Per lane, the nearest shape the ray meets in (0, t_max).
+    /// Per lane, the nearest shape the ray meets in (0, t_max), with its hit record made in
+    /// lanes: once per shape that is nearest in some lane.
     #[inline]
     pub fn closest(&self, rays: &RayLanes, t_max: Vec4) -> Nearest {
         let mut t_nearest = t_max;
@@ -105,13 +141,22 @@ impl FewShapes {
             let [s, u] = shape_st.unwrap_or([Vec4::ZERO; 2]);
             st = [Vec4::select(hits, s, st[0]), Vec4::select(hits, u, st[1])];
         }
-        std::array::from_fn(|lane| {
-            let at = Intersection {
-                st: Vec2::new(st[0][lane], st[1][lane]),
-                ..Intersection::at(t_nearest[lane])
-            };
-            (index[lane] >= 0.0).then(|| (self.names[index[lane] as usize], at))
-        })
+        let mut hits = HitLanes::default();
+        let mut pending = index.cmpge(Vec4::ZERO);
+        while pending.any() {
+            let i = index[pending.bitmask().trailing_zeros() as usize];
+            let same = index.cmpeq(Vec4::splat(i));
+            let hit = self.shapes[i as usize].hit(rays, t_nearest, st);
+            hits = HitLanes::select(same, hit, hits);
+            pending &= !same;
+        }
+        Nearest {
+            names: std::array::from_fn(|lane| {
+                (index[lane] >= 0.0).then(|| self.names[index[lane] as usize])
+            }),
+            t: t_nearest,
+            hits,
+        }
     }
 
     /// Per lane (a bit each), whether any shape meets the ray in (0, t_max).
@@ -130,6 +175,31 @@ impl FewShapes {
 }
 
 impl Simple {
+    /// The hit records where the rays meet the shape at distance `t`, at coordinates `st`
+    /// along the edges of a planar shape: `Shape::hit`'s operations in its order.
+    #[inline]
+    fn hit(&self, rays: &RayLanes, t: Vec4, [s, u]: [Vec4; 2]) -> HitLanes {
+        let at = |t: Vec4| rays.origin + rays.dir * t;
+        let (point, normal, error) = match self {
+            // Projected back onto the plane, so its error is that of its coordinates alone.
+            Simple::Plane { normal, offset } => {
+                let p = at(t);
+                let point = p - *normal * (normal.dot(p) + *offset);
+                let largest = point.abs().max_element();
+                (point, *normal, Vec4::splat(REL_ERROR) * (largest + offset.abs()))
+            }
+            Simple::Sphere { center, radius, error, .. } => {
+                let from_center = at(t) - *center;
+                let normal = from_center * (Vec4::ONE / from_center.length_squared().sqrt());
+                (*center + normal * *radius, normal, *error)
+            }
+            Simple::Planar { origin, edge1, edge2, normal, error, .. } => {
+                (*origin + *edge1 * s + *edge2 * u, *normal, *error)
+            }
+        };
+        HitLanes { point, normal, shading_normal: normal, error }
+    }
+
     /// The distances to the shape along the four rays (NaN or out of range where there is no
     /// hit), and for planar shapes the coordinates along their edges.
     #[inline]
@@ -139,7 +209,7 @@ impl Simple {
             // As `plane_distance`.
             Simple::Plane { normal, offset } => (-(normal.dot(o) + *offset) / normal.dot(d), None),
             // As `sphere_distance`: r^2 - |oc - b d|^2, and the root far from cancellation.
-            Simple::Sphere { center, radius_squared } => {
+            Simple::Sphere { center, radius_squared, .. } => {
                 let oc = o - *center;
                 let b = oc.dot(d);
                 let perp = oc - d * b;
@@ -154,7 +224,7 @@ impl Simple {
                 (Vec4::select(t0.cmpgt(Vec4::ZERO), t0, t1), None)
             }
             // As `planar_distance` (Möller–Trumbore).
-            Simple::Planar { kind, origin, edge1, edge2 } => {
+            Simple::Planar { kind, origin, edge1, edge2, .. } => {
                 let pvec = d.cross(*edge2);
                 let det = edge1.dot(pvec);
                 let inv_det = Vec4::ONE / det;
@@ -219,14 +289,18 @@ mod tests {
                 let one_by_one = shapes
                     .iter()
                     .enumerate()
-                    .filter_map(|(i, shape)| Some((i, shape.intersection(ray, t_max[lane])?)))
-                    .min_by(|a, b| a.1.t.total_cmp(&b.1.t));
-                let key =
-                    |found: Option<(usize, Intersection)>| found.map(|(i, at)| (i, at.t, at.st));
-                let nearest = nearest[lane].map(|(name, at)| (name as usize, at));
-                assert_eq!(key(nearest), key(one_by_one));
+                    .filter_map(|(i, shape)| {
+                        let at = shape.intersection(ray, t_max[lane])?;
+                        Some(Hit { primitive: i as u32, ..shape.hit(ray, &at) })
+                    })
+                    .min_by(|a, b| a.t.total_cmp(&b.t));
+                // The whole hit record, bit for bit.
+                let key = |hit: Option<Hit>| {
+                    hit.map(|h| (h.primitive, h.t, h.point, h.normal, h.shading_normal, h.error))
+                };
+                assert_eq!(key(nearest.hit(lane)), key(one_by_one));
                 assert_eq!(occluded & (1 << lane) != 0, one_by_one.is_some());
-                if let Some((i, _)) = one_by_one {
+                if let Some(i) = one_by_one.map(|h| h.primitive as usize) {
                     hits[match shapes[i] {
                         Shape::Plane { .. } => 0,
                         Shape::Sphere { .. } => 1,

@@ -8,7 +8,7 @@ mod planes;
 
 pub use bvh::{Bvh, MAX_PRIMITIVES};
 pub use huge_array::HugeArray;
-pub use lanes::{FewShapes, RayLanes};
+pub use lanes::{FewShapes, Nearest, RayLanes};
 pub use planes::Planes;
 
 /// Asks the CPU to start loading the cache line that holds `value`, and goes on without waiting

@@ -77,6 +77,19 @@ impl Vec3x4 {
         }
     }
 
+    #[inline]
+    pub fn abs(self) -> Self {
+        Vec3x4 { x: self.x.abs(), y: self.y.abs(), z: self.z.abs() }
+    }
+
+    /// The largest coordinate per lane, compared as `Vec3::max_element` does (`a > b`, in
+    /// its order), so lanes pick what it picks.
+    #[inline]
+    pub fn max_element(self) -> Vec4 {
+        let max = |a: Vec4, b: Vec4| Vec4::select(a.cmpgt(b), a, b);
+        max(max(self.x, self.y), self.z)
+    }
+
     /// Per lane, whether all three coordinates are zero (as `v == Vec3::ZERO`).
     #[inline]
     pub fn is_zero(self) -> BVec4A {
@@ -85,7 +98,7 @@ impl Vec3x4 {
 }
 
 /// The hits of four lanes, coordinate by coordinate: the fields of `Hit` that shading reads.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct HitLanes {
     pub point: Vec3x4,
     pub normal: Vec3x4,
@@ -94,15 +107,35 @@ pub struct HitLanes {
 }
 
 impl HitLanes {
-    /// Lanes without a hit hold zeros.
     #[inline]
-    pub fn new(hits: [Option<&Hit>; LANES]) -> Self {
-        let field = |f: fn(&Hit) -> Vec3| Vec3x4::from_lanes(hits.map(|h| h.map_or(Vec3::ZERO, f)));
+    pub fn set_lane(&mut self, lane: usize, hit: &Hit) {
+        self.point.set_lane(lane, hit.point);
+        self.normal.set_lane(lane, hit.normal);
+        self.shading_normal.set_lane(lane, hit.shading_normal);
+        self.error[lane] = hit.error;
+    }
+
+    /// Per lane, `if_true` where `mask` is set, else `if_false`.
+    #[inline]
+    pub fn select(mask: BVec4A, if_true: Self, if_false: Self) -> Self {
         HitLanes {
-            point: field(|h| h.point),
-            normal: field(|h| h.normal),
-            shading_normal: field(|h| h.shading_normal),
-            error: Vec4::from_array(hits.map(|h| h.map_or(0.0, |h| h.error))),
+            point: Vec3x4::select(mask, if_true.point, if_false.point),
+            normal: Vec3x4::select(mask, if_true.normal, if_false.normal),
+            shading_normal: Vec3x4::select(mask, if_true.shading_normal, if_false.shading_normal),
+            error: Vec4::select(mask, if_true.error, if_false.error),
+        }
+    }
+
+    /// The hit record of a lane, for `primitive` at distance `t`.
+    #[inline]
+    pub fn lane(&self, lane: usize, primitive: u32, t: f32) -> Hit {
+        Hit {
+            t,
+            point: self.point.lane(lane),
+            normal: self.normal.lane(lane),
+            shading_normal: self.shading_normal.lane(lane),
+            error: self.error[lane],
+            primitive,
         }
     }
 

@@ -9,6 +9,7 @@ mod triangle_mesh;
 pub use aabb::Aabb;
 pub use lanes::{HitLanes, LANES, Vec3x4};
 pub use ray::{Hit, Ray, offset_origin};
+pub(crate) use shape::REL_ERROR;
 pub use shape::{
     Intersection, PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, planar_coordinates,
     planar_error, similarity_scale, sphere_error,

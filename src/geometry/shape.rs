@@ -10,7 +10,7 @@ use crate::sampling::{concentric_disk, uniform_sphere, uniform_triangle};
 
 /// Relative error allowance for computed hit points: a few hundred ulps of the coordinates'
 /// magnitude, so that spawned rays clear the surface at any scene scale.
-const REL_ERROR: f32 = 256.0 * f32::EPSILON;
+pub(crate) const REL_ERROR: f32 = 256.0 * f32::EPSILON;
 
 /// Planar shapes are parameterised as `origin + s * edge1 + t * edge2`; the kind says which
 /// (s, t) are inside. An affine transform keeps them planar, so they are stored in world space.

@@ -68,20 +68,20 @@ impl Integrator for Path {
             let mut vertices: [Option<Vertex>; LANES] = Default::default();
             let mut emission = Emission::default();
             for lane in (0..LANES).filter(|&lane| active[lane]) {
-                let ray = lanes.rays.lane(lane);
-                let hit = found[lane].map(|found| scene.hit(&ray, &found));
-                vertices[lane] = self.arrive(scene, &mut lanes, lane, hit, &mut emission);
+                vertices[lane] =
+                    self.arrive(scene, &mut lanes, lane, found.hit(lane), &mut emission);
             }
             lanes.radiance = Vec3x4::select(
                 emission.found,
                 lanes.radiance + lanes.beta * emission.radiance * emission.weight,
                 lanes.radiance,
             );
-            let hits = HitLanes::new(vertices.each_ref().map(|v| v.as_ref().map(|v| &v.hit)));
+            // Lanes whose path ended on arrival hold values no one reads.
+            let hits = &found.hits;
             let wo = -lanes.rays.dir;
-            let shadowed = self.next_event_lanes(scene, &lanes, &vertices, &hits, wo);
-            let bsdf_samples = sample_bsdf_lanes(&vertices, &hits, wo);
-            let done = lanes.leave(&hits, &bsdf_samples);
+            let shadowed = self.next_event_lanes(scene, &lanes, &vertices, hits, wo);
+            let bsdf_samples = sample_bsdf_lanes(&vertices, hits, wo);
+            let done = lanes.leave(hits, &bsdf_samples);
             if shadowed.found.any() {
                 let t_max = Vec4::select(shadowed.found, shadowed.t_max, Vec4::ZERO);
                 let open = !occluded_mask(scene.occluded_lanes(&shadowed.rays, t_max));
@@ -173,8 +173,7 @@ impl PathLanes {
         self.rays = RayLanes { origin: hits.offset_origin(samples.wi), dir: samples.wi };
         // Russian roulette: continue with probability tied to the throughput and divide by
         // it, so the estimate stays unbiased.
-        let scaled = self.beta * self.eta_scale;
-        let survive = max(max(scaled.x, scaled.y), scaled.z).min(Vec4::ONE);
+        let survive = (self.beta * self.eta_scale).max_element().min(Vec4::ONE);
         let mut divide = BVec4A::FALSE;
         let mut done = [false; LANES];
         for (lane, path) in self.paths.iter_mut().enumerate() {
@@ -195,11 +194,6 @@ impl PathLanes {
         self.beta = Vec3x4::select(divide, self.beta / survive, self.beta);
         done
     }
-}
-
-/// `a > b ? a : b` per lane: `Vec3::max_element`'s comparison, so lanes pick as it does.
-fn max(a: Vec4, b: Vec4) -> Vec4 {
-    Vec4::select(a.cmpgt(b), a, b)
 }
 
 /// Where a path scatters this bounce, and the sample values for its choices there.

@@ -10,7 +10,7 @@ use std::ops::Range;
 
 use glam::{Affine3A, Vec3, Vec4};
 
-use crate::accel::{Bvh, FewShapes, Planes, RayLanes};
+use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
 use crate::geometry::{Hit, Intersection, LANES, Ray, Shape};
 use crate::light::{LaneLight, Light};
@@ -30,7 +30,7 @@ pub struct Primitive {
 
 /// Where a ray meets a primitive, before its hit record is made.
 #[derive(Debug, Clone, Copy)]
-pub struct Found {
+struct Found {
     primitive: u32,
     at: Intersection,
 }
@@ -81,13 +81,9 @@ impl Scene {
         Some(self.hit(ray, &closest?))
     }
 
-    /// The closest primitive along each ray whose lane is active (`None` in the others);
-    /// `hit` makes its hit record.
-    pub fn intersect_lanes(
-        &self,
-        rays: &RayLanes,
-        active: [bool; LANES],
-    ) -> [Option<Found>; LANES] {
+    /// The closest primitive along each ray whose lane is active (none in the others), and
+    /// its hit record.
+    pub fn intersect_lanes(&self, rays: &RayLanes, active: [bool; LANES]) -> Nearest {
         let mut closest = [None; LANES];
         let mut t_max = active.map(|active| if active { f32::INFINITY } else { 0.0 });
         if !self.few_holds_bounded {
@@ -102,15 +98,22 @@ impl Scene {
                 t_max[lane] = self.bvh.closest(ray, t_max[lane], test, |leaf| self.preload(leaf));
             }
         }
-        let few = self.few.closest(rays, Vec4::from_array(t_max));
-        std::array::from_fn(|lane| match few[lane] {
-            Some((primitive, at)) => Some(Found { primitive, at }),
-            None => closest[lane],
-        })
+        let mut nearest = self.few.closest(rays, Vec4::from_array(t_max));
+        for (lane, found) in closest.iter().enumerate() {
+            if nearest.names[lane].is_none()
+                && let Some(found) = found
+            {
+                let hit = self.hit(&rays.lane(lane), found);
+                nearest.names[lane] = Some(hit.primitive);
+                nearest.t[lane] = hit.t;
+                nearest.hits.set_lane(lane, &hit);
+            }
+        }
+        nearest
     }
 
     /// The hit record of the primitive `ray` was found to meet. (Made only for the closest.)
-    pub fn hit(&self, ray: &Ray, found: &Found) -> Hit {
+    fn hit(&self, ray: &Ray, found: &Found) -> Hit {
         let primitive = &self.primitives[found.primitive as usize];
         Hit { primitive: found.primitive, ..primitive.shape.hit(ray, &found.at) }
     }
