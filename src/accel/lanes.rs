@@ -133,9 +133,6 @@ impl FewShapes {
         for (i, shape) in self.shapes.iter().enumerate() {
             let (t, shape_st) = shape.distances(rays);
             let hits = t.cmpgt(Vec4::ZERO) & t.cmplt(t_nearest);
-            if !hits.any() {
-                continue;
-            }
             t_nearest = Vec4::select(hits, t, t_nearest);
             index = Vec4::select(hits, Vec4::splat(i as f32), index);
             let [s, u] = shape_st.unwrap_or([Vec4::ZERO; 2]);
