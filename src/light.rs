@@ -138,14 +138,6 @@ pub struct LightSampleLanes {
     pub shadow_t_max: Vec4,
 }
 
-impl LightSampleLanes {
-    /// The shadow ray of a lane with a sample.
-    pub fn shadow(&self, lane: usize) -> ShadowRay {
-        let ray = Ray::new(self.shadow_origin.lane(lane), self.shadow_dir.lane(lane));
-        ShadowRay { ray, t_max: self.shadow_t_max[lane] }
-    }
-}
-
 /// A light as `sample_lanes` reads it, gathered once per scene: a planar area light, or a
 /// point light as one of no extent (its position as `origin`, edges and normal zero, its
 /// intensity as `emission`).

@@ -65,12 +65,9 @@ fn lights_sampled_in_lanes_agree_with_one_at_a_time() {
             assert_eq!(lanes.li.lane(lane), alone.li);
             assert_eq!(lanes.pdf[lane], alone.pdf);
             assert_eq!(lanes.is_delta.test(lane), alone.is_delta);
-            let shadow = lanes.shadow(lane);
-            assert_eq!(
-                (shadow.ray.origin, shadow.ray.dir),
-                (alone.shadow.ray.origin, alone.shadow.ray.dir)
-            );
-            assert_eq!(shadow.t_max, alone.shadow.t_max);
+            let shadow = (lanes.shadow_origin.lane(lane), lanes.shadow_dir.lane(lane));
+            assert_eq!(shadow, (alone.shadow.ray.origin.into(), alone.shadow.ray.dir.into()));
+            assert_eq!(lanes.shadow_t_max[lane], alone.shadow.t_max);
         }
     }
     assert!(

@@ -314,6 +314,7 @@ impl Path {
             vertices.each_ref().map(|v| v.as_ref().map_or(u32::MAX, |v| v.hit.primitive));
         let sampled =
             sample_lanes(scene, hits, primitives, lights.map(|l| l.map(|(i, _, u)| (i, u))));
+        // Lanes without a shadow ray keep whatever ray: `found` leaves them untested.
         let mut shadowed = Shadowed {
             found: BVec4A::FALSE,
             rays: lanes.rays,
