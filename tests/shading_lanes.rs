@@ -117,14 +117,11 @@ fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
         for lane in 0..LANES {
             let alone =
                 materials[lane].sample(n[lane], wo[lane], 0.0, u[lane]).filter(|_| present[lane]);
-            assert_eq!(
-                key(lanes.lane(lane)),
-                key(alone),
-                "n {} wo {} u {}",
-                n[lane],
-                wo[lane],
-                u[lane]
-            );
+            let in_lanes = lanes.found.test(lane).then(|| {
+                let (wi, weight) = (lanes.wi.lane(lane), lanes.weight.lane(lane));
+                (wi, weight, lanes.pdf[lane], lanes.specular.test(lane), lanes.eta[lane])
+            });
+            assert_eq!(in_lanes, key(alone), "n {} wo {} u {}", n[lane], wo[lane], u[lane]);
         }
     }
 }

@@ -13,7 +13,7 @@ use crate::geometry::{
 };
 
 /// Four rays, coordinate by coordinate.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct RayLanes {
     pub origin: Vec3x4,
     pub dir: Vec3x4,

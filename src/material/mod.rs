@@ -276,17 +276,6 @@ pub struct BsdfSampleLanes {
 
 impl BsdfSampleLanes {
     #[inline]
-    pub fn lane(&self, lane: usize) -> Option<BsdfSample> {
-        self.found.test(lane).then(|| BsdfSample {
-            wi: self.wi.lane(lane),
-            weight: self.weight.lane(lane),
-            pdf: self.pdf[lane],
-            specular: self.specular.test(lane),
-            eta: self.eta[lane],
-        })
-    }
-
-    #[inline]
     pub fn set_lane(&mut self, lane: usize, sample: Option<BsdfSample>) {
         self.found.set(lane, sample.is_some());
         if let Some(sample) = sample {
