@@ -141,7 +141,7 @@ pub struct LightSampleLanes {
 /// A light as `sample_lanes` reads it, gathered once per scene: a planar area light, or a
 /// point light as one of no extent (its position as `origin`, edges and normal zero, its
 /// intensity as `emission`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct LaneLight {
     /// The emitter's primitive and shape; `None` for a point light.
     pub planar: Option<(u32, PlanarKind)>,

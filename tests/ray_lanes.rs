@@ -35,7 +35,7 @@ fn assert_lanes_agree_with_single_rays(scene: &Scene) {
             };
             assert_eq!(key(found.hit(lane)), key(alone), "ray {ray:?}");
             let blocked = active[lane] && scene.occluded(ray, t_max[lane]);
-            assert_eq!(occluded & (1 << lane) != 0, blocked, "ray {ray:?} to {}", t_max[lane]);
+            assert_eq!(occluded.test(lane), blocked, "ray {ray:?} to {}", t_max[lane]);
             let bounded = |h: &Hit| scene.primitives[h.primitive as usize].shape.bounds().is_some();
             hits += usize::from(alone.as_ref().is_some_and(bounded));
         }

@@ -6,7 +6,7 @@
 //! Each kind computes the same expressions as its scalar test in `geometry::shape`, in the same
 //! order, so a shape has the same intersections here as there.
 
-use glam::Vec4;
+use glam::{BVec4A, Vec4};
 
 use crate::geometry::{
     Hit, HitLanes, LANES, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error, sphere_error,
@@ -156,14 +156,14 @@ impl FewShapes {
         }
     }
 
-    /// Per lane (a bit each), whether any shape meets the ray in (0, t_max).
+    /// Per lane, whether any shape meets the ray in (0, t_max).
     #[inline]
-    pub fn any(&self, rays: &RayLanes, t_max: Vec4) -> u32 {
-        let mut occluded = 0;
+    pub fn any(&self, rays: &RayLanes, t_max: Vec4) -> BVec4A {
+        let mut occluded = BVec4A::FALSE;
         for shape in &self.shapes {
             let t = shape.distances(rays).0;
-            occluded |= (t.cmpgt(Vec4::ZERO) & t.cmplt(t_max)).bitmask();
-            if occluded == (1 << LANES) - 1 {
+            occluded |= t.cmpgt(Vec4::ZERO) & t.cmplt(t_max);
+            if occluded.all() {
                 break;
             }
         }
@@ -296,7 +296,7 @@ mod tests {
                     hit.map(|h| (h.primitive, h.t, h.point, h.normal, h.shading_normal, h.error))
                 };
                 assert_eq!(key(nearest.hit(lane)), key(one_by_one));
-                assert_eq!(occluded & (1 << lane) != 0, one_by_one.is_some());
+                assert_eq!(occluded.test(lane), one_by_one.is_some());
                 if let Some(i) = one_by_one.map(|h| h.primitive as usize) {
                     hits[match shapes[i] {
                         Shape::Plane { .. } => 0,

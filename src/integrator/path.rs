@@ -84,7 +84,7 @@ impl Integrator for Path {
             let done = lanes.leave(hits, &bsdf_samples);
             if shadowed.found.any() {
                 let t_max = Vec4::select(shadowed.found, shadowed.t_max, Vec4::ZERO);
-                let open = !occluded_mask(scene.occluded_lanes(&shadowed.rays, t_max));
+                let open = !scene.occluded_lanes(&shadowed.rays, t_max);
                 lanes.radiance = Vec3x4::select(
                     shadowed.found & open,
                     lanes.radiance + shadowed.radiance,
@@ -98,11 +98,6 @@ impl Integrator for Path {
             }
         }
     }
-}
-
-/// The lanes (a bit each) of `occluded_lanes` as a mask.
-fn occluded_mask(bits: u32) -> BVec4A {
-    BVec4A::from_array(std::array::from_fn(|lane| bits & (1 << lane) != 0))
 }
 
 /// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).

@@ -8,7 +8,7 @@ pub use build::build;
 
 use std::ops::Range;
 
-use glam::{Affine3A, Vec3, Vec4};
+use glam::{Affine3A, BVec4A, Vec3, Vec4};
 
 use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
@@ -125,18 +125,18 @@ impl Scene {
         self.planes.any(ray, t_max) || self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
     }
 
-    /// Per lane (a bit each), whether any surface lies along the ray before its `t_max`; a
+    /// Per lane, whether any surface lies along the ray before its `t_max`; a
     /// lane with `t_max` 0 is never occluded.
-    pub fn occluded_lanes(&self, rays: &RayLanes, t_max: Vec4) -> u32 {
+    pub fn occluded_lanes(&self, rays: &RayLanes, t_max: Vec4) -> BVec4A {
         let mut occluded = self.few.any(rays, t_max);
         if !self.few_holds_bounded {
             let bounded = &self.primitives[..self.bounded];
             let open = occluded;
-            for lane in (0..LANES).filter(|&lane| open & (1 << lane) == 0 && t_max[lane] > 0.0) {
+            for lane in (0..LANES).filter(|&lane| !open.test(lane) && t_max[lane] > 0.0) {
                 let (ray, t_max) = (&rays.lane(lane), t_max[lane]);
                 let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
                 if self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf)) {
-                    occluded |= 1 << lane;
+                    occluded.set(lane, true);
                 }
             }
         }
