@@ -9,7 +9,8 @@
 use glam::{BVec4A, Vec4};
 
 use crate::geometry::{
-    Hit, HitLanes, LANES, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error, sphere_error,
+    Hit, HitLanes, LANES, PlanarKind, REL_ERROR, Ray, SetLane, Shape, Vec3x4, planar_error,
+    sphere_error,
 };
 
 /// Four rays, coordinate by coordinate.

@@ -5,10 +5,10 @@
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use super::Integrator;
-use crate::accel::RayLanes;
-use crate::geometry::{Hit, HitLanes, LANES, Ray, Vec3x4};
+use crate::accel::{Nearest, RayLanes};
+use crate::geometry::{Hit, HitLanes, LANES, Ray, SetLane, Vec3x4};
 use crate::light::{ShadowRay, sample_lanes};
-use crate::material::{BsdfSampleLanes, Material, eval_diffuse_lanes, sample_lambertian_lanes};
+use crate::material::{BsdfSampleLanes, eval_diffuse_lanes, sample_lambertian_lanes};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -65,11 +65,10 @@ impl Integrator for Path {
                 break;
             }
             let found = scene.intersect_lanes(&lanes.rays, active);
-            let mut vertices: [Option<Vertex>; LANES] = Default::default();
+            let mut vertices = Vertices::new();
             let mut emission = Emission::default();
             for lane in (0..LANES).filter(|&lane| active[lane]) {
-                vertices[lane] =
-                    self.arrive(scene, &mut lanes, lane, found.hit(lane), &mut emission);
+                self.arrive(scene, &mut lanes, lane, found.hit(lane), &mut emission, &mut vertices);
             }
             lanes.radiance = Vec3x4::select(
                 emission.found,
@@ -77,11 +76,10 @@ impl Integrator for Path {
                 lanes.radiance,
             );
             // Lanes whose path ended on arrival hold values no one reads.
-            let hits = &found.hits;
             let wo = -lanes.rays.dir;
-            let shadowed = self.next_event_lanes(scene, &lanes, &vertices, hits, wo);
-            let bsdf_samples = sample_bsdf_lanes(&vertices, hits, wo);
-            let done = lanes.leave(hits, &bsdf_samples);
+            let shadowed = self.next_event_lanes(scene, &lanes, &vertices, &found, wo);
+            let bsdf_samples = sample_bsdf_lanes(scene, &vertices, &found, wo);
+            let done = lanes.leave(&found.hits, &bsdf_samples);
             if shadowed.found.any() {
                 let t_max = Vec4::select(shadowed.found, shadowed.t_max, Vec4::ZERO);
                 let open = !scene.occluded_lanes(&shadowed.rays, t_max);
@@ -152,8 +150,8 @@ impl PathLanes {
         self.rays.set_lane(lane, ray);
         self.radiance.set_lane(lane, Vec3::ZERO);
         self.beta.set_lane(lane, Vec3::ONE);
-        self.eta_scale[lane] = 1.0;
-        self.from_diffuse.set(lane, false);
+        self.eta_scale.set_lane(lane, 1.0);
+        self.from_diffuse.set_lane(lane, false);
     }
 
     /// Takes each path on along its BSDF sample, or ends it (no sample, or Russian roulette);
@@ -183,7 +181,7 @@ impl PathLanes {
                 done[lane] = true;
                 continue;
             }
-            divide.set(lane, roulette);
+            divide.set_lane(lane, roulette);
             path.bounces += 1;
         }
         self.beta = Vec3x4::select(divide, self.beta / survive, self.beta);
@@ -191,16 +189,37 @@ impl PathLanes {
     }
 }
 
-/// Where a path scatters this bounce, and the sample values for its choices there.
-struct Vertex {
-    hit: Hit,
-    wo: Vec3,
-    material: Material,
+/// Where the paths scatter this bounce, in the lanes of `found`, and the sample values for
+/// their choices there: what sampling in lanes reads, so it gathers nothing. (The BSDFs sampled
+/// one vertex at a time look their material up again: keeping it here costs more.)
+struct Vertices {
+    found: BVec4A,
+    /// The primitive hit (`u32::MAX` where there is no vertex).
+    primitives: [u32; LANES],
+    /// The material's diffuse reflectance there, and lanes whose material is Lambertian alone.
+    diffuse: Vec3x4,
+    lambertian: BVec4A,
     /// For next-event estimation: the light chosen, the probability of that choice, and the
-    /// point of the unit square that samples it.
-    light: Option<(usize, f32, Vec2)>,
-    u_lobe: f32,
-    u_direction: Vec2,
+    /// point of the unit square that samples it; and the probability of the diffuse lobe.
+    lights: [Option<(usize, f32, Vec2)>; LANES],
+    p_diffuse: Vec4,
+    u_lobe: [f32; LANES],
+    u_direction: [Vec2; LANES],
+}
+
+impl Vertices {
+    fn new() -> Self {
+        Vertices {
+            found: BVec4A::FALSE,
+            primitives: [u32::MAX; LANES],
+            diffuse: Vec3x4::ZERO,
+            lambertian: BVec4A::FALSE,
+            lights: [None; LANES],
+            p_diffuse: Vec4::ZERO,
+            u_lobe: [0.0; LANES],
+            u_direction: [Vec2::ZERO; LANES],
+        }
+    }
 }
 
 /// Emitted radiance the paths found where they arrived, in the lanes of `found`, to be
@@ -223,7 +242,7 @@ struct Shadowed {
 
 impl Path {
     /// The path in `lane` arrives at `hit` (`None`: its ray left the scene) and finds the
-    /// emission there; returns where it scatters next, or `None` if it ends here.
+    /// emission there; sets where it scatters next in `vertices`, unless it ends here.
     fn arrive(
         &self,
         scene: &Scene,
@@ -231,12 +250,13 @@ impl Path {
         lane: usize,
         hit: Option<Hit>,
         emission: &mut Emission,
-    ) -> Option<Vertex> {
+        vertices: &mut Vertices,
+    ) {
         let Some(hit) = hit else {
-            emission.found.set(lane, true);
+            emission.found.set_lane(lane, true);
             emission.radiance.set_lane(lane, scene.background());
-            emission.weight[lane] = 1.0;
-            return None;
+            emission.weight.set_lane(lane, 1.0);
+            return;
         };
         let wo = -lanes.rays.dir.lane(lane);
         let material = scene.material(&hit);
@@ -246,20 +266,28 @@ impl Path {
                 .from_diffuse
                 .test(lane)
                 .then(|| (lanes.previous_point.lane(lane), lanes.previous_pdf[lane]));
-            emission.found.set(lane, true);
+            emission.found.set_lane(lane, true);
             emission.radiance.set_lane(lane, emitted);
-            emission.weight[lane] = self.emission_weight(scene, &hit, previous);
+            emission.weight.set_lane(lane, self.emission_weight(scene, &hit, previous));
         }
-        let path = lanes.paths[lane].as_mut()?;
+        let Some(path) = lanes.paths[lane].as_mut() else { return };
         if path.bounces == self.max_depth {
-            return None;
+            return;
         }
         let sampler = &mut path.sampler;
         let light = if material.has_diffuse() { self.choose_light(scene, sampler) } else { None };
         // Only a material with specular lobes has a lobe to choose.
-        let u_lobe = sampler.next_1d_if(material.has_specular());
-        let u_direction = sampler.next_2d();
-        Some(Vertex { hit, wo, material, light, u_lobe, u_direction })
+        vertices.u_lobe[lane] = sampler.next_1d_if(material.has_specular());
+        vertices.u_direction[lane] = sampler.next_2d();
+        vertices.found.set_lane(lane, true);
+        vertices.primitives[lane] = hit.primitive;
+        vertices.diffuse.set_lane(lane, material.diffuse);
+        if light.is_some() {
+            let p_diffuse = material.diffuse_probability(hit.shading_normal, wo);
+            vertices.p_diffuse.set_lane(lane, p_diffuse);
+        }
+        vertices.lights[lane] = light;
+        vertices.lambertian.set_lane(lane, material.is_lambertian());
     }
 
     /// The weight of emission found by a BSDF-sampled ray.
@@ -300,15 +328,13 @@ impl Path {
         &self,
         scene: &Scene,
         lanes: &PathLanes,
-        vertices: &[Option<Vertex>; LANES],
-        hits: &HitLanes,
+        vertices: &Vertices,
+        found: &Nearest,
         wo: Vec3x4,
     ) -> Shadowed {
-        let lights = vertices.each_ref().map(|v| v.as_ref().and_then(|v| v.light));
-        let primitives =
-            vertices.each_ref().map(|v| v.as_ref().map_or(u32::MAX, |v| v.hit.primitive));
-        let sampled =
-            sample_lanes(scene, hits, primitives, lights.map(|l| l.map(|(i, _, u)| (i, u))));
+        let (hits, lights) = (&found.hits, vertices.lights);
+        let light_points = lights.map(|l| l.map(|(i, _, u)| (i, u)));
+        let sampled = sample_lanes(scene, hits, vertices.primitives, light_points);
         // Lanes without a shadow ray keep whatever ray: `found` leaves them untested.
         let mut shadowed = Shadowed {
             found: BVec4A::FALSE,
@@ -317,17 +343,9 @@ impl Path {
             radiance: Vec3x4::ZERO,
         };
         if let Some(sampled) = sampled.as_ref().filter(|s| s.found.any()) {
-            let diffuse = Vec3x4::from_lanes(
-                vertices.each_ref().map(|v| v.as_ref().map_or(Vec3::ZERO, |v| v.material.diffuse)),
-            );
-            let p_diffuse = Vec4::from_array(std::array::from_fn(|lane| match &vertices[lane] {
-                Some(v) if sampled.found.test(lane) => {
-                    v.material.diffuse_probability(v.hit.shading_normal, v.wo)
-                }
-                _ => 0.0,
-            }));
             let n = hits.shading_normal;
-            let (f, bsdf_pdf) = eval_diffuse_lanes(n, wo, sampled.wi, diffuse, p_diffuse);
+            let (f, bsdf_pdf) =
+                eval_diffuse_lanes(n, wo, sampled.wi, vertices.diffuse, vertices.p_diffuse);
             let probability = Vec4::from_array(lights.map(|l| l.map_or(1.0, |(_, p, _)| p)));
             let light_pdf = probability * sampled.pdf;
             let weight = match self.strategy {
@@ -348,14 +366,14 @@ impl Path {
         }
         let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
         for lane in (0..LANES).filter(|&lane| !handled.test(lane)) {
-            if let Some(vertex) = &vertices[lane]
-                && let Some((light, probability, u)) = vertex.light
+            if let Some((light, probability, u)) = lights[lane]
+                && let Some(hit) = found.hit(lane)
                 && let Some((shadow, radiance)) =
-                    self.next_event(scene, vertex, light, probability, u)
+                    self.next_event(scene, &hit, wo.lane(lane), light, probability, u)
             {
-                shadowed.found.set(lane, true);
+                shadowed.found.set_lane(lane, true);
                 shadowed.rays.set_lane(lane, &shadow.ray);
-                shadowed.t_max[lane] = shadow.t_max;
+                shadowed.t_max.set_lane(lane, shadow.t_max);
                 shadowed.radiance.set_lane(lane, lanes.beta.lane(lane) * radiance);
             }
         }
@@ -367,14 +385,15 @@ impl Path {
     fn next_event(
         &self,
         scene: &Scene,
-        vertex: &Vertex,
+        hit: &Hit,
+        wo: Vec3,
         light: usize,
         probability: f32,
         u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
-        let Vertex { hit, wo, material, .. } = vertex;
+        let material = scene.material(hit);
         let sample = scene.lights[light].sample(scene, hit, u)?;
-        let f = material.eval(hit.shading_normal, *wo, sample.wi);
+        let f = material.eval(hit.shading_normal, wo, sample.wi);
         if f == Vec3::ZERO {
             return None;
         }
@@ -382,7 +401,7 @@ impl Path {
         let weight = if sample.is_delta || self.strategy == Strategy::LightSampling {
             1.0
         } else {
-            power_heuristic(light_pdf, material.pdf(hit.shading_normal, *wo, sample.wi))
+            power_heuristic(light_pdf, material.pdf(hit.shading_normal, wo, sample.wi))
         };
         let radiance = f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf;
         Some((sample.shadow, radiance))
@@ -392,21 +411,18 @@ impl Path {
 /// Directions from the BSDFs at the lanes' vertices: Lambertian ones in lanes, the others one
 /// vertex at a time.
 fn sample_bsdf_lanes(
-    vertices: &[Option<Vertex>; LANES],
-    hits: &HitLanes,
+    scene: &Scene,
+    vertices: &Vertices,
+    found: &Nearest,
     wo: Vec3x4,
 ) -> BsdfSampleLanes {
-    let lambertian =
-        vertices.each_ref().map(|v| v.as_ref().is_some_and(|v| v.material.is_lambertian()));
-    let diffuse = Vec3x4::from_lanes(
-        vertices.each_ref().map(|v| v.as_ref().map_or(Vec3::ZERO, |v| v.material.diffuse)),
-    );
-    let u = vertices.each_ref().map(|v| v.as_ref().map_or(Vec2::ZERO, |v| v.u_direction));
-    let lambertian = BVec4A::from_array(lambertian);
-    let mut samples = sample_lambertian_lanes(lambertian, diffuse, hits.shading_normal, wo, u);
-    for (lane, vertex) in vertices.iter().enumerate() {
-        if let Some(v) = vertex.as_ref().filter(|_| !lambertian.test(lane)) {
-            let sample = v.material.sample(v.hit.shading_normal, v.wo, v.u_lobe, v.u_direction);
+    let (lambertian, n) = (vertices.lambertian, found.hits.shading_normal);
+    let mut samples =
+        sample_lambertian_lanes(lambertian, vertices.diffuse, n, wo, vertices.u_direction);
+    for lane in (0..LANES).filter(|&lane| (vertices.found & !lambertian).test(lane)) {
+        if let Some(hit) = found.hit(lane) {
+            let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction[lane]);
+            let sample = scene.material(&hit).sample(hit.shading_normal, wo.lane(lane), u_lobe, u);
             samples.set_lane(lane, sample);
         }
     }

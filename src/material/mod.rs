@@ -12,7 +12,7 @@ use std::f32::consts::FRAC_1_PI;
 
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
-use crate::geometry::{LANES, Vec3x4};
+use crate::geometry::{LANES, SetLane, Vec3x4};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_lanes};
 use crate::scene::graph::{MaterialDesc, Pattern};
 
@@ -277,13 +277,13 @@ pub struct BsdfSampleLanes {
 impl BsdfSampleLanes {
     #[inline]
     pub fn set_lane(&mut self, lane: usize, sample: Option<BsdfSample>) {
-        self.found.set(lane, sample.is_some());
+        self.found.set_lane(lane, sample.is_some());
         if let Some(sample) = sample {
             self.wi.set_lane(lane, sample.wi);
             self.weight.set_lane(lane, sample.weight);
-            self.pdf[lane] = sample.pdf;
-            self.specular.set(lane, sample.specular);
-            self.eta[lane] = sample.eta;
+            self.pdf.set_lane(lane, sample.pdf);
+            self.specular.set_lane(lane, sample.specular);
+            self.eta.set_lane(lane, sample.eta);
         }
     }
 }

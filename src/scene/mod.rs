@@ -12,7 +12,7 @@ use glam::{Affine3A, BVec4A, Vec3, Vec4};
 
 use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
-use crate::geometry::{Hit, Intersection, LANES, Ray, Shape};
+use crate::geometry::{Hit, Intersection, LANES, Ray, SetLane, Shape};
 use crate::light::{LaneLight, Light};
 use crate::material::Material;
 use crate::texture::Texture;
@@ -105,7 +105,7 @@ impl Scene {
             {
                 let hit = self.hit(&rays.lane(lane), found);
                 nearest.names[lane] = Some(hit.primitive);
-                nearest.t[lane] = hit.t;
+                nearest.t.set_lane(lane, hit.t);
                 nearest.hits.set_lane(lane, &hit);
             }
         }
@@ -136,7 +136,7 @@ impl Scene {
                 let (ray, t_max) = (&rays.lane(lane), t_max[lane]);
                 let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
                 if self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf)) {
-                    occluded.set(lane, true);
+                    occluded.set_lane(lane, true);
                 }
             }
         }
