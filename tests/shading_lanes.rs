@@ -5,7 +5,7 @@ mod common;
 
 use common::{LAB_BOX, scene};
 use glam::{BVec4A, Vec2, Vec3, Vec4};
-use raydiance::geometry::{Hit, HitLanes, LANES, Ray, Vec3x4};
+use raydiance::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4};
 use raydiance::light::sample_lanes;
 use raydiance::material::{Material, eval_diffuse_lanes, sample_lambertian_lanes};
 use raydiance::sampling::{Sampler, uniform_sphere};
@@ -112,7 +112,7 @@ fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
             Vec3x4::from_lanes(materials.each_ref().map(|m| m.diffuse)),
             Vec3x4::from_lanes(n),
             Vec3x4::from_lanes(wo),
-            u,
+            Vec2x4::from_lanes(u),
         );
         for lane in 0..LANES {
             let alone =

@@ -44,7 +44,7 @@ fn a_pattern_moves_with_its_object() {
     let written_there = scene(&format!("{camera} sphere {{ <2, 0.5, 0>, 1  {material} }}"));
     let kd = |s: &raydiance::scene::Scene, x: f32, y: f32| {
         let hit = s.intersect(&Ray::new(Vec3::new(x, y, -5.0), Vec3::Z)).unwrap();
-        s.material(&hit).diffuse
+        s.material(hit.primitive, hit.point).diffuse
     };
     let mut differs = 0;
     for (x, y) in [(0.1, 0.2), (-0.4, 0.3), (0.5, -0.5), (0.05, -0.15), (-0.6, -0.2), (0.3, 0.6)] {
@@ -62,7 +62,7 @@ fn image_maps_are_decoded_to_linear_and_projected_onto_x_y() {
     );
     let kd = |x: f32, y: f32| {
         let hit = s.intersect(&Ray::new(Vec3::new(x, y, -1.0), Vec3::Z)).unwrap();
-        s.material(&hit).diffuse
+        s.material(hit.primitive, hit.point).diffuse
     };
     // grid.png: red top left, green top right, blue bottom left, sRGB 188 grey bottom right.
     assert!((kd(0.1, 0.9) - Vec3::X).length() < 1e-5, "{}", kd(0.1, 0.9));

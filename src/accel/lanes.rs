@@ -9,7 +9,7 @@
 use glam::{BVec4A, Vec4};
 
 use crate::geometry::{
-    Hit, HitLanes, LANES, PlanarKind, REL_ERROR, Ray, SetLane, Shape, Vec3x4, planar_error,
+    Hit, HitLanes, LANES, Lane, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error,
     sphere_error,
 };
 
@@ -77,7 +77,7 @@ impl Nearest {
     /// The hit record of a lane whose ray met a shape, named as its primitive.
     #[inline]
     pub fn hit(&self, lane: usize) -> Option<Hit> {
-        Some(self.hits.lane(lane, self.names[lane]?, self.t[lane]))
+        Some(self.hits.lane(lane, self.names[lane]?, self.t.lane(lane)))
     }
 }
 
@@ -150,7 +150,7 @@ impl FewShapes {
         }
         Nearest {
             names: std::array::from_fn(|lane| {
-                (index[lane] >= 0.0).then(|| self.names[index[lane] as usize])
+                (index.lane(lane) >= 0.0).then(|| self.names[index.lane(lane) as usize])
             }),
             t: t_nearest,
             hits,

@@ -4,18 +4,20 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use super::Hit;
 
 /// Paths, rays and shadow rays traced together.
 pub const LANES: usize = 4;
 
-/// Writes one lane of a vector of lanes. It selects with the lane's mask, so the vector is
+/// One lane of a vector of lanes. It is read from memory at the lane's offset (glam's `Index`
+/// matches on the lane), and written by a select with the lane's mask, so the vector is
 /// written whole: a scalar store into a vector that is then loaded whole cannot be forwarded
 /// to that load, which waits for the store to reach the cache (writing lanes this way made S3
 /// and S4 5% faster).
-pub trait SetLane<T> {
+pub trait Lane<T> {
+    fn lane(&self, lane: usize) -> T;
     fn set_lane(&mut self, lane: usize, value: T);
 }
 
@@ -25,14 +27,24 @@ fn lane_mask(lane: usize) -> BVec4A {
     Vec4::new(0.0, 1.0, 2.0, 3.0).cmpeq(Vec4::splat(lane as f32))
 }
 
-impl SetLane<f32> for Vec4 {
+impl Lane<f32> for Vec4 {
+    #[inline]
+    fn lane(&self, lane: usize) -> f32 {
+        self.as_ref()[lane]
+    }
+
     #[inline]
     fn set_lane(&mut self, lane: usize, value: f32) {
         *self = Vec4::select(lane_mask(lane), Vec4::splat(value), *self);
     }
 }
 
-impl SetLane<bool> for BVec4A {
+impl Lane<bool> for BVec4A {
+    #[inline]
+    fn lane(&self, lane: usize) -> bool {
+        self.test(lane)
+    }
+
     #[inline]
     fn set_lane(&mut self, lane: usize, value: bool) {
         let mask = lane_mask(lane);
@@ -40,13 +52,48 @@ impl SetLane<bool> for BVec4A {
     }
 }
 
-impl SetLane<Vec3> for Vec3x4 {
+impl Lane<Vec3> for Vec3x4 {
+    #[inline]
+    fn lane(&self, lane: usize) -> Vec3 {
+        Vec3::new(self.x.lane(lane), self.y.lane(lane), self.z.lane(lane))
+    }
+
     #[inline]
     fn set_lane(&mut self, lane: usize, v: Vec3) {
         let mask = lane_mask(lane);
         self.x = Vec4::select(mask, Vec4::splat(v.x), self.x);
         self.y = Vec4::select(mask, Vec4::splat(v.y), self.y);
         self.z = Vec4::select(mask, Vec4::splat(v.z), self.z);
+    }
+}
+
+/// Two coordinates of four vectors, one per lane: points of the unit square, for warps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Vec2x4 {
+    pub x: Vec4,
+    pub y: Vec4,
+}
+
+impl Vec2x4 {
+    pub const ZERO: Self = Vec2x4 { x: Vec4::ZERO, y: Vec4::ZERO };
+
+    #[inline]
+    pub fn from_lanes(v: [Vec2; LANES]) -> Self {
+        Vec2x4 { x: Vec4::from_array(v.map(|v| v.x)), y: Vec4::from_array(v.map(|v| v.y)) }
+    }
+}
+
+impl Lane<Vec2> for Vec2x4 {
+    #[inline]
+    fn lane(&self, lane: usize) -> Vec2 {
+        Vec2::new(self.x.lane(lane), self.y.lane(lane))
+    }
+
+    #[inline]
+    fn set_lane(&mut self, lane: usize, v: Vec2) {
+        let mask = lane_mask(lane);
+        self.x = Vec4::select(mask, Vec4::splat(v.x), self.x);
+        self.y = Vec4::select(mask, Vec4::splat(v.y), self.y);
     }
 }
 
@@ -69,11 +116,6 @@ impl Vec3x4 {
             y: Vec4::new(a.y, b.y, c.y, d.y),
             z: Vec4::new(a.z, b.z, c.z, d.z),
         }
-    }
-
-    #[inline]
-    pub fn lane(&self, lane: usize) -> Vec3 {
-        Vec3::new(self.x[lane], self.y[lane], self.z[lane])
     }
 
     #[inline]
@@ -168,7 +210,7 @@ impl HitLanes {
             point: self.point.lane(lane),
             normal: self.normal.lane(lane),
             shading_normal: self.shading_normal.lane(lane),
-            error: self.error[lane],
+            error: self.error.lane(lane),
             primitive,
         }
     }

@@ -24,7 +24,7 @@ impl Integrator for Direct {
                 break;
             };
             let wo = -Vec3::from(ray.dir);
-            let material = scene.material(&hit);
+            let material = scene.material(hit.primitive, hit.point);
             radiance += beta * material.emitted(hit.normal, wo);
             if bounces == self.max_depth {
                 break;

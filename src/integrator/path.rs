@@ -6,7 +6,7 @@ use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use super::Integrator;
 use crate::accel::{Nearest, RayLanes};
-use crate::geometry::{Hit, HitLanes, LANES, Ray, SetLane, Vec3x4};
+use crate::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4};
 use crate::light::{ShadowRay, sample_lanes};
 use crate::material::{BsdfSampleLanes, eval_diffuse_lanes, sample_lambertian_lanes};
 use crate::sampling::Sampler;
@@ -68,7 +68,7 @@ impl Integrator for Path {
             let mut vertices = Vertices::new();
             let mut emission = Emission::default();
             for lane in (0..LANES).filter(|&lane| active[lane]) {
-                self.arrive(scene, &mut lanes, lane, found.hit(lane), &mut emission, &mut vertices);
+                self.arrive(scene, &mut lanes, lane, &found, &mut emission, &mut vertices);
             }
             lanes.radiance = Vec3x4::select(
                 emission.found,
@@ -177,7 +177,7 @@ impl PathLanes {
             }
             let roulette = path.bounces + 1 >= ROULETTE_AFTER;
             let u = path.sampler.next_1d_if(roulette);
-            if roulette && u >= survive[lane] {
+            if roulette && u >= survive.lane(lane) {
                 done[lane] = true;
                 continue;
             }
@@ -204,7 +204,7 @@ struct Vertices {
     lights: [Option<(usize, f32, Vec2)>; LANES],
     p_diffuse: Vec4,
     u_lobe: [f32; LANES],
-    u_direction: [Vec2; LANES],
+    u_direction: Vec2x4,
 }
 
 impl Vertices {
@@ -217,7 +217,7 @@ impl Vertices {
             lights: [None; LANES],
             p_diffuse: Vec4::ZERO,
             u_lobe: [0.0; LANES],
-            u_direction: [Vec2::ZERO; LANES],
+            u_direction: Vec2x4::ZERO,
         }
     }
 }
@@ -241,31 +241,34 @@ struct Shadowed {
 }
 
 impl Path {
-    /// The path in `lane` arrives at `hit` (`None`: its ray left the scene) and finds the
-    /// emission there; sets where it scatters next in `vertices`, unless it ends here.
+    /// The path in `lane` arrives where its ray meets the scene (`found`), or leaves it, and
+    /// finds the emission there; sets where it scatters next in `vertices`, unless it ends
+    /// here. It reads the hit record's fields from their lanes: a whole `Hit` made here would
+    /// be read back before its stores could be forwarded.
     fn arrive(
         &self,
         scene: &Scene,
         lanes: &mut PathLanes,
         lane: usize,
-        hit: Option<Hit>,
+        found: &Nearest,
         emission: &mut Emission,
         vertices: &mut Vertices,
     ) {
-        let Some(hit) = hit else {
+        let Some(primitive) = found.names[lane] else {
             emission.found.set_lane(lane, true);
             emission.radiance.set_lane(lane, scene.background());
             emission.weight.set_lane(lane, 1.0);
             return;
         };
-        let wo = -lanes.rays.dir.lane(lane);
-        let material = scene.material(&hit);
-        let emitted = material.emitted(hit.normal, wo);
+        let (hits, wo) = (&found.hits, -lanes.rays.dir.lane(lane));
+        let material = scene.material(primitive, hits.point.lane(lane));
+        let emitted = material.emitted(hits.normal.lane(lane), wo);
         if emitted != Vec3::ZERO {
+            let hit = hits.lane(lane, primitive, found.t.lane(lane));
             let previous = lanes
                 .from_diffuse
                 .test(lane)
-                .then(|| (lanes.previous_point.lane(lane), lanes.previous_pdf[lane]));
+                .then(|| (lanes.previous_point.lane(lane), lanes.previous_pdf.lane(lane)));
             emission.found.set_lane(lane, true);
             emission.radiance.set_lane(lane, emitted);
             emission.weight.set_lane(lane, self.emission_weight(scene, &hit, previous));
@@ -278,12 +281,12 @@ impl Path {
         let light = if material.has_diffuse() { self.choose_light(scene, sampler) } else { None };
         // Only a material with specular lobes has a lobe to choose.
         vertices.u_lobe[lane] = sampler.next_1d_if(material.has_specular());
-        vertices.u_direction[lane] = sampler.next_2d();
+        vertices.u_direction.set_lane(lane, sampler.next_2d());
         vertices.found.set_lane(lane, true);
-        vertices.primitives[lane] = hit.primitive;
+        vertices.primitives[lane] = primitive;
         vertices.diffuse.set_lane(lane, material.diffuse);
         if light.is_some() {
-            let p_diffuse = material.diffuse_probability(hit.shading_normal, wo);
+            let p_diffuse = material.diffuse_probability(hits.shading_normal.lane(lane), wo);
             vertices.p_diffuse.set_lane(lane, p_diffuse);
         }
         vertices.lights[lane] = light;
@@ -391,7 +394,7 @@ impl Path {
         probability: f32,
         u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
-        let material = scene.material(hit);
+        let material = scene.material(hit.primitive, hit.point);
         let sample = scene.lights[light].sample(scene, hit, u)?;
         let f = material.eval(hit.shading_normal, wo, sample.wi);
         if f == Vec3::ZERO {
@@ -421,8 +424,9 @@ fn sample_bsdf_lanes(
         sample_lambertian_lanes(lambertian, vertices.diffuse, n, wo, vertices.u_direction);
     for lane in (0..LANES).filter(|&lane| (vertices.found & !lambertian).test(lane)) {
         if let Some(hit) = found.hit(lane) {
-            let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction[lane]);
-            let sample = scene.material(&hit).sample(hit.shading_normal, wo.lane(lane), u_lobe, u);
+            let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction.lane(lane));
+            let material = scene.material(hit.primitive, hit.point);
+            let sample = material.sample(hit.shading_normal, wo.lane(lane), u_lobe, u);
             samples.set_lane(lane, sample);
         }
     }

@@ -12,7 +12,7 @@ use std::f32::consts::FRAC_1_PI;
 
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
-use crate::geometry::{LANES, SetLane, Vec3x4};
+use crate::geometry::{Lane, Vec2x4, Vec3x4};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_lanes};
 use crate::scene::graph::{MaterialDesc, Pattern};
 
@@ -91,11 +91,11 @@ impl Material {
 
     /// Whether it has a mirror or refraction lobe.
     pub fn has_specular(&self) -> bool {
-        self.specular.max_element() > 0.0 || self.transmission.max_element() > 0.0
+        (self.specular.cmpgt(Vec3::ZERO) | self.transmission.cmpgt(Vec3::ZERO)).any()
     }
 
     pub fn has_diffuse(&self) -> bool {
-        self.diffuse.max_element() > 0.0
+        self.diffuse.cmpgt(Vec3::ZERO).any()
     }
 
     /// Radiance emitted towards `wo`: emission is one-sided, towards the normal.
@@ -296,7 +296,7 @@ pub fn sample_lambertian_lanes(
     diffuse: Vec3x4,
     n: Vec3x4,
     wo: Vec3x4,
-    u: [Vec2; LANES],
+    u: Vec2x4,
 ) -> BsdfSampleLanes {
     let facing = Vec3x4::select(n.dot(wo).cmplt(Vec4::ZERO), -n, n);
     let local = cosine_hemisphere_lanes(u);

@@ -5,7 +5,7 @@ use std::ops::{Add, Mul, Sub};
 
 use glam::{Vec2, Vec3, Vec4};
 
-use crate::geometry::{LANES, Vec3x4};
+use crate::geometry::{Vec2x4, Vec3x4};
 
 /// Shirley–Chiu concentric map onto the unit disk (area-preserving up to a constant).
 pub fn concentric_disk(u: Vec2) -> Vec2 {
@@ -55,9 +55,8 @@ pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
 
 /// `cosine_hemisphere` of four points at once, one per lane: the same operations in the same
 /// order, both branches of `concentric_disk` computed and one kept per lane.
-pub fn cosine_hemisphere_lanes(u: [Vec2; LANES]) -> Vec3x4 {
-    let u = [Vec4::from_array(u.map(|u| u.x)), Vec4::from_array(u.map(|u| u.y))];
-    let o = u.map(|u| 2.0 * u - Vec4::ONE);
+pub fn cosine_hemisphere_lanes(u: Vec2x4) -> Vec3x4 {
+    let o = [u.x, u.y].map(|u| 2.0 * u - Vec4::ONE);
     let x_major = o[0].abs().cmpgt(o[1].abs());
     // The larger coordinate is the radius, the ratio of the other to it the angle.
     let radius = Vec4::select(x_major, o[0], o[1]);

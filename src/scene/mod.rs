@@ -12,7 +12,7 @@ use glam::{Affine3A, BVec4A, Vec3, Vec4};
 
 use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
-use crate::geometry::{Hit, Intersection, LANES, Ray, SetLane, Shape};
+use crate::geometry::{Hit, Intersection, LANES, Lane, Ray, Shape};
 use crate::light::{LaneLight, Light};
 use crate::material::Material;
 use crate::texture::Texture;
@@ -148,14 +148,14 @@ impl Scene {
         crate::accel::prefetch(&self.primitives[leaf.start]);
     }
 
-    /// The material at a hit, with a textured `diffuse` evaluated at the hit point in the
-    /// object's own space (so patterns move with their objects).
-    pub fn material(&self, hit: &Hit) -> Material {
-        let primitive = &self.primitives[hit.primitive as usize];
+    /// The material of `primitive` at `point` on it, with a textured `diffuse` evaluated there
+    /// in the object's own space (so patterns move with their objects).
+    pub fn material(&self, primitive: u32, point: Vec3) -> Material {
+        let primitive = &self.primitives[primitive as usize];
         let index = primitive.material as usize;
         let mut material = self.materials[index].clone();
         if let Some(texture) = &self.textures[index] {
-            let p = self.frames[primitive.frame as usize].transform_point3(hit.point);
+            let p = self.frames[primitive.frame as usize].transform_point3(point);
             material.diffuse = texture.eval(p);
         }
         material
