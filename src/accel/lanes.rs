@@ -136,8 +136,10 @@ impl FewShapes {
             let hits = t.cmpgt(Vec4::ZERO) & t.cmplt(t_nearest);
             t_nearest = Vec4::select(hits, t, t_nearest);
             index = Vec4::select(hits, Vec4::splat(i as f32), index);
-            let [s, u] = shape_st.unwrap_or([Vec4::ZERO; 2]);
-            st = [Vec4::select(hits, s, st[0]), Vec4::select(hits, u, st[1])];
+            // Only planar shapes have coordinates; the others' lanes keep stale ones, unread.
+            if let Some([s, u]) = shape_st {
+                st = [Vec4::select(hits, s, st[0]), Vec4::select(hits, u, st[1])];
+            }
         }
         let mut hits = HitLanes::default();
         let mut pending = index.cmpge(Vec4::ZERO);

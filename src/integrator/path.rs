@@ -423,12 +423,10 @@ fn sample_bsdf_lanes(
     let mut samples =
         sample_lambertian_lanes(lambertian, vertices.diffuse, n, wo, vertices.u_direction);
     for lane in (0..LANES).filter(|&lane| (vertices.found & !lambertian).test(lane)) {
-        if let Some(hit) = found.hit(lane) {
-            let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction.lane(lane));
-            let material = scene.material(hit.primitive, hit.point);
-            let sample = material.sample(hit.shading_normal, wo.lane(lane), u_lobe, u);
-            samples.set_lane(lane, sample);
-        }
+        let material = scene.material(vertices.primitives[lane], found.hits.point.lane(lane));
+        let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction.lane(lane));
+        let sample = material.sample(n.lane(lane), wo.lane(lane), u_lobe, u);
+        samples.set_lane(lane, sample);
     }
     samples
 }
