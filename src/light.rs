@@ -5,8 +5,8 @@ use std::f32::consts::PI;
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use crate::geometry::{
-    Hit, HitLanes, LANES, PlanarKind, Ray, Shape, Vec3x4, offset_origin, planar_coordinates,
-    planar_error, sphere_error,
+    Hit, HitLanes, LANES, Lane, PlanarKind, Ray, Shape, Vec2x4, Vec3x4, offset_origin,
+    planar_coordinates, planar_error, sphere_error,
 };
 use crate::material::to_world;
 use crate::scene::Scene;
@@ -190,42 +190,48 @@ impl Light {
 
 /// `Light::sample` for four lanes at once, where a lane's light is a point light or a planar
 /// area light (quad, disk, triangle): the same operations in the same order, side by side, so
-/// each lane gets exactly what `sample` returns. `lights` holds each lane's light and point of
-/// the unit square (`None`: nothing to sample), `primitives` the primitive each lane's hit is
-/// on. `None` if no lane's light is of these kinds.
+/// each lane gets exactly what `sample` returns. `lights` holds each lane's light (`None`:
+/// nothing to sample) and `u` its point of the unit square, `primitives` the primitive each
+/// lane's hit is on. `None` if no lane's light is of these kinds.
 pub fn sample_lanes(
     scene: &Scene,
     hits: &HitLanes,
     primitives: [u32; LANES],
-    lights: [Option<(usize, Vec2)>; LANES],
+    lights: [Option<usize>; LANES],
+    u: Vec2x4,
 ) -> Option<LightSampleLanes> {
-    let lanes = lights.map(|l| l.and_then(|(i, u)| Some((scene.lights_in_lanes[i].as_ref()?, u))));
-    let first = lanes.iter().flatten().next()?.0;
+    let lanes = lights.map(|l| scene.lights_in_lanes[l?].as_ref());
+    let first = *lanes.iter().flatten().next()?;
     // Lanes mostly share a light (always, in a scene of one): its values are spread, not gathered.
-    let shared = lanes.iter().flatten().all(|(light, _)| std::ptr::eq(*light, first));
+    let shared = lanes.iter().flatten().all(|light| std::ptr::eq(*light, first));
     let vectors = |value: fn(&LaneLight) -> Vec3| {
         if shared {
             Vec3x4::splat(value(first))
         } else {
-            Vec3x4::from_lanes(lanes.map(|l| l.map_or(Vec3::ZERO, |(light, _)| value(light))))
+            Vec3x4::from_lanes(lanes.map(|l| l.map_or(Vec3::ZERO, value)))
         }
     };
     let (origin, edge1, edge2) =
         (vectors(|l| l.origin), vectors(|l| l.edge1), vectors(|l| l.edge2));
     let (normal, emission) = (vectors(|l| l.normal), vectors(|l| l.emission));
-    let scalars = |value: fn(&LaneLight) -> f32| {
-        Vec4::from_array(lanes.map(|l| l.map_or(1.0, |(light, _)| value(light))))
-    };
+    let scalars =
+        |value: fn(&LaneLight) -> f32| Vec4::from_array(lanes.map(|l| l.map_or(1.0, value)));
     let (area, error) = (scalars(|l| l.area), scalars(|l| l.error));
-    let st = lanes.map(|l| match l {
-        Some((LaneLight { planar: Some((_, kind)), .. }, u)) => planar_coordinates(*kind, u),
-        _ => Vec2::ZERO,
-    });
-    let (s, t) = (Vec4::from_array(st.map(|st| st.x)), Vec4::from_array(st.map(|st| st.y)));
+    // Coordinates along the edges: a quad's are u itself (`planar_coordinates`); point
+    // lights' lanes keep u, unread.
+    let mut st = u;
+    for (lane, light) in lanes.iter().enumerate() {
+        if let Some(LaneLight { planar: Some((_, kind)), .. }) = light
+            && !matches!(kind, PlanarKind::Quad)
+        {
+            st.set_lane(lane, planar_coordinates(*kind, u.lane(lane)));
+        }
+    }
+    let (s, t) = (st.x, st.y);
     let handled = BVec4A::from_array(lanes.map(|l| l.is_some()));
-    let is_point = BVec4A::from_array(lanes.map(|l| l.is_some_and(|(l, _)| l.planar.is_none())));
+    let is_point = BVec4A::from_array(lanes.map(|l| l.is_some_and(|l| l.planar.is_none())));
     let own = BVec4A::from_array(std::array::from_fn(|lane| {
-        lanes[lane].is_some_and(|(l, _)| l.planar.is_some_and(|(p, _)| p == primitives[lane]))
+        lanes[lane].is_some_and(|l| l.planar.is_some_and(|(p, _)| p == primitives[lane]))
     }));
 
     let point = Vec3x4::select(is_point, origin, origin + s * edge1 + t * edge2);

@@ -39,7 +39,8 @@ fn lights_sampled_in_lanes_agree_with_one_at_a_time() {
         for (lane, hit) in hits.iter().enumerate().filter_map(|(l, h)| Some((l, h.as_ref()?))) {
             hit_lanes.set_lane(lane, hit);
         }
-        let lanes = sample_lanes(&scene, &hit_lanes, primitives, lights);
+        let u = Vec2x4::from_lanes(lights.map(|l| l.map_or(Vec2::ZERO, |(_, u)| u)));
+        let lanes = sample_lanes(&scene, &hit_lanes, primitives, lights.map(|l| Some(l?.0)), u);
         for lane in 0..LANES {
             let (Some(hit), Some((light, u))) = (hits[lane], lights[lane]) else {
                 assert!(lanes.is_none_or(|l| !l.handled.test(lane)), "an idle lane is not handled");

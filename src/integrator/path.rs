@@ -199,9 +199,12 @@ struct Vertices {
     /// The material's diffuse reflectance there, and lanes whose material is Lambertian alone.
     diffuse: Vec3x4,
     lambertian: BVec4A,
-    /// For next-event estimation: the light chosen, the probability of that choice, and the
-    /// point of the unit square that samples it; and the probability of the diffuse lobe.
-    lights: [Option<(usize, f32, Vec2)>; LANES],
+    /// For next-event estimation: the light chosen (`None`: none), the probability of that
+    /// choice, the point of the unit square that samples it, and the probability of the
+    /// diffuse lobe.
+    lights: [Option<usize>; LANES],
+    light_probability: Vec4,
+    u_light: Vec2x4,
     p_diffuse: Vec4,
     u_lobe: [f32; LANES],
     u_direction: Vec2x4,
@@ -215,6 +218,8 @@ impl Vertices {
             diffuse: Vec3x4::ZERO,
             lambertian: BVec4A::FALSE,
             lights: [None; LANES],
+            light_probability: Vec4::ONE,
+            u_light: Vec2x4::ZERO,
             p_diffuse: Vec4::ZERO,
             u_lobe: [0.0; LANES],
             u_direction: Vec2x4::ZERO,
@@ -285,11 +290,13 @@ impl Path {
         vertices.found.set_lane(lane, true);
         vertices.primitives[lane] = primitive;
         vertices.diffuse.set_lane(lane, material.diffuse);
-        if light.is_some() {
+        if let Some((light, probability, u)) = light {
             let p_diffuse = material.diffuse_probability(hits.shading_normal.lane(lane), wo);
+            vertices.lights[lane] = Some(light);
+            vertices.light_probability.set_lane(lane, probability);
+            vertices.u_light.set_lane(lane, u);
             vertices.p_diffuse.set_lane(lane, p_diffuse);
         }
-        vertices.lights[lane] = light;
         vertices.lambertian.set_lane(lane, material.is_lambertian());
     }
 
@@ -336,8 +343,7 @@ impl Path {
         wo: Vec3x4,
     ) -> Shadowed {
         let (hits, lights) = (&found.hits, vertices.lights);
-        let light_points = lights.map(|l| l.map(|(i, _, u)| (i, u)));
-        let sampled = sample_lanes(scene, hits, vertices.primitives, light_points);
+        let sampled = sample_lanes(scene, hits, vertices.primitives, lights, vertices.u_light);
         // Lanes without a shadow ray keep whatever ray: `found` leaves them untested.
         let mut shadowed = Shadowed {
             found: BVec4A::FALSE,
@@ -349,8 +355,7 @@ impl Path {
             let n = hits.shading_normal;
             let (f, bsdf_pdf) =
                 eval_diffuse_lanes(n, wo, sampled.wi, vertices.diffuse, vertices.p_diffuse);
-            let probability = Vec4::from_array(lights.map(|l| l.map_or(1.0, |(_, p, _)| p)));
-            let light_pdf = probability * sampled.pdf;
+            let light_pdf = vertices.light_probability * sampled.pdf;
             let weight = match self.strategy {
                 Strategy::LightSampling => Vec4::ONE,
                 _ => Vec4::select(
@@ -369,7 +374,9 @@ impl Path {
         }
         let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
         for lane in (0..LANES).filter(|&lane| !handled.test(lane)) {
-            if let Some((light, probability, u)) = lights[lane]
+            let (probability, u) =
+                (vertices.light_probability.lane(lane), vertices.u_light.lane(lane));
+            if let Some(light) = lights[lane]
                 && let Some(hit) = found.hit(lane)
                 && let Some((shadow, radiance)) =
                     self.next_event(scene, &hit, wo.lane(lane), light, probability, u)
