@@ -141,15 +141,19 @@ impl FewShapes {
                 st = [Vec4::select(hits, s, st[0]), Vec4::select(hits, u, st[1])];
             }
         }
-        let mut hits = HitLanes::default();
+        let (mut point, mut normal, mut error) = (Vec3x4::ZERO, Vec3x4::ZERO, Vec4::ZERO);
         let mut pending = index.cmpge(Vec4::ZERO);
         while pending.any() {
-            let i = index[pending.bitmask().trailing_zeros() as usize];
+            let i = index.lane(pending.bitmask().trailing_zeros() as usize);
             let same = index.cmpeq(Vec4::splat(i));
-            let hit = self.shapes[i as usize].hit(rays, t_nearest, st);
-            hits = HitLanes::select(same, hit, hits);
+            let (p, n, e) = self.shapes[i as usize].hit(rays, t_nearest, st);
+            point = Vec3x4::select(same, p, point);
+            normal = Vec3x4::select(same, n, normal);
+            error = Vec4::select(same, e, error);
             pending &= !same;
         }
+        // Simple shapes shade with their geometric normal.
+        let hits = HitLanes { point, normal, shading_normal: normal, error };
         Nearest {
             names: std::array::from_fn(|lane| {
                 (index.lane(lane) >= 0.0).then(|| self.names[index.lane(lane) as usize])
@@ -166,19 +170,17 @@ impl FewShapes {
         for shape in &self.shapes {
             let t = shape.distances(rays).0;
             occluded |= t.cmpgt(Vec4::ZERO) & t.cmplt(t_max);
-            if occluded.all() {
-                break;
-            }
         }
         occluded
     }
 }
 
 impl Simple {
-    /// The hit records where the rays meet the shape at distance `t`, at coordinates `st`
-    /// along the edges of a planar shape: `Shape::hit`'s operations in its order.
+    /// Where the rays meet the shape at distance `t`, at coordinates `st` along the edges of a
+    /// planar shape: the point, normal and error bound of `Shape::hit`, by its operations in
+    /// its order.
     #[inline]
-    fn hit(&self, rays: &RayLanes, t: Vec4, [s, u]: [Vec4; 2]) -> HitLanes {
+    fn hit(&self, rays: &RayLanes, t: Vec4, [s, u]: [Vec4; 2]) -> (Vec3x4, Vec3x4, Vec4) {
         let at = |t: Vec4| rays.origin + rays.dir * t;
         let (point, normal, error) = match self {
             // Projected back onto the plane, so its error is that of its coordinates alone.
@@ -197,7 +199,7 @@ impl Simple {
                 (*origin + *edge1 * s + *edge2 * u, *normal, *error)
             }
         };
-        HitLanes { point, normal, shading_normal: normal, error }
+        (point, normal, error)
     }
 
     /// The distances to the shape along the four rays (NaN or out of range where there is no

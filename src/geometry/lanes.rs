@@ -191,17 +191,6 @@ impl HitLanes {
         self.error.set_lane(lane, hit.error);
     }
 
-    /// Per lane, `if_true` where `mask` is set, else `if_false`.
-    #[inline]
-    pub fn select(mask: BVec4A, if_true: Self, if_false: Self) -> Self {
-        HitLanes {
-            point: Vec3x4::select(mask, if_true.point, if_false.point),
-            normal: Vec3x4::select(mask, if_true.normal, if_false.normal),
-            shading_normal: Vec3x4::select(mask, if_true.shading_normal, if_false.shading_normal),
-            error: Vec4::select(mask, if_true.error, if_false.error),
-        }
-    }
-
     /// The hit record of a lane, for `primitive` at distance `t`.
     #[inline]
     pub fn lane(&self, lane: usize, primitive: u32, t: f32) -> Hit {
