@@ -42,7 +42,7 @@ impl Lane<f32> for Vec4 {
 impl Lane<bool> for BVec4A {
     #[inline]
     fn lane(&self, lane: usize) -> bool {
-        self.test(lane)
+        self.bitmask() & (1 << lane) != 0 // `test` matches on the lane
     }
 
     #[inline]

@@ -171,7 +171,7 @@ impl PathLanes {
         let mut done = [false; LANES];
         for (lane, path) in self.paths.iter_mut().enumerate() {
             let Some(path) = path else { continue };
-            if !samples.found.test(lane) {
+            if !samples.found.lane(lane) {
                 done[lane] = true;
                 continue;
             }
@@ -272,7 +272,7 @@ impl Path {
             let hit = hits.lane(lane, primitive, found.t.lane(lane));
             let previous = lanes
                 .from_diffuse
-                .test(lane)
+                .lane(lane)
                 .then(|| (lanes.previous_point.lane(lane), lanes.previous_pdf.lane(lane)));
             emission.found.set_lane(lane, true);
             emission.radiance.set_lane(lane, emitted);
@@ -373,7 +373,7 @@ impl Path {
             };
         }
         let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
-        for lane in (0..LANES).filter(|&lane| !handled.test(lane)) {
+        for lane in (0..LANES).filter(|&lane| !handled.lane(lane)) {
             let (probability, u) =
                 (vertices.light_probability.lane(lane), vertices.u_light.lane(lane));
             if let Some(light) = lights[lane]
@@ -429,7 +429,7 @@ fn sample_bsdf_lanes(
     let (lambertian, n) = (vertices.lambertian, found.hits.shading_normal);
     let mut samples =
         sample_lambertian_lanes(lambertian, vertices.diffuse, n, wo, vertices.u_direction);
-    for lane in (0..LANES).filter(|&lane| (vertices.found & !lambertian).test(lane)) {
+    for lane in (0..LANES).filter(|&lane| (vertices.found & !lambertian).lane(lane)) {
         let material = scene.material(vertices.primitives[lane], found.hits.point.lane(lane));
         let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction.lane(lane));
         let sample = material.sample(n.lane(lane), wo.lane(lane), u_lobe, u);

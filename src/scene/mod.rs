@@ -132,7 +132,7 @@ impl Scene {
         if !self.few_holds_bounded {
             let bounded = &self.primitives[..self.bounded];
             let open = occluded;
-            for lane in (0..LANES).filter(|&lane| !open.test(lane) && t_max[lane] > 0.0) {
+            for lane in (0..LANES).filter(|&lane| !open.lane(lane) && t_max[lane] > 0.0) {
                 let (ray, t_max) = (&rays.lane(lane), t_max[lane]);
                 let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
                 if self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf)) {
