@@ -277,7 +277,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn set_lane_writes_that_lane_alone() {
+    fn set_lane_writes_that_lane_alone_and_lane_reads_it() {
         for lane in 0..LANES {
             let mut v = Vec4::new(1.0, 2.0, 3.0, 4.0);
             v.set_lane(lane, -1.0);
@@ -288,6 +288,16 @@ mod tests {
             let mut mask = BVec4A::new(true, false, true, false);
             mask.set_lane(lane, lane % 2 == 1);
             assert_eq!(mask.bitmask(), 0b0101 ^ (1 << lane));
+            for i in 0..LANES {
+                assert_eq!(mask.lane(i), (i % 2 == 0) != (i == lane), "lane {i}");
+            }
+
+            let mut v2 = Vec2x4::from_lanes([Vec2::ONE; LANES]);
+            v2.set_lane(lane, Vec2::new(5.0, 6.0));
+            for i in 0..LANES {
+                let expected = if i == lane { Vec2::new(5.0, 6.0) } else { Vec2::ONE };
+                assert_eq!(v2.lane(i), expected);
+            }
 
             let mut v3 = Vec3x4::from_lanes([Vec3::ONE; LANES]);
             v3.set_lane(lane, Vec3::new(5.0, 6.0, 7.0));

@@ -190,8 +190,9 @@ impl PathLanes {
 }
 
 /// Where the paths scatter this bounce, in the lanes of `found`, and the sample values for
-/// their choices there: what sampling in lanes reads, so it gathers nothing. (The BSDFs sampled
-/// one vertex at a time look their material up again: keeping it here costs more.)
+/// their choices there: what sampling in lanes reads, so it gathers nothing. (What is sampled one
+/// vertex at a time, BSDFs other than Lambertian and lights other than point and planar ones,
+/// looks the material up again: keeping it here costs more.)
 struct Vertices {
     found: BVec4A,
     /// The primitive hit (`u32::MAX` where there is no vertex).
@@ -374,12 +375,15 @@ impl Path {
         }
         let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
         for lane in (0..LANES).filter(|&lane| !handled.lane(lane)) {
-            let (probability, u) =
-                (vertices.light_probability.lane(lane), vertices.u_light.lane(lane));
             if let Some(light) = lights[lane]
                 && let Some(hit) = found.hit(lane)
-                && let Some((shadow, radiance)) =
-                    self.next_event(scene, &hit, wo.lane(lane), light, probability, u)
+                && let Some((shadow, radiance)) = self.next_event(
+                    scene,
+                    &hit,
+                    wo.lane(lane),
+                    (light, vertices.light_probability.lane(lane)),
+                    vertices.u_light.lane(lane),
+                )
             {
                 shadowed.found.set_lane(lane, true);
                 shadowed.rays.set_lane(lane, &shadow.ray);
@@ -397,8 +401,7 @@ impl Path {
         scene: &Scene,
         hit: &Hit,
         wo: Vec3,
-        light: usize,
-        probability: f32,
+        (light, probability): (usize, f32),
         u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
         let material = scene.material(hit.primitive, hit.point);

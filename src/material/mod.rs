@@ -91,11 +91,11 @@ impl Material {
 
     /// Whether it has a mirror or refraction lobe.
     pub fn has_specular(&self) -> bool {
-        (self.specular.cmpgt(Vec3::ZERO) | self.transmission.cmpgt(Vec3::ZERO)).any()
+        self.specular.max_element() > 0.0 || self.transmission.max_element() > 0.0
     }
 
     pub fn has_diffuse(&self) -> bool {
-        self.diffuse.cmpgt(Vec3::ZERO).any()
+        self.diffuse.max_element() > 0.0
     }
 
     /// Radiance emitted towards `wo`: emission is one-sided, towards the normal.
