@@ -60,15 +60,14 @@ impl Lane<Vec3> for Vec3x4 {
 
     #[inline]
     fn set_lane(&mut self, lane: usize, v: Vec3) {
-        let mask = lane_mask(lane);
-        self.x = Vec4::select(mask, Vec4::splat(v.x), self.x);
-        self.y = Vec4::select(mask, Vec4::splat(v.y), self.y);
-        self.z = Vec4::select(mask, Vec4::splat(v.z), self.z);
+        self.x.set_lane(lane, v.x);
+        self.y.set_lane(lane, v.y);
+        self.z.set_lane(lane, v.z);
     }
 }
 
 /// Two coordinates of four vectors, one per lane: points of the unit square, for warps.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct Vec2x4 {
     pub x: Vec4,
     pub y: Vec4,
@@ -91,9 +90,8 @@ impl Lane<Vec2> for Vec2x4 {
 
     #[inline]
     fn set_lane(&mut self, lane: usize, v: Vec2) {
-        let mask = lane_mask(lane);
-        self.x = Vec4::select(mask, Vec4::splat(v.x), self.x);
-        self.y = Vec4::select(mask, Vec4::splat(v.y), self.y);
+        self.x.set_lane(lane, v.x);
+        self.y.set_lane(lane, v.y);
     }
 }
 
