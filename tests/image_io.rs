@@ -1,5 +1,7 @@
 //! Image files: EXR and HDR PPM round trips, OpenEXR's own reader, malformed PPMs.
 
+mod common;
+
 use std::path::Path;
 
 use glam::Vec3;
@@ -42,13 +44,14 @@ fn exr_round_trip_is_bit_exact() {
 
 #[test]
 fn openexr_tools_read_our_files_and_their_metadata() {
+    let test = "openexr_tools_read_our_files_and_their_metadata";
+    if !common::outside_tool("exrheader", "openexr", test) {
+        return;
+    }
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("meta.exr");
     exr::write(&path, &test_image(), &info()).unwrap();
-    let output = std::process::Command::new("exrheader")
-        .arg(&path)
-        .output()
-        .expect("exrheader (Debian package `openexr`) must be installed; .ci/run installs it");
+    let output = std::process::Command::new("exrheader").arg(&path).output().unwrap();
     assert!(output.status.success());
     let text = String::from_utf8_lossy(&output.stdout);
     for expected in [

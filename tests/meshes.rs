@@ -32,7 +32,7 @@ fn a_cube_as_ply_and_obj_renders_as_the_box_primitive() {
 
 #[test]
 fn the_bunny_loads_with_its_counts() {
-    let mesh = raydiance::mesh::load(std::path::Path::new("../shared/data/bunny.ply")).unwrap();
+    let mesh = raydiance::mesh::load(std::path::Path::new("scenes/data/bunny.ply")).unwrap();
     assert_eq!(mesh.positions.len(), 1839);
     assert_eq!(mesh.triangles.len(), 3674);
     assert!(mesh.normals.is_none(), "flat shaded");
@@ -72,7 +72,7 @@ fn instances_share_one_mesh() {
         .collect();
     let s = scene(&format!(
         "camera {{ location <5, 3, -10>  look_at <5, 0, 5> }}
-         #declare Bunny = mesh {{ \"../../shared/data/bunny.ply\" }}
+         #declare Bunny = mesh {{ \"../scenes/data/bunny.ply\" }}
          {instances}"
     ));
     let meshes: Vec<_> = s

@@ -35,9 +35,22 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
         Some("obj") => MeshFormat::Obj,
         _ => return Err(error("unknown mesh format (expected a .ply or .obj file)".to_string())),
     };
-    let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| {
+        let how = GENERATED.iter().find(|(name, _)| path.ends_with(name));
+        match how {
+            Some((_, command)) if e.kind() == std::io::ErrorKind::NotFound => error(format!(
+                "cannot read: {e}; this mesh is generated, not shipped: run `{command}` at the top of the \
+                 repository"
+            )),
+            _ => error(format!("cannot read: {e}")),
+        }
+    })?;
     parse(&bytes, format).map_err(error)
 }
+
+/// Meshes of the shipped scenes too large for the repository, and the command that makes each.
+const GENERATED: [(&str, &str); 1] =
+    [("data/bumpy.ply", "cargo run --release --example bumpy_sphere")];
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MeshFormat {

@@ -48,3 +48,23 @@ pub fn max_abs_difference(a: &Image, b: &Image) -> f32 {
 pub fn mean(image: &Image) -> Vec3 {
     image.pixels.iter().sum::<Vec3>() / image.pixels.len() as f32
 }
+
+/// Whether an outside program a test runs (e.g. OpenEXR's `exrheader`) is on the PATH. Without it the test is skipped, with one line on the terminal saying so; under CI
+/// (`CI=true`, where `.ci/run` installs it) its absence fails the test.
+pub fn outside_tool(name: &str, package: &str, test: &str) -> bool {
+    let found = std::env::var_os("PATH").is_some_and(|paths| {
+        std::env::split_paths(&paths).any(|folder| folder.join(name).is_file())
+    });
+    if found {
+        return true;
+    }
+    assert!(
+        std::env::var("CI").as_deref() != Ok("true"),
+        "{test}: `{name}` (Debian package `{package}`) must be installed under CI"
+    );
+    // Written to stderr directly: the test harness captures `eprintln!` of passing tests.
+    use std::io::Write;
+    let line = format!("skipped {test}: `{name}` is not installed (Debian package `{package}`)\n");
+    let _ = std::io::stderr().write_all(line.as_bytes());
+    false
+}
