@@ -20,6 +20,7 @@ mod pipeline;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod snapshot;
 pub mod texture;
 pub mod tonemap;
 

@@ -1,4 +1,4 @@
-//! The `raydiance` command line: render, tonemap, check, bench.
+//! The `raydiance` command line: render, tonemap, check, snapshot, bench.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use raydiance::render::Progress;
 use raydiance::scene::graph::IntegratorKind;
 use raydiance::tonemap::{Operator, ToneMap};
-use raydiance::{RenderRequest, bench};
+use raydiance::{RenderRequest, bench, snapshot};
 
 #[derive(Parser)]
 #[command(name = "raydiance", version, about = "A physically based renderer for .scn scenes")]
@@ -71,6 +71,25 @@ enum Command {
     },
     /// Parse and validate a scene; print a short summary.
     Check { scene: PathBuf },
+    /// Snapshot-test scenes: render each .scn small and compare it, statistically, with its
+    /// snapshot `__snapshots__/NAME.exr` beside it; exit status 0 only when all match.
+    Snapshot {
+        /// Scenes, or folders searched below for .scn files (default: the current folder).
+        paths: Vec<PathBuf>,
+        /// Make every `.new` snapshot (written by an earlier run) the snapshot; renders nothing.
+        #[arg(long)]
+        accept: bool,
+        /// Samples per pixel of each render (at least 2) [default: 64].
+        #[arg(long)]
+        samples: Option<u32>,
+        /// Image size WxH [default: the stored snapshot's, or the scene's scaled to 64 pixels
+        /// on its longer side].
+        #[arg(long, value_parser = parse_size)]
+        size: Option<(u32, u32)>,
+        /// Worker threads (default: one per core). The verdict does not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+    },
     /// Render scenes and print samples per second and seconds per frame.
     Bench {
         /// Scenes to render (default: the benchmark scenes in scenes/).
@@ -90,6 +109,14 @@ fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
         "path" => Ok(IntegratorKind::Path),
         _ => Err(format!("unknown integrator `{s}` (expected `direct` or `path`)")),
     }
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let max = raydiance::MAX_RESOLUTION;
+    let side = |v: &str| v.trim().parse::<u32>().ok().filter(|v| (1..=max).contains(v));
+    s.split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((side(w)?, side(h)?)))
+        .ok_or_else(|| format!("`{s}` is not a size WxH with sides from 1 to {max} (e.g. 64x48)"))
 }
 
 fn main() -> ExitCode {
@@ -122,6 +149,21 @@ fn main() -> ExitCode {
         }
         Command::Check { scene } => {
             raydiance::check(&scene).map(|summary| println!("{summary}")).map_err(|e| e.to_string())
+        }
+        Command::Snapshot { paths, accept, samples, size, threads } => {
+            let paths = if paths.is_empty() { vec![PathBuf::from(".")] } else { paths };
+            if accept {
+                accept_snapshots(&paths)
+            } else if let Some(n) = samples.filter(|&n| !(2..=raydiance::MAX_SAMPLES).contains(&n))
+            {
+                Err(format!(
+                    "error: --samples {n} is out of range (2 to {}): a snapshot needs a variance",
+                    raydiance::MAX_SAMPLES
+                ))
+            } else {
+                let options = snapshot::Options { samples, size };
+                with_threads(threads, || check_snapshots(&paths, &options))
+            }
         }
         Command::Bench { scenes, samples, repeats, threads } => with_threads(threads, || {
             bench::run(&scenes, &samples, repeats).map_err(|e| e.to_string())
@@ -207,6 +249,59 @@ fn render(
         stats.seconds,
         stats.samples_per_second(&film) / 1e6,
     );
+    Ok(())
+}
+
+/// `raydiance snapshot`: checks every scene, printing a line for each that does not match and
+/// one summary line; an error in one scene does not stop the others.
+fn check_snapshots(paths: &[PathBuf], options: &snapshot::Options) -> Result<(), String> {
+    let start = Instant::now();
+    let scenes = snapshot::scenes(paths)?;
+    let bar = ProgressBar::new(scenes.len() as u64);
+    let style =
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} {msg}");
+    bar.set_style(style.expect("the template is valid"));
+    let (mut matched, mut differ, mut new, mut errors) = (0, 0, 0, 0);
+    for scene in &scenes {
+        bar.set_message(scene.display().to_string());
+        match snapshot::check(scene, options) {
+            Ok(outcome) => {
+                match outcome.verdict {
+                    snapshot::Verdict::Matches => matched += 1,
+                    snapshot::Verdict::Differs { .. } => differ += 1,
+                    snapshot::Verdict::New => new += 1,
+                }
+                if !outcome.matches() {
+                    bar.suspend(|| println!("{}", outcome.summary()));
+                }
+            }
+            Err(message) => {
+                errors += 1;
+                bar.suspend(|| eprintln!("{message}"));
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    println!(
+        "snapshot: {} scenes: {matched} match, {differ} differ, {new} new, {errors} failed to \
+         render ({:.2} s)",
+        scenes.len(),
+        start.elapsed().as_secs_f64()
+    );
+    match scenes.len() - matched {
+        0 => Ok(()),
+        n => Err(format!("error: {n} of {} scenes do not match their snapshots", scenes.len())),
+    }
+}
+
+/// `raydiance snapshot --accept`: promotes the `.new` snapshots.
+fn accept_snapshots(paths: &[PathBuf]) -> Result<(), String> {
+    let accepted = snapshot::accept(paths)?;
+    for path in &accepted {
+        println!("accepted {}", path.display());
+    }
+    println!("snapshot: accepted {} new snapshots", accepted.len());
     Ok(())
 }
 

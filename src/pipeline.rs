@@ -72,7 +72,16 @@ impl fmt::Display for LoadError {
 
 /// Parses the scene file, applies the overrides and builds the render-ready scene.
 pub fn load(path: &Path, request: &RenderRequest) -> Result<Scene, LoadError> {
-    let mut graph: SceneGraph = crate::lang::load_scene(path).map_err(LoadError::Scene)?;
+    build(load_graph(path)?, request)
+}
+
+/// Parses and evaluates the scene file.
+pub fn load_graph(path: &Path) -> Result<SceneGraph, LoadError> {
+    crate::lang::load_scene(path).map_err(LoadError::Scene)
+}
+
+/// Applies the overrides to the graph's settings and builds the render-ready scene.
+pub fn build(mut graph: SceneGraph, request: &RenderRequest) -> Result<Scene, LoadError> {
     graph.settings = request.apply(&graph.settings).map_err(LoadError::Request)?;
     scene::build(&graph).map_err(LoadError::Scene)
 }

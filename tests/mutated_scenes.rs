@@ -27,7 +27,7 @@ const FRAGMENTS: [&str; 24] = [
     "//",
     "rgb",
     "material { W }",
-    "#include \"lab-box.scn\"",
+    "#include \"lab-box.inc\"",
 ];
 
 #[derive(Debug, Clone)]

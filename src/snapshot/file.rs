@@ -1,0 +1,94 @@
+//! A snapshot file: OpenEXR with the mean radiance as RGB (so any viewer shows the picture) and
+//! the variance of each pixel's mean as `variance.R`, `variance.G`, `variance.B`.
+
+use std::path::Path;
+
+use ::exr::prelude::*;
+use glam::Vec3;
+
+use super::Estimate;
+use crate::image::exr::MAX_PIXELS;
+use crate::image::{ImageError, write_atomic};
+
+const SAMPLES_ATTRIBUTE: &str = "raydiance:samples_per_pixel";
+const CHANNELS: [&str; 6] = ["R", "G", "B", "variance.R", "variance.G", "variance.B"];
+
+pub fn write(path: &Path, estimate: &Estimate) -> std::result::Result<(), ImageError> {
+    let values = |channel: usize| -> Vec<f32> {
+        let (pixels, component) = match channel {
+            0..3 => (&estimate.mean, channel),
+            _ => (&estimate.variance, channel - 3),
+        };
+        pixels.iter().map(|p| p[component]).collect()
+    };
+    let list = CHANNELS
+        .iter()
+        .enumerate()
+        .map(|(i, name)| AnyChannel::new(*name, FlatSamples::F32(values(i))))
+        .collect::<Vec<_>>();
+    let mut attributes = LayerAttributes::named("");
+    attributes.software_name = Some(Text::from("raydiance snapshot"));
+    let layer = Layer::new(
+        (estimate.width, estimate.height),
+        attributes,
+        Encoding { line_order: LineOrder::Increasing, ..Encoding::SMALL_LOSSLESS },
+        AnyChannels::sort(list.into()),
+    );
+    let mut image = ::exr::image::Image::from_layer(layer);
+    let samples = i32::try_from(estimate.samples_per_pixel).unwrap_or(i32::MAX);
+    image.attributes.other.insert(Text::from(SAMPLES_ATTRIBUTE), AttributeValue::I32(samples));
+    write_atomic(path, |writer| {
+        image.write().to_buffered(writer).map_err(|e| ImageError::format(path, e.to_string()))
+    })
+}
+
+/// Reads a snapshot; anything else (another EXR, a damaged file) is an error naming the file.
+pub fn read(path: &Path) -> std::result::Result<Estimate, ImageError> {
+    let bytes = std::fs::read(path).map_err(|e| ImageError::io(path, e))?;
+    read_bytes(&bytes).map_err(|message| {
+        ImageError::format(path, format!("not a readable raydiance snapshot: {message}"))
+    })
+}
+
+fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
+    let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| e.to_string())?;
+    let header = meta.headers.first().ok_or("the file has no image")?;
+    let (width, height) = (header.layer_size.width(), header.layer_size.height());
+    if width.saturating_mul(height) > MAX_PIXELS {
+        return Err(format!("{width} x {height} pixels is more than raydiance reads"));
+    }
+    let samples_per_pixel = match header.own_attributes.other.get(&Text::from(SAMPLES_ATTRIBUTE)) {
+        Some(AttributeValue::I32(n)) if *n >= 2 => *n as u32,
+        _ => return Err(format!("no `{SAMPLES_ATTRIBUTE}` of at least 2 in its header")),
+    };
+    let image = ::exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
+    let channels = &image.layer_data.channel_data.list;
+    let values = |name: &str| -> std::result::Result<Vec<f32>, String> {
+        let channel = channels
+            .iter()
+            .find(|c| c.name == *name)
+            .ok_or_else(|| format!("it has no channel `{name}`"))?;
+        Ok(channel.sample_data.values_as_f32().collect())
+    };
+    let [r, g, b, vr, vg, vb] = CHANNELS.map(values);
+    let pixels = |r: Vec<f32>, g: Vec<f32>, b: Vec<f32>| -> Vec<Vec3> {
+        r.into_iter().zip(g).zip(b).map(|((r, g), b)| Vec3::new(r, g, b)).collect()
+    };
+    let mean = pixels(r?, g?, b?);
+    let variance = pixels(vr?, vg?, vb?);
+    if let Some(i) = mean.iter().position(|m| !m.is_finite()) {
+        return Err(format!("pixel {i} has a mean that is not a finite number"));
+    }
+    if let Some(i) = variance.iter().position(|v| !(v.is_finite() && v.min_element() >= 0.0)) {
+        return Err(format!("pixel {i} has a variance that is not a finite number ≥ 0"));
+    }
+    Ok(Estimate { width, height, mean, variance, samples_per_pixel })
+}

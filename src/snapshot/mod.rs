@@ -1,0 +1,266 @@
+//! Snapshot tests of scenes (`raydiance snapshot`; hdr-pipeline.md, "Snapshot tests of scenes"):
+//! each scene is rendered small and fast and compared with its stored snapshot,
+//! `__snapshots__/NAME.exr` beside it, statistically and tile by tile (`compare`), so that noise
+//! passes and a changed picture fails.
+
+mod compare;
+mod estimate;
+mod file;
+mod heatmap;
+
+use std::path::{Path, PathBuf};
+
+pub use compare::{Comparison, FINEST_TILE, Rect, TileTest, Z_BOUND, compare};
+pub use estimate::Estimate;
+pub use file::{read, write};
+
+use crate::pipeline::{RenderRequest, build, load_graph};
+use crate::render::{Silent, render};
+
+/// Samples per pixel of a snapshot render unless `--samples` says otherwise.
+pub const DEFAULT_SAMPLES: u32 = 64;
+/// The longer side of a snapshot render unless `--size` or the stored snapshot says otherwise;
+/// the other side keeps the scene's aspect ratio.
+pub const DEFAULT_LONGER_SIDE: u32 = 64;
+
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Options {
+    /// Samples per pixel (default `DEFAULT_SAMPLES`).
+    pub samples: Option<u32>,
+    /// Width and height (default: the stored snapshot's, or the scene's scaled down).
+    pub size: Option<(u32, u32)>,
+}
+
+/// Where a scene's snapshot and the files of a failed comparison live.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SnapshotFiles {
+    pub snapshot: PathBuf,
+    pub new: PathBuf,
+    pub diff: PathBuf,
+}
+
+impl SnapshotFiles {
+    pub fn of(scene: &Path) -> SnapshotFiles {
+        let folder = scene.parent().unwrap_or(Path::new("")).join("__snapshots__");
+        let name = scene.file_stem().unwrap_or_default().to_string_lossy();
+        SnapshotFiles {
+            snapshot: folder.join(format!("{name}.exr")),
+            new: folder.join(format!("{name}.new.exr")),
+            diff: folder.join(format!("{name}.diff.png")),
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verdict {
+    Matches,
+    /// Some tiles failed; the new render and the heat map were written.
+    Differs {
+        failing: usize,
+        worst: TileTest,
+    },
+    /// There was no snapshot; the new render was written as `.new`.
+    New,
+}
+
+/// The result of checking one scene against its snapshot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    pub scene: PathBuf,
+    pub width: usize,
+    pub height: usize,
+    /// Tiles compared (0 for a new snapshot).
+    pub tiles: usize,
+    pub verdict: Verdict,
+}
+
+impl Outcome {
+    pub fn matches(&self) -> bool {
+        self.verdict == Verdict::Matches
+    }
+
+    /// One line. A match prints no figure that varies with the noise, so `insta` can hold it.
+    pub fn summary(&self) -> String {
+        let scene = self.scene.display();
+        let files = SnapshotFiles::of(&self.scene);
+        match &self.verdict {
+            Verdict::Matches => format!(
+                "{scene}: matches its snapshot ({}x{}, {} tiles)",
+                self.width, self.height, self.tiles
+            ),
+            Verdict::Differs { failing, worst } => {
+                let Rect { x0, x1, y0, y1 } = worst.rect;
+                let z = worst.worst_z();
+                format!(
+                    "{scene}: differs from its snapshot in {failing} of {} tiles (largest: z = \
+                     {z:.1}, {} in pixels x {x0}..{x1}, y {y0}..{y1}); see {} and {}",
+                    self.tiles,
+                    if z > 0.0 { "brighter" } else { "darker" },
+                    files.new.display(),
+                    files.diff.display(),
+                )
+            }
+            Verdict::New => format!(
+                "{scene}: no snapshot; wrote {} (accept it with `raydiance snapshot --accept`)",
+                files.new.display()
+            ),
+        }
+    }
+}
+
+/// Renders `scene` small and compares it with its snapshot. A differing or new render is
+/// written beside the snapshot as `.new` (with a heat map of the z-scores when it differs); a
+/// match removes any `.new` and heat map left from before.
+pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
+    let files = SnapshotFiles::of(scene_path);
+    let reference = match files.snapshot.exists() {
+        true => Some(read(&files.snapshot).map_err(|e| format!("error: {e}"))?),
+        false => None,
+    };
+    let graph = load_graph(scene_path).map_err(|e| e.to_string())?;
+    let (width, height) = match (options.size, &reference) {
+        (Some(size), _) => size,
+        (None, Some(r)) => (r.width as u32, r.height as u32),
+        (None, None) => default_size(graph.settings.width, graph.settings.height),
+    };
+    let request = RenderRequest {
+        samples: Some(options.samples.unwrap_or(DEFAULT_SAMPLES)),
+        width: Some(width),
+        height: Some(height),
+        ..Default::default()
+    };
+    let scene = build(graph, &request).map_err(|e| e.to_string())?;
+    let (film, _) = render(&scene, &Silent);
+    let new =
+        Estimate::from_film(&film).map_err(|e| format!("error: {}: {e}", scene_path.display()))?;
+    let outcome = |tiles, verdict| Outcome {
+        scene: scene_path.to_path_buf(),
+        width: new.width,
+        height: new.height,
+        tiles,
+        verdict,
+    };
+    let written = |e: crate::image::ImageError| format!("error: {e}");
+    let Some(reference) = reference else {
+        create_folder(&files.new)?;
+        write(&files.new, &new).map_err(written)?;
+        return Ok(outcome(0, Verdict::New));
+    };
+    let comparison = compare(&reference, &new).map_err(|e| {
+        format!("error: {}: {e} (`--size` sets the size)", files.snapshot.display())
+    })?;
+    let tiles = comparison.tiles.len();
+    match comparison.worst().filter(|_| !comparison.matches()) {
+        None => {
+            remove_if_present(&files.new)?;
+            remove_if_present(&files.diff)?;
+            Ok(outcome(tiles, Verdict::Matches))
+        }
+        Some(&worst) => {
+            write(&files.new, &new).map_err(written)?;
+            heatmap::write(&files.diff, &comparison, &new).map_err(written)?;
+            let failing = comparison.failing().count();
+            Ok(outcome(tiles, Verdict::Differs { failing, worst }))
+        }
+    }
+}
+
+/// The scene's resolution scaled so that its longer side is `DEFAULT_LONGER_SIDE`.
+fn default_size(width: u32, height: u32) -> (u32, u32) {
+    let longer = width.max(height).max(1) as f64;
+    let scale = |side: u32| {
+        ((f64::from(side) * f64::from(DEFAULT_LONGER_SIDE) / longer).round() as u32).max(1)
+    };
+    (scale(width), scale(height))
+}
+
+/// Every `.scn` file among `paths` and in the folders below them, sorted; folders named
+/// `target`, and hidden ones, are passed over.
+pub fn scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+    let mut found = Vec::new();
+    for path in paths {
+        let metadata =
+            std::fs::metadata(path).map_err(|e| format!("error: {}: {e}", path.display()))?;
+        if metadata.is_dir() {
+            walk(path, &mut |file| {
+                if file.extension().is_some_and(|e| e == "scn") {
+                    found.push(file.to_path_buf());
+                }
+            })?;
+        } else {
+            found.push(path.clone());
+        }
+    }
+    found.sort();
+    found.dedup();
+    Ok(found)
+}
+
+/// `--accept`: every `.new` snapshot among `paths` (scenes, or folders searched below) becomes
+/// the snapshot, and its heat map is removed. Returns the snapshots written.
+pub fn accept(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+    let mut pending = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            walk(path, &mut |file| {
+                let folder = file.parent().filter(|p| p.ends_with("__snapshots__"));
+                let name = file.file_name().and_then(|n| n.to_str());
+                if let (Some(folder), Some(name)) = (folder, name) {
+                    if let Some(scene) = name.strip_suffix(".new.exr") {
+                        let scenes = folder.parent().unwrap_or(Path::new(""));
+                        pending.push(SnapshotFiles::of(&scenes.join(format!("{scene}.scn"))));
+                    }
+                }
+            })?;
+        } else if SnapshotFiles::of(path).new.exists() {
+            pending.push(SnapshotFiles::of(path));
+        }
+    }
+    pending
+        .into_iter()
+        .map(|files| {
+            // A damaged `.new` is refused rather than made the snapshot.
+            read(&files.new).map_err(|e| format!("error: {e}"))?;
+            std::fs::rename(&files.new, &files.snapshot)
+                .map_err(|e| format!("error: {}: {e}", files.snapshot.display()))?;
+            remove_if_present(&files.diff)?;
+            Ok(files.snapshot)
+        })
+        .collect()
+}
+
+/// Calls `visit` on every file below `folder`, passing over snapshot, build and hidden folders.
+fn walk(folder: &Path, visit: &mut dyn FnMut(&Path)) -> Result<(), String> {
+    let error = |e: std::io::Error| format!("error: {}: {e}", folder.display());
+    let mut entries: Vec<_> =
+        std::fs::read_dir(folder).map_err(error)?.collect::<Result<_, _>>().map_err(error)?;
+    entries.sort_by_key(|e| e.file_name());
+    for entry in entries {
+        let path = entry.path();
+        let name = entry.file_name();
+        let file_type = entry.file_type().map_err(error)?;
+        if file_type.is_dir() {
+            let name = name.to_string_lossy();
+            if !(name.starts_with('.') || name == "target") {
+                walk(&path, visit)?;
+            }
+        } else if file_type.is_file() {
+            visit(&path);
+        }
+    }
+    Ok(())
+}
+
+fn create_folder(file: &Path) -> Result<(), String> {
+    let folder = file.parent().unwrap_or(Path::new("."));
+    std::fs::create_dir_all(folder).map_err(|e| format!("error: {}: {e}", folder.display()))
+}
+
+fn remove_if_present(file: &Path) -> Result<(), String> {
+    match std::fs::remove_file(file) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(format!("error: {}: {e}", file.display()))
+        }
+        _ => Ok(()),
+    }
+}
