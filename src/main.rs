@@ -170,7 +170,7 @@ fn main() -> ExitCode {
         }),
     };
     match result {
-        Ok(()) if INTERRUPTED.load(Ordering::SeqCst) => ExitCode::from(130),
+        Ok(()) if STOPPED.load(Ordering::SeqCst) => ExitCode::from(130),
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => fail(message),
     }
@@ -181,8 +181,12 @@ fn fail(message: String) -> ExitCode {
     ExitCode::FAILURE
 }
 
-/// Set by Ctrl-C: the render stops after the current pass and writes what it has.
+/// Set by Ctrl-C, SIGTERM or SIGHUP: the render drops the pass under way and writes the passes
+/// it completed.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Set when a render was stopped before its last sample: the exit status is then 130.
+static STOPPED: AtomicBool = AtomicBool::new(false);
 
 /// Runs `f` on a pool of `threads` workers (rayon's default pool when `None`).
 fn with_threads(
@@ -215,13 +219,15 @@ fn render(
         eprintln!("{warning}");
     }
     let settings = &scene.settings;
-    // A second Ctrl-C, or one before rendering starts, ends the process at once.
+    // Ctrl-C, SIGTERM and SIGHUP stop the render within a task; a second one ends the process
+    // at once, leaving no temporary file. One before rendering starts ends it as usual.
     ctrlc::set_handler(|| {
         if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            let _no_more_renames = raydiance::image::remove_pending_files();
             std::process::exit(130);
         }
     })
-    .map_err(|e| format!("error: cannot handle Ctrl-C: {e}"))?;
+    .map_err(|e| format!("error: cannot handle signals: {e}"))?;
     let total =
         u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.samples);
     let deadline = time.map(|t| Instant::now() + Duration::from_secs_f64(t));
@@ -233,7 +239,9 @@ fn render(
     if stats.dropped > 0 {
         eprintln!("warning: {} samples were NaN or infinite and were dropped", stats.dropped);
     }
-    if INTERRUPTED.load(Ordering::SeqCst) {
+    // A time budget ends a render too; only a signal makes it "interrupted".
+    if INTERRUPTED.load(Ordering::SeqCst) && stats.samples_per_pixel < settings.samples {
+        STOPPED.store(true, Ordering::SeqCst);
         eprintln!(
             "interrupted: wrote the {} of {} samples per pixel completed",
             stats.samples_per_pixel, settings.samples
@@ -338,5 +346,9 @@ impl Progress for Bar {
             Instant::now() + Duration::from_secs_f64(next_pass_seconds) > deadline
         });
         over_budget || INTERRUPTED.load(Ordering::SeqCst)
+    }
+
+    fn should_abandon(&self) -> bool {
+        INTERRUPTED.load(Ordering::SeqCst)
     }
 }

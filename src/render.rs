@@ -4,9 +4,11 @@
 //! are summed in index order, so the film is the same bit for bit whatever the thread count and
 //! however the samples are split into passes.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::film::Film;
@@ -24,6 +26,11 @@ pub trait Progress: Sync {
     fn should_stop(&self, _next_pass_seconds: f64) -> bool {
         false
     }
+    /// Checked between the small tasks of a pass (at most `TASK_SAMPLES` samples each): true
+    /// drops the pass under way and ends the render with the passes done before it.
+    fn should_abandon(&self) -> bool {
+        false
+    }
 }
 
 /// Progress that nobody watches.
@@ -32,6 +39,10 @@ pub struct Silent;
 impl Progress for Silent {
     fn advance(&self, _: u64) {}
 }
+
+/// The most samples one task of a pass traces (and holds the radiance of) between two looks at
+/// `Progress::should_abandon`: a few milliseconds of work, whatever the image or pass size.
+pub const TASK_SAMPLES: usize = 4096;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RenderStats {
@@ -73,7 +84,7 @@ pub fn render_with(
     let settings = &scene.settings;
     let (width, height) = (settings.width as usize, settings.height as usize);
     let mut film = Film::new(width, height);
-    let dropped = AtomicU64::new(0);
+    let mut pass_film = Film::new(width, height);
     let mut seconds_per_sample = 0.0;
     while film.samples < settings.samples {
         let pass = film.samples.max(1).min(settings.samples - film.samples);
@@ -81,57 +92,103 @@ pub fn render_with(
             break;
         }
         let pass_start = Instant::now();
-        let samples = film.samples..film.samples + pass;
-        film.sum
-            .par_chunks_mut(width)
-            .zip(film.sum_squares.par_chunks_mut(width))
-            .enumerate()
-            .for_each(|(y, (sum_row, squares_row))| {
-                // The row's camera samples, pixel by pixel, each pixel's in index order.
-                let mut camera_samples = (0..width).flat_map(|x| {
-                    samples.clone().map(move |index| {
-                        let pixel = (y * width + x) as u64;
-                        let mut sampler = Sampler::new(settings.seed, pixel, u64::from(index));
-                        let jitter = sampler.next_2d();
-                        // A pinhole camera needs no lens sample.
-                        let lens = if scene.camera.aperture > 0.0 {
-                            sampler.next_2d()
-                        } else {
-                            glam::Vec2::ZERO
-                        };
-                        let ray = scene.camera.ray(
-                            (x as f32 + jitter.x) / width as f32,
-                            (y as f32 + jitter.y) / height as f32,
-                            lens,
-                        );
-                        (ray, sampler)
-                    })
-                });
-                let mut radiance = vec![glam::Vec3::ZERO; width * pass as usize];
-                integrator.radiance_of_all(scene, &mut camera_samples, &mut radiance);
-                let mut row_dropped = 0;
-                let pixels = sum_row.iter_mut().zip(squares_row.iter_mut());
-                for ((sum, squares), samples) in pixels.zip(radiance.chunks(pass as usize)) {
-                    for radiance in samples {
-                        if radiance.is_finite() {
-                            *sum += *radiance;
-                            *squares += *radiance * *radiance;
-                        } else {
-                            row_dropped += 1;
-                        }
-                    }
-                }
-                dropped.fetch_add(row_dropped, Ordering::Relaxed);
-                progress.advance(width as u64 * u64::from(pass));
-            });
-        film.samples += pass;
+        if !render_pass(
+            scene,
+            integrator,
+            progress,
+            film.samples..film.samples + pass,
+            &mut pass_film,
+        ) {
+            break;
+        }
+        film.add_pass(&pass_film);
         seconds_per_sample = pass_start.elapsed().as_secs_f64() / f64::from(pass);
     }
-    film.dropped = dropped.into_inner();
     let stats = RenderStats {
         seconds: start.elapsed().as_secs_f64(),
         samples_per_pixel: film.samples,
         dropped: film.dropped,
     };
     (film, stats)
+}
+
+/// Renders the sample indices `samples` of every pixel into `pass` (overwritten), rows in
+/// parallel, each row in tasks of at most `TASK_SAMPLES` samples: several pixels' samples
+/// together (so that integrators tracing paths in lanes have enough of them), or a part of one
+/// pixel's. A pixel's samples are summed in index order. False when the pass was abandoned.
+fn render_pass(
+    scene: &Scene,
+    integrator: &impl Integrator,
+    progress: &dyn Progress,
+    samples: Range<u32>,
+    pass: &mut Film,
+) -> bool {
+    let settings = &scene.settings;
+    let (width, height) = (pass.width, pass.height);
+    let count = (samples.end - samples.start) as usize;
+    let pixels_per_task = (TASK_SAMPLES / count).clamp(1, width);
+    let samples_per_task = count.min(TASK_SAMPLES);
+    let abandoned = AtomicBool::new(false);
+    let dropped = AtomicU64::new(0);
+    pass.sum
+        .par_chunks_mut(width)
+        .zip(pass.sum_squares.par_chunks_mut(width))
+        .enumerate()
+        .for_each(|(y, (sum_row, squares_row))| {
+            sum_row.fill(DVec3::ZERO);
+            squares_row.fill(DVec3::ZERO);
+            let mut radiance = vec![Vec3::ZERO; pixels_per_task * samples_per_task];
+            for x0 in (0..width).step_by(pixels_per_task) {
+                let pixels = x0..(x0 + pixels_per_task).min(width);
+                for first in samples.clone().step_by(samples_per_task) {
+                    if abandoned.load(Ordering::Relaxed) || progress.should_abandon() {
+                        abandoned.store(true, Ordering::Relaxed);
+                        return;
+                    }
+                    let indices = first..(first + samples_per_task as u32).min(samples.end);
+                    let per_pixel = indices.len();
+                    // The task's camera samples, pixel by pixel, each pixel's in index order.
+                    let mut camera_samples = pixels.clone().flat_map(|x| {
+                        indices.clone().map(move |index| {
+                            let pixel = (y * width + x) as u64;
+                            let mut sampler = Sampler::new(settings.seed, pixel, u64::from(index));
+                            let jitter = sampler.next_2d();
+                            // A pinhole camera needs no lens sample.
+                            let lens = if scene.camera.aperture > 0.0 {
+                                sampler.next_2d()
+                            } else {
+                                glam::Vec2::ZERO
+                            };
+                            let ray = scene.camera.ray(
+                                (x as f32 + jitter.x) / width as f32,
+                                (y as f32 + jitter.y) / height as f32,
+                                lens,
+                            );
+                            (ray, sampler)
+                        })
+                    });
+                    let radiance = &mut radiance[..pixels.len() * per_pixel];
+                    integrator.radiance_of_all(scene, &mut camera_samples, radiance);
+                    let mut task_dropped = 0;
+                    let sums =
+                        sum_row[pixels.clone()].iter_mut().zip(&mut squares_row[pixels.clone()]);
+                    for ((sum, squares), samples) in sums.zip(radiance.chunks(per_pixel)) {
+                        for radiance in samples {
+                            if radiance.is_finite() {
+                                let radiance = radiance.as_dvec3();
+                                *sum += radiance;
+                                *squares += radiance * radiance;
+                            } else {
+                                task_dropped += 1;
+                            }
+                        }
+                    }
+                    dropped.fetch_add(task_dropped, Ordering::Relaxed);
+                    progress.advance((pixels.len() * per_pixel) as u64);
+                }
+            }
+        });
+    pass.samples = samples.end - samples.start;
+    pass.dropped = dropped.into_inner();
+    !abandoned.into_inner()
 }

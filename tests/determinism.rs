@@ -5,7 +5,7 @@ mod common;
 use common::scene_file;
 use raydiance::render::{Silent, render};
 
-fn render_on(threads: usize, path: &str) -> Vec<glam::Vec3> {
+fn render_on(threads: usize, path: &str) -> Vec<glam::DVec3> {
     let mut scene = scene_file(path);
     scene.settings.width = 24;
     scene.settings.height = 24;
@@ -21,7 +21,7 @@ fn one_and_two_threads_give_bit_identical_films() {
         assert!(
             one.iter()
                 .zip(&two)
-                .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)),
+                .all(|(a, b)| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)),
             "{path}"
         );
     }

@@ -88,28 +88,65 @@ fn a_hundred_thousand_signs_are_an_error_not_a_stack_overflow() {
     assert!(error.to_string().contains("signs in a row"), "{error}");
 }
 
-#[test]
-fn ctrl_c_writes_the_completed_passes_and_exits_non_zero() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("interrupted.exr");
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"))
+/// Starts a long render of S4 (`cornell-specular`) to `out` at the given size.
+fn long_render(out: &std::path::Path, size: &str) -> std::process::Child {
+    std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"))
         .args(["render", "scenes/cornell-specular.scn", "-o", out.to_str().unwrap()])
-        .args(["--width", "48", "--height", "48", "--samples", "1000000"])
+        .args(["--width", size, "--height", size, "--samples", "1000000"])
         .stderr(std::process::Stdio::piped())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+fn send(signal: &str, child: &std::process::Child) {
+    let sent = std::process::Command::new("kill").args([signal, &child.id().to_string()]).status();
+    assert!(sent.unwrap().success());
+}
+
+/// Files in `dir` other than `keep`: a temporary file left behind would be one.
+fn others(dir: &std::path::Path, keep: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let entries = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path());
+    entries.filter(|p| p != keep).collect()
+}
+
+/// Ctrl-C, SIGTERM and SIGHUP stop a render within a task (the pass under way is dropped, not
+/// waited for), write the completed passes and exit with 130.
+#[test]
+fn a_signal_writes_the_completed_passes_soon_and_exits_non_zero() {
+    for signal in ["-INT", "-TERM", "-HUP"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("interrupted.exr");
+        let child = long_render(&out, "256");
+        std::thread::sleep(std::time::Duration::from_millis(2500));
+        let sent = std::time::Instant::now();
+        send(signal, &child);
+        let output = child.wait_with_output().unwrap();
+        let latency = sent.elapsed().as_secs_f64();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(130), "{signal}: {stderr}");
+        assert!(stderr.contains("interrupted: wrote the"), "{signal}: {stderr}");
+        assert!(latency < 1.0, "{signal}: exited {latency:.2} s after the signal");
+        let samples = raydiance::image::exr::read_samples_per_pixel(&out).unwrap().unwrap();
+        assert!(samples > 0 && samples < 1_000_000, "{signal}: {samples}");
+        let image = raydiance::image::exr::read(&out).unwrap();
+        assert!(image.max_component() > 0.0);
+        assert!(others(dir.path(), &out).is_empty(), "{signal}: {:?}", others(dir.path(), &out));
+    }
+}
+
+/// A second signal ends the process at once, and leaves no file behind.
+#[test]
+fn a_second_signal_exits_at_once_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.exr");
+    let child = long_render(&out, "64");
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    let killed =
-        std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status();
-    assert!(killed.unwrap().success());
+    send("-TERM", &child);
+    send("-TERM", &child);
     let output = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(130), "{stderr}");
-    assert!(stderr.contains("interrupted: wrote the"), "{stderr}");
-    let samples = raydiance::image::exr::read_samples_per_pixel(&out).unwrap().unwrap();
-    assert!(samples > 0 && samples < 1_000_000, "{samples}");
-    let image = raydiance::image::exr::read(&out).unwrap();
-    assert!(image.max_component() > 0.0);
+    assert_eq!(output.status.code(), Some(130), "{}", String::from_utf8_lossy(&output.stderr));
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().path()).collect();
+    assert!(left.iter().all(|p| p == &out), "{left:?}");
 }
 
 #[test]

@@ -8,6 +8,7 @@ pub mod ppm;
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
 
 use glam::Vec3;
 
@@ -108,13 +109,48 @@ pub fn write_atomic(
     }
     let mut temporary =
         builder.tempfile_in(folder_of(path)).map_err(|e| ImageError::io(path, e))?;
+    let _pending = Pending::register(temporary.path());
     {
         let mut writer = BufWriter::new(temporary.as_file_mut());
         write(&mut writer)?;
         writer.flush().map_err(|e| ImageError::io(path, e))?;
     }
+    // Renamed under the lock, so that `remove_pending_files` never sees a name half-way (the lock
+    // goes before `_pending`, which takes it again).
+    let _lock = PENDING.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     temporary.persist(path).map_err(|e| ImageError::io(path, e.error))?;
     Ok(())
+}
+
+/// Temporary files being written by `write_atomic`, for a process that must end at once.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A temporary file's place in `PENDING`, given up when the write ends, however it ends.
+struct Pending(PathBuf);
+
+impl Pending {
+    fn register(path: &Path) -> Pending {
+        PENDING.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push(path.to_path_buf());
+        Pending(path.to_path_buf())
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        let mut pending = PENDING.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        pending.retain(|p| *p != self.0);
+    }
+}
+
+/// Removes the temporary files of writes under way and keeps any more from being renamed into
+/// place: for a process about to exit without unwinding (a second Ctrl-C or SIGTERM), so that
+/// it leaves no `.tmpXXXX` file behind. The returned guard must be held until the exit.
+pub fn remove_pending_files() -> MutexGuard<'static, Vec<PathBuf>> {
+    let pending = PENDING.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    for path in pending.iter() {
+        let _ = std::fs::remove_file(path);
+    }
+    pending
 }
 
 fn folder_of(path: &Path) -> &Path {
