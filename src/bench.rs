@@ -1,6 +1,7 @@
 //! `raydiance bench`: renders fixed scenes and prints throughput, to compare with other renderers
 //! run on the same machine at the same time (`shared/bench/`).
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -20,7 +21,12 @@ pub const DEFAULT_SCENES: [&str; 6] = [
 
 /// Renders each scene at 256x256 with each sample count (`"16,64"`) `repeats` times after one
 /// warm-up, and prints build time, median seconds and samples per second.
-pub fn run(scenes: &[PathBuf], samples: &str, repeats: usize) -> Result<(), String> {
+pub fn run(
+    scenes: &[PathBuf],
+    samples: &str,
+    repeats: usize,
+    out: &mut dyn Write,
+) -> Result<(), String> {
     let counts: Vec<u32> = samples
         .split(',')
         .map(|s| {
@@ -29,16 +35,17 @@ pub fn run(scenes: &[PathBuf], samples: &str, repeats: usize) -> Result<(), Stri
         .collect::<Result<_, _>>()?;
     let default: Vec<PathBuf> = DEFAULT_SCENES.iter().map(PathBuf::from).collect();
     let scenes = if scenes.is_empty() { &default } else { scenes };
-    println!("threads={}", rayon::current_num_threads());
+    // Lines that cannot be written (stdout closed) are dropped.
+    let _ = writeln!(out, "threads={}", rayon::current_num_threads());
     for path in scenes {
         for &spp in &counts {
-            bench_one(path, spp, repeats.max(1))?;
+            bench_one(path, spp, repeats.max(1), out)?;
         }
     }
     Ok(())
 }
 
-fn bench_one(path: &Path, spp: u32, repeats: usize) -> Result<(), String> {
+fn bench_one(path: &Path, spp: u32, repeats: usize, out: &mut dyn Write) -> Result<(), String> {
     let request = RenderRequest {
         samples: Some(spp),
         width: Some(256),
@@ -53,7 +60,8 @@ fn bench_one(path: &Path, spp: u32, repeats: usize) -> Result<(), String> {
     seconds.sort_by(f64::total_cmp);
     let median = seconds[seconds.len() / 2];
     let samples = 256.0 * 256.0 * f64::from(spp);
-    println!(
+    let _ = writeln!(
+        out,
         "{} spp={spp:4} load+build={load_seconds:.3}s median={median:.3}s {:.2} Msamples/s times={:?}",
         path.display(),
         samples / median / 1e6,

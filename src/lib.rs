@@ -11,6 +11,7 @@ pub mod diagnostic;
 pub mod film;
 pub mod geometry;
 pub mod image;
+pub mod input;
 pub mod integrator;
 pub mod lang;
 pub mod light;
@@ -25,6 +26,6 @@ pub mod texture;
 pub mod tonemap;
 
 pub use pipeline::{
-    LoadError, MAX_RESOLUTION, MAX_SAMPLES, OutputFormat, RenderRequest, check, load, tonemap_file,
-    write_render,
+    LoadError, MAX_RESOLUTION, MAX_SAMPLES, OutputFormat, RenderRequest, check, check_film_memory,
+    load, tonemap_file, write_render,
 };

@@ -49,6 +49,9 @@ enum Command {
         /// The integer that MAX stands for in HDR .ppm output.
         #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES)]
         ppm_res: u32,
+        /// The most memory the film may take, in GiB (it takes 96 bytes a pixel).
+        #[arg(long, default_value_t = 8.0)]
+        max_memory: f64,
     },
     /// Tone-map an HDR image (.exr or .ppm) to LDR .ppm (#MAX=1) or .png.
     Tonemap {
@@ -96,8 +99,9 @@ enum Command {
         scenes: Vec<PathBuf>,
         #[arg(long, default_value = "16")]
         samples: String,
-        #[arg(long, default_value_t = 3)]
-        repeats: usize,
+        /// Timed renders of each scene after one warm-up (1 to 1000).
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000))]
+        repeats: u16,
         #[arg(long)]
         threads: Option<usize>,
     },
@@ -109,6 +113,22 @@ fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
         "path" => Ok(IntegratorKind::Path),
         _ => Err(format!("unknown integrator `{s}` (expected `direct` or `path`)")),
     }
+}
+
+/// `println!` and `eprintln!` panic when their stream is closed (`raydiance ... | head`); these
+/// drop the line instead: the work is done, and only the words are lost.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+macro_rules! tell {
+    ($($arg:tt)*) => {{
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -134,6 +154,7 @@ fn main() -> ExitCode {
             max_depth,
             time,
             ppm_res,
+            max_memory,
         } => {
             if let Some(t) = time.filter(|t| !(t.is_finite() && *t > 0.0)) {
                 return fail(format!("error: --time {t} must be a positive number of seconds"));
@@ -141,14 +162,18 @@ fn main() -> ExitCode {
             // With a time budget the sample count is only a ceiling.
             let samples = samples.or(time.map(|_| raydiance::MAX_SAMPLES));
             let request = RenderRequest { samples, width, height, seed, integrator, max_depth };
-            with_threads(threads, || render(&scene, &output, &request, ppm_res, time))
+            if !(max_memory.is_finite() && max_memory > 0.0) {
+                return fail(format!("error: --max-memory {max_memory} must be a positive number"));
+            }
+            let max_bytes = (max_memory * f64::from(1u32 << 30)) as u64;
+            with_threads(threads, || render(&scene, &output, &request, ppm_res, time, max_bytes))
         }
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
             let tone_map = ToneMap { op, v, gamma, exposure, white };
-            raydiance::tonemap_file(&input, &output, &tone_map).map(|summary| println!("{summary}"))
+            raydiance::tonemap_file(&input, &output, &tone_map).map(|summary| say!("{summary}"))
         }
         Command::Check { scene } => {
-            raydiance::check(&scene).map(|summary| println!("{summary}")).map_err(|e| e.to_string())
+            raydiance::check(&scene).map(|summary| say!("{summary}")).map_err(|e| e.to_string())
         }
         Command::Snapshot { paths, accept, samples, size, threads } => {
             let paths = if paths.is_empty() { vec![PathBuf::from(".")] } else { paths };
@@ -166,7 +191,8 @@ fn main() -> ExitCode {
             }
         }
         Command::Bench { scenes, samples, repeats, threads } => with_threads(threads, || {
-            bench::run(&scenes, &samples, repeats).map_err(|e| e.to_string())
+            bench::run(&scenes, &samples, repeats.into(), &mut std::io::stdout())
+                .map_err(|e| e.to_string())
         }),
     };
     match result {
@@ -177,7 +203,7 @@ fn main() -> ExitCode {
 }
 
 fn fail(message: String) -> ExitCode {
-    eprintln!("{message}");
+    tell!("{message}");
     ExitCode::FAILURE
 }
 
@@ -188,6 +214,9 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 /// Set when a render was stopped before its last sample: the exit status is then 130.
 static STOPPED: AtomicBool = AtomicBool::new(false);
 
+/// The most worker threads `--threads` starts.
+const MAX_THREADS: usize = 1024;
+
 /// Runs `f` on a pool of `threads` workers (rayon's default pool when `None`).
 fn with_threads(
     threads: Option<usize>,
@@ -195,7 +224,9 @@ fn with_threads(
 ) -> Result<(), String> {
     match threads {
         None => f(),
-        Some(0) => Err("error: --threads must be at least 1".to_string()),
+        Some(n) if !(1..=MAX_THREADS).contains(&n) => {
+            Err(format!("error: --threads {n} is out of range (1 to {MAX_THREADS})"))
+        }
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -210,13 +241,15 @@ fn render(
     request: &RenderRequest,
     ppm_res: u32,
     time: Option<f64>,
+    max_bytes: u64,
 ) -> Result<(), String> {
     // Everything that can be checked before rendering is: the output's type and folder first.
     let format =
         raydiance::OutputFormat::for_path(output, ppm_res).map_err(|e| format!("error: {e}"))?;
     let scene = raydiance::load(scene_path, request).map_err(|e| e.to_string())?;
+    raydiance::check_film_memory(&scene.settings, max_bytes)?;
     for warning in &scene.warnings {
-        eprintln!("{warning}");
+        tell!("{warning}");
     }
     let settings = &scene.settings;
     // Ctrl-C, SIGTERM and SIGHUP stop the render within a task; a second one ends the process
@@ -237,17 +270,18 @@ fn render(
     raydiance::write_render(output, &format, &film, &stats, settings)
         .map_err(|e| format!("error: {e}"))?;
     if stats.dropped > 0 {
-        eprintln!("warning: {} samples were NaN or infinite and were dropped", stats.dropped);
+        tell!("warning: {} samples were NaN or infinite and were dropped", stats.dropped);
     }
     // A time budget ends a render too; only a signal makes it "interrupted".
     if INTERRUPTED.load(Ordering::SeqCst) && stats.samples_per_pixel < settings.samples {
         STOPPED.store(true, Ordering::SeqCst);
-        eprintln!(
+        tell!(
             "interrupted: wrote the {} of {} samples per pixel completed",
-            stats.samples_per_pixel, settings.samples
+            stats.samples_per_pixel,
+            settings.samples
         );
     }
-    println!(
+    say!(
         "{}: {}x{}, {} spp, {}, {:.3} s, {:.2} Msamples/s",
         output.display(),
         film.width,
@@ -280,18 +314,18 @@ fn check_snapshots(paths: &[PathBuf], options: &snapshot::Options) -> Result<(),
                     snapshot::Verdict::New => new += 1,
                 }
                 if !outcome.matches() {
-                    bar.suspend(|| println!("{}", outcome.summary()));
+                    bar.suspend(|| say!("{}", outcome.summary()));
                 }
             }
             Err(message) => {
                 errors += 1;
-                bar.suspend(|| eprintln!("{message}"));
+                bar.suspend(|| tell!("{message}"));
             }
         }
         bar.inc(1);
     }
     bar.finish_and_clear();
-    println!(
+    say!(
         "snapshot: {} scenes: {matched} match, {differ} differ, {new} new, {errors} failed to \
          render ({:.2} s)",
         scenes.len(),
@@ -307,9 +341,9 @@ fn check_snapshots(paths: &[PathBuf], options: &snapshot::Options) -> Result<(),
 fn accept_snapshots(paths: &[PathBuf]) -> Result<(), String> {
     let accepted = snapshot::accept(paths)?;
     for path in &accepted {
-        println!("accepted {}", path.display());
+        say!("accepted {}", path.display());
     }
-    println!("snapshot: accepted {} new snapshots", accepted.len());
+    say!("snapshot: accepted {} new snapshots", accepted.len());
     Ok(())
 }
 

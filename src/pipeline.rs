@@ -109,6 +109,26 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
     Ok(summary)
 }
 
+/// Refuses, before any work, a film larger than `max_bytes` (`render --max-memory`).
+pub fn check_film_memory(settings: &Settings, max_bytes: u64) -> Result<(), String> {
+    let pixels = u64::from(settings.width) * u64::from(settings.height);
+    let needed = pixels * crate::film::BYTES_PER_PIXEL;
+    if needed <= max_bytes {
+        return Ok(());
+    }
+    let gib = |bytes: u64| bytes as f64 / f64::from(1u32 << 30);
+    Err(format!(
+        "error: a {}x{} film needs {:.1} GiB ({} bytes a pixel while rendering), more than \
+         --max-memory {:.1} GiB allows: lower the resolution, or raise --max-memory if the \
+         machine has the memory",
+        settings.width,
+        settings.height,
+        gib(needed),
+        crate::film::BYTES_PER_PIXEL,
+        gib(max_bytes)
+    ))
+}
+
 /// What `render` writes, chosen by the output's extension.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum OutputFormat {
@@ -183,6 +203,14 @@ pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<Str
         }
     };
     image::check_writable(output).map_err(|e| format!("error: {e}"))?;
+    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(output)) {
+        if a == b {
+            return Err(format!(
+                "error: {}: is the input; tone mapping would replace it",
+                output.display()
+            ));
+        }
+    }
     let hdr = image::read_hdr(input).map_err(|e| format!("error: {e}"))?;
     let pixels = tonemap::quantise(&tonemap::tonemap(&hdr, params));
     let written = if ldr_ppm {
@@ -191,7 +219,7 @@ pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<Str
         image::png::write(output, hdr.width, hdr.height, &pixels)
     };
     written.map_err(|e| format!("error: {e}"))?;
-    Ok(format!(
+    let mut summary = format!(
         "{}: {}x{}, {} (v {}, gamma {}, exposure {}), largest input value {}",
         output.display(),
         hdr.width,
@@ -201,5 +229,10 @@ pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<Str
         params.gamma,
         params.exposure,
         hdr.max_component()
-    ))
+    );
+    match tonemap::non_finite_pixels(&hdr) {
+        0 => {}
+        n => summary.push_str(&format!("; {n} pixels not finite, clamped (+inf to the largest)")),
+    }
+    Ok(summary)
 }

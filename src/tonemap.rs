@@ -105,10 +105,19 @@ impl ToneMap {
     }
 }
 
-/// Display values in [0, 1] per pixel.
+/// Display values in [0, 1] per pixel. Components that are not finite take no part in the
+/// image's statistics: +inf stands for the largest finite component, NaN and -inf for 0.
 pub fn tonemap(image: &Image, params: &ToneMap) -> Vec<Vec3> {
-    let exposed: Vec<Vec3> =
-        image.pixels.iter().map(|p| (*p * params.exposure.exp2()).max(Vec3::ZERO)).collect();
+    let scale = params.exposure.exp2();
+    let finite = |c: f32| if c.is_finite() { c * scale } else { 0.0 };
+    let largest_finite =
+        image.pixels.iter().map(|p| p.map(finite).max_element()).fold(0.0, f32::max);
+    let exposed: Vec<Vec3> = image
+        .pixels
+        .iter()
+        .map(|p| p.map(|c| if c == f32::INFINITY { largest_finite } else { finite(c) }))
+        .map(|p| p.max(Vec3::ZERO))
+        .collect();
     let largest = exposed.iter().map(|p| p.max_element()).fold(0.0, f32::max);
     // Dividing by the largest component of an all-black image: leave it black.
     let m = if largest > 0.0 { largest } else { 1.0 };
@@ -128,6 +137,11 @@ pub fn tonemap(image: &Image, params: &ToneMap) -> Vec<Vec3> {
         Operator::Reinhard => reinhard(&exposed, params.white),
         Operator::Aces => exposed.iter().map(|&c| unit(aces(c)).map(srgb_transfer)).collect(),
     }
+}
+
+/// How many pixels have a component that is not finite (`tonemap` clamps them).
+pub fn non_finite_pixels(image: &Image) -> usize {
+    image.pixels.iter().filter(|p| !p.is_finite()).count()
 }
 
 /// round(255 c') per channel.

@@ -67,7 +67,8 @@ pub fn read_hdr(path: &Path) -> Result<Image, ImageError> {
     match extension(path).as_deref() {
         Some("exr") => exr::read(path),
         Some("ppm") => {
-            let bytes = std::fs::read(path).map_err(|e| ImageError::io(path, e))?;
+            let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
+                .map_err(|e| ImageError::format(path, e))?;
             ppm::parse(&bytes).map_err(|message| ImageError::format(path, message))
         }
         _ => Err(ImageError::format(path, "unknown image type (expected .exr or .ppm)")),
@@ -80,6 +81,9 @@ pub fn extension(path: &Path) -> Option<String> {
 
 /// Checks, before any work, that `path` can be written: its folder exists and takes new files.
 pub fn check_writable(path: &Path) -> Result<(), ImageError> {
+    if path.is_dir() {
+        return Err(ImageError::format(path, "is a folder, not a file to write"));
+    }
     let folder = folder_of(path);
     if !folder.is_dir() {
         return Err(ImageError::format(
@@ -97,15 +101,13 @@ pub fn write_atomic(
     write: impl FnOnce(&mut BufWriter<&mut std::fs::File>) -> Result<(), ImageError>,
 ) -> Result<(), ImageError> {
     let mut builder = tempfile::Builder::new();
-    // A temporary file is private (0600); the image gets the permissions of the file it
-    // replaces, or the usual 0644.
+    // A temporary file is private (0600); the image gets the read and write permissions of the
+    // file it replaces (never its setuid, setgid or sticky bits), or the usual 0644.
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
-        let permissions = std::fs::metadata(path)
-            .map(|m| m.permissions())
-            .unwrap_or_else(|_| std::fs::Permissions::from_mode(0o644));
-        builder.permissions(permissions);
+        let mode = std::fs::metadata(path).map_or(0o644, |m| m.permissions().mode() & 0o777);
+        builder.permissions(std::fs::Permissions::from_mode(mode));
     }
     let mut temporary =
         builder.tempfile_in(folder_of(path)).map_err(|e| ImageError::io(path, e))?;

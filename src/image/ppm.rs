@@ -45,7 +45,10 @@ fn write(
     res: u32,
     samples: impl Iterator<Item = [u32; 3]>,
 ) -> Result<(), ImageError> {
-    let name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    // The name goes into a comment line: a line break in it would end the comment, and what
+    // followed would be read as the header (`#MAX=` included).
+    let name =
+        path.file_name().map_or(String::new(), |n| n.to_string_lossy().escape_debug().to_string());
     write_atomic(path, |w| {
         let io = |e| ImageError::io(path, e);
         write!(w, "P3\n#MAX={max}\n# {name}\n{width} {height}\n{res}\n").map_err(io)?;
@@ -64,7 +67,10 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
     let binary = match magic.text {
         "P3" => false,
         "P6" => true,
-        _ => return Err(format!("{}: expected `P3` or `P6`, found `{}`", magic.place, magic.text)),
+        _ => {
+            let place = reader.place(magic.at);
+            return Err(format!("{place}: expected `P3` or `P6`, found `{}`", magic.text));
+        }
     };
     let width = reader.number("the width", 1, u32::MAX.into())?;
     let height = reader.number("the height", 1, u32::MAX.into())?;
@@ -108,12 +114,16 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
                 format!("{end}: the pixel data ends after {i} of {count} samples")
             })?;
             let value: u64 = token.text.parse().map_err(|_| {
-                format!("{}: expected a sample value, found `{}`", token.place, token.text)
+                format!(
+                    "{}: expected a sample value, found `{}`",
+                    reader.place(token.at),
+                    token.text
+                )
             })?;
             if value > res {
                 return Err(format!(
                     "{}: sample {value} is above the maximum value {res}",
-                    token.place
+                    reader.place(token.at)
                 ));
             }
             samples.push(value);
@@ -136,8 +146,9 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
 
 struct Token<'a> {
     text: &'a str,
-    /// `line N, column M` of its first byte.
-    place: String,
+    /// The offset of its first byte (`Reader::place` turns it into a line and column, only
+    /// for an error: counting lines for every token would make reading quadratic).
+    at: usize,
 }
 
 struct Reader<'a> {
@@ -188,7 +199,7 @@ impl<'a> Reader<'a> {
                     }
                     let text =
                         std::str::from_utf8(&self.bytes[start..self.at]).unwrap_or("<not text>");
-                    return Ok(Some(Token { text, place: self.place(start) }));
+                    return Ok(Some(Token { text, at: start }));
                 }
             }
         }
@@ -202,7 +213,8 @@ impl<'a> Reader<'a> {
             Ok(n) if (min..=max).contains(&n) => Ok(n),
             _ => Err(format!(
                 "{}: expected {what} (a whole number from {min} to {max}), found `{}`",
-                token.place, token.text
+                self.place(token.at),
+                token.text
             )),
         }
     }

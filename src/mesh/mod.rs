@@ -35,12 +35,12 @@ pub fn load(path: &Path) -> Result<Mesh, MeshError> {
         Some("obj") => MeshFormat::Obj,
         _ => return Err(error("unknown mesh format (expected a .ply or .obj file)".to_string())),
     };
-    let bytes = std::fs::read(path).map_err(|e| {
+    let bytes = crate::input::read(path, crate::input::MAX_MESH_BYTES).map_err(|e| {
         let how = GENERATED.iter().find(|(name, _)| path.ends_with(name));
         match how {
-            Some((_, command)) if e.kind() == std::io::ErrorKind::NotFound => error(format!(
-                "cannot read: {e}; this mesh is generated, not shipped: run `{command}` at the top of the \
-                 repository"
+            Some((_, command)) if !path.exists() => error(format!(
+                "cannot read: {e}; this mesh is generated, not shipped: run `{command}` at the \
+                 top of the repository"
             )),
             _ => error(format!("cannot read: {e}")),
         }

@@ -179,15 +179,17 @@ impl Flattener {
         self.primitives.push(Primitive { shape, material, frame, light: None });
     }
 
-    /// The mesh of a file, loaded and accelerated once however often it is used.
+    /// The mesh of a file, loaded and accelerated once however often (and however named) it is
+    /// used.
     fn mesh(&mut self, path: &Path, node: &ObjectNode) -> Result<Arc<TriangleMesh>, SceneError> {
-        if let Some(mesh) = self.meshes.get(path) {
+        let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        if let Some(mesh) = self.meshes.get(&file) {
             return Ok(mesh.clone());
         }
         let mesh =
             crate::mesh::load(path).map_err(|e| SceneError::at(&node.span, e.to_string()))?;
         let mesh = Arc::new(TriangleMesh::new(mesh));
-        self.meshes.insert(path.to_path_buf(), mesh.clone());
+        self.meshes.insert(file, mesh.clone());
         Ok(mesh)
     }
 
@@ -200,12 +202,16 @@ impl Flattener {
         let texture = match desc {
             Some(d) if !matches!(d.diffuse.pattern, Pattern::Solid(_)) => {
                 let images = &mut self.images;
-                let mut load = |path: &Path| match images.get(path) {
-                    Some(image) => Ok(image.clone()),
-                    None => {
-                        let image = Arc::new(ImageMap::load(path)?);
-                        images.insert(path.to_path_buf(), image.clone());
-                        Ok(image)
+                // Keyed by the file itself, however the scene names it.
+                let mut load = |path: &Path| {
+                    let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+                    match images.get(&file) {
+                        Some(image) => Ok(image.clone()),
+                        None => {
+                            let image = Arc::new(ImageMap::load(path)?);
+                            images.insert(file, image.clone());
+                            Ok(image)
+                        }
                     }
                 };
                 let texture = Texture::new(&d.diffuse, &mut load).map_err(|e| {

@@ -44,7 +44,8 @@ pub fn write(path: &Path, estimate: &Estimate) -> std::result::Result<(), ImageE
 
 /// Reads a snapshot; anything else (another EXR, a damaged file) is an error naming the file.
 pub fn read(path: &Path) -> std::result::Result<Estimate, ImageError> {
-    let bytes = std::fs::read(path).map_err(|e| ImageError::io(path, e))?;
+    let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
+        .map_err(|e| ImageError::format(path, e))?;
     read_bytes(&bytes).map_err(|message| {
         ImageError::format(path, format!("not a readable raydiance snapshot: {message}"))
     })

@@ -13,9 +13,27 @@ pub struct ImageMap {
     texels: Vec<Vec3>,
 }
 
+/// The most texels one image may have (8192 × 8192): decoded, each takes 12 bytes.
+pub const MAX_TEXELS: u64 = 1 << 26;
+
 impl ImageMap {
     pub fn load(path: &Path) -> Result<ImageMap, String> {
-        let decoded = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgb8();
+        let error = |e: String| format!("{}: {e}", path.display());
+        let bytes = crate::input::read(path, crate::input::MAX_IMAGE_BYTES).map_err(error)?;
+        let reader = || {
+            image::ImageReader::new(std::io::Cursor::new(&bytes))
+                .with_guessed_format()
+                .map_err(|e| error(e.to_string()))
+        };
+        // The header's size is checked before anything is decoded: a small file can declare a
+        // huge image.
+        let (width, height) = reader()?.into_dimensions().map_err(|e| error(e.to_string()))?;
+        if u64::from(width) * u64::from(height) > MAX_TEXELS {
+            return Err(error(format!(
+                "{width} x {height} texels, more than raydiance reads in one image ({MAX_TEXELS})"
+            )));
+        }
+        let decoded = reader()?.decode().map_err(|e| error(e.to_string()))?.to_rgb8();
         let (width, height) = (decoded.width() as usize, decoded.height() as usize);
         let texels = decoded.pixels().map(|p| Vec3::from(p.0.map(srgb_to_linear))).collect();
         Ok(ImageMap { width, height, texels })

@@ -1,0 +1,247 @@
+//! Hostile input cannot take the machine: special files, huge sizes and counts are refused
+//! before any work, under a memory cap and a time limit set here, so that a regression fails the
+//! test instead of exhausting the machine. Outputs are never mangled or put in the wrong place.
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// The most address space a run here may take.
+const MEMORY_CAP: &str = "--as=2147483648";
+
+/// Runs raydiance with `args` under the memory cap; fails the test if it takes longer than
+/// `seconds` (and then kills it).
+fn limited(args: &[&str], seconds: u64) -> Output {
+    let mut child = Command::new("prlimit")
+        .args([MEMORY_CAP, "--", env!("CARGO_BIN_EXE_raydiance")])
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("prlimit (util-linux) runs the command");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(seconds) {
+            child.kill().unwrap();
+            panic!("{args:?} ran longer than {seconds} s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// A clean refusal: exit status 1 (not a panic's 101, not a signal), the message on stderr.
+fn assert_refused(output: &Output, expected: &str) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains(expected), "expected `{expected}` in:\n{stderr}");
+}
+
+const SMALL_SCENE: &str = "camera { location <0, 0, -3>  look_at <0, 0, 0> }
+light_source { <0, 2, -2>  power rgb 5 }
+sphere { <0, 0, 0>, 1  material { diffuse rgb 0.5 } }
+";
+
+fn write_scene(dir: &Path, name: &str, extra: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, format!("{SMALL_SCENE}{extra}")).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn a_film_too_large_for_memory_is_refused_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let out = dir.path().join("out.exr");
+    let args = ["render", &scene, "-o", out.to_str().unwrap(), "--width", "65536"];
+    let output = limited(&[&args[..], &["--height", "65536"]].concat(), 10);
+    assert_refused(&output, "a 65536x65536 film needs 384.0 GiB");
+    assert!(!out.exists());
+    // The bound is an option: a small one refuses a small film.
+    let args = ["render", &scene, "-o", out.to_str().unwrap(), "--max-memory", "0.00001"];
+    assert_refused(&limited(&args, 10), "more than --max-memory 0.0 GiB allows");
+}
+
+#[test]
+fn counts_beyond_reason_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let out = dir.path().join("out.exr");
+    let output =
+        limited(&["render", &scene, "-o", out.to_str().unwrap(), "--threads", "100000"], 10);
+    assert_refused(&output, "--threads 100000 is out of range (1 to 1024)");
+    let output = limited(&["bench", &scene, "--repeats", "1000000000000"], 10);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "a command-line error:\n{stderr}");
+    assert!(stderr.contains("1000000000000"), "{stderr}");
+}
+
+/// FIFOs, devices and folders named as meshes, images and tone-mapping inputs: an error that
+/// names them, at once (a FIFO opened for reading would wait for a writer for ever).
+#[test]
+fn special_files_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = |name: &str| {
+        let path = dir.path().join(name);
+        assert!(Command::new("mkfifo").arg(&path).status().unwrap().success());
+        path
+    };
+    let device = |name: &str| {
+        let path = dir.path().join(name);
+        std::os::unix::fs::symlink("/dev/urandom", &path).unwrap();
+        path
+    };
+    let out = dir.path().join("out.png");
+    let out = out.to_str().unwrap();
+    for (mesh, kind) in [(fifo("pipe.ply"), "a FIFO"), (device("random.ply"), "a device")] {
+        let name = mesh.file_name().unwrap().to_str().unwrap();
+        let scene = write_scene(dir.path(), "mesh.scn", &format!("mesh {{ \"{name}\" }}"));
+        let output = limited(&["render", &scene, "-o", out], 10);
+        assert_refused(&output, &format!("{name}: cannot read: not a regular file ({kind})"));
+    }
+    for (image, kind) in [(fifo("pipe.png"), "a FIFO"), (device("random.png"), "a device")] {
+        let name = image.file_name().unwrap().to_str().unwrap();
+        let texture = format!("box {{ -1, 1  material {{ diffuse image_map {{ \"{name}\" }} }} }}");
+        let scene = write_scene(dir.path(), "image.scn", &texture);
+        let output = limited(&["render", &scene, "-o", out], 10);
+        assert_refused(&output, &format!("{name}: not a regular file ({kind})"));
+    }
+    for (input, kind) in [(fifo("pipe.ppm"), "a FIFO"), (device("random.exr"), "a device")] {
+        let output = limited(&["tonemap", input.to_str().unwrap(), "-o", out], 10);
+        assert_refused(&output, &format!("{}: not a regular file ({kind})", input.display()));
+    }
+    let folder = dir.path().join("folder.ppm");
+    std::fs::create_dir(&folder).unwrap();
+    let output = limited(&["tonemap", folder.to_str().unwrap(), "-o", out], 10);
+    assert_refused(&output, "not a regular file (a folder)");
+    assert!(!Path::new(out).exists());
+}
+
+/// CRC-32 (ISO-HDLC), for a PNG chunk written by hand.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &byte in bytes {
+        crc ^= u32::from(byte);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 { (crc >> 1) ^ 0xedb8_8320 } else { crc >> 1 };
+        }
+    }
+    !crc
+}
+
+/// A PNG of 65 bytes that declares 15000 x 11000 pixels: refused from its header,
+/// before anything is decoded.
+#[test]
+fn an_image_declaring_too_many_texels_is_refused_before_decoding() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut header = b"IHDR".to_vec();
+    header.extend(15000u32.to_be_bytes());
+    header.extend(11000u32.to_be_bytes());
+    header.extend([8, 2, 0, 0, 0]);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    // An empty zlib stream for the pixels: a decoder would find them missing only later.
+    let data = [b"IDAT".as_slice(), &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01]].concat();
+    for chunk in [header, data, b"IEND".to_vec()] {
+        png.extend((chunk.len() as u32 - 4).to_be_bytes());
+        png.extend(&chunk);
+        png.extend(crc32(&chunk).to_be_bytes());
+    }
+    std::fs::write(dir.path().join("huge.png"), png).unwrap();
+    let texture = "box { -1, 1  material { diffuse image_map { \"huge.png\" } } }";
+    let scene = write_scene(dir.path(), "s.scn", texture);
+    let out = dir.path().join("out.png");
+    let output = limited(&["render", &scene, "-o", out.to_str().unwrap()], 10);
+    assert_refused(&output, "15000 x 11000 texels, more than raydiance reads in one image");
+}
+
+/// Reading a P3 PPM is linear in its size: a 512 x 512 HDR PPM as `render` writes it (1.6
+/// million numbers) tone-maps in seconds (46 s when every token counted the lines before it).
+#[test]
+fn a_large_plain_ppm_tone_maps_in_linear_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let hdr = dir.path().join("big.ppm");
+    let pixels: String =
+        (0..512 * 512).map(|i| format!("{} {} {}\n", i % 7, i % 1000, 9)).collect();
+    std::fs::write(&hdr, format!("P3\n#MAX=12.5\n512 512\n1000\n{pixels}")).unwrap();
+    let out = dir.path().join("out.png");
+    let output = limited(&["tonemap", hdr.to_str().unwrap(), "-o", out.to_str().unwrap()], 20);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+}
+
+#[test]
+fn non_finite_pixels_take_no_part_in_tone_mapping() {
+    use glam::Vec3;
+    use raydiance::tonemap::{Operator, ToneMap, tonemap};
+    let mut image = raydiance::image::Image::new(4, 1);
+    image.pixels = vec![Vec3::splat(0.5), Vec3::splat(2.0), Vec3::INFINITY, Vec3::NAN];
+    for op in [Operator::Equalize, Operator::Gamma, Operator::Reinhard] {
+        let display = tonemap(&image, &ToneMap { op, ..Default::default() });
+        assert!(display[0].x > 0.0 && display[1].x > display[0].x, "{op}: {display:?}");
+        assert_eq!(display[2], display[1], "{op}: +inf stands for the largest finite value");
+        assert_eq!(display[3], Vec3::ZERO, "{op}: NaN is black");
+    }
+    assert_eq!(raydiance::tonemap::non_finite_pixels(&image), 2);
+}
+
+#[test]
+fn outputs_are_never_mangled_or_misplaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let small = ["--width", "8", "--height", "8", "--samples", "2"];
+    // A name that would end the PPM's comment line and forge a header.
+    let forged = dir.path().join("x\n#MAX=1000\n#.ppm");
+    let output =
+        limited(&[&["render", &scene, "-o", forged.to_str().unwrap()], &small[..]].concat(), 20);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let bytes = std::fs::read(&forged).unwrap();
+    let text = String::from_utf8_lossy(&bytes);
+    assert_eq!(text.lines().nth(2), Some("# x\\n#MAX=1000\\n#.ppm"), "{text}");
+    let image = raydiance::image::ppm::parse(&bytes).unwrap();
+    let max_line = text.lines().nth(1).unwrap();
+    assert_eq!(max_line, format!("#MAX={}", image.max_component()), "the real MAX decodes");
+
+    // Tone mapping a file onto itself would replace the HDR input.
+    let before = std::fs::read(&forged).unwrap();
+    let output =
+        limited(&["tonemap", forged.to_str().unwrap(), "-o", forged.to_str().unwrap()], 10);
+    assert_refused(&output, "is the input; tone mapping would replace it");
+    assert_eq!(std::fs::read(&forged).unwrap(), before);
+
+    // A folder in the output's place is refused before rendering.
+    let folder = dir.path().join("taken.exr");
+    std::fs::create_dir(&folder).unwrap();
+    let start = Instant::now();
+    let args = ["render", &scene, "-o", folder.to_str().unwrap(), "--samples", "100000"];
+    assert_refused(&limited(&args, 10), "is a folder, not a file to write");
+    assert!(start.elapsed() < Duration::from_secs(5), "refused before rendering");
+
+    // A replaced file keeps its read and write permissions, never setuid or setgid.
+    use std::os::unix::fs::PermissionsExt;
+    let replaced = dir.path().join("replaced.png");
+    std::fs::write(&replaced, b"old").unwrap();
+    std::fs::set_permissions(&replaced, std::fs::Permissions::from_mode(0o6755)).unwrap();
+    let output =
+        limited(&[&["render", &scene, "-o", replaced.to_str().unwrap()], &small[..]].concat(), 20);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let mode = std::fs::metadata(&replaced).unwrap().permissions().mode() & 0o7777;
+    assert_eq!(mode, 0o755, "{mode:o}");
+}
+
+/// `raydiance check scene | head -0`: the summary cannot be written, and that is no panic.
+#[test]
+fn a_closed_stdout_is_no_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["check", &scene])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
