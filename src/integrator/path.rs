@@ -441,14 +441,48 @@ fn sample_bsdf_lanes(
     samples
 }
 
-/// `power_heuristic` in four lanes.
+/// `power_heuristic` in four lanes, with the same operations.
 fn power_heuristic_lanes(pdf: Vec4, other: Vec4) -> Vec4 {
-    let (a, b) = (pdf * pdf, other * other);
-    Vec4::select((a + b).cmpeq(Vec4::ZERO), Vec4::ZERO, a / (a + b))
+    let ratio = other / pdf;
+    let weight = Vec4::ONE / (Vec4::ONE + ratio * ratio);
+    let weight = Vec4::select(ratio.is_nan_mask(), Vec4::splat(0.5), weight);
+    Vec4::select(pdf.cmpeq(Vec4::ZERO), Vec4::ZERO, weight)
 }
 
-/// Veach's power heuristic with exponent 2, for one sample from each strategy.
+/// Veach's power heuristic with exponent 2, for one sample from each strategy:
+/// pdf² / (pdf² + other²), written as 1 / (1 + (other / pdf)²) because the squares overflow
+/// where a pdf is huge (an area light seen edge-on from far away: a solid-angle pdf of 1e20),
+/// and inf / inf is NaN. Both infinite: an even split.
 fn power_heuristic(pdf: f32, other: f32) -> f32 {
-    let (a, b) = (pdf * pdf, other * other);
-    if a + b == 0.0 { 0.0 } else { a / (a + b) }
+    if pdf == 0.0 {
+        return 0.0;
+    }
+    let ratio = other / pdf;
+    if ratio.is_nan() { 0.5 } else { 1.0 / (1.0 + ratio * ratio) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The NaN of depth of field (a floor ray at a grazing angle sampling an area light 10^7
+    /// units away: a light pdf near 1e20, squared to inf): every weight is a number in [0, 1],
+    /// the two strategies' weights add up to 1, and the lanes give the same bits.
+    #[test]
+    fn power_heuristic_weights_are_numbers_for_any_pdfs() {
+        assert_eq!(power_heuristic(1e20, 1.0), 1.0);
+        assert_eq!(power_heuristic(1.0, 1e20), 0.0);
+        let pdfs = [0.0, 1e-30, 1e-3, 0.5, 1.0, 3.0, 1e19, 1e20, 1e30, f32::MAX, f32::INFINITY];
+        for a in pdfs {
+            for b in pdfs {
+                let (w, v) = (power_heuristic(a, b), power_heuristic(b, a));
+                assert!((0.0..=1.0).contains(&w), "w({a}, {b}) = {w}");
+                if a > 0.0 || b > 0.0 {
+                    assert!((w + v - 1.0).abs() < 1e-6, "w({a}, {b}) + w({b}, {a}) = {}", w + v);
+                }
+                let lanes = power_heuristic_lanes(Vec4::splat(a), Vec4::splat(b));
+                assert_eq!(lanes.x.to_bits(), w.to_bits(), "lanes at ({a}, {b})");
+            }
+        }
+    }
 }
