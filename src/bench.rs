@@ -58,7 +58,11 @@ fn bench_one(path: &Path, spp: u32, repeats: usize, out: &mut dyn Write) -> Resu
     render(&scene, &Silent);
     let mut seconds: Vec<f64> = (0..repeats).map(|_| render(&scene, &Silent).1.seconds).collect();
     seconds.sort_by(f64::total_cmp);
-    let median = seconds[seconds.len() / 2];
+    let middle = seconds.len() / 2;
+    let median = match seconds.len() % 2 {
+        1 => seconds[middle],
+        _ => (seconds[middle - 1] + seconds[middle]) / 2.0,
+    };
     let samples = 256.0 * 256.0 * f64::from(spp);
     let _ = writeln!(
         out,

@@ -24,26 +24,38 @@ struct Cli {
 enum Command {
     /// Render a scene to .exr (linear HDR), .ppm (HDR with #MAX) or .png (tone-mapped).
     Render {
+        /// The scene file (.scn).
         scene: PathBuf,
+        /// The image to write, by its extension: .exr (linear HDR), .ppm (HDR with #MAX) or .png
+        /// (tone-mapped with clamp-gamma) [default: SCENE.png in the current folder, as POV-Ray]
         #[arg(short, long)]
-        output: PathBuf,
-        /// Samples per pixel (overrides the scene's `settings`).
+        output: Option<PathBuf>,
+        /// Samples per pixel, 1 to 1000000 [default: the scene's `settings`, else 16]
         #[arg(long)]
         samples: Option<u32>,
+        /// Image width in pixels, 1 to 65536 [default: the scene's `settings`, else 256]
         #[arg(long)]
         width: Option<u32>,
+        /// Image height in pixels, 1 to 65536 [default: the scene's `settings`, else 256]
         #[arg(long)]
         height: Option<u32>,
+        /// Seed of the random numbers: the same seed gives the same image [default: the scene's
+        /// `settings`, else 0]
         #[arg(long)]
         seed: Option<u64>,
-        /// Worker threads (default: one per core). The image does not depend on it.
+        /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
         #[arg(long)]
         threads: Option<usize>,
+        /// `direct` (the course's Lab 4: direct light, mirrors and glass followed) or `path`
+        /// (path tracing of the full rendering equation) [default: the scene's `settings`, else
+        /// path]
         #[arg(long, value_parser = parse_integrator)]
         integrator: Option<IntegratorKind>,
+        /// Longest path in bounces, 0 to 1024 [default: the scene's `settings`, else 32]
         #[arg(long)]
         max_depth: Option<u32>,
-        /// Time budget in seconds: render as many sample passes as fit (up to --samples if given).
+        /// Time budget in seconds: render as many samples as fit, the last pass shortened to
+        /// end near the budget (up to --samples if given).
         #[arg(long, allow_negative_numbers = true)]
         time: Option<f64>,
         /// The integer that MAX stands for in HDR .ppm output.
@@ -55,14 +67,18 @@ enum Command {
     },
     /// Tone-map an HDR image (.exr or .ppm) to LDR .ppm (#MAX=1) or .png.
     Tonemap {
+        /// The HDR image: .exr, or .ppm (P3 or P6, with or without #MAX).
         input: PathBuf,
+        /// The image to write: .ppm (P3, #MAX=1, res 255) or .png.
         #[arg(short, long)]
         output: PathBuf,
+        /// The operator: clamp, equalize, equalize-clamp, gamma, clamp-gamma, reinhard or aces.
         #[arg(long, default_value = "clamp-gamma")]
         op: Operator,
-        /// Threshold V of the clamping operators.
+        /// Threshold V of equalize-clamp and clamp-gamma.
         #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         v: f32,
+        /// Gamma γ of the gamma operators: c' = c^(1/γ).
         #[arg(long, default_value_t = 2.2, allow_negative_numbers = true)]
         gamma: f32,
         /// Exposure in stops: values are multiplied by 2^EV first.
@@ -73,7 +89,10 @@ enum Command {
         white: Option<f32>,
     },
     /// Parse and validate a scene; print a short summary.
-    Check { scene: PathBuf },
+    Check {
+        /// The scene file (.scn).
+        scene: PathBuf,
+    },
     /// Snapshot-test scenes: render each .scn small and compare it, statistically, with its
     /// snapshot `__snapshots__/NAME.exr` beside it; exit status 0 only when all match.
     Snapshot {
@@ -97,11 +116,13 @@ enum Command {
     Bench {
         /// Scenes to render (default: the benchmark scenes in scenes/).
         scenes: Vec<PathBuf>,
+        /// Samples per pixel, one or more separated by commas (e.g. 16,64).
         #[arg(long, default_value = "16")]
         samples: String,
         /// Timed renders of each scene after one warm-up (1 to 1000).
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000))]
         repeats: u16,
+        /// Worker threads, 1 to 1024 [default: one per core].
         #[arg(long)]
         threads: Option<usize>,
     },
@@ -166,6 +187,10 @@ fn main() -> ExitCode {
                 return fail(format!("error: --max-memory {max_memory} must be a positive number"));
             }
             let max_bytes = (max_memory * f64::from(1u32 << 30)) as u64;
+            // POV-Ray's habit: without -o, the scene's name as a PNG in the current folder.
+            let output = output.unwrap_or_else(|| {
+                PathBuf::from(scene.file_stem().unwrap_or_default()).with_extension("png")
+            });
             with_threads(threads, || render(&scene, &output, &request, ppm_res, time, max_bytes))
         }
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
@@ -375,11 +400,13 @@ impl Progress for Bar {
         self.bar.inc(samples);
     }
 
-    fn should_stop(&self, next_pass_seconds: f64) -> bool {
-        let over_budget = self.deadline.is_some_and(|deadline| {
-            Instant::now() + Duration::from_secs_f64(next_pass_seconds) > deadline
-        });
-        over_budget || INTERRUPTED.load(Ordering::SeqCst)
+    fn pass_limit(&self, seconds_per_sample: f64) -> Option<u32> {
+        if INTERRUPTED.load(Ordering::SeqCst) {
+            return Some(0);
+        }
+        let deadline = self.deadline?;
+        let left = deadline.saturating_duration_since(Instant::now()).as_secs_f64();
+        Some((left / seconds_per_sample.max(1e-9)).min(f64::from(u32::MAX)) as u32)
     }
 
     fn should_abandon(&self) -> bool {

@@ -220,14 +220,12 @@ pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<Str
     };
     written.map_err(|e| format!("error: {e}"))?;
     let mut summary = format!(
-        "{}: {}x{}, {} (v {}, gamma {}, exposure {}), largest input value {}",
+        "{}: {}x{}, {} ({}), largest input value {}",
         output.display(),
         hdr.width,
         hdr.height,
         params.op,
-        params.v,
-        params.gamma,
-        params.exposure,
+        params.used(),
         hdr.max_component()
     );
     match tonemap::non_finite_pixels(&hdr) {

@@ -21,10 +21,11 @@ use crate::scene::graph::IntegratorKind;
 pub trait Progress: Sync {
     /// `samples` more pixel samples are done.
     fn advance(&self, samples: u64);
-    /// Checked between passes, with an estimate of how long the next pass would take: true
-    /// ends the render with the passes done so far.
-    fn should_stop(&self, _next_pass_seconds: f64) -> bool {
-        false
+    /// Asked between passes, with the seconds one sample per pixel took in the last pass: the
+    /// most samples per pixel the next pass may take (0 ends the render with the passes done
+    /// so far), or `None` for no bound.
+    fn pass_limit(&self, _seconds_per_sample: f64) -> Option<u32> {
+        None
     }
     /// Checked between the small tasks of a pass (at most `TASK_SAMPLES` samples each): true
     /// drops the pass under way and ends the render with the passes done before it.
@@ -59,7 +60,8 @@ impl RenderStats {
     }
 }
 
-/// Renders `scene` with its settings, in passes whose sample counts double (1, 1, 2, 4, ...), so
+/// Renders `scene` with its settings, in passes whose sample counts double (1, 1, 2, 4, ...,
+/// the last one shortened to end at the sample count or where `Progress::pass_limit` says), so
 /// that a render stopped between passes is still an unbiased image.
 pub fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
     match scene.settings.integrator {
@@ -87,9 +89,13 @@ pub fn render_with(
     let mut pass_film = Film::new(width, height);
     let mut seconds_per_sample = 0.0;
     while film.samples < settings.samples {
-        let pass = film.samples.max(1).min(settings.samples - film.samples);
-        if film.samples > 0 && progress.should_stop(seconds_per_sample * f64::from(pass)) {
-            break;
+        let mut pass = film.samples.max(1).min(settings.samples - film.samples);
+        if film.samples > 0 {
+            match progress.pass_limit(seconds_per_sample) {
+                Some(0) => break,
+                Some(limit) => pass = pass.min(limit),
+                None => {}
+            }
         }
         let pass_start = Instant::now();
         if !render_pass(

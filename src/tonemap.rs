@@ -87,6 +87,22 @@ impl Default for ToneMap {
 }
 
 impl ToneMap {
+    /// The parameters the operator uses, as `v 1, gamma 2.2, exposure 0`.
+    pub fn used(&self) -> String {
+        let mut used = match self.op {
+            Operator::Clamp | Operator::Equalize | Operator::Aces => Vec::new(),
+            Operator::EqualizeClamp => vec![format!("v {}", self.v)],
+            Operator::Gamma => vec![format!("gamma {}", self.gamma)],
+            Operator::ClampGamma => vec![format!("v {}", self.v), format!("gamma {}", self.gamma)],
+            Operator::Reinhard => match self.white {
+                Some(white) => vec![format!("white {white}")],
+                None => vec!["white: the largest luminance".to_string()],
+            },
+        };
+        used.push(format!("exposure {}", self.exposure));
+        used.join(", ")
+    }
+
     /// Checks the parameters; the message names the bad value.
     pub fn validate(&self) -> Result<(), String> {
         if !(self.v.is_finite() && self.v > 0.0) {

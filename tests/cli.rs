@@ -209,3 +209,48 @@ fn parameters_without_effect_are_reported() {
         assert!(stdout.contains(warning), "{warning}\n{stdout}");
     }
 }
+
+/// As POV-Ray does: without `-o`, the scene's name as a PNG in the current folder.
+#[test]
+fn render_without_an_output_writes_the_scene_name_as_png_here() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = std::fs::canonicalize("scenes/lab4-direct.scn").unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .current_dir(dir.path())
+        .args(["render", scene.to_str().unwrap(), "--width", "8", "--height", "8"])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let written: Vec<_> =
+        std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(written, ["lab4-direct.png"]);
+}
+
+/// Every option says what it takes and its default; reviewed as text.
+#[test]
+fn help_describes_every_option() {
+    for command in ["render", "tonemap", "check", "snapshot", "bench"] {
+        let output = raydiance(&[command, "--help"]);
+        assert!(output.status.success());
+        let help = String::from_utf8_lossy(&output.stdout).into_owned();
+        insta::assert_snapshot!(format!("help_{command}"), help);
+    }
+}
+
+#[test]
+fn tonemap_names_only_the_parameters_its_operator_uses() {
+    let dir = tempfile::tempdir().unwrap();
+    let hdr = dir.path().join("in.ppm");
+    std::fs::write(&hdr, "P3\n#MAX=4.5\n2 1\n255\n255 0 0  51 51 51\n").unwrap();
+    let out = dir.path().join("out.png");
+    for (op, expected) in [
+        ("reinhard", "reinhard (white: the largest luminance, exposure 0)"),
+        ("clamp-gamma", "clamp-gamma (v 1, gamma 2.2, exposure 0)"),
+        ("clamp", "clamp (exposure 0)"),
+    ] {
+        let output =
+            raydiance(&["tonemap", hdr.to_str().unwrap(), "-o", out.to_str().unwrap(), "--op", op]);
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(stdout.contains(expected), "{stdout}");
+    }
+}

@@ -164,3 +164,30 @@ fn a_time_budget_renders_what_fits() {
     let samples = raydiance::image::exr::read_samples_per_pixel(&out).unwrap().unwrap();
     assert!(samples >= 16, "used the budget: {samples} spp");
 }
+
+/// A budget of samples, as a time budget becomes one: the render takes exactly as many as
+/// the budget allows (the last pass shortened), not the largest doubling that fits.
+#[test]
+fn the_last_pass_is_shortened_to_the_budget() {
+    struct Budget {
+        pixels: u64,
+        samples: u64,
+        done: std::sync::atomic::AtomicU64,
+    }
+    impl raydiance::render::Progress for Budget {
+        fn advance(&self, samples: u64) {
+            self.done.fetch_add(samples, std::sync::atomic::Ordering::Relaxed);
+        }
+        fn pass_limit(&self, _seconds_per_sample: f64) -> Option<u32> {
+            let done = self.done.load(std::sync::atomic::Ordering::Relaxed) / self.pixels;
+            Some((self.samples - done) as u32)
+        }
+    }
+    let mut s = scene(&seed_scene_scaled(1.0, "path"));
+    s.settings.width = 8;
+    s.settings.height = 8;
+    s.settings.samples = 1000;
+    let budget = Budget { pixels: 64, samples: 37, done: Default::default() };
+    let (film, stats) = raydiance::render::render(&s, &budget);
+    assert_eq!((film.samples, stats.samples_per_pixel), (37, 37));
+}
