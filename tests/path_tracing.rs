@@ -236,3 +236,25 @@ fn depth_of_field_over_an_area_lit_floor_gives_no_nan() {
         assert_eq!(film.dropped, 0, "seed {seed}: samples were NaN or infinite");
     }
 }
+
+/// The background is an environment light for `direct` as for `path`: a scene lit by it alone
+/// renders alike with both at depth 1, and a convex diffuse object under it reflects exactly
+/// kd L (every cosine-weighted direction from its surface sees the sky).
+#[test]
+fn the_background_lights_direct_as_it_lights_path() {
+    let lit_by_sky = "settings { resolution 24, 24  samples 64  max_depth 1  background rgb <0.5, 1, 2> }
+        camera { location <0, 1.5, -4>  look_at <0, 0.3, 0>  angle 50 }
+        plane { <0, 1, 0>, 0  material { diffuse rgb 0.6 } }
+        sphere { <0, 0.6, 0>, 0.6  material { diffuse rgb <0.8, 0.4, 0.2> } }";
+    let s = scene(lit_by_sky);
+    let direct = render_with(&s, &Direct { max_depth: 1 }, &Silent).0;
+    assert_films_agree(&direct, &path(&s, Strategy::Mis), "direct vs path at depth 1, sky only");
+
+    let sphere_alone = "settings { resolution 9, 9  samples 4  background rgb <0.5, 1, 2> }
+        camera { location <0, 0, -4>  look_at <0, 0, 0>  angle 10 }
+        sphere { <0, 0, 0>, 0.6  material { diffuse rgb <0.8, 0.4, 0.2> } }";
+    let image = render_with(&scene(sphere_alone), &Direct { max_depth: 1 }, &Silent).0.image();
+    let expected = Vec3::new(0.8, 0.4, 0.2) * Vec3::new(0.5, 1.0, 2.0);
+    let centre = image.get(4, 4);
+    assert!((centre - expected).abs().max_element() < 1e-5, "{centre} vs kd L = {expected}");
+}

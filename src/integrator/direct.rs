@@ -1,16 +1,41 @@
 //! The course's Lab 4 integrator: emission seen directly, direct light at non-specular surfaces
-//! with shadow rays, perfect mirrors and refraction followed Whitted-style; no indirect diffuse.
+//! with shadow rays (from point lights, area lights and the background), perfect mirrors and
+//! refraction followed Whitted-style; no indirect diffuse.
 
 use glam::Vec3;
 
 use super::{Integrator, direct_from_all_lights};
-use crate::geometry::{Ray, offset_origin};
+use crate::geometry::{Hit, Ray, offset_origin};
+use crate::material::Material;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 pub struct Direct {
     /// Longest path in bounces (scattering events); 0 shows only what the camera sees emit.
     pub max_depth: u32,
+}
+
+/// Light of the background (an environment of constant radiance L all around) reflected towards
+/// `wo` by the diffuse lobe: one cosine-weighted direction with a shadow ray to infinity, whose
+/// estimate f L cos / pdf is kd L where the sky is seen. A black background draws no sample, so
+/// the seed's scenes render as they always have.
+fn direct_from_background(
+    scene: &Scene,
+    hit: &Hit,
+    wo: Vec3,
+    material: &Material,
+    sampler: &mut Sampler,
+) -> Vec3 {
+    let background = scene.background();
+    if background == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let Some(sample) = material.sample_diffuse(hit.shading_normal, wo, 1.0, sampler.next_2d())
+    else {
+        return Vec3::ZERO;
+    };
+    let ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
+    if scene.occluded(&ray, f32::INFINITY) { Vec3::ZERO } else { sample.weight * background }
 }
 
 impl Integrator for Direct {
@@ -31,6 +56,7 @@ impl Integrator for Direct {
             }
             if material.has_diffuse() {
                 radiance += beta * direct_from_all_lights(scene, &hit, wo, &material, sampler);
+                radiance += beta * direct_from_background(scene, &hit, wo, &material, sampler);
             }
             // With both mirror and refraction one of them is followed, chosen at random with
             // its weight divided by its probability: one ray, no branching, no bias.

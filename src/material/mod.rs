@@ -154,7 +154,7 @@ impl Material {
     }
 
     /// The diffuse lobe, chosen with probability `p_diffuse`: cosine-weighted on wo's side.
-    fn sample_diffuse(&self, n: Vec3, wo: Vec3, p_diffuse: f32, u: Vec2) -> Option<BsdfSample> {
+    pub fn sample_diffuse(&self, n: Vec3, wo: Vec3, p_diffuse: f32, u: Vec2) -> Option<BsdfSample> {
         let facing = if n.dot(wo) < 0.0 { -n } else { n };
         let local = cosine_hemisphere(u);
         let wi = to_world(facing, local);
