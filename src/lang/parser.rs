@@ -236,6 +236,7 @@ fn describe(rule: Rule) -> &'static str {
         Rule::map_entry => "a color_map entry (`[position colour]`)",
         Rule::colour | Rule::rgb_colour | Rule::kw_rgb => "a colour (`rgb <r, g, b>`)",
         Rule::array | Rule::array_init => "an array",
+        Rule::declared_if => "`#if`",
         Rule::dimension => "an array's size (`[n]`)",
         Rule::macro_call => "a macro call",
         Rule::expr

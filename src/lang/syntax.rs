@@ -173,6 +173,12 @@ pub enum Declared {
     Texture(Texture),
     Array(ArrayLiteral),
     Value(Expr),
+    /// `#if (c) a #elseif (d) b #else e #end` as the value.
+    If {
+        branches: Vec<(Condition, Declared)>,
+        otherwise: Option<Box<Declared>>,
+        span: Span,
+    },
 }
 
 #[derive(Debug, Clone)]

@@ -338,6 +338,30 @@ impl Builder {
             Rule::texture => Declared::Texture(self.texture(pair)?),
             Rule::array => Declared::Array(self.array(pair)?),
             Rule::rgb_colour | Rule::expr => Declared::Value(self.value_expr(pair)?),
+            Rule::declared_if => {
+                let span = self.span(&pair);
+                self.enter(&pair)?;
+                let mut branches = Vec::new();
+                let mut otherwise = None;
+                let mut parts = pair.into_inner();
+                while let Some(directive) = parts.next() {
+                    match directive.as_rule() {
+                        Rule::if_start | Rule::elseif => {
+                            let condition = Condition::Expr(self.first_expr(&directive)?);
+                            let value = self.declared(parts.next().expect("a value"))?;
+                            branches.push((condition, value));
+                        }
+                        Rule::else_ => {
+                            otherwise =
+                                Some(Box::new(self.declared(parts.next().expect("a value"))?));
+                        }
+                        Rule::end => {}
+                        rule => unreachable!("no {rule:?} in a value's #if"),
+                    }
+                }
+                self.leave();
+                Declared::If { branches, otherwise, span }
+            }
             rule => unreachable!("the grammar declares no other value: {rule:?}"),
         })
     }

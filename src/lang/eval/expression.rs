@@ -224,12 +224,17 @@ impl Evaluator {
         for index in indices {
             at.push((self.number(index, "an index")?, index.span.clone()));
         }
-        let flat = element_index(&array, &at)?;
+        let name = match &base.kind {
+            ExprKind::Ident(name) => Some(name.as_str()),
+            _ => None,
+        };
+        let flat = element_index(&array, name, &at)?;
         array.elements[flat].clone().ok_or_else(|| {
-            let shown: Vec<String> = at.iter().map(|(i, _)| format!("[{i}]")).collect();
+            let shown: String = at.iter().map(|(i, _)| format!("[{i}]")).collect();
+            let element = format!("{}{shown}", name.unwrap_or("the array"));
             SceneError::at(
                 &at[0].1,
-                format!("the element {} of this array is not set", shown.join("")),
+                format!("`{element}` is not set (the array was declared without it)"),
             )
         })
     }

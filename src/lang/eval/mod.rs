@@ -360,7 +360,7 @@ impl Evaluator {
                 format!("`{}` is {}, not an array", name.name, slot.kind()),
             ));
         };
-        let flat = element_index(array, &at)?;
+        let flat = element_index(array, Some(&name.name), &at)?;
         Arc::make_mut(array).elements[flat] = Some(value);
         Ok(())
     }
@@ -372,6 +372,22 @@ impl Evaluator {
             Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,
+            Declared::If { branches, otherwise, span } => {
+                for (condition, value) in branches {
+                    if self.condition(condition)? {
+                        return self.declared(value, name);
+                    }
+                }
+                match otherwise {
+                    Some(value) => self.declared(value, name)?,
+                    None => {
+                        return Err(SceneError::at(
+                            span,
+                            "no branch of this `#if` gives the value (add an `#else`)",
+                        ));
+                    }
+                }
+            }
         })
     }
 
@@ -660,8 +676,22 @@ impl Evaluator {
     }
 }
 
-/// Adds a note of where an error came from (an include, a macro call), but not a wall of them.
-fn note(e: SceneError, text: String) -> SceneError {
+/// Adds a note of where an error came from (an include, a macro call), but not a wall of them:
+/// a note repeated by recursion is counted, and after four different ones the rest are elided.
+fn note(mut e: SceneError, text: String) -> SceneError {
+    if let Some(last) = e.notes.last_mut() {
+        if *last == text {
+            *last = format!("{text} (2 times)");
+            return e;
+        }
+        if let Some(count) = last
+            .strip_prefix(&text)
+            .and_then(|rest| rest.strip_prefix(" (")?.strip_suffix(" times)")?.parse::<u64>().ok())
+        {
+            *last = format!("{text} ({} times)", count + 1);
+            return e;
+        }
+    }
     match e.notes.len() {
         0..4 => e.with_note(text),
         4 => e.with_note("(and more)"),
@@ -669,13 +699,19 @@ fn note(e: SceneError, text: String) -> SceneError {
     }
 }
 
-/// The flat position of an element, or a located error naming the array's size.
-pub(super) fn element_index(array: &Array, at: &[(f64, Span)]) -> Result<usize, SceneError> {
+/// The flat position of an element, or a located error naming the array (`name`, if it has one)
+/// and its size.
+pub(super) fn element_index(
+    array: &Array,
+    name: Option<&str>,
+    at: &[(f64, Span)],
+) -> Result<usize, SceneError> {
+    let array_name = name.map_or("the array".to_string(), |n| format!("`{n}`"));
     if at.len() != array.dimensions.len() {
         let span = &at.last().expect("an index").1;
         return Err(SceneError::at(
             span,
-            format!("the array has {} dimensions, not {}", array.dimensions.len(), at.len()),
+            format!("{array_name} has {} dimensions, not {}", array.dimensions.len(), at.len()),
         ));
     }
     let mut flat = 0;
@@ -684,7 +720,7 @@ pub(super) fn element_index(array: &Array, at: &[(f64, Span)]) -> Result<usize, 
             return Err(SceneError::at(
                 span,
                 format!(
-                    "index {index} is out of bounds: the array's size is {size} (indices 0 to {})",
+                    "index {index} is out of bounds: {array_name} has size {size} (indices 0 to {})",
                     size - 1
                 ),
             ));
