@@ -341,7 +341,7 @@ impl Evaluator {
 
     fn declare(&mut self, declare: &Declare) -> Result<(), SceneError> {
         let Declare { local, name, indices, value, .. } = declare;
-        let value = self.declared(value, &name.name)?;
+        let value = self.declared(value, Some(&name.name))?;
         if indices.is_empty() {
             self.bind(&name.name, value, *local);
             return Ok(());
@@ -365,9 +365,10 @@ impl Evaluator {
         Ok(())
     }
 
-    fn declared(&mut self, value: &Declared, name: &str) -> Result<Value, SceneError> {
+    /// A `#declare`d value; `name` (the declared name) names a material in messages.
+    fn declared(&mut self, value: &Declared, name: Option<&str>) -> Result<Value, SceneError> {
         Ok(match value {
-            Declared::Material(m) => Value::Material(self.material(m, Some(name))?),
+            Declared::Material(m) => Value::Material(self.material(m, name)?),
             Declared::Object(o) => Value::Object(Arc::new(self.object(o)?)),
             Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
             Declared::Array(a) => self.array(a)?,
@@ -566,11 +567,19 @@ impl Evaluator {
     }
 
     pub(super) fn lookup(&self, name: &str) -> Option<&Value> {
-        let (scope, name) = self.resolve(name);
-        match self.scopes[scope].names.get(&name) {
-            Some(Slot::Value(v)) => Some(v),
-            Some(Slot::Alias { .. }) | None => None,
+        for scope in self.scopes.iter().rev() {
+            match scope.names.get(name) {
+                Some(Slot::Value(v)) => return Some(v),
+                Some(Slot::Alias { scope, name }) => {
+                    return match self.scopes[*scope].names.get(name) {
+                        Some(Slot::Value(v)) => Some(v),
+                        Some(Slot::Alias { .. }) | None => None,
+                    };
+                }
+                None => {}
+            }
         }
+        None
     }
 
     fn is_defined(&self, name: &str) -> bool {
@@ -580,6 +589,10 @@ impl Evaluator {
     /// `#local` binds in the innermost scope; `#declare` changes the variable the name stands
     /// for where it lives (through a by-reference parameter too), or makes a global one.
     fn bind(&mut self, name: &str, value: Value, local: bool) {
+        if let Some(slot) = self.slot_mut(name, local) {
+            *slot = value;
+            return;
+        }
         let (scope, name) = match local {
             true => (self.scopes.len() - 1, name.to_string()),
             false => self.resolve(name),
@@ -587,12 +600,21 @@ impl Evaluator {
         self.scopes[scope].names.insert(name, Slot::Value(value));
     }
 
+    /// The value a name stands for, to change it in place (`None` if it has none yet).
     fn slot_mut(&mut self, name: &str, local: bool) -> Option<&mut Value> {
-        let (scope, name) = match local {
-            true => (self.scopes.len() - 1, name.to_string()),
-            false => self.resolve(name),
+        let found = match local {
+            true => {
+                Some(self.scopes.len() - 1).filter(|&i| self.scopes[i].names.contains_key(name))
+            }
+            false => self.scopes.iter().rposition(|s| s.names.contains_key(name)),
         };
-        match self.scopes[scope].names.get_mut(&name) {
+        let index = found?;
+        let (target, target_name) = match &self.scopes[index].names[name] {
+            Slot::Value(_) => (index, None),
+            Slot::Alias { scope, name } => (*scope, Some(name.clone())),
+        };
+        let key = target_name.as_deref().unwrap_or(name);
+        match self.scopes[target].names.get_mut(key) {
             Some(Slot::Value(v)) => Some(v),
             Some(Slot::Alias { .. }) | None => None,
         }
@@ -660,7 +682,7 @@ impl Evaluator {
                 (ArrayElement::Row(inner, at), n) if n > 1 => {
                     self.array_rows(inner, &dimensions[1..], at, out)?
                 }
-                (ArrayElement::Value(value, _), 1) => out.push(Some(self.declared(value, "")?)),
+                (ArrayElement::Value(value, _), 1) => out.push(Some(self.declared(value, None)?)),
                 (ArrayElement::Row(_, at), _) => {
                     return Err(SceneError::at(at, "a row `{ ... }` where an element is expected"));
                 }
