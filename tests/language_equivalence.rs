@@ -199,3 +199,30 @@ fn a_local_in_an_included_file_ends_with_the_file() {
     let graph = raydiance::lang::load_scene(&main).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(graph.objects.len(), 1);
 }
+
+#[test]
+fn random_streams_do_not_depend_on_the_settings_seed() {
+    let centres = |settings_seed: u32| {
+        let text = format!(
+            "camera {{ location <0, 0, -5>  look_at <0, 0, 0> }}
+             settings {{ seed {settings_seed} }}
+             #declare S = seed(7);
+             #for (I, 1, 5) sphere {{ <rand(S), rand(S), rand(S)>, 0.1 }} #end"
+        );
+        let graph = raydiance::lang::parse_scene(std::path::Path::new("tests/inline.scn"), &text)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let centres: Vec<[f32; 3]> = graph
+            .objects
+            .iter()
+            .map(|o| match o.shape {
+                raydiance::scene::graph::ShapeNode::Sphere { center, .. } => center.to_array(),
+                _ => panic!("a sphere"),
+            })
+            .collect();
+        centres
+    };
+    let first = centres(0);
+    assert_eq!(first, centres(12345));
+    // The numbers differ from each other (a stream, not a constant).
+    assert!(first.windows(2).all(|w| w[0] != w[1]));
+}
