@@ -247,7 +247,8 @@ impl Builder {
                 let kind = match inner.next().expect("the kind").as_str() {
                     "#debug" => MessageKind::Debug,
                     "#warning" => MessageKind::Warning,
-                    _ => MessageKind::Error,
+                    "#error" => MessageKind::Error,
+                    other => unreachable!("no message `{other}`"),
                 };
                 Item::Message { kind, text: self.expr(inner.next().expect("the text"))?, span }
             }
@@ -691,7 +692,8 @@ impl Builder {
                     let axis = match part.as_str() {
                         ".x" => 0,
                         ".y" => 1,
-                        _ => 2,
+                        ".z" => 2,
+                        other => unreachable!("no component `{other}`"),
                     };
                     let span = v.span.clone();
                     Expr {
