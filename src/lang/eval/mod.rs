@@ -474,7 +474,7 @@ impl Evaluator {
                     format!("`{}` is {}, not a macro", call.name.name, other.kind()),
                 ));
             }
-            None => return Err(self.unknown(&call.name)),
+            None => return Err(self.unknown_as(&call.name, "macro")),
         };
         let parameters = &definition.parameters;
         if call.arguments.len() != parameters.len() {
@@ -629,7 +629,12 @@ impl Evaluator {
     }
 
     fn unknown(&self, ident: &Ident) -> SceneError {
-        let mut message = format!("unknown identifier `{}`", ident.name);
+        self.unknown_as(ident, "identifier")
+    }
+
+    /// An unknown name, where a `what` (identifier, macro) was expected.
+    fn unknown_as(&self, ident: &Ident, what: &str) -> SceneError {
+        let mut message = format!("unknown {what} `{}`", ident.name);
         let names = self.scopes.iter().flat_map(|s| s.names.keys().map(String::as_str));
         if let Some(guess) = parser::closest(&ident.name, names) {
             message.push_str(&format!("; did you mean `{guess}`?"));
