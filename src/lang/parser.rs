@@ -91,6 +91,9 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         };
         return SceneError::at(&span_at(file, offset), message);
     }
+    if let Some(error) = malformed_directive(file, offset) {
+        return error;
+    }
     // A misspelt keyword is often only noticed at the token after it (it reads as a name):
     // point at the word itself when it is close to a keyword.
     let before = file.text[..offset].trim_end();
@@ -134,6 +137,51 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         message.push_str(" (is a `,` missing?)");
     }
     SceneError::at(&span, message)
+}
+
+/// The directives, each with its parse rule and the form it takes, for messages.
+const DIRECTIVES: [(&str, Rule, &str); 16] = [
+    ("#declare", Rule::declare, "#declare Name = value"),
+    ("#local", Rule::local, "#local Name = value"),
+    ("#undef", Rule::undef, "#undef Name"),
+    ("#include", Rule::include, "#include \"file\""),
+    ("#if", Rule::if_start, "#if (condition)"),
+    ("#ifdef", Rule::ifdef_start, "#ifdef (Name)"),
+    ("#ifndef", Rule::ifndef_start, "#ifndef (Name)"),
+    ("#elseif", Rule::elseif, "#elseif (condition)"),
+    ("#else", Rule::else_, "#else"),
+    ("#while", Rule::while_start, "#while (condition)"),
+    ("#for", Rule::for_start, "#for (Name, start, end) or #for (Name, start, end, step)"),
+    ("#macro", Rule::macro_start, "#macro Name(Parameter, ...)"),
+    ("#end", Rule::end, "#end"),
+    ("#debug", Rule::message, "#debug \"text\""),
+    ("#warning", Rule::message, "#warning \"text\""),
+    ("#error", Rule::message, "#error \"text\""),
+];
+
+/// A parse error at a `#`: an unknown directive (with a suggestion), or a known one whose own
+/// form is broken. `None` when the directive is well formed (it stands where it may not).
+fn malformed_directive(file: &Arc<SourceFile>, offset: usize) -> Option<SceneError> {
+    let rest = file.text.get(offset..)?.strip_prefix('#')?;
+    let length = rest.find(|c: char| !(c.is_alphanumeric() || c == '_')).unwrap_or(rest.len());
+    let word = format!("#{}", &rest[..length]);
+    let span = span_at(file, offset);
+    match DIRECTIVES.iter().find(|d| d.0 == word) {
+        Some((name, rule, form)) => {
+            let well_formed = ScnParser::parse(*rule, &file.text[offset..]).is_ok();
+            (!well_formed).then(|| {
+                SceneError::at(&span, format!("malformed `{name}`: it is written `{form}`"))
+            })
+        }
+        None => {
+            let mut message = format!("unknown directive `{word}`");
+            let names = DIRECTIVES.iter().map(|d| d.0.trim_start_matches('#'));
+            if let Some(guess) = closest(word.trim_start_matches('#'), names) {
+                message.push_str(&format!("; did you mean `#{guess}`?"));
+            }
+            Some(SceneError::at(&span, message))
+        }
+    }
 }
 
 /// The word or symbol at the start of `text`.
