@@ -50,5 +50,5 @@ pub struct Array {
     pub elements: Vec<Option<Value>>,
 }
 
-/// The largest number of elements an array may have.
-pub const MAX_ARRAY_ELEMENTS: usize = 100_000_000;
+/// The largest number of elements an array may have (as many as the loop turns of a scene).
+pub const MAX_ARRAY_ELEMENTS: usize = 10_000_000;

@@ -3,27 +3,30 @@
 //! every other item goes to the body it stands in (the scene, an object, a material, ...), which
 //! says what it accepts. Every error points at the text.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
 
+mod array;
 mod camera;
 mod expression;
 mod material;
 mod object;
+mod scope;
 
 use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind};
-use super::value::{Array, Value};
+use super::value::Value;
 use super::{parser, tree};
 use crate::diagnostic::{SceneError, SourceFile, Span};
 use crate::scene::graph::{
     CameraDesc, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings,
 };
 
+use array::element_index;
 pub use camera::CameraParams;
 pub use material::TextureState;
+use scope::{Scope, Slot};
 
 /// Includes may nest this deep.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
@@ -61,20 +64,6 @@ pub struct Evaluator {
     loop_turns: u64,
     /// The state of each `seed(n)` stream.
     streams: Vec<u64>,
-}
-
-#[derive(Default)]
-struct Scope {
-    names: HashMap<String, Slot>,
-}
-
-enum Slot {
-    Value(Value),
-    /// A macro's parameter passed by reference: the caller's variable, in scope `scope`.
-    Alias {
-        scope: usize,
-        name: String,
-    },
 }
 
 /// Where items stand, which decides what they may be.
@@ -550,157 +539,6 @@ impl Evaluator {
         self.open_files.pop();
         result.map_err(|e| note(e, format!("included from {at:?}")))
     }
-
-    // ------------------------------------------------------------ scopes
-
-    /// The scope and name where `name` lives, following a by-reference parameter; the global
-    /// scope if it is not bound (a `#declare` there then creates it, as in POV-Ray).
-    fn resolve(&self, name: &str) -> (usize, String) {
-        for (index, scope) in self.scopes.iter().enumerate().rev() {
-            match scope.names.get(name) {
-                Some(Slot::Value(_)) => return (index, name.to_string()),
-                Some(Slot::Alias { scope, name }) => return (*scope, name.clone()),
-                None => {}
-            }
-        }
-        (0, name.to_string())
-    }
-
-    pub(super) fn lookup(&self, name: &str) -> Option<&Value> {
-        for scope in self.scopes.iter().rev() {
-            match scope.names.get(name) {
-                Some(Slot::Value(v)) => return Some(v),
-                Some(Slot::Alias { scope, name }) => {
-                    return match self.scopes[*scope].names.get(name) {
-                        Some(Slot::Value(v)) => Some(v),
-                        Some(Slot::Alias { .. }) | None => None,
-                    };
-                }
-                None => {}
-            }
-        }
-        None
-    }
-
-    fn is_defined(&self, name: &str) -> bool {
-        self.lookup(name).is_some()
-    }
-
-    /// `#local` binds in the innermost scope; `#declare` changes the variable the name stands
-    /// for where it lives (through a by-reference parameter too), or makes a global one.
-    fn bind(&mut self, name: &str, value: Value, local: bool) {
-        if let Some(slot) = self.slot_mut(name, local) {
-            *slot = value;
-            return;
-        }
-        let (scope, name) = match local {
-            true => (self.scopes.len() - 1, name.to_string()),
-            false => self.resolve(name),
-        };
-        self.scopes[scope].names.insert(name, Slot::Value(value));
-    }
-
-    /// The value a name stands for, to change it in place (`None` if it has none yet).
-    fn slot_mut(&mut self, name: &str, local: bool) -> Option<&mut Value> {
-        let found = match local {
-            true => {
-                Some(self.scopes.len() - 1).filter(|&i| self.scopes[i].names.contains_key(name))
-            }
-            false => self.scopes.iter().rposition(|s| s.names.contains_key(name)),
-        };
-        let index = found?;
-        let (target, target_name) = match &self.scopes[index].names[name] {
-            Slot::Value(_) => (index, None),
-            Slot::Alias { scope, name } => (*scope, Some(name.clone())),
-        };
-        let key = target_name.as_deref().unwrap_or(name);
-        match self.scopes[target].names.get_mut(key) {
-            Some(Slot::Value(v)) => Some(v),
-            Some(Slot::Alias { .. }) | None => None,
-        }
-    }
-
-    fn undef(&mut self, name: &str) {
-        for scope in self.scopes.iter_mut().rev() {
-            if scope.names.remove(name).is_some() {
-                return;
-            }
-        }
-    }
-
-    fn unknown(&self, ident: &Ident) -> SceneError {
-        self.unknown_as(ident, "identifier")
-    }
-
-    /// An unknown name, where a `what` (identifier, macro) was expected.
-    fn unknown_as(&self, ident: &Ident, what: &str) -> SceneError {
-        let mut message = format!("unknown {what} `{}`", ident.name);
-        let names = self.scopes.iter().flat_map(|s| s.names.keys().map(String::as_str));
-        if let Some(guess) = parser::closest(&ident.name, names) {
-            message.push_str(&format!("; did you mean `{guess}`?"));
-        }
-        SceneError::at(&ident.span, message)
-    }
-
-    fn array(&mut self, literal: &super::syntax::ArrayLiteral) -> Result<Value, SceneError> {
-        let mut dimensions = Vec::new();
-        for d in &literal.dimensions {
-            let size = self.integer(d, 1, super::value::MAX_ARRAY_ELEMENTS as u64)? as usize;
-            dimensions.push(size);
-        }
-        let total: usize =
-            dimensions.iter().try_fold(1usize, |a, &d| a.checked_mul(d)).unwrap_or(usize::MAX);
-        if total > super::value::MAX_ARRAY_ELEMENTS {
-            return Err(SceneError::at(
-                &literal.span,
-                format!("an array of more than {} elements", super::value::MAX_ARRAY_ELEMENTS),
-            ));
-        }
-        let mut elements = Vec::with_capacity(total);
-        match &literal.elements {
-            None => elements.resize(total, None),
-            Some(rows) => self.array_rows(rows, &dimensions, &literal.span, &mut elements)?,
-        }
-        Ok(Value::Array(Arc::new(Array { dimensions, elements })))
-    }
-
-    fn array_rows(
-        &mut self,
-        row: &[super::syntax::ArrayElement],
-        dimensions: &[usize],
-        span: &Span,
-        out: &mut Vec<Option<Value>>,
-    ) -> Result<(), SceneError> {
-        use super::syntax::ArrayElement;
-        if row.len() != dimensions[0] {
-            return Err(SceneError::at(
-                span,
-                format!(
-                    "the array's size is {} here, but {} elements are given",
-                    dimensions[0],
-                    row.len()
-                ),
-            ));
-        }
-        for element in row {
-            match (element, dimensions.len()) {
-                (ArrayElement::Row(inner, at), n) if n > 1 => {
-                    self.array_rows(inner, &dimensions[1..], at, out)?
-                }
-                (ArrayElement::Value(value, _), 1) => out.push(Some(self.declared(value, None)?)),
-                (ArrayElement::Row(_, at), _) => {
-                    return Err(SceneError::at(at, "a row `{ ... }` where an element is expected"));
-                }
-                (ArrayElement::Value(_, at), _) => {
-                    return Err(SceneError::at(
-                        at,
-                        "an element where a row `{ ... }` of the next dimension is expected",
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
 }
 
 /// Adds a note of where an error came from (an include, a macro call), but not a wall of them:
@@ -724,37 +562,6 @@ fn note(mut e: SceneError, text: String) -> SceneError {
         4 => e.with_note("(and more)"),
         _ => e,
     }
-}
-
-/// The flat position of an element, or a located error naming the array (`name`, if it has one)
-/// and its size.
-pub(super) fn element_index(
-    array: &Array,
-    name: Option<&str>,
-    at: &[(f64, Span)],
-) -> Result<usize, SceneError> {
-    let array_name = name.map_or("the array".to_string(), |n| format!("`{n}`"));
-    if at.len() != array.dimensions.len() {
-        let span = &at.last().expect("an index").1;
-        return Err(SceneError::at(
-            span,
-            format!("{array_name} has {} dimensions, not {}", array.dimensions.len(), at.len()),
-        ));
-    }
-    let mut flat = 0;
-    for ((index, span), &size) in at.iter().zip(&array.dimensions) {
-        if index.fract() != 0.0 || *index < 0.0 || *index >= size as f64 {
-            return Err(SceneError::at(
-                span,
-                format!(
-                    "index {index} is out of bounds: {array_name} has size {size} (indices 0 to {})",
-                    size - 1
-                ),
-            ));
-        }
-        flat = flat * size + *index as usize;
-    }
-    Ok(flat)
 }
 
 /// An object value standing where an object goes: an instance of it, located here.
