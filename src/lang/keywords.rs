@@ -10,7 +10,7 @@ pub enum KeywordKind {
     Syntax,
     /// A built-in function, called as `word(...)`.
     Function(Function),
-    /// A value: `pi`, and the unit vectors `x`, `y`, `z`.
+    /// A value: `pi`, the unit vectors `x`, `y`, `z`, and POV-Ray's truth values.
     Constant(Constant),
 }
 
@@ -20,6 +20,10 @@ pub enum Constant {
     X,
     Y,
     Z,
+    /// `true`, `yes`, `on`: 1.
+    True,
+    /// `false`, `no`, `off`: 0.
+    False,
 }
 
 /// The built-in functions (section 2 and 10 of the language).
@@ -88,6 +92,8 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "image_map" => S, "mix" => S, "axis" => S, "octaves" => S, "turbulence" => S,
     "color_map" => S, "colour_map" => S, "array" => S,
     "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),
+    "true" => C(Constant::True), "yes" => C(Constant::True), "on" => C(Constant::True),
+    "false" => C(Constant::False), "no" => C(Constant::False), "off" => C(Constant::False),
     "sin" => F(Function::Sin), "cos" => F(Function::Cos), "tan" => F(Function::Tan),
     "asin" => F(Function::Asin), "acos" => F(Function::Acos), "atan" => F(Function::Atan),
     "sqrt" => F(Function::Sqrt), "pow" => F(Function::Pow), "abs" => F(Function::Abs),

@@ -116,6 +116,8 @@ impl Evaluator {
                 Constant::X => Value::Vector(DVec3::X),
                 Constant::Y => Value::Vector(DVec3::Y),
                 Constant::Z => Value::Vector(DVec3::Z),
+                Constant::True => Value::Float(1.0),
+                Constant::False => Value::Float(0.0),
             },
             ExprKind::Ident(name) => match self.lookup(name) {
                 Some(v) => v.clone(),
