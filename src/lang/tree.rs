@@ -182,8 +182,7 @@ impl Builder {
                             "`#end` without an `#if`, `#while`, `#for` or `#macro` to close",
                         ));
                     };
-                    let item = close(open, items);
-                    stack.last_mut().expect("the body").1.push(item);
+                    gather(&mut stack, close(open, items));
                     continue;
                 }
                 _ => None,
@@ -202,13 +201,7 @@ impl Builder {
                     self.depth += blocks;
                     let item = self.item(pair);
                     self.depth -= blocks;
-                    let item = item?;
-                    let (open, items) = stack.last_mut().expect("the body");
-                    // The `#else` branch gathers into `otherwise`.
-                    match open {
-                        Some(Open::If { otherwise: Some(rest), .. }) => rest.push(item),
-                        _ => items.push(item),
-                    }
+                    gather(&mut stack, item?);
                 }
             }
         }
@@ -839,6 +832,15 @@ impl Builder {
             }
         }
         Ok(text)
+    }
+}
+
+/// Adds an item to the innermost open block (after an `#else`, to its `otherwise` items).
+fn gather(stack: &mut [(Option<Open>, Vec<Item>)], item: Item) {
+    let (open, items) = stack.last_mut().expect("the body");
+    match open {
+        Some(Open::If { otherwise: Some(rest), .. }) => rest.push(item),
+        _ => items.push(item),
     }
 }
 
