@@ -254,3 +254,21 @@ fn tonemap_names_only_the_parameters_its_operator_uses() {
         assert!(stdout.contains(expected), "{stdout}");
     }
 }
+
+#[test]
+fn debug_and_warning_print_to_stderr_and_the_check_succeeds() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("messages.scn");
+    std::fs::write(
+        &scene,
+        "camera { location <0, 0, -5>  look_at <0, 0, 0> }\n\
+         #debug concat(\"N is \", str(3, 0, 0), \"\\n\")\n\
+         #warning \"look here\"\n",
+    )
+    .unwrap();
+    let output = raydiance(&["check", scene.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stderr(&output);
+    assert!(text.contains("N is 3\n"), "{text}");
+    assert!(text.contains("messages.scn:3:1: warning: look here"), "{text}");
+}

@@ -51,6 +51,39 @@ fn textures() {
 /// Every shipped scene builds from the repository alone; the one whose mesh is generated rather
 /// than shipped builds once it is made, and until then says how to make it.
 #[test]
+fn comparisons_logic_ternary_functions_and_unit_vectors() {
+    insta::assert_debug_snapshot!(graph("operators"));
+}
+
+#[test]
+fn conditionals_loops_and_directives_among_items() {
+    insta::assert_debug_snapshot!(graph("control_flow"));
+}
+
+#[test]
+fn macros() {
+    insta::assert_debug_snapshot!(graph("macros"));
+}
+
+#[test]
+fn arrays_strings_and_random_streams() {
+    insta::assert_debug_snapshot!(graph("arrays_strings_random"));
+}
+
+/// The syntax tree itself: directives folded into blocks, operators by precedence.
+#[test]
+fn syntax_tree_of_directives_and_operators() {
+    let text = r#"#macro M(A, B) #local C = A * B; (C > 1 ? C : -C) #end
+#if (1 | 0 & 1) #while (0) #end #elseif (2 >= 1) #for (I, 0, 2, 1) M(I, 2) #end #else #undef M #end
+#ifdef (M) #declare V[1] = !2 + 3 * -4 <= 5; #end
+#debug concat("a\n", str(1, 0, 0))
+"#;
+    let tree =
+        raydiance::lang::parse_tree(Path::new("tree.scn"), text).unwrap_or_else(|e| panic!("{e}"));
+    insta::assert_debug_snapshot!(tree);
+}
+
+#[test]
 fn shipped_scenes_parse_and_build() {
     for entry in std::fs::read_dir("scenes").unwrap() {
         let path = entry.unwrap().path();

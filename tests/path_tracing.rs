@@ -242,7 +242,8 @@ fn depth_of_field_over_an_area_lit_floor_gives_no_nan() {
 /// kd L (every cosine-weighted direction from its surface sees the sky).
 #[test]
 fn the_background_lights_direct_as_it_lights_path() {
-    let lit_by_sky = "settings { resolution 24, 24  samples 64  max_depth 1  background rgb <0.5, 1, 2> }
+    let lit_by_sky =
+        "settings { resolution 24, 24  samples 64  max_depth 1  background rgb <0.5, 1, 2> }
         camera { location <0, 1.5, -4>  look_at <0, 0.3, 0>  angle 50 }
         plane { <0, 1, 0>, 0  material { diffuse rgb 0.6 } }
         sphere { <0, 0.6, 0>, 0.6  material { diffuse rgb <0.8, 0.4, 0.2> } }";

@@ -72,6 +72,36 @@ fn nesting_at_the_limit_parses_on_a_small_stack() {
 }
 
 #[test]
+fn deep_macro_recursion_runs_on_a_small_stack() {
+    // 250 nested calls (under the limit of 256) on a 256 KiB thread stack, then past the limit.
+    let scene = |depth: u32| {
+        format!(
+            "camera {{ location <0, 0, -5>  look_at <0, 0, 0> }}
+             #macro Down(N) #if (N > 0) union {{ Down(N - 1) }} #else sphere {{ 0, 1 }} #end #end
+             #macro Count(N) #if (N > 0) (1 + Count(N - 1)) #else 0 #end #end
+             #declare Depth = Count({depth});
+             sphere {{ 0, Depth }}
+             Down({depth})"
+        )
+    };
+    let run = |text: String| {
+        std::thread::Builder::new()
+            .stack_size(256 * 1024)
+            .spawn(move || {
+                raydiance::lang::parse_scene(std::path::Path::new("deep.scn"), &text)
+                    .map(|g| g.objects.len())
+                    .map_err(|e| e.to_string())
+            })
+            .unwrap()
+            .join()
+            .expect("no stack overflow")
+    };
+    assert_eq!(run(scene(250)), Ok(2));
+    let error = run(scene(300)).unwrap_err();
+    assert!(error.contains("macro calls nested more than 256 deep"), "{error}");
+}
+
+#[test]
 fn a_hundred_thousand_signs_are_an_error_not_a_stack_overflow() {
     let text = format!(
         "camera {{ location <0, 0, -5>  look_at <0, 0, 0> }} #declare X = {}1",

@@ -1,11 +1,15 @@
-//! Text to scene graph: the pest grammar (`grammar/scn.pest`), expression evaluation,
-//! `#declare` and `#include`. Knows nothing of rendering.
+//! Text to scene graph: the pest grammar (`grammar/scn.pest`) parsed once into an owned syntax
+//! tree (`syntax`, built by `tree`), which the interpreter (`eval`) runs with its directives,
+//! scopes and macros. Knows nothing of rendering.
 
 mod eval;
+pub mod keywords;
 mod parser;
+pub mod syntax;
+mod tree;
 mod value;
 
-pub use eval::MAX_INCLUDE_DEPTH;
+pub use eval::{MAX_INCLUDE_DEPTH, MAX_LOOP_TURNS, MAX_MACRO_DEPTH};
 pub use parser::MAX_NESTING;
 
 use std::path::Path;
@@ -25,4 +29,10 @@ pub fn load_scene(path: &Path) -> Result<SceneGraph, SceneError> {
 pub fn parse_scene(path: &Path, text: &str) -> Result<SceneGraph, SceneError> {
     let file = Arc::new(SourceFile { path: path.to_path_buf(), text: text.to_string() });
     eval::Evaluator::default().scene(file)
+}
+
+/// Parses scene text into its syntax tree, without evaluating it.
+pub fn parse_tree(path: &Path, text: &str) -> Result<Vec<syntax::Item>, SceneError> {
+    let file = Arc::new(SourceFile { path: path.to_path_buf(), text: text.to_string() });
+    tree::parse_file(&file)
 }

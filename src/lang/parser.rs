@@ -7,19 +7,21 @@ use pest::Parser;
 use pest::error::{ErrorVariant, InputLocation};
 use pest::iterators::Pairs;
 
+use super::keywords;
 use crate::diagnostic::{SceneError, SourceFile, Span};
 
 #[derive(pest_derive::Parser)]
 #[grammar = "../grammar/scn.pest"]
 pub struct ScnParser;
 
-/// Deepest nesting of brackets accepted: beyond it the parser's recursion could overflow a
-/// thread's stack, so deeper text is an error instead.
+/// Deepest nesting of brackets and blocks accepted (counted by `lang::tree` on the pairs): the
+/// tree is walked recursively, so deeper text is an error instead. The parser itself stops on a
+/// nearly exhausted stack (pest's stack guard), which is reported as the same error.
 pub const MAX_NESTING: usize = 64;
 
 /// Parses a whole file into its statements.
 pub fn parse(file: &Arc<SourceFile>) -> Result<Pairs<'_, Rule>, SceneError> {
-    check_nesting(file)?;
+    check_comments_and_strings(file)?;
     match ScnParser::parse(Rule::scene, &file.text) {
         Ok(mut pairs) => Ok(pairs.next().expect("`scene` matched: one pair").into_inner()),
         Err(error) => Err(convert(file, error)),
@@ -34,28 +36,12 @@ pub fn span_at(file: &Arc<SourceFile>, offset: usize) -> Span {
     Span { file: file.clone(), line, col }
 }
 
-/// Finds brackets nested deeper than `MAX_NESTING` (and runs of signs longer than it), and
-/// unterminated comments and strings, before pest sees the text.
-fn check_nesting(file: &Arc<SourceFile>) -> Result<(), SceneError> {
+/// Finds unterminated comments and strings before pest sees the text, so that they are reported
+/// where they start rather than at the end of the file.
+fn check_comments_and_strings(file: &Arc<SourceFile>) -> Result<(), SceneError> {
     let text = file.text.as_bytes();
-    let mut depth = 0usize;
-    // Unary signs nest too (`- - - 1`): a run of them is limited like brackets.
-    let mut signs = 0usize;
     let mut i = 0;
     while i < text.len() {
-        match text[i] {
-            b'+' | b'-' => {
-                signs += 1;
-                if signs > MAX_NESTING {
-                    return Err(SceneError::at(
-                        &span_at(file, i),
-                        format!("more than {MAX_NESTING} signs in a row"),
-                    ));
-                }
-            }
-            b' ' | b'\t' | b'\r' | b'\n' => {}
-            _ => signs = 0,
-        }
         match text[i] {
             b'/' if text.get(i + 1) == Some(&b'/') => {
                 while i < text.len() && text[i] != b'\n' {
@@ -69,22 +55,22 @@ fn check_nesting(file: &Arc<SourceFile>) -> Result<(), SceneError> {
                 i += end + 3;
             }
             b'"' => {
-                let end = file.text[i + 1..].find(['"', '\n']);
-                match end.map(|e| text[i + 1 + e]) {
-                    Some(b'"') => i += end.unwrap_or(0) + 1,
-                    _ => return Err(SceneError::at(&span_at(file, i), "unterminated string")),
+                let start = i;
+                i += 1;
+                loop {
+                    match text.get(i) {
+                        Some(b'"') => break,
+                        Some(b'\\') if text.get(i + 1).is_some_and(|&c| c != b'\n') => i += 2,
+                        Some(b'\n') | None => {
+                            return Err(SceneError::at(
+                                &span_at(file, start),
+                                "unterminated string",
+                            ));
+                        }
+                        Some(_) => i += 1,
+                    }
                 }
             }
-            b'(' | b'<' | b'{' => {
-                depth += 1;
-                if depth > MAX_NESTING {
-                    return Err(SceneError::at(
-                        &span_at(file, i),
-                        format!("nesting deeper than {MAX_NESTING} brackets"),
-                    ));
-                }
-            }
-            b')' | b'>' | b'}' => depth = depth.saturating_sub(1),
             _ => {}
         }
         i += 1;
@@ -97,6 +83,17 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         InputLocation::Pos(p) => p,
         InputLocation::Span((start, _)) => start,
     };
+    if let ErrorVariant::CustomError { message } = &error.variant {
+        // pest's guards: the only custom errors it raises.
+        let message = match message.as_str() {
+            "stack limit reached" => format!("nesting deeper than {MAX_NESTING} brackets"),
+            other => other.to_string(),
+        };
+        return SceneError::at(&span_at(file, offset), message);
+    }
+    if let Some(error) = malformed_directive(file, offset) {
+        return error;
+    }
     // A misspelt keyword is often only noticed at the token after it (it reads as a name):
     // point at the word itself when it is close to a keyword.
     let before = file.text[..offset].trim_end();
@@ -107,9 +104,9 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         .map_or(0, |(i, c)| i + c.len_utf8());
     let previous = &before[word_start..];
     if previous.starts_with(|c: char| c.is_alphabetic() || c == '_')
-        && !KEYWORDS.contains(&previous)
+        && keywords::lookup(previous).is_none()
     {
-        if let Some(guess) = closest(previous, KEYWORDS.iter().copied()) {
+        if let Some(guess) = closest(previous, keywords::words()) {
             let message = format!("unexpected `{previous}`; did you mean `{guess}`?");
             return SceneError::at(&span_at(file, word_start), message);
         }
@@ -132,7 +129,7 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         [one] => format!("expected {one}, found {found_text}"),
         [init @ .., last] => format!("expected {} or {last}, found {found_text}", init.join(", ")),
     };
-    if let Some(guess) = closest(found, KEYWORDS.iter().copied()) {
+    if let Some(guess) = closest(found, keywords::words()) {
         message.push_str(&format!("; did you mean `{guess}`?"));
     } else if expected.contains(&"an operator")
         && found.starts_with(|c: char| c.is_alphanumeric() || "<(-.".contains(c))
@@ -142,79 +139,50 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
     SceneError::at(&span, message)
 }
 
-/// The language's keywords (the grammar's `keyword` rule; a test keeps the two the same).
-const KEYWORDS: [&str; 70] = [
-    "settings",
-    "resolution",
-    "samples",
-    "integrator",
-    "max_depth",
-    "seed",
-    "background",
-    "camera",
-    "origin",
-    "left",
-    "up",
-    "forward",
-    "location",
-    "look_at",
-    "angle",
-    "aperture",
-    "focal_distance",
-    "light_source",
-    "power",
-    "colour",
-    "color",
-    "plane",
-    "sphere",
-    "box",
-    "triangle",
-    "quad",
-    "disk",
-    "cylinder",
-    "mesh",
-    "union",
-    "object",
-    "material",
-    "translate",
-    "rotate",
-    "scale",
-    "matrix",
-    "diffuse",
-    "specular",
-    "transmission",
-    "emission",
-    "ior",
-    "fresnel",
-    "rgb",
-    "pi",
-    "sin",
-    "cos",
-    "tan",
-    "asin",
-    "acos",
-    "atan",
-    "sqrt",
-    "pow",
-    "abs",
-    "min",
-    "max",
-    "radians",
-    "degrees",
-    "checker",
-    "stripes",
-    "gradient",
-    "noise",
-    "marble",
-    "wood",
-    "image_map",
-    "mix",
-    "axis",
-    "octaves",
-    "turbulence",
-    "color_map",
-    "colour_map",
+/// The directives, each with its parse rule and the form it takes, for messages.
+const DIRECTIVES: [(&str, Rule, &str); 16] = [
+    ("#declare", Rule::declare, "#declare Name = value"),
+    ("#local", Rule::local, "#local Name = value"),
+    ("#undef", Rule::undef, "#undef Name"),
+    ("#include", Rule::include, "#include \"file\""),
+    ("#if", Rule::if_start, "#if (condition)"),
+    ("#ifdef", Rule::ifdef_start, "#ifdef (Name)"),
+    ("#ifndef", Rule::ifndef_start, "#ifndef (Name)"),
+    ("#elseif", Rule::elseif, "#elseif (condition)"),
+    ("#else", Rule::else_, "#else"),
+    ("#while", Rule::while_start, "#while (condition)"),
+    ("#for", Rule::for_start, "#for (Name, start, end) or #for (Name, start, end, step)"),
+    ("#macro", Rule::macro_start, "#macro Name(Parameter, ...)"),
+    ("#end", Rule::end, "#end"),
+    ("#debug", Rule::message, "#debug \"text\""),
+    ("#warning", Rule::message, "#warning \"text\""),
+    ("#error", Rule::message, "#error \"text\""),
 ];
+
+/// A parse error at a `#`: an unknown directive (with a suggestion), or a known one whose own
+/// form is broken. `None` when the directive is well formed (it stands where it may not).
+fn malformed_directive(file: &Arc<SourceFile>, offset: usize) -> Option<SceneError> {
+    let rest = file.text.get(offset..)?.strip_prefix('#')?;
+    let length = rest.find(|c: char| !(c.is_alphanumeric() || c == '_')).unwrap_or(rest.len());
+    let word = format!("#{}", &rest[..length]);
+    let span = span_at(file, offset);
+    match DIRECTIVES.iter().find(|d| d.0 == word) {
+        Some((name, rule, form)) => {
+            let well_formed = ScnParser::parse(*rule, &file.text[offset..]).is_ok();
+            (!well_formed).then(|| {
+                SceneError::at(&span, format!("malformed `{name}`: it is written `{form}`"))
+            })
+        }
+        None => {
+            let mut message = format!("unknown directive `{word}`");
+            let names = DIRECTIVES.iter().map(|d| d.0.trim_start_matches('#'));
+            if let Some(guess) = closest(word.trim_start_matches('#'), names) {
+                message.push_str(&format!("; did you mean `#{guess}`?"));
+            }
+            Some(SceneError::at(&span, message))
+        }
+    }
+}
 
 /// The word or symbol at the start of `text`.
 fn token_at(text: &str) -> &str {
@@ -253,75 +221,109 @@ fn edit_distance(a: &str, b: &str) -> usize {
 fn describe(rule: Rule) -> &'static str {
     match rule {
         Rule::EOI => "the end of the file",
-        Rule::declare => "`#declare`",
-        Rule::include => "`#include`",
-        Rule::settings | Rule::kw_settings => "`settings`",
-        Rule::resolution | Rule::kw_resolution => "`resolution`",
-        Rule::samples | Rule::kw_samples => "`samples`",
-        Rule::integrator | Rule::kw_integrator => "`integrator`",
-        Rule::max_depth | Rule::kw_max_depth => "`max_depth`",
-        Rule::seed | Rule::kw_seed => "`seed`",
-        Rule::background | Rule::kw_background => "`background`",
-        Rule::camera | Rule::kw_camera => "`camera`",
+        Rule::scene => "a scene",
+        Rule::declare
+        | Rule::local
+        | Rule::undef
+        | Rule::include
+        | Rule::if_start
+        | Rule::ifdef_start
+        | Rule::ifndef_start
+        | Rule::elseif
+        | Rule::else_
+        | Rule::while_start
+        | Rule::for_start
+        | Rule::macro_start
+        | Rule::macro_def
+        | Rule::end
+        | Rule::message
+        | Rule::message_kind => "a directive (`#declare`, `#if`, ...)",
+        Rule::settings => "`settings`",
+        Rule::resolution => "`resolution`",
+        Rule::samples => "`samples`",
+        Rule::integrator => "`integrator`",
+        Rule::max_depth => "`max_depth`",
+        Rule::seed => "`seed`",
+        Rule::background => "`background`",
+        Rule::camera => "`camera`",
         Rule::camera_item | Rule::camera_key => {
             "a camera parameter (`origin`, `left`, `up`, `forward`, `location`, `look_at`, `angle`, `aperture`, `focal_distance`)"
         }
-        Rule::kw_origin => "`origin`",
-        Rule::kw_left => "`left`",
-        Rule::kw_up => "`up`",
-        Rule::kw_forward => "`forward`",
-        Rule::kw_location => "`location`",
-        Rule::kw_look_at => "`look_at`",
-        Rule::kw_angle => "`angle`",
-        Rule::kw_aperture => "`aperture`",
-        Rule::kw_focal_distance => "`focal_distance`",
-        Rule::light_source | Rule::kw_light_source => "`light_source`",
-        Rule::kw_power => "`power`",
-        Rule::kw_color => "`color`",
-        Rule::kw_colour => "`colour`",
-        Rule::plane | Rule::kw_plane => "`plane`",
-        Rule::sphere | Rule::kw_sphere => "`sphere`",
-        Rule::box_shape | Rule::kw_box => "`box`",
-        Rule::triangle | Rule::kw_triangle => "`triangle`",
-        Rule::quad | Rule::kw_quad => "`quad`",
-        Rule::disk | Rule::kw_disk => "`disk`",
-        Rule::cylinder | Rule::kw_cylinder => "`cylinder`",
-        Rule::mesh | Rule::kw_mesh => "`mesh`",
-        Rule::union | Rule::kw_union => "`union`",
-        Rule::instance | Rule::kw_object => "`object`",
-        Rule::material | Rule::kw_material => "`material`",
+        Rule::light_source => "`light_source`",
+        Rule::light_item => "`power`",
+        Rule::object => "an object",
+        Rule::plane => "`plane`",
+        Rule::sphere => "`sphere`",
+        Rule::box_shape => "`box`",
+        Rule::triangle => "`triangle`",
+        Rule::quad => "`quad`",
+        Rule::disk => "`disk`",
+        Rule::cylinder => "`cylinder`",
+        Rule::mesh => "`mesh`",
+        Rule::union => "`union`",
+        Rule::instance => "`object`",
+        Rule::material => "`material`",
         Rule::material_name | Rule::base_material => "a material's name",
         Rule::transform | Rule::transform_key => {
             "a transform (`translate`, `rotate`, `scale`, `matrix`)"
         }
-        Rule::kw_translate => "`translate`",
-        Rule::kw_rotate => "`rotate`",
-        Rule::kw_scale => "`scale`",
-        Rule::kw_matrix => "`matrix`",
         Rule::material_item | Rule::colour_key => {
             "a material parameter (`diffuse`, `specular`, `transmission`, `emission`, `ior`, `fresnel`)"
         }
-        Rule::kw_diffuse => "`diffuse`",
-        Rule::kw_specular => "`specular`",
-        Rule::kw_transmission => "`transmission`",
-        Rule::kw_emission => "`emission`",
-        Rule::kw_ior => "`ior`",
-        Rule::kw_fresnel => "`fresnel`",
+        Rule::texture | Rule::texture_arg => "a texture",
+        Rule::checker => "`checker`",
+        Rule::stripes => "`stripes`",
+        Rule::gradient => "`gradient`",
+        Rule::noise => "`noise`",
+        Rule::marble => "`marble`",
+        Rule::wood => "`wood`",
+        Rule::image_map => "`image_map`",
+        Rule::mix => "`mix`",
+        Rule::texture_parameter => "a texture parameter (`axis`, `octaves`, `turbulence`)",
+        Rule::color_map => "`color_map`",
+        Rule::map_entry => "a color_map entry (`[position colour]`)",
         Rule::colour | Rule::rgb_colour | Rule::kw_rgb => "a colour (`rgb <r, g, b>`)",
+        Rule::array | Rule::array_init => "an array",
+        Rule::declared_if => "`#if`",
+        Rule::dimension => "an array's size (`[n]`)",
+        Rule::macro_call => "a macro call",
         Rule::expr
+        | Rule::operand
+        | Rule::argument
+        | Rule::arithmetic_expr
         | Rule::number
         | Rule::vector
         | Rule::call
-        | Rule::function
-        | Rule::kw_pi
+        | Rule::paren
         | Rule::negate
-        | Rule::plus => "a number or vector",
-        Rule::add | Rule::subtract | Rule::multiply | Rule::divide => "an operator",
+        | Rule::plus
+        | Rule::not => "a number or vector",
+        Rule::add
+        | Rule::subtract
+        | Rule::multiply
+        | Rule::divide
+        | Rule::less
+        | Rule::less_equal
+        | Rule::greater
+        | Rule::greater_equal
+        | Rule::equal
+        | Rule::not_equal
+        | Rule::and
+        | Rule::or => "an operator",
         Rule::component => "a component (`.x`, `.y`, `.z`)",
+        Rule::index => "an index (`[i]`)",
         Rule::string | Rule::string_text => "a file name in quotes",
         Rule::ident | Rule::name => "a name",
-        _ => "something else",
+        // The `kw_` rules: each reads as its word, from the one list of keywords.
+        keyword => keyword_shown(keyword),
     }
+}
+
+/// A `kw_` rule as its word in backquotes.
+fn keyword_shown(rule: Rule) -> &'static str {
+    let name = format!("{rule:?}");
+    let word = name.strip_prefix("kw_").unwrap_or(&name);
+    keywords::lookup(word).map_or("a keyword", |k| k.shown)
 }
 
 #[cfg(test)]
@@ -329,15 +331,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn keyword_list_matches_the_grammar() {
-        for word in KEYWORDS {
-            let parsed = ScnParser::parse(Rule::keyword, word).map(|p| p.as_str().len());
-            assert_eq!(parsed, Ok(word.len()), "`{word}` is a keyword of the grammar");
+    fn every_keyword_rule_reads_as_its_word() {
+        for k in keywords::KEYWORDS.iter().filter(|k| k.kind == keywords::KeywordKind::Syntax) {
+            let parsed = ScnParser::parse(Rule::ident, k.word).map(|p| p.as_str().len());
+            assert_eq!(parsed, Ok(k.word.len()));
         }
-        let grammar = include_str!("../../grammar/scn.pest");
-        let rule = &grammar[grammar.find("keyword = @{").unwrap()..];
-        let rule = &rule[..rule.find('}').unwrap()];
-        assert_eq!(rule.matches('"').count(), 2 * KEYWORDS.len(), "the grammar has no others");
+        assert_eq!(describe(Rule::kw_translate), "`translate`");
+        assert_eq!(describe(Rule::kw_colour_map), "`colour_map`");
     }
 
     #[test]
@@ -351,8 +351,8 @@ mod tests {
 
     #[test]
     fn closest_suggests_near_misses_only() {
-        assert_eq!(closest("tranlate", KEYWORDS.iter().copied()), Some("translate"));
-        assert_eq!(closest("sphre", KEYWORDS.iter().copied()), Some("sphere"));
-        assert_eq!(closest("banana", KEYWORDS.iter().copied()), None);
+        assert_eq!(closest("tranlate", keywords::words()), Some("translate"));
+        assert_eq!(closest("sphre", keywords::words()), Some("sphere"));
+        assert_eq!(closest("banana", keywords::words()), None);
     }
 }

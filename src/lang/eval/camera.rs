@@ -3,31 +3,39 @@
 use std::collections::HashMap;
 
 use glam::Vec3;
-use pest::iterators::Pair;
 
-use super::{Evaluator, Source, as_float, as_vector};
+use super::{Body, Evaluator, as_float, as_vector};
 use crate::diagnostic::{SceneError, Span};
-use crate::lang::parser::Rule;
+use crate::lang::syntax::Item;
 use crate::lang::value::Value;
 use crate::scene::graph::{CameraDesc, CameraForm};
 
+/// The camera's parameters as given: value and where its key is written.
+pub type CameraParams = HashMap<String, (Value, Span)>;
+
 impl Evaluator {
-    pub(super) fn camera(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<(), SceneError> {
-        let span = src.span(&pair);
+    pub(super) fn camera_item(
+        &mut self,
+        item: &Item,
+        given: &mut CameraParams,
+    ) -> Result<(), SceneError> {
+        let Item::CameraParam { key, value } = item else {
+            return Err(Self::misplaced(item, &Body::Camera(given)));
+        };
+        if given.contains_key(&key.name) {
+            return Err(SceneError::at(&key.span, format!("`{}` is given twice", key.name)));
+        }
+        let value = self.value(value)?;
+        given.insert(key.name.clone(), (value, key.span.clone()));
+        Ok(())
+    }
+
+    pub(super) fn camera(&mut self, items: &[Item], span: &Span) -> Result<(), SceneError> {
         if self.camera.is_some() {
-            return Err(SceneError::at(&span, "a second camera (a scene has exactly one)"));
+            return Err(SceneError::at(span, "a second camera (a scene has exactly one)"));
         }
-        let mut given: HashMap<&str, (Value, Span)> = HashMap::new();
-        for item in pair.into_inner().filter(|p| p.as_rule() == Rule::camera_item) {
-            let mut inner = item.into_inner();
-            let (key, expr) = (inner.next().expect("key"), inner.next().expect("value"));
-            let key_span = src.span(&key);
-            let key = key.as_str();
-            if given.contains_key(key) {
-                return Err(SceneError::at(&key_span, format!("`{key}` is given twice")));
-            }
-            given.insert(key, (self.value(src, expr)?, key_span));
-        }
+        let mut given = CameraParams::new();
+        self.exec(items, &mut Body::Camera(&mut given))?;
         let vector = |key: &str| -> Result<Option<Vec3>, SceneError> {
             given
                 .get(key)
@@ -41,10 +49,10 @@ impl Evaluator {
                 .transpose()
         };
         let require = |key: &str, v: Option<Vec3>| {
-            v.ok_or_else(|| SceneError::at(&span, format!("the camera needs `{key}`")))
+            v.ok_or_else(|| SceneError::at(span, format!("the camera needs `{key}`")))
         };
-        let pov = ["location", "look_at", "angle"].iter().find(|k| given.contains_key(*k));
-        let lab = ["origin", "left", "forward"].iter().find(|k| given.contains_key(*k));
+        let pov = ["location", "look_at", "angle"].iter().find(|k| given.contains_key(**k));
+        let lab = ["origin", "left", "forward"].iter().find(|k| given.contains_key(**k));
         let form = match (pov, lab) {
             (Some(p), Some(l)) => {
                 return Err(SceneError::at(
@@ -67,19 +75,19 @@ impl Evaluator {
                 let view = look_at - location;
                 if view.length() == 0.0 {
                     return Err(SceneError::at(
-                        &span,
+                        span,
                         "`look_at` is the camera's `location`: no view direction",
                     ));
                 }
                 if up.cross(view).length() <= 1e-6 * up.length() * view.length() {
                     return Err(SceneError::at(
-                        &span,
+                        span,
                         "`up` is zero or parallel to the view direction",
                     ));
                 }
                 CameraForm::LookAt { location, look_at, up, angle }
             }
-            _ => {
+            (None, _) => {
                 let origin = require("origin", vector("origin")?)?;
                 let left = require("left", vector("left")?)?;
                 let up = require("up", vector("up")?)?;
@@ -123,7 +131,7 @@ impl Evaluator {
                 format!("focal_distance {d} must be positive"),
             ));
         }
-        self.camera = Some(CameraDesc { form, aperture, focal_distance, span });
+        self.camera = Some(CameraDesc { form, aperture, focal_distance, span: span.clone() });
         Ok(())
     }
 }

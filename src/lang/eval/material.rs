@@ -1,34 +1,38 @@
 //! `material { ... }` and the texture nodes `diffuse` takes.
 
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::Vec3;
-use pest::iterators::Pair;
 
-use super::{Evaluator, Source, resolve, string};
+use super::expression::colour_of;
+use super::{Body, Evaluator, resolve};
 use crate::diagnostic::SceneError;
-use crate::lang::parser::Rule;
+use crate::lang::syntax::{
+    self, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind, TextureParamKind,
+};
 use crate::lang::value::Value;
-use crate::scene::graph::{MaterialDesc, Pattern, TextureNode};
+use crate::scene::graph::{MaterialDesc, Pattern, TextureNode, Transform};
+
+/// A texture node's items as they are read.
+pub struct TextureState {
+    kind: TextureKind,
+    transforms: Vec<Transform>,
+    map: Option<Vec<(f32, Vec3)>>,
+    axis: Option<Vec3>,
+    octaves: Option<u32>,
+    turbulence: Option<f32>,
+}
 
 impl Evaluator {
     pub(super) fn material(
-        &self,
-        src: &Source,
-        pair: Pair<'_, Rule>,
+        &mut self,
+        m: &syntax::Material,
         name: Option<&str>,
     ) -> Result<Arc<MaterialDesc>, SceneError> {
-        let span = src.span(&pair);
-        let mut items = pair.into_inner().skip(1).peekable();
-        let base = match items.peek() {
-            Some(p) if p.as_rule() == Rule::base_material => {
-                let named = items.next().expect("peeked");
-                Some(self.material_named(src, &named)?)
-            }
-            _ => None,
-        };
-        let mut items = items.peekable();
-        if items.peek().is_none() && name.is_none() {
+        let span = m.span.clone();
+        let base = m.base.as_ref().map(|b| self.material_named(b)).transpose()?;
+        if m.items.is_empty() && name.is_none() {
             if let Some(base) = base {
                 return Ok(base); // `material { White }`: the declared material itself, shared
             }
@@ -38,29 +42,7 @@ impl Evaluator {
             None => MaterialDesc::new(span.clone()),
         };
         material.name = name.map(str::to_string);
-        for item in items {
-            let mut inner = item.into_inner();
-            let key = inner.next().expect("key");
-            let key_name = key.clone().into_inner().next().map_or(key.as_str(), |k| k.as_str());
-            match key_name {
-                "fresnel" => material.fresnel = true,
-                "ior" => {
-                    let expr = inner.next().expect("value");
-                    material.ior = self.positive(src, expr, "ior")?;
-                }
-                "diffuse" => {
-                    material.diffuse = self.texture_arg(src, inner.next().expect("value"))?;
-                }
-                _ => {
-                    let colour = self.colour(src, inner.next().expect("value"))?;
-                    match key_name {
-                        "specular" => material.specular = colour,
-                        "transmission" => material.transmission = colour,
-                        _ => material.emission = colour,
-                    }
-                }
-            }
-        }
+        self.exec(&m.items, &mut Body::Material(&mut material))?;
         let total = material.diffuse.max_value() + material.specular + material.transmission;
         if let Some(channel) = (0..3).find(|&c| total[c] > 1.0 + 1e-6) {
             let who = material
@@ -79,136 +61,192 @@ impl Evaluator {
         Ok(Arc::new(material))
     }
 
-    /// A colour or a texture node, where `diffuse` takes one.
-    pub(super) fn texture_arg(
-        &self,
-        src: &Source,
-        pair: Pair<'_, Rule>,
-    ) -> Result<TextureNode, SceneError> {
-        let pair = match pair.as_rule() {
-            Rule::texture_arg => pair.into_inner().next().expect("a texture or a colour"),
-            _ => pair,
+    pub(super) fn material_item(
+        &mut self,
+        item: &Item,
+        material: &mut MaterialDesc,
+    ) -> Result<(), SceneError> {
+        let Item::MaterialParam(param) = item else {
+            return Err(Self::misplaced(item, &Body::Material(material)));
         };
-        if pair.as_rule() == Rule::colour {
-            // A declared texture's name reads as a colour expression.
-            let value = pair.clone().into_inner().find(|p| p.as_rule() == Rule::expr);
-            if let Some(Value::Texture(texture)) = value.map(|e| self.value(src, e)).transpose()? {
-                return Ok((*texture).clone());
-            }
-            return Ok(TextureNode::solid(self.colour(src, pair)?));
+        match &param.kind {
+            MaterialParamKind::Fresnel => material.fresnel = true,
+            MaterialParamKind::Ior(e) => material.ior = self.positive(e, "ior")?,
+            MaterialParamKind::Diffuse(arg) => material.diffuse = self.texture_arg(arg)?,
+            MaterialParamKind::Specular(c) => material.specular = self.colour(c)?,
+            MaterialParamKind::Transmission(c) => material.transmission = self.colour(c)?,
+            MaterialParamKind::Emission(c) => material.emission = self.colour(c)?,
         }
-        let node = pair.into_inner().next().expect("one kind of texture");
-        let kind = node.as_rule();
-        let mut inner = node.into_inner().skip(1);
+        Ok(())
+    }
+
+    /// A colour or a texture node, where `diffuse` takes one.
+    pub(super) fn texture_arg(&mut self, arg: &TextureArg) -> Result<TextureNode, SceneError> {
+        match arg {
+            TextureArg::Texture(t) => self.texture(t),
+            TextureArg::Colour(colour) => {
+                // A declared texture's name reads as a colour expression (evaluated once: it
+                // may draw random numbers).
+                if matches!(colour.value.kind, ExprKind::Rgb(_)) {
+                    return Ok(TextureNode::solid(self.colour(colour)?));
+                }
+                match self.value(&colour.value)? {
+                    Value::Texture(texture) => Ok((*texture).clone()),
+                    other => Ok(TextureNode::solid(colour_of(other, &colour.span)?)),
+                }
+            }
+        }
+    }
+
+    pub(super) fn texture(&mut self, t: &syntax::Texture) -> Result<TextureNode, SceneError> {
         let mut args = Vec::new();
-        let mut transforms = Vec::new();
-        let mut map = None;
-        let (mut axis, mut octaves, mut turbulence) = (None, None, None);
-        let mut path = None;
-        for item in inner.by_ref() {
-            match item.as_rule() {
-                Rule::texture_arg => args.push(self.texture_arg(src, item)?),
-                Rule::string => path = Some(resolve(&src.file.path, &string(&item))),
-                Rule::transform => transforms.push(self.transform(src, item)?),
-                Rule::color_map => {
-                    let at = src.span(&item);
-                    let takes_map =
-                        matches!(kind, Rule::gradient | Rule::noise | Rule::marble | Rule::wood);
-                    if !takes_map {
-                        return Err(SceneError::at(
-                            &at,
-                            "`color_map` has no effect on this texture",
-                        ));
-                    }
-                    let mut entries: Vec<(f32, Vec3)> = Vec::new();
-                    for entry in item.into_inner().filter(|e| e.as_rule() == Rule::map_entry) {
-                        let mut parts = entry.into_inner();
-                        let position_pair = parts.next().expect("position");
-                        let position_at = src.span(&position_pair);
-                        let position = self.float(src, position_pair)? as f32;
-                        let colour = self.colour(src, parts.next().expect("colour"))?;
-                        let previous = entries.last().map_or(0.0, |e| e.0);
-                        if !(previous..=1.0).contains(&position) {
-                            return Err(SceneError::at(
-                                &position_at,
-                                format!(
-                                    "color_map position {position} must be in [0, 1] and not below the one before"
-                                ),
-                            ));
-                        }
-                        entries.push((position, colour));
-                    }
-                    if map.replace(entries).is_some() {
-                        return Err(SceneError::at(&at, "a second color_map"));
-                    }
-                }
-                _ => {
-                    let mut parts = item.into_inner();
-                    let key = parts.next().expect("key");
-                    let key_at = src.span(&key);
-                    let value = parts.next().expect("value");
-                    let applies = match key.as_str() {
-                        "axis" => matches!(kind, Rule::stripes | Rule::gradient),
-                        "octaves" => matches!(kind, Rule::noise | Rule::marble | Rule::wood),
-                        _ => matches!(kind, Rule::marble | Rule::wood),
-                    };
-                    if !applies {
-                        return Err(SceneError::at(
-                            &key_at,
-                            format!("`{}` has no effect on this texture", key.as_str()),
-                        ));
-                    }
-                    match key.as_str() {
-                        "axis" => axis = Some(self.nonzero(src, value, "the axis")?),
-                        "octaves" => octaves = Some(self.integer(src, value, 1, 16)? as u32),
-                        _ => {
-                            let at = src.span(&value);
-                            let t = self.float(src, value)? as f32;
-                            if t < 0.0 {
-                                return Err(SceneError::at(
-                                    &at,
-                                    format!("turbulence {t} is negative"),
-                                ));
-                            }
-                            turbulence = Some(t);
-                        }
-                    }
-                }
-            }
+        for arg in &t.arguments {
+            args.push(Box::new(self.texture_arg(arg)?));
         }
+        let path: Option<PathBuf> = match &t.file {
+            Some(file) => {
+                let name = self.string(file, "`image_map`")?;
+                Some(resolve(&file.span.file.path, &name))
+            }
+            None => None,
+        };
+        let mut state = TextureState {
+            kind: t.kind,
+            transforms: Vec::new(),
+            map: None,
+            axis: None,
+            octaves: None,
+            turbulence: None,
+        };
+        self.exec(&t.items, &mut Body::Texture(&mut state))?;
         // Black to white when no map is given.
-        let map = map
+        let map = state
+            .map
             .filter(|m| !m.is_empty())
             .unwrap_or_else(|| vec![(0.0, Vec3::ZERO), (1.0, Vec3::ONE)]);
-        let mut args = args.into_iter().map(Box::new);
+        let mut args = args.into_iter();
         let mut arg = || args.next().expect("the grammar gives the arguments");
-        let octaves = octaves.unwrap_or(4);
-        let turbulence = turbulence.unwrap_or(0.0);
-        let pattern = match kind {
-            Rule::checker => Pattern::Checker(arg(), arg()),
-            Rule::stripes => Pattern::Stripes { a: arg(), b: arg(), axis: axis.unwrap_or(Vec3::X) },
-            Rule::gradient => Pattern::Gradient { axis: axis.unwrap_or(Vec3::Y), map },
-            Rule::noise => Pattern::Noise { octaves, map },
-            Rule::marble => Pattern::Marble { turbulence, octaves, map },
-            Rule::wood => Pattern::Wood { turbulence, octaves, map },
-            Rule::image_map => Pattern::Image { path: path.expect("the grammar gives a file") },
-            _ => Pattern::Mix { a: arg(), b: arg(), t: arg() },
+        let octaves = state.octaves.unwrap_or(4);
+        let turbulence = state.turbulence.unwrap_or(0.0);
+        let pattern = match t.kind {
+            TextureKind::Checker => Pattern::Checker(arg(), arg()),
+            TextureKind::Stripes => {
+                Pattern::Stripes { a: arg(), b: arg(), axis: state.axis.unwrap_or(Vec3::X) }
+            }
+            TextureKind::Gradient => Pattern::Gradient { axis: state.axis.unwrap_or(Vec3::Y), map },
+            TextureKind::Noise => Pattern::Noise { octaves, map },
+            TextureKind::Marble => Pattern::Marble { turbulence, octaves, map },
+            TextureKind::Wood => Pattern::Wood { turbulence, octaves, map },
+            TextureKind::ImageMap => {
+                Pattern::Image { path: path.expect("the grammar gives image_map a file") }
+            }
+            TextureKind::Mix => Pattern::Mix { a: arg(), b: arg(), t: arg() },
         };
-        Ok(TextureNode { pattern, transforms })
+        Ok(TextureNode { pattern, transforms: state.transforms })
+    }
+
+    pub(super) fn texture_item(
+        &mut self,
+        item: &Item,
+        state: &mut TextureState,
+    ) -> Result<(), SceneError> {
+        let kind = state.kind;
+        match item {
+            Item::Transform(t) => state.transforms.push(self.transform(t)?),
+            Item::ColorMap { entries, span } => {
+                let takes_map = matches!(
+                    kind,
+                    TextureKind::Gradient
+                        | TextureKind::Noise
+                        | TextureKind::Marble
+                        | TextureKind::Wood
+                );
+                if !takes_map {
+                    return Err(SceneError::at(span, "`color_map` has no effect on this texture"));
+                }
+                let mut map = Vec::new();
+                self.exec(entries, &mut Body::ColorMap(&mut map))?;
+                if state.map.replace(map).is_some() {
+                    return Err(SceneError::at(span, "a second color_map"));
+                }
+            }
+            Item::TextureParam(param) => {
+                let applies = match param.kind {
+                    TextureParamKind::Axis => {
+                        matches!(kind, TextureKind::Stripes | TextureKind::Gradient)
+                    }
+                    TextureParamKind::Octaves => {
+                        matches!(kind, TextureKind::Noise | TextureKind::Marble | TextureKind::Wood)
+                    }
+                    TextureParamKind::Turbulence => {
+                        matches!(kind, TextureKind::Marble | TextureKind::Wood)
+                    }
+                };
+                if !applies {
+                    return Err(SceneError::at(
+                        &param.span,
+                        format!("`{}` has no effect on this texture", param.kind.word()),
+                    ));
+                }
+                match param.kind {
+                    TextureParamKind::Axis => {
+                        state.axis = Some(self.nonzero(&param.value, "the axis")?)
+                    }
+                    TextureParamKind::Octaves => {
+                        state.octaves = Some(self.integer(&param.value, 1, 16)? as u32)
+                    }
+                    TextureParamKind::Turbulence => {
+                        let t = self.float(&param.value)? as f32;
+                        if t < 0.0 {
+                            return Err(SceneError::at(
+                                &param.value.span,
+                                format!("turbulence {t} is negative"),
+                            ));
+                        }
+                        state.turbulence = Some(t);
+                    }
+                }
+            }
+            _ => return Err(Self::misplaced(item, &Body::Texture(state))),
+        }
+        Ok(())
+    }
+
+    pub(super) fn map_entry(
+        &mut self,
+        item: &Item,
+        entries: &mut Vec<(f32, Vec3)>,
+    ) -> Result<(), SceneError> {
+        let Item::MapEntry { position, colour } = item else {
+            return Err(Self::misplaced(item, &Body::ColorMap(entries)));
+        };
+        let at = position.span.clone();
+        let position = self.float(position)? as f32;
+        let colour = self.colour(colour)?;
+        let previous = entries.last().map_or(0.0, |e| e.0);
+        if !(previous..=1.0).contains(&position) {
+            return Err(SceneError::at(
+                &at,
+                format!(
+                    "color_map position {position} must be in [0, 1] and not below the one before"
+                ),
+            ));
+        }
+        entries.push((position, colour));
+        Ok(())
     }
 
     pub(super) fn material_named(
-        &self,
-        src: &Source,
-        pair: &Pair<'_, Rule>,
+        &mut self,
+        ident: &Ident,
     ) -> Result<Arc<MaterialDesc>, SceneError> {
-        let ident = pair.clone().into_inner().next().unwrap_or_else(|| pair.clone());
-        match self.lookup(src, &ident)? {
-            Value::Material(m) => Ok(m),
-            other => Err(src.error(
-                &ident,
-                format!("`{}` is {}, not a material", ident.as_str(), other.kind()),
+        match self.lookup(&ident.name) {
+            Some(Value::Material(m)) => Ok(m.clone()),
+            Some(other) => Err(SceneError::at(
+                &ident.span,
+                format!("`{}` is {}, not a material", ident.name, other.kind()),
             )),
+            None => Err(self.unknown(ident)),
         }
     }
 }

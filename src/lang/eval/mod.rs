@@ -1,22 +1,32 @@
-//! Statements to scene graph: `#declare`, `#include`, settings, camera, lights, objects and
-//! materials, each checked where it is written so that every error points at its text.
+//! The interpreter: runs the syntax tree (`lang::syntax`) to a scene graph. Directives run over
+//! the tree with a stack of scopes (the global one, one per included file, one per macro call);
+//! every other item goes to the body it stands in (the scene, an object, a material, ...), which
+//! says what it accepts. Every error points at the text.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{DVec3, Mat3, Vec3};
-use pest::iterators::Pair;
+use glam::{DVec3, Vec3};
 
+mod array;
 mod camera;
+mod expression;
 mod material;
+mod object;
+mod scope;
 
-use super::parser::{self, Rule};
-use super::value::{self, Env, Value};
+use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind};
+use super::value::Value;
+use super::{parser, tree};
 use crate::diagnostic::{SceneError, SourceFile, Span};
 use crate::scene::graph::{
-    CameraDesc, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
-    Transform,
+    CameraDesc, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings,
 };
+
+use array::element_index;
+pub use camera::CameraParams;
+pub use material::TextureState;
+use scope::{Scope, Slot};
 
 /// Includes may nest this deep.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
@@ -24,40 +34,80 @@ pub const MAX_INCLUDE_DEPTH: usize = 32;
 /// Groups and instances may nest this deep (instances of instances need no brackets).
 pub const MAX_OBJECT_DEPTH: u32 = 256;
 
+/// Macro calls may nest this deep (a macro calling itself counts each call).
+pub const MAX_MACRO_DEPTH: usize = 256;
+
+/// Turns of all `#while` and `#for` loops of one scene together.
+pub const MAX_LOOP_TURNS: u64 = 10_000_000;
+
+/// POV-Ray's tolerance for `=`, `!=`, `<=`, `>=`.
+pub const EPSILON: f64 = 1e-10;
+
+/// Stack kept free before evaluating deeper, and the size of each extra segment: deep macro
+/// recursion grows the stack on the heap instead of overflowing a small thread stack.
+const RED_ZONE: usize = 128 * 1024;
+const STACK_SEGMENT: usize = 4 * 1024 * 1024;
+
 #[derive(Default)]
 pub struct Evaluator {
-    env: Env,
+    /// Scopes, outermost first: the global one, then one per included file or macro call.
+    scopes: Vec<Scope>,
     settings: Option<Settings>,
-    settings_seen: bool,
     camera: Option<CameraDesc>,
     lights: Vec<PointLightDesc>,
     objects: Vec<ObjectNode>,
     /// The files being read, outermost first: their identity (canonical path) and their path
     /// as named.
     open_files: Vec<(PathBuf, PathBuf)>,
+    /// The macro calls being evaluated, outermost first.
+    calls: usize,
+    loop_turns: u64,
+    /// The state of each `seed(n)` stream.
+    streams: Vec<u64>,
 }
 
-/// One file's text, for locating its pairs.
-struct Source<'f> {
-    file: &'f Arc<SourceFile>,
+/// Where items stand, which decides what they may be.
+pub enum Body<'a> {
+    Scene,
+    Settings(&'a mut Settings),
+    Camera(&'a mut CameraParams),
+    Light(&'a mut Option<Vec3>),
+    Object(&'a mut ObjectNode),
+    Material(&'a mut crate::scene::graph::MaterialDesc),
+    Texture(&'a mut TextureState),
+    ColorMap(&'a mut Vec<(f32, Vec3)>),
+    /// A macro called as a value: its body gives one.
+    Value(&'a mut Option<Value>),
 }
 
-impl Source<'_> {
-    fn span(&self, pair: &Pair<'_, Rule>) -> Span {
-        let (line, col) = pair.line_col();
-        Span { file: self.file.clone(), line: line as u32, col: col as u32 }
-    }
-
-    fn error(&self, pair: &Pair<'_, Rule>, message: impl Into<String>) -> SceneError {
-        SceneError::at(&self.span(pair), message)
+impl Body<'_> {
+    fn place(&self) -> &'static str {
+        match self {
+            Body::Scene => "at the top level of a scene",
+            Body::Settings(_) => "in `settings`",
+            Body::Camera(_) => "in a camera",
+            Body::Light(_) => "in a light_source",
+            Body::Object(node)
+                if matches!(node.shape, crate::scene::graph::ShapeNode::Union(_)) =>
+            {
+                "in a union"
+            }
+            Body::Object(_) => "in this object",
+            Body::Material(_) => "in a material",
+            Body::Texture(_) => "in a texture",
+            Body::ColorMap(_) => "in a color_map",
+            Body::Value(_) => "where a value is expected",
+        }
     }
 }
 
 impl Evaluator {
     /// Evaluates the main file and returns the scene it describes.
     pub fn scene(mut self, file: Arc<SourceFile>) -> Result<SceneGraph, SceneError> {
+        self.scopes.push(Scope::default());
         self.open_files.push((identity(&file.path), file.path.clone()));
-        self.run(&file)?;
+        let items = tree::parse_file(&file)?;
+        self.exec(&items, &mut Body::Scene)?;
         let camera = self.camera.ok_or_else(|| {
             SceneError::at(
                 &parser::span_at(&file, file.text.trim_end().len()),
@@ -72,50 +122,401 @@ impl Evaluator {
         })
     }
 
-    fn run(&mut self, file: &Arc<SourceFile>) -> Result<(), SceneError> {
-        let src = Source { file };
-        for statement in parser::parse(file)? {
-            match statement.as_rule() {
-                Rule::declare => self.declare(&src, statement)?,
-                Rule::include => self.include(&src, statement)?,
-                Rule::settings => self.settings(&src, statement)?,
-                Rule::camera => self.camera(&src, statement)?,
-                Rule::light_source => self.light(&src, statement)?,
-                Rule::EOI => {}
-                _ => {
-                    let object = self.object(&src, statement)?;
-                    self.objects.push(object);
+    /// Runs the items of a body.
+    pub(super) fn exec(&mut self, items: &[Item], body: &mut Body) -> Result<(), SceneError> {
+        stacker::maybe_grow(RED_ZONE, STACK_SEGMENT, || {
+            for item in items {
+                self.exec_item(item, body)?;
+            }
+            Ok(())
+        })
+    }
+
+    fn exec_item(&mut self, item: &Item, body: &mut Body) -> Result<(), SceneError> {
+        match item {
+            Item::Declare(declare) => self.declare(declare),
+            Item::Undef(name) => {
+                self.undef(&name.name);
+                Ok(())
+            }
+            Item::Include { file, span } => self.include(file, span, body),
+            Item::If { branches, otherwise, .. } => {
+                for (condition, items) in branches {
+                    if self.condition(condition)? {
+                        return self.exec(items, body);
+                    }
+                }
+                match otherwise {
+                    Some(items) => self.exec(items, body),
+                    None => Ok(()),
+                }
+            }
+            Item::While { condition, body: items, span } => loop {
+                let go = self.number(condition, "`#while`'s condition")?;
+                if go == 0.0 {
+                    return Ok(());
+                }
+                self.count_turn(span)?;
+                self.exec(items, body)?;
+            },
+            Item::For { variable, from, to, step, body: items, span } => {
+                self.for_loop(variable, from, to, step.as_ref(), items, span, body)
+            }
+            Item::Macro(definition) => {
+                // Macros are global, as in POV-Ray.
+                let name = definition.name.name.clone();
+                self.scopes[0].names.insert(name, Slot::Value(Value::Macro(definition.clone())));
+                Ok(())
+            }
+            Item::Message { kind, text, span } => {
+                let text = match self.value(text)? {
+                    Value::String(s) => s,
+                    other => {
+                        return Err(SceneError::at(
+                            &text.span,
+                            format!("a message is a string, not {}", other.kind()),
+                        ));
+                    }
+                };
+                match kind {
+                    MessageKind::Debug => eprint!("{text}"),
+                    MessageKind::Warning => eprintln!("{span:?}: warning: {text}"),
+                    MessageKind::Error => return Err(SceneError::at(span, text.to_string())),
+                }
+                Ok(())
+            }
+            Item::Call(call) => self.call_macro(call, body),
+            Item::Settings { .. }
+            | Item::Setting(_)
+            | Item::Camera { .. }
+            | Item::CameraParam { .. }
+            | Item::Light { .. }
+            | Item::LightPower { .. }
+            | Item::Object(_)
+            | Item::Material(_)
+            | Item::MaterialName(_)
+            | Item::Transform(_)
+            | Item::MaterialParam(_)
+            | Item::Texture(_)
+            | Item::TextureParam(_)
+            | Item::ColorMap { .. }
+            | Item::MapEntry { .. }
+            | Item::Value(_) => match body {
+                Body::Scene => self.scene_item(item),
+                Body::Settings(settings) => self.setting_item(item, settings),
+                Body::Camera(params) => self.camera_item(item, params),
+                Body::Light(power) => self.light_item(item, power),
+                Body::Object(node) => self.object_item(item, node),
+                Body::Material(material) => self.material_item(item, material),
+                Body::Texture(state) => self.texture_item(item, state),
+                Body::ColorMap(entries) => self.map_entry(item, entries),
+                Body::Value(slot) => self.value_item(item, slot),
+            },
+        }
+    }
+
+    /// An item that cannot stand in `body`.
+    fn misplaced(item: &Item, body: &Body) -> SceneError {
+        SceneError::at(item.span(), format!("{} cannot stand {}", item.describe(), body.place()))
+    }
+
+    fn scene_item(&mut self, item: &Item) -> Result<(), SceneError> {
+        match item {
+            Item::Settings { items, span } => {
+                if self.settings.is_some() {
+                    return Err(SceneError::at(
+                        span,
+                        "a second `settings` block (a scene has at most one)",
+                    ));
+                }
+                let mut settings = Settings::default();
+                self.exec(items, &mut Body::Settings(&mut settings))?;
+                self.settings = Some(settings);
+                Ok(())
+            }
+            Item::Camera { items, span } => self.camera(items, span),
+            Item::Light { position, items, span } => {
+                let at = position.span.clone();
+                let position = as_vector(&self.value(position)?, &at, "this value")?;
+                let mut power = None;
+                self.exec(items, &mut Body::Light(&mut power))?;
+                let power = power.ok_or_else(|| {
+                    SceneError::at(span, "the light_source needs `power rgb <r, g, b>`")
+                })?;
+                self.lights.push(PointLightDesc {
+                    position: position.as_vec3(),
+                    power,
+                    span: span.clone(),
+                });
+                Ok(())
+            }
+            Item::Object(object) => {
+                let node = self.object(object)?;
+                self.objects.push(node);
+                Ok(())
+            }
+            Item::Value(expr) => match self.value(expr)? {
+                // A macro or array element that holds an object, standing as a statement.
+                Value::Object(node) => {
+                    self.objects.push(instance(node, expr.span.clone()));
+                    Ok(())
+                }
+                _ => Err(Self::misplaced(item, &Body::Scene)),
+            },
+            _ => Err(Self::misplaced(item, &Body::Scene)),
+        }
+    }
+
+    fn setting_item(&mut self, item: &Item, settings: &mut Settings) -> Result<(), SceneError> {
+        let Item::Setting(setting) = item else {
+            return Err(Self::misplaced(item, &Body::Settings(settings)));
+        };
+        match &setting.kind {
+            SettingKind::Resolution(w, h) => {
+                settings.width = self.integer(w, 1, 65536)? as u32;
+                settings.height = self.integer(h, 1, 65536)? as u32;
+            }
+            SettingKind::Samples(e) => settings.samples = self.integer(e, 1, 1_000_000)? as u32,
+            SettingKind::MaxDepth(e) => settings.max_depth = self.integer(e, 0, 1024)? as u32,
+            SettingKind::Seed(e) => settings.seed = self.integer(e, 0, u32::MAX.into())?,
+            SettingKind::Background(c) => settings.background = self.colour(c)?,
+            SettingKind::Integrator(name) => {
+                settings.integrator = match name.name.as_str() {
+                    "direct" => IntegratorKind::Direct,
+                    "path" => IntegratorKind::Path,
+                    other => {
+                        let mut message =
+                            format!("unknown integrator `{other}` (expected `direct` or `path`)");
+                        if let Some(g) = parser::closest(other, ["direct", "path"].into_iter()) {
+                            message.push_str(&format!("; did you mean `{g}`?"));
+                        }
+                        return Err(SceneError::at(&name.span, message));
+                    }
                 }
             }
         }
         Ok(())
     }
 
-    fn declare(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<(), SceneError> {
-        let mut inner = pair.into_inner();
-        let (Some(name), Some(value)) = (inner.next(), inner.next()) else {
-            unreachable!("the grammar gives #declare a name and a value")
+    fn light_item(&mut self, item: &Item, power: &mut Option<Vec3>) -> Result<(), SceneError> {
+        let Item::LightPower { key, colour } = item else {
+            return Err(Self::misplaced(item, &Body::Light(power)));
         };
-        let name = name.as_str().to_string();
-        let value = match value.as_rule() {
-            Rule::material => Value::Material(self.material(src, value, Some(&name))?),
-            Rule::rgb_colour => Value::Vector(self.colour(src, value)?.as_dvec3()),
-            Rule::texture => Value::Texture(Arc::new(self.texture_arg(src, value)?)),
-            Rule::expr => self.value(src, value)?,
-            _ => Value::Object(Arc::new(self.object(src, value)?)),
-        };
-        self.env.insert(name, value);
+        if power.is_some() {
+            return Err(SceneError::at(key, "the light's power is given twice"));
+        }
+        *power = Some(self.colour(colour)?);
         Ok(())
     }
 
-    fn include(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<(), SceneError> {
-        let at = src.span(&pair);
-        let name = string(&pair);
-        let path = resolve(&src.file.path, &name);
+    /// An item of a macro's body called where a value is expected.
+    fn value_item(&mut self, item: &Item, slot: &mut Option<Value>) -> Result<(), SceneError> {
+        let value = match item {
+            Item::Value(expr) => self.value(expr)?,
+            Item::Object(object) => Value::Object(Arc::new(self.object(object)?)),
+            Item::Material(material) => Value::Material(self.material(material, None)?),
+            Item::Texture(texture) => Value::Texture(Arc::new(self.texture(texture)?)),
+            _ => return Err(Self::misplaced(item, &Body::Value(slot))),
+        };
+        if slot.is_some() {
+            return Err(SceneError::at(
+                item.span(),
+                "a second value in a macro called where one value is expected",
+            ));
+        }
+        *slot = Some(value);
+        Ok(())
+    }
+
+    fn declare(&mut self, declare: &Declare) -> Result<(), SceneError> {
+        let Declare { local, name, indices, value, .. } = declare;
+        let value = self.declared(value, Some(&name.name))?;
+        if indices.is_empty() {
+            self.bind(&name.name, value, *local);
+            return Ok(());
+        }
+        let mut at = Vec::new();
+        for index in indices {
+            at.push((self.number(index, "an index")?, index.span.clone()));
+        }
+        if self.slot_mut(&name.name, *local).is_none() {
+            return Err(self.unknown(name));
+        }
+        let slot = self.slot_mut(&name.name, *local).expect("checked above");
+        let Value::Array(array) = slot else {
+            return Err(SceneError::at(
+                &name.span,
+                format!("`{}` is {}, not an array", name.name, slot.kind()),
+            ));
+        };
+        let flat = element_index(array, Some(&name.name), &at)?;
+        Arc::make_mut(array).elements[flat] = Some(value);
+        Ok(())
+    }
+
+    /// A `#declare`d value; `name` (the declared name) names a material in messages.
+    fn declared(&mut self, value: &Declared, name: Option<&str>) -> Result<Value, SceneError> {
+        Ok(match value {
+            Declared::Material(m) => Value::Material(self.material(m, name)?),
+            Declared::Object(o) => Value::Object(Arc::new(self.object(o)?)),
+            Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
+            Declared::Array(a) => self.array(a)?,
+            Declared::Value(e) => self.value(e)?,
+            Declared::If { branches, otherwise, span } => {
+                for (condition, value) in branches {
+                    if self.condition(condition)? {
+                        return self.declared(value, name);
+                    }
+                }
+                match otherwise {
+                    Some(value) => self.declared(value, name)?,
+                    None => {
+                        return Err(SceneError::at(
+                            span,
+                            "no branch of this `#if` gives the value (add an `#else`)",
+                        ));
+                    }
+                }
+            }
+        })
+    }
+
+    fn condition(&mut self, condition: &Condition) -> Result<bool, SceneError> {
+        match condition {
+            Condition::Expr(e) => Ok(self.number(e, "`#if`'s condition")? != 0.0),
+            Condition::Defined { name, defined } => Ok(self.is_defined(&name.name) == *defined),
+        }
+    }
+
+    fn count_turn(&mut self, span: &Span) -> Result<(), SceneError> {
+        self.loop_turns += 1;
+        if self.loop_turns > MAX_LOOP_TURNS {
+            return Err(SceneError::at(
+                span,
+                format!("more than {MAX_LOOP_TURNS} loop turns in this scene (does the loop end?)"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// `#for (I, A, B, S)`: as `#local I = A; #while (I <= B) ... #local I = I + S; #end`
+    /// (`>=` for a negative step), with POV-Ray's tolerance on the comparison.
+    #[allow(clippy::too_many_arguments)]
+    fn for_loop(
+        &mut self,
+        variable: &Ident,
+        from: &super::syntax::Expr,
+        to: &super::syntax::Expr,
+        step: Option<&super::syntax::Expr>,
+        items: &[Item],
+        span: &Span,
+        body: &mut Body,
+    ) -> Result<(), SceneError> {
+        let start = self.number(from, "`#for`'s start")?;
+        let end = self.number(to, "`#for`'s end")?;
+        let step_value = match step {
+            Some(s) => {
+                let v = self.number(s, "`#for`'s step")?;
+                if v == 0.0 {
+                    return Err(SceneError::at(
+                        &s.span,
+                        "`#for`'s step is 0: the loop would not end",
+                    ));
+                }
+                v
+            }
+            None => 1.0,
+        };
+        self.bind(&variable.name, Value::Float(start), true);
+        loop {
+            let current = match self.lookup(&variable.name) {
+                Some(Value::Float(f)) => *f,
+                Some(other) => {
+                    return Err(SceneError::at(
+                        &variable.span,
+                        format!("the loop's `{}` became {}", variable.name, other.kind()),
+                    ));
+                }
+                None => return Err(self.unknown(variable)),
+            };
+            let go =
+                if step_value > 0.0 { current - end <= EPSILON } else { end - current <= EPSILON };
+            if !go {
+                return Ok(());
+            }
+            self.count_turn(span)?;
+            self.exec(items, body)?;
+            let current = match self.lookup(&variable.name) {
+                Some(Value::Float(f)) => *f,
+                _ => return Err(self.unknown(variable)),
+            };
+            self.bind(&variable.name, Value::Float(current + step_value), true);
+        }
+    }
+
+    fn call_macro(&mut self, call: &Call, body: &mut Body) -> Result<(), SceneError> {
+        let definition = match self.lookup(&call.name.name) {
+            Some(Value::Macro(m)) => m.clone(),
+            Some(other) => {
+                return Err(SceneError::at(
+                    &call.name.span,
+                    format!("`{}` is {}, not a macro", call.name.name, other.kind()),
+                ));
+            }
+            None => return Err(self.unknown_as(&call.name, "macro")),
+        };
+        let parameters = &definition.parameters;
+        if call.arguments.len() != parameters.len() {
+            let names: Vec<&str> = parameters.iter().map(|p| p.name.as_str()).collect();
+            let plural = if names.len() == 1 { "" } else { "s" };
+            return Err(SceneError::at(
+                &call.span,
+                format!(
+                    "macro `{}` takes {} argument{plural} ({}), not {}",
+                    definition.name.name,
+                    names.len(),
+                    names.join(", "),
+                    call.arguments.len()
+                ),
+            )
+            .with_note(format!("`{}` is defined at {:?}", definition.name.name, definition.span)));
+        }
+        if self.calls >= MAX_MACRO_DEPTH {
+            return Err(SceneError::at(
+                &call.span,
+                format!("macro calls nested more than {MAX_MACRO_DEPTH} deep"),
+            ));
+        }
+        let mut scope = Scope::default();
+        for (parameter, argument) in parameters.iter().zip(&call.arguments) {
+            let slot = match argument.lone_ident().map(|name| self.resolve(name)) {
+                Some((scope, name)) => Slot::Alias { scope, name },
+                None => Slot::Value(self.value(argument)?),
+            };
+            scope.names.insert(parameter.name.clone(), slot);
+        }
+        self.scopes.push(scope);
+        self.calls += 1;
+        let result = self.exec(&definition.body, body);
+        self.calls -= 1;
+        self.scopes.pop();
+        result.map_err(|e| {
+            note(e, format!("in macro {}, called at {:?}", definition.name.name, call.span))
+        })
+    }
+
+    fn include(
+        &mut self,
+        file: &super::syntax::Expr,
+        at: &Span,
+        body: &mut Body,
+    ) -> Result<(), SceneError> {
+        let name = self.string(file, "`#include`")?;
+        let path = resolve(&file.span.file.path, &name);
         let id = identity(&path);
         if self.open_files.len() > MAX_INCLUDE_DEPTH {
             return Err(SceneError::at(
-                &at,
+                at,
                 format!("includes nested deeper than {MAX_INCLUDE_DEPTH}"),
             ));
         }
@@ -123,343 +524,59 @@ impl Evaluator {
             let chain: Vec<String> =
                 self.open_files.iter().map(|(_, p)| p.display().to_string()).collect();
             return Err(SceneError::at(
-                &at,
+                at,
                 format!("include cycle: {} includes `{name}` again", chain.join(" includes ")),
             ));
         }
         let text = std::fs::read_to_string(&path)
-            .map_err(|e| SceneError::at(&at, format!("cannot read `{}`: {e}", path.display())))?;
+            .map_err(|e| SceneError::at(at, format!("cannot read `{}`: {e}", path.display())))?;
         let file = Arc::new(SourceFile { path, text });
         self.open_files.push((id, file.path.clone()));
-        let result = self.run(&file);
+        // The file's `#local`s end with it.
+        self.scopes.push(Scope::default());
+        let result = tree::parse_file(&file).and_then(|items| self.exec(&items, body));
+        self.scopes.pop();
         self.open_files.pop();
-        // The whole include chain, but not a wall of notes for a runaway one.
-        result.map_err(|e| match e.notes.len() {
-            0..4 => e.with_note(format!("included from {at:?}")),
-            4 => e.with_note("(and more)"),
-            _ => e,
-        })
-    }
-
-    fn settings(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<(), SceneError> {
-        if self.settings_seen {
-            return Err(src.error(&pair, "a second `settings` block (a scene has at most one)"));
-        }
-        self.settings_seen = true;
-        let mut settings = Settings::default();
-        for item in pair.into_inner().filter(|p| p.as_rule() != Rule::kw_settings) {
-            let rule = item.as_rule();
-            let mut args = item.into_inner().skip(1);
-            let mut next = || args.next().expect("the grammar gives every setting its value");
-            match rule {
-                Rule::resolution => {
-                    settings.width = self.integer(src, next(), 1, 65536)? as u32;
-                    settings.height = self.integer(src, next(), 1, 65536)? as u32;
-                }
-                Rule::samples => settings.samples = self.integer(src, next(), 1, 1_000_000)? as u32,
-                Rule::max_depth => settings.max_depth = self.integer(src, next(), 0, 1024)? as u32,
-                Rule::seed => settings.seed = self.integer(src, next(), 0, u32::MAX.into())?,
-                Rule::background => settings.background = self.colour(src, next())?,
-                _ => {
-                    let name = next();
-                    settings.integrator = match name.as_str() {
-                        "direct" => IntegratorKind::Direct,
-                        "path" => IntegratorKind::Path,
-                        other => {
-                            let mut message = format!(
-                                "unknown integrator `{other}` (expected `direct` or `path`)"
-                            );
-                            if let Some(g) = parser::closest(other, ["direct", "path"].into_iter())
-                            {
-                                message.push_str(&format!("; did you mean `{g}`?"));
-                            }
-                            return Err(src.error(&name, message));
-                        }
-                    }
-                }
-            }
-        }
-        self.settings = Some(settings);
-        Ok(())
-    }
-
-    fn light(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<(), SceneError> {
-        let span = src.span(&pair);
-        let mut inner = pair.into_inner().skip(1);
-        let position = self.vector(src, inner.next().expect("the grammar gives a position"))?;
-        let mut power = None;
-        while let Some(key) = inner.next() {
-            let colour = inner.next().expect("the grammar gives the colour");
-            if power.is_some() {
-                return Err(src.error(&key, "the light's power is given twice"));
-            }
-            power = Some(self.colour(src, colour)?);
-        }
-        let power = power
-            .ok_or_else(|| SceneError::at(&span, "the light_source needs `power rgb <r, g, b>`"))?;
-        self.lights.push(PointLightDesc { position: position.as_vec3(), power, span });
-        Ok(())
-    }
-
-    fn object(&mut self, src: &Source, pair: Pair<'_, Rule>) -> Result<ObjectNode, SceneError> {
-        let span = src.span(&pair);
-        let rule = pair.as_rule();
-        let mut inner = pair.into_inner().skip(1).peekable();
-        let mut take =
-            |n: usize| -> Vec<Pair<'_, Rule>> { (0..n).filter_map(|_| inner.next()).collect() };
-        let shape = match rule {
-            Rule::plane => {
-                let [n, d] = take(2).try_into().expect("two arguments");
-                let normal = self.nonzero(src, n, "the plane's normal")?;
-                ShapeNode::Plane { normal, offset: self.float(src, d)? as f32 }
-            }
-            Rule::sphere => {
-                let [c, r] = take(2).try_into().expect("two arguments");
-                ShapeNode::Sphere {
-                    center: self.vec3(src, c)?,
-                    radius: self.positive(src, r, "radius")?,
-                }
-            }
-            Rule::box_shape => {
-                let [a, b] = take(2).try_into().expect("two arguments");
-                let at = src.span(&b);
-                let (corner_a, corner_b) = (self.vec3(src, a)?, self.vec3(src, b)?);
-                if (corner_a - corner_b).abs().min_element() == 0.0 {
-                    return Err(SceneError::at(
-                        &at,
-                        "the box's corners are equal in one coordinate: it has no volume",
-                    ));
-                }
-                ShapeNode::Box { corner_a, corner_b }
-            }
-            Rule::triangle => {
-                let [a, b, c] = take(3).try_into().expect("three arguments");
-                let at = src.span(&c);
-                let (a, b, c) = (self.vec3(src, a)?, self.vec3(src, b)?, self.vec3(src, c)?);
-                if (b - a).cross(c - a).length() <= 1e-12 * (b - a).length() * (c - a).length() {
-                    return Err(SceneError::at(
-                        &at,
-                        "the triangle's corners are collinear: it has no area",
-                    ));
-                }
-                ShapeNode::Triangle { a, b, c }
-            }
-            Rule::quad => {
-                let [p, e1, e2] = take(3).try_into().expect("three arguments");
-                let at = src.span(&e2);
-                let (corner, edge1, edge2) =
-                    (self.vec3(src, p)?, self.vec3(src, e1)?, self.vec3(src, e2)?);
-                if edge1.cross(edge2).length() <= 1e-12 * edge1.length() * edge2.length() {
-                    return Err(SceneError::at(
-                        &at,
-                        "the quad's edges are zero or parallel: it has no area",
-                    ));
-                }
-                ShapeNode::Quad { corner, edge1, edge2 }
-            }
-            Rule::disk => {
-                let [c, n, r] = take(3).try_into().expect("three arguments");
-                let center = self.vec3(src, c)?;
-                let normal = self.nonzero(src, n, "the disk's normal")?;
-                ShapeNode::Disk { center, normal, radius: self.positive(src, r, "radius")? }
-            }
-            Rule::cylinder => {
-                let [b, c, r] = take(3).try_into().expect("three arguments");
-                let at = src.span(&c);
-                let (base, cap) = (self.vec3(src, b)?, self.vec3(src, c)?);
-                if base == cap {
-                    return Err(SceneError::at(
-                        &at,
-                        "the cylinder's base and cap centres are the same point",
-                    ));
-                }
-                ShapeNode::Cylinder { base, cap, radius: self.positive(src, r, "radius")? }
-            }
-            Rule::mesh => {
-                let [name] = take(1).try_into().expect("a file name");
-                ShapeNode::Mesh { path: resolve(&src.file.path, &string(&name)) }
-            }
-            Rule::instance => {
-                let [name] = take(1).try_into().expect("a name");
-                match self.lookup(src, &name)? {
-                    Value::Object(object) => ShapeNode::Instance(object),
-                    other => {
-                        return Err(src.error(
-                            &name,
-                            format!("`{}` is {}, not an object", name.as_str(), other.kind()),
-                        ));
-                    }
-                }
-            }
-            _ => ShapeNode::Union(Vec::new()),
-        };
-        let depth = match &shape {
-            ShapeNode::Instance(target) => target.depth + 1,
-            _ => 1,
-        };
-        let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
-        for modifier in inner {
-            match modifier.as_rule() {
-                Rule::material => node.material = Some(self.material(src, modifier, None)?),
-                Rule::material_name => node.material = Some(self.material_named(src, &modifier)?),
-                Rule::transform => node.transforms.push(self.transform(src, modifier)?),
-                _ => {
-                    let child = self.object(src, modifier)?;
-                    node.depth = node.depth.max(child.depth + 1);
-                    if let ShapeNode::Union(children) = &mut node.shape {
-                        children.push(child);
-                    }
-                }
-            }
-        }
-        if node.depth > MAX_OBJECT_DEPTH {
-            return Err(SceneError::at(
-                &node.span,
-                format!("objects nested more than {MAX_OBJECT_DEPTH} levels deep"),
-            ));
-        }
-        Ok(node)
-    }
-
-    fn transform(&self, src: &Source, pair: Pair<'_, Rule>) -> Result<Transform, SceneError> {
-        let mut inner = pair.into_inner();
-        let (key, expr) = (inner.next().expect("key"), inner.next().expect("value"));
-        let at = src.span(&expr);
-        let value = self.value(src, expr)?;
-        let key = key.into_inner().next().map_or("", |k| k.as_str());
-        Ok(match key {
-            "translate" => Transform::Translate(as_vector(&value, &at, "`translate`")?.as_vec3()),
-            "rotate" => Transform::Rotate(as_vector(&value, &at, "`rotate`")?.as_vec3()),
-            "scale" => {
-                let s = as_vector(&value, &at, "`scale`")?.as_vec3();
-                if s.cmpeq(Vec3::ZERO).any() {
-                    let (x, y, z) = (s.x, s.y, s.z);
-                    return Err(SceneError::at(
-                        &at,
-                        format!(
-                            "scale <{x}, {y}, {z}> has a zero component: it flattens the object"
-                        ),
-                    ));
-                }
-                Transform::Scale(s)
-            }
-            _ => {
-                let numbers = match value {
-                    Value::Numbers(n) if n.len() == 12 => n,
-                    other => {
-                        return Err(SceneError::at(
-                            &at,
-                            format!("`matrix` takes 12 numbers, not {}", other.kind()),
-                        ));
-                    }
-                };
-                let m: Vec<f32> = numbers.iter().map(|&f| f as f32).collect();
-                let linear = Mat3::from_cols_slice(&m[..9]);
-                if linear.determinant().abs() < 1e-12 {
-                    return Err(SceneError::at(
-                        &at,
-                        "the matrix is singular: it flattens the object",
-                    ));
-                }
-                Transform::Matrix { linear, translation: Vec3::new(m[9], m[10], m[11]) }
-            }
-        })
-    }
-
-    fn lookup(&self, src: &Source, ident: &Pair<'_, Rule>) -> Result<Value, SceneError> {
-        self.env.get(ident.as_str()).cloned().ok_or_else(|| {
-            let mut message = format!("unknown identifier `{}`", ident.as_str());
-            if let Some(guess) =
-                parser::closest(ident.as_str(), self.env.keys().map(String::as_str))
-            {
-                message.push_str(&format!("; did you mean `{guess}`?"));
-            }
-            src.error(ident, message)
-        })
-    }
-
-    fn value(&self, src: &Source, expr: Pair<'_, Rule>) -> Result<Value, SceneError> {
-        value::eval(expr, &self.env, &|p, m| src.error(p, m))
-    }
-
-    fn float(&self, src: &Source, expr: Pair<'_, Rule>) -> Result<f64, SceneError> {
-        let at = src.span(&expr);
-        as_float(&self.value(src, expr)?, &at, "this value")
-    }
-
-    fn vector(&self, src: &Source, expr: Pair<'_, Rule>) -> Result<DVec3, SceneError> {
-        let at = src.span(&expr);
-        as_vector(&self.value(src, expr)?, &at, "this value")
-    }
-
-    fn vec3(&self, src: &Source, expr: Pair<'_, Rule>) -> Result<Vec3, SceneError> {
-        self.vector(src, expr).map(|v| v.as_vec3())
-    }
-
-    fn nonzero(&self, src: &Source, expr: Pair<'_, Rule>, what: &str) -> Result<Vec3, SceneError> {
-        let at = src.span(&expr);
-        let v = self.vec3(src, expr)?;
-        if v.length() == 0.0 {
-            return Err(SceneError::at(&at, format!("{what} is a zero vector")));
-        }
-        Ok(v)
-    }
-
-    fn positive(&self, src: &Source, expr: Pair<'_, Rule>, what: &str) -> Result<f32, SceneError> {
-        let at = src.span(&expr);
-        let f = self.float(src, expr)?;
-        if f <= 0.0 {
-            let sign = if f < 0.0 { "negative" } else { "zero" };
-            return Err(SceneError::at(&at, format!("{what} {f} is {sign}: it must be positive")));
-        }
-        Ok(f as f32)
-    }
-
-    fn integer(
-        &self,
-        src: &Source,
-        expr: Pair<'_, Rule>,
-        min: u64,
-        max: u64,
-    ) -> Result<u64, SceneError> {
-        let at = src.span(&expr);
-        let f = self.float(src, expr)?;
-        if f.fract() != 0.0 || f < min as f64 || f > max as f64 {
-            return Err(SceneError::at(
-                &at,
-                format!("{f} is not a whole number from {min} to {max}"),
-            ));
-        }
-        Ok(f as u64)
-    }
-
-    /// A `colour` pair: `rgb <r, g, b>`, `rgb s`, or an expression; components must not be negative.
-    fn colour(&self, src: &Source, pair: Pair<'_, Rule>) -> Result<Vec3, SceneError> {
-        let at = src.span(&pair);
-        let expr =
-            pair.into_inner().find(|p| p.as_rule() == Rule::expr).expect("a colour has a value");
-        let colour = match self.value(src, expr)? {
-            Value::Float(f) => DVec3::splat(f),
-            Value::Vector(v) => v,
-            other => {
-                return Err(SceneError::at(
-                    &at,
-                    format!("expected a colour, found {}", other.kind()),
-                ));
-            }
-        };
-        if colour.min_element() < 0.0 {
-            let [r, g, b] = colour.to_array();
-            return Err(SceneError::at(
-                &at,
-                format!("colour <{r}, {g}, {b}> has a negative component"),
-            ));
-        }
-        Ok(colour.as_vec3())
+        result.map_err(|e| note(e, format!("included from {at:?}")))
     }
 }
 
-fn as_float(value: &Value, at: &Span, what: &str) -> Result<f64, SceneError> {
+/// Adds a note of where an error came from (an include, a macro call), but not a wall of them:
+/// a note repeated by recursion is counted, and after four different ones the rest are elided.
+fn note(mut e: SceneError, text: String) -> SceneError {
+    if let Some(last) = e.notes.last_mut() {
+        if *last == text {
+            *last = format!("{text} (2 times)");
+            return e;
+        }
+        if let Some(count) = last
+            .strip_prefix(&text)
+            .and_then(|rest| rest.strip_prefix(" (")?.strip_suffix(" times)")?.parse::<u64>().ok())
+        {
+            *last = format!("{text} ({} times)", count + 1);
+            return e;
+        }
+    }
+    match e.notes.len() {
+        0..4 => e.with_note(text),
+        4 => e.with_note("(and more)"),
+        _ => e,
+    }
+}
+
+/// An object value standing where an object goes: an instance of it, located here.
+fn instance(node: Arc<ObjectNode>, span: Span) -> ObjectNode {
+    let depth = node.depth + 1;
+    ObjectNode {
+        shape: crate::scene::graph::ShapeNode::Instance(node),
+        material: None,
+        transforms: Vec::new(),
+        depth,
+        span,
+    }
+}
+
+pub(super) fn as_float(value: &Value, at: &Span, what: &str) -> Result<f64, SceneError> {
     match value {
         Value::Float(f) => Ok(*f),
         other => Err(SceneError::at(at, format!("{what} needs a number, not {}", other.kind()))),
@@ -467,7 +584,7 @@ fn as_float(value: &Value, at: &Span, what: &str) -> Result<f64, SceneError> {
 }
 
 /// A vector, or a number promoted to `<f, f, f>`.
-fn as_vector(value: &Value, at: &Span, what: &str) -> Result<DVec3, SceneError> {
+pub(super) fn as_vector(value: &Value, at: &Span, what: &str) -> Result<DVec3, SceneError> {
     match value {
         Value::Float(f) => Ok(DVec3::splat(*f)),
         Value::Vector(v) => Ok(*v),
@@ -475,17 +592,8 @@ fn as_vector(value: &Value, at: &Span, what: &str) -> Result<DVec3, SceneError> 
     }
 }
 
-/// The text of a `string` pair (or of the string inside `pair`).
-fn string(pair: &Pair<'_, Rule>) -> String {
-    pair.clone()
-        .into_inner()
-        .flatten()
-        .find(|p| p.as_rule() == Rule::string_text)
-        .map_or(String::new(), |p| p.as_str().to_string())
-}
-
 /// A path named in `from`, relative to `from`'s folder unless absolute.
-fn resolve(from: &Path, name: &str) -> PathBuf {
+pub(super) fn resolve(from: &Path, name: &str) -> PathBuf {
     from.parent().unwrap_or(Path::new("")).join(name)
 }
 

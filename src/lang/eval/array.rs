@@ -1,0 +1,100 @@
+//! Arrays: literals of one or more dimensions, and the position of an element.
+
+use std::sync::Arc;
+
+use super::Evaluator;
+use crate::diagnostic::{SceneError, Span};
+use crate::lang::syntax::{ArrayElement, ArrayLiteral};
+use crate::lang::value::{Array, MAX_ARRAY_ELEMENTS, Value};
+
+impl Evaluator {
+    pub(super) fn array(&mut self, literal: &ArrayLiteral) -> Result<Value, SceneError> {
+        let mut dimensions = Vec::new();
+        for d in &literal.dimensions {
+            let size = self.integer(d, 1, MAX_ARRAY_ELEMENTS as u64)? as usize;
+            dimensions.push(size);
+        }
+        let total: usize =
+            dimensions.iter().try_fold(1usize, |a, &d| a.checked_mul(d)).unwrap_or(usize::MAX);
+        if total > MAX_ARRAY_ELEMENTS {
+            return Err(SceneError::at(
+                &literal.span,
+                format!("an array of more than {} elements", MAX_ARRAY_ELEMENTS),
+            ));
+        }
+        let mut elements = Vec::with_capacity(total);
+        match &literal.elements {
+            None => elements.resize(total, None),
+            Some(rows) => self.array_rows(rows, &dimensions, &literal.span, &mut elements)?,
+        }
+        Ok(Value::Array(Arc::new(Array { dimensions, elements })))
+    }
+
+    fn array_rows(
+        &mut self,
+        row: &[ArrayElement],
+        dimensions: &[usize],
+        span: &Span,
+        out: &mut Vec<Option<Value>>,
+    ) -> Result<(), SceneError> {
+        if row.len() != dimensions[0] {
+            return Err(SceneError::at(
+                span,
+                format!(
+                    "the array's size is {} here, but {} elements are given",
+                    dimensions[0],
+                    row.len()
+                ),
+            ));
+        }
+        for element in row {
+            match (element, dimensions.len()) {
+                (ArrayElement::Row(inner, at), n) if n > 1 => {
+                    self.array_rows(inner, &dimensions[1..], at, out)?
+                }
+                (ArrayElement::Value(value, _), 1) => out.push(Some(self.declared(value, None)?)),
+                (ArrayElement::Row(_, at), _) => {
+                    return Err(SceneError::at(at, "a row `{ ... }` where an element is expected"));
+                }
+                (ArrayElement::Value(_, at), _) => {
+                    return Err(SceneError::at(
+                        at,
+                        "an element where a row `{ ... }` of the next dimension is expected",
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The flat position of an element, or a located error naming the array (`name`, if it has one)
+/// and its size.
+pub(super) fn element_index(
+    array: &Array,
+    name: Option<&str>,
+    at: &[(f64, Span)],
+) -> Result<usize, SceneError> {
+    let array_name = name.map_or("the array".to_string(), |n| format!("`{n}`"));
+    if at.len() != array.dimensions.len() {
+        let span = &at.last().expect("an index").1;
+        return Err(SceneError::at(
+            span,
+            format!("{array_name} has {} dimensions, not {}", array.dimensions.len(), at.len()),
+        ));
+    }
+    let mut flat = 0;
+    for ((index, span), &size) in at.iter().zip(&array.dimensions) {
+        if index.fract() != 0.0 || *index < 0.0 || *index >= size as f64 {
+            return Err(SceneError::at(
+                span,
+                format!(
+                    "index {index} is out of bounds: {array_name} has size {size} (indices 0 to {})",
+                    size - 1
+                ),
+            ));
+        }
+        flat = flat * size + *index as usize;
+    }
+    Ok(flat)
+}

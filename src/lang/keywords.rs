@@ -1,0 +1,173 @@
+//! The one list of the language's keywords. It feeds the check that a name is not a keyword, the
+//! did-you-mean table of parse errors, and how each keyword reads in "expected ..." messages. The
+//! grammar's `kw_` rules name a subset of these words (a test keeps the two in step); functions
+//! and constants are told apart from names here, not in the grammar.
+
+/// What a keyword is, beyond being reserved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KeywordKind {
+    /// A word of the syntax (`sphere`, `translate`, ...), matched by a `kw_` rule.
+    Syntax,
+    /// A built-in function, called as `word(...)`.
+    Function(Function),
+    /// A value: `pi`, the unit vectors `x`, `y`, `z`, and POV-Ray's truth values.
+    Constant(Constant),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Constant {
+    Pi,
+    X,
+    Y,
+    Z,
+    /// `true`, `yes`, `on`: 1.
+    True,
+    /// `false`, `no`, `off`: 0.
+    False,
+}
+
+/// The built-in functions (section 2 and 10 of the language).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Function {
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Sqrt,
+    Pow,
+    Abs,
+    Min,
+    Max,
+    Radians,
+    Degrees,
+    Floor,
+    Ceil,
+    Int,
+    Mod,
+    Exp,
+    Ln,
+    Log,
+    Vlength,
+    Vnormalize,
+    Vdot,
+    Vcross,
+    Vrotate,
+    Select,
+    Seed,
+    Rand,
+    Concat,
+    Str,
+    DimensionSize,
+}
+
+pub struct Keyword {
+    pub word: &'static str,
+    /// The word in backquotes, for messages.
+    pub shown: &'static str,
+    pub kind: KeywordKind,
+}
+
+macro_rules! keywords {
+    ($($word:literal => $kind:expr),* $(,)?) => {
+        &[$(Keyword { word: $word, shown: concat!("`", $word, "`"), kind: $kind }),*]
+    };
+}
+
+use KeywordKind::{Constant as C, Function as F, Syntax as S};
+
+pub const KEYWORDS: &[Keyword] = keywords![
+    "settings" => S, "resolution" => S, "samples" => S, "integrator" => S, "max_depth" => S,
+    "seed" => F(Function::Seed), "background" => S,
+    "camera" => S, "origin" => S, "left" => S, "up" => S, "forward" => S, "location" => S,
+    "look_at" => S, "angle" => S, "aperture" => S, "focal_distance" => S,
+    "light_source" => S, "power" => S, "colour" => S, "color" => S,
+    "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S,
+    "cylinder" => S, "mesh" => S, "union" => S, "object" => S, "material" => S,
+    "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
+    "diffuse" => S, "specular" => S, "transmission" => S, "emission" => S, "ior" => S,
+    "fresnel" => S, "rgb" => S,
+    "checker" => S, "stripes" => S, "gradient" => S, "noise" => S, "marble" => S, "wood" => S,
+    "image_map" => S, "mix" => S, "axis" => S, "octaves" => S, "turbulence" => S,
+    "color_map" => S, "colour_map" => S, "array" => S,
+    "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),
+    "true" => C(Constant::True), "yes" => C(Constant::True), "on" => C(Constant::True),
+    "false" => C(Constant::False), "no" => C(Constant::False), "off" => C(Constant::False),
+    "sin" => F(Function::Sin), "cos" => F(Function::Cos), "tan" => F(Function::Tan),
+    "asin" => F(Function::Asin), "acos" => F(Function::Acos), "atan" => F(Function::Atan),
+    "sqrt" => F(Function::Sqrt), "pow" => F(Function::Pow), "abs" => F(Function::Abs),
+    "min" => F(Function::Min), "max" => F(Function::Max), "radians" => F(Function::Radians),
+    "degrees" => F(Function::Degrees), "floor" => F(Function::Floor), "ceil" => F(Function::Ceil),
+    "int" => F(Function::Int), "mod" => F(Function::Mod), "exp" => F(Function::Exp),
+    "ln" => F(Function::Ln), "log" => F(Function::Log), "vlength" => F(Function::Vlength),
+    "vnormalize" => F(Function::Vnormalize), "vdot" => F(Function::Vdot),
+    "vcross" => F(Function::Vcross), "vrotate" => F(Function::Vrotate),
+    "select" => F(Function::Select), "rand" => F(Function::Rand),
+    "concat" => F(Function::Concat), "str" => F(Function::Str),
+    "dimension_size" => F(Function::DimensionSize),
+];
+
+/// The keyword spelt `word`, if it is one.
+pub fn lookup(word: &str) -> Option<&'static Keyword> {
+    KEYWORDS.iter().find(|k| k.word == word)
+}
+
+/// Every keyword's spelling, for did-you-mean suggestions.
+pub fn words() -> impl Iterator<Item = &'static str> {
+    KEYWORDS.iter().map(|k| k.word)
+}
+
+impl Function {
+    pub fn name(self) -> &'static str {
+        KEYWORDS.iter().find(|k| k.kind == KeywordKind::Function(self)).map_or("?", |k| k.word)
+    }
+
+    /// How many arguments it takes: `Some(n)` exactly n, `None` one or more (`concat`).
+    pub fn arity(self) -> Option<usize> {
+        use Function::*;
+        match self {
+            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Abs | Radians | Degrees | Floor
+            | Ceil | Int | Exp | Ln | Log | Vlength | Vnormalize | Seed | Rand => Some(1),
+            Pow | Min | Max | Mod | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
+            Select | Str => Some(3),
+            Concat => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grammar_names_only_listed_keywords_and_every_syntax_keyword() {
+        let grammar = include_str!("../../grammar/scn.pest");
+        let mut in_grammar = Vec::new();
+        for line in grammar.lines().filter(|l| l.starts_with("kw_")) {
+            let word = line.split('"').nth(1).expect("a kw_ rule spells its word");
+            let rule = line.split(' ').next().unwrap();
+            assert_eq!(rule, format!("kw_{word}"), "the rule is named after its word");
+            in_grammar.push(word);
+        }
+        for word in &in_grammar {
+            assert!(lookup(word).is_some(), "`{word}` is in the grammar but not in KEYWORDS");
+        }
+        for k in KEYWORDS.iter().filter(|k| k.kind == KeywordKind::Syntax) {
+            assert!(in_grammar.contains(&k.word), "`{}` has no kw_ rule", k.word);
+        }
+    }
+
+    #[test]
+    fn every_function_has_one_spelling() {
+        for k in KEYWORDS {
+            if let KeywordKind::Function(f) = k.kind {
+                assert_eq!(f.name(), k.word);
+            }
+        }
+        let mut words: Vec<&str> = words().collect();
+        words.sort_unstable();
+        words.dedup();
+        assert_eq!(words.len(), KEYWORDS.len(), "no keyword is listed twice");
+    }
+}

@@ -1,0 +1,478 @@
+//! The owned syntax tree of a `.scn` file: what the text says, with a span on everything an error
+//! may point at, and nothing evaluated. `lang::tree` builds it from the parser's pairs; the
+//! interpreter (`lang::eval`) runs it.
+
+use std::sync::Arc;
+
+use super::keywords::{Constant, Function};
+use crate::diagnostic::Span;
+
+#[derive(Debug, Clone)]
+pub struct Ident {
+    pub name: String,
+    pub span: Span,
+}
+
+/// An item of a body (the file itself, an object, a material, a texture, a macro): a directive,
+/// or what the body's kind allows. Bodies reached through a macro call may hold any item; each
+/// body's evaluator says which it accepts.
+#[derive(Debug, Clone)]
+pub enum Item {
+    Declare(Declare),
+    Undef(Ident),
+    Include {
+        file: Expr,
+        span: Span,
+    },
+    If {
+        branches: Vec<(Condition, Vec<Item>)>,
+        otherwise: Option<Vec<Item>>,
+        span: Span,
+    },
+    While {
+        condition: Expr,
+        body: Vec<Item>,
+        span: Span,
+    },
+    For {
+        variable: Ident,
+        from: Expr,
+        to: Expr,
+        step: Option<Expr>,
+        body: Vec<Item>,
+        span: Span,
+    },
+    Macro(Arc<MacroDef>),
+    Message {
+        kind: MessageKind,
+        text: Expr,
+        span: Span,
+    },
+    /// A macro called where an item stands.
+    Call(Call),
+    Settings {
+        items: Vec<Item>,
+        span: Span,
+    },
+    Setting(Setting),
+    Camera {
+        items: Vec<Item>,
+        span: Span,
+    },
+    CameraParam {
+        key: Ident,
+        value: Expr,
+    },
+    Light {
+        position: Expr,
+        items: Vec<Item>,
+        span: Span,
+    },
+    LightPower {
+        key: Span,
+        colour: Colour,
+    },
+    Object(Object),
+    Material(Material),
+    /// A declared material named among an object's items.
+    MaterialName(Ident),
+    Transform(Transform),
+    MaterialParam(MaterialParam),
+    Texture(Texture),
+    TextureParam(TextureParam),
+    ColorMap {
+        entries: Vec<Item>,
+        span: Span,
+    },
+    MapEntry {
+        position: Expr,
+        colour: Colour,
+    },
+    /// A value standing alone (a macro's body such as `(X * X)`).
+    Value(Expr),
+}
+
+impl Item {
+    /// What the item is, for "cannot stand here" messages.
+    pub fn describe(&self) -> &'static str {
+        match self {
+            Item::Declare(_) => "`#declare`",
+            Item::Undef(_) => "`#undef`",
+            Item::Include { .. } => "`#include`",
+            Item::If { .. } => "`#if`",
+            Item::While { .. } => "`#while`",
+            Item::For { .. } => "`#for`",
+            Item::Macro(_) => "`#macro`",
+            Item::Message { .. } => "a message",
+            Item::Call(_) => "a macro call",
+            Item::Settings { .. } => "`settings`",
+            Item::Setting(_) => "a setting",
+            Item::Camera { .. } => "a camera",
+            Item::CameraParam { .. } => "a camera parameter",
+            Item::Light { .. } => "a light_source",
+            Item::LightPower { .. } => "a light's power",
+            Item::Object(_) => "an object",
+            Item::Material(_) => "a material",
+            Item::MaterialName(_) => "a material's name",
+            Item::Transform(_) => "a transform",
+            Item::MaterialParam(_) => "a material parameter",
+            Item::Texture(_) => "a texture",
+            Item::TextureParam(_) => "a texture parameter",
+            Item::ColorMap { .. } => "a color_map",
+            Item::MapEntry { .. } => "a color_map entry",
+            Item::Value(_) => "a value",
+        }
+    }
+
+    /// Where the item starts.
+    pub fn span(&self) -> &Span {
+        match self {
+            Item::Declare(d) => &d.span,
+            Item::Undef(name) => &name.span,
+            Item::Include { span, .. }
+            | Item::If { span, .. }
+            | Item::While { span, .. }
+            | Item::For { span, .. }
+            | Item::Message { span, .. }
+            | Item::Settings { span, .. }
+            | Item::Camera { span, .. }
+            | Item::Light { span, .. }
+            | Item::ColorMap { span, .. } => span,
+            Item::Macro(m) => &m.span,
+            Item::Call(c) => &c.span,
+            Item::Setting(s) => &s.span,
+            Item::CameraParam { key, .. } => &key.span,
+            Item::LightPower { key, .. } => key,
+            Item::Object(o) => &o.span,
+            Item::Material(m) => &m.span,
+            Item::MaterialName(name) => &name.span,
+            Item::Transform(t) => &t.span,
+            Item::MaterialParam(p) => &p.span,
+            Item::Texture(t) => &t.span,
+            Item::TextureParam(p) => &p.span,
+            Item::MapEntry { position, .. } => &position.span,
+            Item::Value(e) => &e.span,
+        }
+    }
+}
+
+/// `#declare` or `#local`, of a name or of an array's element (`#declare B[2] = ...`).
+#[derive(Debug, Clone)]
+pub struct Declare {
+    pub local: bool,
+    pub name: Ident,
+    pub indices: Vec<Expr>,
+    pub value: Declared,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum Declared {
+    Material(Material),
+    Object(Object),
+    Texture(Texture),
+    Array(ArrayLiteral),
+    Value(Expr),
+    /// `#if (c) a #elseif (d) b #else e #end` as the value.
+    If {
+        branches: Vec<(Condition, Declared)>,
+        otherwise: Option<Box<Declared>>,
+        span: Span,
+    },
+}
+
+#[derive(Debug, Clone)]
+pub enum Condition {
+    Expr(Expr),
+    /// `#ifdef (Name)` (`defined`), `#ifndef (Name)` (not).
+    Defined {
+        name: Ident,
+        defined: bool,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MessageKind {
+    Debug,
+    Warning,
+    Error,
+}
+
+#[derive(Debug)]
+pub struct MacroDef {
+    pub name: Ident,
+    pub parameters: Vec<Ident>,
+    pub body: Vec<Item>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub struct Call {
+    pub name: Ident,
+    pub arguments: Vec<Expr>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub struct Setting {
+    pub kind: SettingKind,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum SettingKind {
+    Resolution(Expr, Expr),
+    Samples(Expr),
+    Integrator(Ident),
+    MaxDepth(Expr),
+    Seed(Expr),
+    Background(Colour),
+}
+
+#[derive(Debug, Clone)]
+pub struct Object {
+    pub shape: Shape,
+    /// Modifiers, directives, and (in a union) child objects.
+    pub items: Vec<Item>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum Shape {
+    Plane { normal: Expr, offset: Expr },
+    Sphere { center: Expr, radius: Expr },
+    Box { corner_a: Expr, corner_b: Expr },
+    Triangle { a: Expr, b: Expr, c: Expr },
+    Quad { corner: Expr, edge1: Expr, edge2: Expr },
+    Disk { center: Expr, normal: Expr, radius: Expr },
+    Cylinder { base: Expr, cap: Expr, radius: Expr },
+    Mesh { file: Expr },
+    Union,
+    Instance { of: Expr },
+}
+
+#[derive(Debug, Clone)]
+pub struct Transform {
+    pub kind: TransformKind,
+    pub value: Expr,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TransformKind {
+    Translate,
+    Rotate,
+    Scale,
+    Matrix,
+}
+
+#[derive(Debug, Clone)]
+pub struct Material {
+    /// `material { White ... }`: a declared material to start from.
+    pub base: Option<Ident>,
+    pub items: Vec<Item>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub struct MaterialParam {
+    pub kind: MaterialParamKind,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum MaterialParamKind {
+    Diffuse(TextureArg),
+    Specular(Colour),
+    Transmission(Colour),
+    Emission(Colour),
+    Ior(Expr),
+    Fresnel,
+}
+
+/// `rgb <r, g, b>`, `rgb s`, or an expression, where a colour is expected.
+#[derive(Debug, Clone)]
+pub struct Colour {
+    pub value: Expr,
+    pub span: Span,
+}
+
+/// A texture node or a colour, where `diffuse` and the texture nodes take one.
+#[derive(Debug, Clone)]
+pub enum TextureArg {
+    Texture(Texture),
+    Colour(Colour),
+}
+
+#[derive(Debug, Clone)]
+pub struct Texture {
+    pub kind: TextureKind,
+    /// The positional arguments (checker, stripes: two; mix: three).
+    pub arguments: Vec<TextureArg>,
+    /// `image_map`'s file.
+    pub file: Option<Expr>,
+    pub items: Vec<Item>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureKind {
+    Checker,
+    Stripes,
+    Gradient,
+    Noise,
+    Marble,
+    Wood,
+    ImageMap,
+    Mix,
+}
+
+#[derive(Debug, Clone)]
+pub struct TextureParam {
+    pub kind: TextureParamKind,
+    pub value: Expr,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureParamKind {
+    Axis,
+    Octaves,
+    Turbulence,
+}
+
+impl TextureParamKind {
+    pub fn word(self) -> &'static str {
+        match self {
+            TextureParamKind::Axis => "axis",
+            TextureParamKind::Octaves => "octaves",
+            TextureParamKind::Turbulence => "turbulence",
+        }
+    }
+}
+
+/// `array[n]...` with its optional initialiser.
+#[derive(Debug, Clone)]
+pub struct ArrayLiteral {
+    pub dimensions: Vec<Expr>,
+    pub elements: Option<Vec<ArrayElement>>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum ArrayElement {
+    /// `{ ... }`: the elements of one row of a further dimension.
+    Row(Vec<ArrayElement>, Span),
+    Value(Box<Declared>, Span),
+}
+
+#[derive(Debug, Clone)]
+pub struct Expr {
+    pub kind: ExprKind,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum ExprKind {
+    Number(f64),
+    String(String),
+    Constant(Constant),
+    Ident(String),
+    Vector(Vec<Expr>),
+    /// `rgb e`: a colour (a number is promoted to grey).
+    Rgb(Box<Expr>),
+    Unary {
+        op: UnaryOp,
+        operand: Box<Expr>,
+    },
+    /// `span` of the `Expr` is where `left` starts; `op_span` is the operator's.
+    Binary {
+        op: BinaryOp,
+        op_span: Span,
+        left: Box<Expr>,
+        right: Box<Expr>,
+    },
+    Ternary {
+        condition: Box<Expr>,
+        then: Box<Expr>,
+        otherwise: Box<Expr>,
+    },
+    Component {
+        value: Box<Expr>,
+        axis: usize,
+        span: Span,
+    },
+    Index {
+        array: Box<Expr>,
+        index: Box<Expr>,
+    },
+    Function(Function, Vec<Expr>),
+    Call(Call),
+}
+
+impl Expr {
+    /// The name, if the expression is a lone identifier (passed to a macro by reference).
+    pub fn lone_ident(&self) -> Option<&str> {
+        match &self.kind {
+            ExprKind::Ident(name) => Some(name),
+            _ => None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnaryOp {
+    Negate,
+    Plus,
+    Not,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BinaryOp {
+    Or,
+    And,
+    Less,
+    LessEqual,
+    Greater,
+    GreaterEqual,
+    Equal,
+    NotEqual,
+    Add,
+    Subtract,
+    Multiply,
+    Divide,
+}
+
+impl BinaryOp {
+    /// POV-Ray's precedence: `&` and `|` lowest (together), then comparisons, `+ -`, `* /`.
+    pub fn precedence(self) -> u8 {
+        match self {
+            BinaryOp::Or | BinaryOp::And => 1,
+            BinaryOp::Less
+            | BinaryOp::LessEqual
+            | BinaryOp::Greater
+            | BinaryOp::GreaterEqual
+            | BinaryOp::Equal
+            | BinaryOp::NotEqual => 2,
+            BinaryOp::Add | BinaryOp::Subtract => 3,
+            BinaryOp::Multiply | BinaryOp::Divide => 4,
+        }
+    }
+
+    pub fn symbol(self) -> &'static str {
+        match self {
+            BinaryOp::Or => "|",
+            BinaryOp::And => "&",
+            BinaryOp::Less => "<",
+            BinaryOp::LessEqual => "<=",
+            BinaryOp::Greater => ">",
+            BinaryOp::GreaterEqual => ">=",
+            BinaryOp::Equal => "=",
+            BinaryOp::NotEqual => "!=",
+            BinaryOp::Add => "+",
+            BinaryOp::Subtract => "-",
+            BinaryOp::Multiply => "*",
+            BinaryOp::Divide => "/",
+        }
+    }
+}

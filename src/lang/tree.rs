@@ -1,0 +1,871 @@
+//! The parser's pairs to the owned syntax tree (`lang::syntax`): directives folded into blocks,
+//! operators into a tree by precedence, names told apart from keywords, and nesting bounded so
+//! that walking the tree cannot overflow a stack.
+
+use std::sync::Arc;
+
+use pest::iterators::Pair;
+
+use super::keywords::{self, KeywordKind};
+use super::parser::{self, MAX_NESTING, Rule};
+use super::syntax::*;
+use crate::diagnostic::{SceneError, SourceFile, Span};
+
+/// Parses a file into its items.
+pub fn parse_file(file: &Arc<SourceFile>) -> Result<Vec<Item>, SceneError> {
+    let pairs = parser::parse(file)?;
+    let mut builder = Builder { file: file.clone(), depth: 0 };
+    builder.items(pairs.filter(|p| p.as_rule() != Rule::EOI))
+}
+
+struct Builder {
+    file: Arc<SourceFile>,
+    /// Brackets and blocks open around what is being built.
+    depth: usize,
+}
+
+/// A block being filled while its directives are folded.
+enum Open {
+    If {
+        branches: Vec<(Condition, Vec<Item>)>,
+        condition: Condition,
+        /// The items after `#else`, once it is seen.
+        otherwise: Option<Vec<Item>>,
+        span: Span,
+    },
+    While {
+        condition: Expr,
+        span: Span,
+    },
+    For {
+        variable: Ident,
+        from: Expr,
+        to: Expr,
+        step: Option<Expr>,
+        span: Span,
+    },
+    Macro {
+        name: Ident,
+        parameters: Vec<Ident>,
+        span: Span,
+    },
+}
+
+impl Open {
+    fn describe(&self) -> &'static str {
+        match self {
+            Open::If { .. } => "`#if`",
+            Open::While { .. } => "`#while`",
+            Open::For { .. } => "`#for`",
+            Open::Macro { .. } => "`#macro`",
+        }
+    }
+
+    fn span(&self) -> &Span {
+        match self {
+            Open::If { span, .. }
+            | Open::While { span, .. }
+            | Open::For { span, .. }
+            | Open::Macro { span, .. } => span,
+        }
+    }
+}
+
+impl Builder {
+    fn span(&self, pair: &Pair<'_, Rule>) -> Span {
+        let (line, col) = pair.line_col();
+        Span { file: self.file.clone(), line: line as u32, col: col as u32 }
+    }
+
+    fn error(&self, pair: &Pair<'_, Rule>, message: impl Into<String>) -> SceneError {
+        SceneError::at(&self.span(pair), message)
+    }
+
+    /// Counts one more level of nesting at `pair`.
+    fn enter(&mut self, pair: &Pair<'_, Rule>) -> Result<(), SceneError> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return Err(self.error(pair, format!("nesting deeper than {MAX_NESTING} brackets")));
+        }
+        Ok(())
+    }
+
+    fn leave(&mut self) {
+        self.depth -= 1;
+    }
+
+    /// A body's pairs to its items, folding `#if ... #end` and the other blocks.
+    fn items<'i>(
+        &mut self,
+        pairs: impl Iterator<Item = Pair<'i, Rule>>,
+    ) -> Result<Vec<Item>, SceneError> {
+        // The open blocks, each with the items gathered so far; the bottom one is the body.
+        let mut stack: Vec<(Option<Open>, Vec<Item>)> = vec![(None, Vec::new())];
+        let mut pending: Vec<Pair<'i, Rule>> = pairs.collect();
+        pending.reverse();
+        while let Some(pair) = pending.pop() {
+            let blocks = stack.len() - 1;
+            let opened = match pair.as_rule() {
+                Rule::macro_def => {
+                    // Its pieces are flat: the `#macro`, the body's items, maybe an `#end`.
+                    let mut inner: Vec<Pair<'i, Rule>> = pair.into_inner().collect();
+                    inner.reverse();
+                    pending.extend(inner);
+                    continue;
+                }
+                Rule::if_start => Some(Open::If {
+                    condition: Condition::Expr(self.first_expr(&pair)?),
+                    branches: Vec::new(),
+                    otherwise: None,
+                    span: self.span(&pair),
+                }),
+                Rule::ifdef_start | Rule::ifndef_start => Some(Open::If {
+                    condition: Condition::Defined {
+                        name: self.name(inner_pair(&pair))?,
+                        defined: pair.as_rule() == Rule::ifdef_start,
+                    },
+                    branches: Vec::new(),
+                    otherwise: None,
+                    span: self.span(&pair),
+                }),
+                Rule::while_start => {
+                    Some(Open::While { condition: self.first_expr(&pair)?, span: self.span(&pair) })
+                }
+                Rule::for_start => {
+                    let span = self.span(&pair);
+                    let mut inner = pair.clone().into_inner();
+                    let variable = self.name(inner.next().expect("the loop's name"))?;
+                    let from = self.expr(inner.next().expect("the start"))?;
+                    let to = self.expr(inner.next().expect("the end"))?;
+                    let step = inner.next().map(|p| self.expr(p)).transpose()?;
+                    Some(Open::For { variable, from, to, step, span })
+                }
+                Rule::macro_start => {
+                    let span = self.span(&pair);
+                    let mut inner = pair.clone().into_inner();
+                    let name = self.name(inner.next().expect("the macro's name"))?;
+                    let parameters = inner.map(|p| self.name(p)).collect::<Result<_, _>>()?;
+                    Some(Open::Macro { name, parameters, span })
+                }
+                Rule::elseif | Rule::else_ => {
+                    let (open, items) = stack.last_mut().expect("the body");
+                    let Some(Open::If { branches, condition, otherwise, .. }) = open else {
+                        let word = if pair.as_rule() == Rule::elseif { "#elseif" } else { "#else" };
+                        return Err(self.error(&pair, format!("`{word}` without an `#if`")));
+                    };
+                    if otherwise.is_some() {
+                        return Err(self.error(&pair, "this comes after the `#else` of its `#if`"));
+                    }
+                    let gathered = std::mem::take(items);
+                    if pair.as_rule() == Rule::elseif {
+                        let next = Condition::Expr(self.first_expr(&pair)?);
+                        branches.push((std::mem::replace(condition, next), gathered));
+                    } else {
+                        // The last condition's items are complete; gather the `#else` ones.
+                        let last = std::mem::replace(
+                            condition,
+                            Condition::Expr(Expr {
+                                kind: ExprKind::Number(0.0),
+                                span: self.span(&pair),
+                            }),
+                        );
+                        branches.push((last, gathered));
+                        *otherwise = Some(Vec::new());
+                    }
+                    continue;
+                }
+                Rule::end => {
+                    let (open, items) = stack.pop().expect("the body");
+                    let Some(open) = open else {
+                        return Err(self.error(
+                            &pair,
+                            "`#end` without an `#if`, `#while`, `#for` or `#macro` to close",
+                        ));
+                    };
+                    gather(&mut stack, close(open, items));
+                    continue;
+                }
+                _ => None,
+            };
+            match opened {
+                Some(open) => {
+                    if self.depth + blocks + 1 > MAX_NESTING {
+                        return Err(SceneError::at(
+                            open.span(),
+                            format!("directives and brackets nested deeper than {MAX_NESTING}"),
+                        ));
+                    }
+                    stack.push((Some(open), Vec::new()));
+                }
+                None => {
+                    self.depth += blocks;
+                    let item = self.item(pair);
+                    self.depth -= blocks;
+                    gather(&mut stack, item?);
+                }
+            }
+        }
+        let (open, items) = stack.pop().expect("the body");
+        match open {
+            None => Ok(items),
+            // The innermost block left open is reported where it opened.
+            Some(open) => {
+                Err(SceneError::at(open.span(), format!("{} without its `#end`", open.describe())))
+            }
+        }
+    }
+
+    fn first_expr(&mut self, pair: &Pair<'_, Rule>) -> Result<Expr, SceneError> {
+        self.expr(inner_pair(pair))
+    }
+
+    /// A name being bound or looked up as such: not a keyword.
+    fn name(&self, pair: Pair<'_, Rule>) -> Result<Ident, SceneError> {
+        let name = pair.as_str();
+        if keywords::lookup(name).is_some() {
+            return Err(self.error(&pair, format!("`{name}` is a keyword, not a name")));
+        }
+        Ok(Ident { name: name.to_string(), span: self.span(&pair) })
+    }
+
+    fn item(&mut self, pair: Pair<'_, Rule>) -> Result<Item, SceneError> {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        Ok(match rule {
+            Rule::declare | Rule::local => Item::Declare(self.declare(pair)?),
+            Rule::undef => Item::Undef(self.name(inner_pair(&pair))?),
+            Rule::include => Item::Include { file: self.first_expr(&pair)?, span },
+            Rule::message => {
+                let mut inner = pair.into_inner();
+                let kind = match inner.next().expect("the kind").as_str() {
+                    "#debug" => MessageKind::Debug,
+                    "#warning" => MessageKind::Warning,
+                    "#error" => MessageKind::Error,
+                    other => unreachable!("no message `{other}`"),
+                };
+                Item::Message { kind, text: self.expr(inner.next().expect("the text"))?, span }
+            }
+            Rule::macro_call => {
+                let call = self.call(pair)?;
+                match call {
+                    ExprKind::Call(call) => Item::Call(call),
+                    other => Item::Value(Expr { kind: other, span }),
+                }
+            }
+            Rule::settings => {
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::Settings { items, span }
+            }
+            Rule::resolution
+            | Rule::samples
+            | Rule::integrator
+            | Rule::max_depth
+            | Rule::seed
+            | Rule::background => Item::Setting(self.setting(pair)?),
+            Rule::camera => {
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::Camera { items, span }
+            }
+            Rule::camera_item => {
+                let mut inner = pair.into_inner();
+                let key = inner.next().expect("the key");
+                let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };
+                Item::CameraParam { key, value: self.expr(inner.next().expect("the value"))? }
+            }
+            Rule::light_source => {
+                self.enter(&pair)?;
+                let mut inner = pair.into_inner().skip(1);
+                let position = self.expr(inner.next().expect("the position"))?;
+                let items = self.items(inner)?;
+                self.leave();
+                Item::Light { position, items, span }
+            }
+            Rule::light_item => {
+                let mut inner = pair.into_inner();
+                let key = self.span(&inner.next().expect("the key"));
+                Item::LightPower { key, colour: self.colour(inner.next().expect("the colour"))? }
+            }
+            Rule::object => Item::Object(self.object(pair)?),
+            Rule::material => Item::Material(self.material(pair)?),
+            Rule::material_name => Item::MaterialName(self.name(inner_pair(&pair))?),
+            Rule::transform => Item::Transform(self.transform(pair)?),
+            Rule::material_item => Item::MaterialParam(self.material_param(pair)?),
+            Rule::texture => Item::Texture(self.texture(pair)?),
+            Rule::texture_parameter => Item::TextureParam(self.texture_param(pair)?),
+            Rule::color_map => {
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::ColorMap { entries: items, span }
+            }
+            Rule::map_entry => {
+                let mut inner = pair.into_inner();
+                let position = self.arithmetic(inner.next().expect("the position"))?;
+                Item::MapEntry { position, colour: self.colour(inner.next().expect("the colour"))? }
+            }
+            Rule::rgb_colour | Rule::expr => Item::Value(self.value_expr(pair)?),
+            _ => unreachable!("the grammar gives no other item: {rule:?}"),
+        })
+    }
+
+    fn declare(&mut self, pair: Pair<'_, Rule>) -> Result<Declare, SceneError> {
+        let span = self.span(&pair);
+        let local = pair.as_rule() == Rule::local;
+        let mut inner = pair.into_inner().peekable();
+        let name = self.name(inner.next().expect("the name"))?;
+        let mut indices = Vec::new();
+        while let Some(index) = inner.next_if(|p| p.as_rule() == Rule::index) {
+            indices.push(self.first_expr(&index)?);
+        }
+        let value = self.declared(inner.next().expect("the value"))?;
+        Ok(Declare { local, name, indices, value, span })
+    }
+
+    fn declared(&mut self, pair: Pair<'_, Rule>) -> Result<Declared, SceneError> {
+        Ok(match pair.as_rule() {
+            Rule::material => Declared::Material(self.material(pair)?),
+            Rule::object => Declared::Object(self.object(pair)?),
+            Rule::texture => Declared::Texture(self.texture(pair)?),
+            Rule::array => Declared::Array(self.array(pair)?),
+            Rule::rgb_colour | Rule::expr => Declared::Value(self.value_expr(pair)?),
+            Rule::declared_if => {
+                let span = self.span(&pair);
+                self.enter(&pair)?;
+                let mut branches = Vec::new();
+                let mut otherwise = None;
+                let mut parts = pair.into_inner();
+                while let Some(directive) = parts.next() {
+                    match directive.as_rule() {
+                        Rule::if_start | Rule::elseif => {
+                            let condition = Condition::Expr(self.first_expr(&directive)?);
+                            let value = self.declared(parts.next().expect("a value"))?;
+                            branches.push((condition, value));
+                        }
+                        Rule::else_ => {
+                            otherwise =
+                                Some(Box::new(self.declared(parts.next().expect("a value"))?));
+                        }
+                        Rule::end => {}
+                        rule => unreachable!("no {rule:?} in a value's #if"),
+                    }
+                }
+                self.leave();
+                Declared::If { branches, otherwise, span }
+            }
+            rule => unreachable!("the grammar declares no other value: {rule:?}"),
+        })
+    }
+
+    fn array(&mut self, pair: Pair<'_, Rule>) -> Result<ArrayLiteral, SceneError> {
+        let span = self.span(&pair);
+        let mut dimensions = Vec::new();
+        let mut elements = None;
+        for part in pair.into_inner().skip(1) {
+            match part.as_rule() {
+                Rule::dimension => dimensions.push(self.first_expr(&part)?),
+                Rule::array_init => elements = Some(self.array_row(part)?),
+                rule => unreachable!("an array has no {rule:?}"),
+            }
+        }
+        Ok(ArrayLiteral { dimensions, elements, span })
+    }
+
+    fn array_row(&mut self, pair: Pair<'_, Rule>) -> Result<Vec<ArrayElement>, SceneError> {
+        self.enter(&pair)?;
+        let mut row = Vec::new();
+        for element in pair.into_inner() {
+            let span = self.span(&element);
+            row.push(match element.as_rule() {
+                Rule::array_init => ArrayElement::Row(self.array_row(element)?, span),
+                _ => ArrayElement::Value(Box::new(self.declared(element)?), span),
+            });
+        }
+        self.leave();
+        Ok(row)
+    }
+
+    fn setting(&mut self, pair: Pair<'_, Rule>) -> Result<Setting, SceneError> {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        let mut args = pair.into_inner().skip(1);
+        let mut next = || args.next().expect("the grammar gives every setting its value");
+        let kind = match rule {
+            Rule::resolution => {
+                let (w, h) = (next(), next());
+                SettingKind::Resolution(self.expr(w)?, self.expr(h)?)
+            }
+            Rule::samples => SettingKind::Samples(self.expr(next())?),
+            Rule::integrator => {
+                let name = next();
+                SettingKind::Integrator(Ident {
+                    name: name.as_str().to_string(),
+                    span: self.span(&name),
+                })
+            }
+            Rule::max_depth => SettingKind::MaxDepth(self.expr(next())?),
+            Rule::seed => SettingKind::Seed(self.expr(next())?),
+            Rule::background => SettingKind::Background(self.colour(next())?),
+            rule => unreachable!("no setting {rule:?}"),
+        };
+        Ok(Setting { kind, span })
+    }
+
+    fn object(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        let pair = match pair.as_rule() {
+            Rule::object => inner_pair(&pair),
+            _ => pair,
+        };
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let rule = pair.as_rule();
+        let mut inner = pair.into_inner().skip(1).peekable();
+        let mut take =
+            |b: &mut Self| b.expr(inner.next().expect("the grammar gives the arguments"));
+        let shape = match rule {
+            Rule::plane => Shape::Plane { normal: take(self)?, offset: take(self)? },
+            Rule::sphere => Shape::Sphere { center: take(self)?, radius: take(self)? },
+            Rule::box_shape => Shape::Box { corner_a: take(self)?, corner_b: take(self)? },
+            Rule::triangle => Shape::Triangle { a: take(self)?, b: take(self)?, c: take(self)? },
+            Rule::quad => {
+                Shape::Quad { corner: take(self)?, edge1: take(self)?, edge2: take(self)? }
+            }
+            Rule::disk => {
+                Shape::Disk { center: take(self)?, normal: take(self)?, radius: take(self)? }
+            }
+            Rule::cylinder => {
+                Shape::Cylinder { base: take(self)?, cap: take(self)?, radius: take(self)? }
+            }
+            Rule::mesh => Shape::Mesh { file: take(self)? },
+            Rule::instance => Shape::Instance { of: take(self)? },
+            Rule::union => Shape::Union,
+            rule => unreachable!("no object {rule:?}"),
+        };
+        let items = self.items(inner)?;
+        self.leave();
+        Ok(Object { shape, items, span })
+    }
+
+    fn transform(&mut self, pair: Pair<'_, Rule>) -> Result<Transform, SceneError> {
+        let span = self.span(&pair);
+        let mut inner = pair.into_inner();
+        let key = inner.next().expect("the key");
+        let kind = match inner_pair(&key).as_rule() {
+            Rule::kw_translate => TransformKind::Translate,
+            Rule::kw_rotate => TransformKind::Rotate,
+            Rule::kw_scale => TransformKind::Scale,
+            Rule::kw_matrix => TransformKind::Matrix,
+            rule => unreachable!("no transform {rule:?}"),
+        };
+        Ok(Transform { kind, value: self.expr(inner.next().expect("the value"))?, span })
+    }
+
+    fn material(&mut self, pair: Pair<'_, Rule>) -> Result<Material, SceneError> {
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1).peekable();
+        let base = match inner.next_if(|p| p.as_rule() == Rule::base_material) {
+            Some(base) => Some(self.name(inner_pair(&base))?),
+            None => None,
+        };
+        let items = self.items(inner)?;
+        self.leave();
+        Ok(Material { base, items, span })
+    }
+
+    fn material_param(&mut self, pair: Pair<'_, Rule>) -> Result<MaterialParam, SceneError> {
+        let span = self.span(&pair);
+        let mut inner = pair.into_inner();
+        let key = inner.next().expect("the key");
+        let key_rule = match key.as_rule() {
+            Rule::colour_key => inner_pair(&key).as_rule(),
+            rule => rule,
+        };
+        let mut value = || inner.next().expect("the value");
+        let kind = match key_rule {
+            Rule::kw_fresnel => MaterialParamKind::Fresnel,
+            Rule::kw_ior => MaterialParamKind::Ior(self.expr(value())?),
+            Rule::kw_diffuse => MaterialParamKind::Diffuse(self.texture_arg(value())?),
+            Rule::kw_specular => MaterialParamKind::Specular(self.colour(value())?),
+            Rule::kw_transmission => MaterialParamKind::Transmission(self.colour(value())?),
+            Rule::kw_emission => MaterialParamKind::Emission(self.colour(value())?),
+            rule => unreachable!("no material parameter {rule:?}"),
+        };
+        Ok(MaterialParam { kind, span })
+    }
+
+    fn texture_arg(&mut self, pair: Pair<'_, Rule>) -> Result<TextureArg, SceneError> {
+        let pair = match pair.as_rule() {
+            Rule::texture_arg => inner_pair(&pair),
+            _ => pair,
+        };
+        Ok(match pair.as_rule() {
+            Rule::texture => TextureArg::Texture(self.texture(pair)?),
+            Rule::colour => TextureArg::Colour(self.colour(pair)?),
+            rule => unreachable!("no texture argument {rule:?}"),
+        })
+    }
+
+    fn texture(&mut self, pair: Pair<'_, Rule>) -> Result<Texture, SceneError> {
+        let span = self.span(&pair);
+        let node = inner_pair(&pair);
+        self.enter(&node)?;
+        let kind = match node.as_rule() {
+            Rule::checker => TextureKind::Checker,
+            Rule::stripes => TextureKind::Stripes,
+            Rule::gradient => TextureKind::Gradient,
+            Rule::noise => TextureKind::Noise,
+            Rule::marble => TextureKind::Marble,
+            Rule::wood => TextureKind::Wood,
+            Rule::image_map => TextureKind::ImageMap,
+            Rule::mix => TextureKind::Mix,
+            rule => unreachable!("no texture {rule:?}"),
+        };
+        let mut inner = node.into_inner().skip(1).peekable();
+        let mut arguments = Vec::new();
+        while let Some(arg) = inner.next_if(|p| p.as_rule() == Rule::texture_arg) {
+            arguments.push(self.texture_arg(arg)?);
+        }
+        let file = match kind {
+            TextureKind::ImageMap => Some(self.expr(inner.next().expect("the file"))?),
+            _ => None,
+        };
+        let items = self.items(inner)?;
+        self.leave();
+        Ok(Texture { kind, arguments, file, items, span })
+    }
+
+    fn texture_param(&mut self, pair: Pair<'_, Rule>) -> Result<TextureParam, SceneError> {
+        let span = self.span(&pair);
+        let mut inner = pair.into_inner();
+        let kind = match inner.next().expect("the key").as_rule() {
+            Rule::kw_axis => TextureParamKind::Axis,
+            Rule::kw_octaves => TextureParamKind::Octaves,
+            Rule::kw_turbulence => TextureParamKind::Turbulence,
+            rule => unreachable!("no texture parameter {rule:?}"),
+        };
+        Ok(TextureParam { kind, value: self.expr(inner.next().expect("the value"))?, span })
+    }
+
+    /// A `colour` pair: `rgb e` or an expression.
+    fn colour(&mut self, pair: Pair<'_, Rule>) -> Result<Colour, SceneError> {
+        let span = self.span(&pair);
+        Ok(Colour { value: self.value_expr(pair)?, span })
+    }
+
+    /// An `expr`, or an `rgb e` (a `colour`, `rgb_colour` or `argument` pair).
+    fn value_expr(&mut self, pair: Pair<'_, Rule>) -> Result<Expr, SceneError> {
+        match pair.as_rule() {
+            Rule::expr => self.expr(pair),
+            Rule::rgb_colour | Rule::colour | Rule::argument => {
+                let span = self.span(&pair);
+                let mut inner = pair.into_inner();
+                let first = inner.next().expect("a value");
+                match first.as_rule() {
+                    Rule::kw_rgb => {
+                        let value = self.expr(inner.next().expect("the colour's value"))?;
+                        Ok(Expr { kind: ExprKind::Rgb(Box::new(value)), span })
+                    }
+                    _ => self.value_expr(first),
+                }
+            }
+            rule => unreachable!("no value {rule:?}"),
+        }
+    }
+
+    /// An `expr` pair: operands and operators by precedence, then `? :`.
+    fn expr(&mut self, pair: Pair<'_, Rule>) -> Result<Expr, SceneError> {
+        let mut inner = pair.into_inner().peekable();
+        let mut parts = Vec::new();
+        while let Some(part) = inner.next_if(|p| p.as_rule() != Rule::expr) {
+            parts.push(part);
+        }
+        let condition = self.operation(parts)?;
+        match (inner.next(), inner.next()) {
+            (Some(then), Some(otherwise)) => {
+                let span = condition.span.clone();
+                self.enter(&then)?;
+                let then = self.expr(then)?;
+                let otherwise = self.expr(otherwise)?;
+                self.leave();
+                Ok(Expr {
+                    kind: ExprKind::Ternary {
+                        condition: Box::new(condition),
+                        then: Box::new(then),
+                        otherwise: Box::new(otherwise),
+                    },
+                    span,
+                })
+            }
+            _ => Ok(condition),
+        }
+    }
+
+    /// An `arithmetic_expr` pair (a vector's component, a color_map position).
+    fn arithmetic(&mut self, pair: Pair<'_, Rule>) -> Result<Expr, SceneError> {
+        self.operation(pair.into_inner().collect())
+    }
+
+    /// Operands between infix operators, combined by precedence (left to right within a level).
+    fn operation(&mut self, parts: Vec<Pair<'_, Rule>>) -> Result<Expr, SceneError> {
+        let mut operands: Vec<Expr> = Vec::new();
+        let mut operators: Vec<(BinaryOp, Span)> = Vec::new();
+        fn reduce(operands: &mut Vec<Expr>, operators: &mut Vec<(BinaryOp, Span)>) {
+            let (op, op_span) = operators.pop().expect("an operator");
+            let right = operands.pop().expect("a right operand");
+            let left = operands.pop().expect("a left operand");
+            let span = left.span.clone();
+            operands.push(Expr {
+                kind: ExprKind::Binary {
+                    op,
+                    op_span,
+                    left: Box::new(left),
+                    right: Box::new(right),
+                },
+                span,
+            });
+        }
+        for part in parts {
+            let op = match part.as_rule() {
+                Rule::operand => {
+                    operands.push(self.operand(part)?);
+                    continue;
+                }
+                Rule::or => BinaryOp::Or,
+                Rule::and => BinaryOp::And,
+                Rule::less => BinaryOp::Less,
+                Rule::less_equal => BinaryOp::LessEqual,
+                Rule::greater => BinaryOp::Greater,
+                Rule::greater_equal => BinaryOp::GreaterEqual,
+                Rule::equal => BinaryOp::Equal,
+                Rule::not_equal => BinaryOp::NotEqual,
+                Rule::add => BinaryOp::Add,
+                Rule::subtract => BinaryOp::Subtract,
+                Rule::multiply => BinaryOp::Multiply,
+                Rule::divide => BinaryOp::Divide,
+                rule => unreachable!("no operator {rule:?}"),
+            };
+            while operators.last().is_some_and(|(top, _)| top.precedence() >= op.precedence()) {
+                reduce(&mut operands, &mut operators);
+            }
+            operators.push((op, self.span(&part)));
+        }
+        while !operators.is_empty() {
+            reduce(&mut operands, &mut operators);
+        }
+        Ok(operands.pop().expect("an operand"))
+    }
+
+    /// Prefix signs, a primary, then components and indices.
+    fn operand(&mut self, pair: Pair<'_, Rule>) -> Result<Expr, SceneError> {
+        let mut prefixes: Vec<(UnaryOp, Span)> = Vec::new();
+        let mut value: Option<Expr> = None;
+        for part in pair.into_inner() {
+            let rule = part.as_rule();
+            let unary = match rule {
+                Rule::negate => Some(UnaryOp::Negate),
+                Rule::plus => Some(UnaryOp::Plus),
+                Rule::not => Some(UnaryOp::Not),
+                _ => None,
+            };
+            if let Some(op) = unary {
+                if prefixes.len() == MAX_NESTING {
+                    return Err(
+                        self.error(&part, format!("more than {MAX_NESTING} signs in a row"))
+                    );
+                }
+                prefixes.push((op, self.span(&part)));
+                continue;
+            }
+            value = Some(match (rule, value) {
+                (Rule::component, Some(v)) => {
+                    let axis = match part.as_str() {
+                        ".x" => 0,
+                        ".y" => 1,
+                        ".z" => 2,
+                        other => unreachable!("no component `{other}`"),
+                    };
+                    let span = v.span.clone();
+                    Expr {
+                        kind: ExprKind::Component {
+                            value: Box::new(v),
+                            axis,
+                            span: self.span(&part),
+                        },
+                        span,
+                    }
+                }
+                (Rule::index, Some(v)) => {
+                    self.enter(&part)?;
+                    let index = self.first_expr(&part)?;
+                    self.leave();
+                    let span = v.span.clone();
+                    Expr {
+                        kind: ExprKind::Index { array: Box::new(v), index: Box::new(index) },
+                        span,
+                    }
+                }
+                (_, None) => self.primary(part)?,
+                (rule, Some(_)) => unreachable!("no postfix {rule:?}"),
+            });
+        }
+        let mut value = value.expect("an operand has a primary");
+        for (op, span) in prefixes.into_iter().rev() {
+            value = Expr { kind: ExprKind::Unary { op, operand: Box::new(value) }, span };
+        }
+        Ok(value)
+    }
+
+    fn primary(&mut self, pair: Pair<'_, Rule>) -> Result<Expr, SceneError> {
+        let span = self.span(&pair);
+        let kind =
+            match pair.as_rule() {
+                Rule::number => ExprKind::Number(pair.as_str().parse().map_err(|_| {
+                    self.error(&pair, format!("`{}` is not a number", pair.as_str()))
+                })?),
+                Rule::string => ExprKind::String(self.string(&pair)?),
+                Rule::paren => {
+                    self.enter(&pair)?;
+                    let inner = self.first_expr(&pair)?;
+                    self.leave();
+                    return Ok(inner);
+                }
+                Rule::vector => {
+                    self.enter(&pair)?;
+                    let components =
+                        pair.into_inner().map(|c| self.arithmetic(c)).collect::<Result<_, _>>()?;
+                    self.leave();
+                    ExprKind::Vector(components)
+                }
+                Rule::call => {
+                    self.enter(&pair)?;
+                    let call = self.call(pair)?;
+                    self.leave();
+                    call
+                }
+                Rule::ident => {
+                    let name = pair.as_str();
+                    match keywords::lookup(name).map(|k| k.kind) {
+                        None => ExprKind::Ident(name.to_string()),
+                        Some(KeywordKind::Constant(c)) => ExprKind::Constant(c),
+                        Some(KeywordKind::Function(_)) => {
+                            return Err(self.error(
+                                &pair,
+                                format!("`{name}` is a function: call it as `{name}(...)`"),
+                            ));
+                        }
+                        Some(KeywordKind::Syntax) => {
+                            return Err(
+                                self.error(&pair, format!("`{name}` is a keyword, not a value"))
+                            );
+                        }
+                    }
+                }
+                rule => unreachable!("no primary {rule:?}"),
+            };
+        Ok(Expr { kind, span })
+    }
+
+    /// A `call` or `macro_call` pair: a built-in function or a macro, told apart by the name.
+    fn call(&mut self, pair: Pair<'_, Rule>) -> Result<ExprKind, SceneError> {
+        let span = self.span(&pair);
+        let mut inner = pair.into_inner();
+        let name = inner.next().expect("the name");
+        let arguments: Vec<Expr> = inner.map(|a| self.value_expr(a)).collect::<Result<_, _>>()?;
+        match keywords::lookup(name.as_str()).map(|k| k.kind) {
+            None => Ok(ExprKind::Call(Call {
+                name: Ident { name: name.as_str().to_string(), span: self.span(&name) },
+                arguments,
+                span,
+            })),
+            Some(KeywordKind::Function(f)) => {
+                let arity = f.arity();
+                if arity.is_some_and(|n| n != arguments.len()) || arguments.is_empty() {
+                    let n = arity.unwrap_or(1);
+                    let plural = if n == 1 { "" } else { "s" };
+                    let at_least = if arity.is_none() { "at least " } else { "" };
+                    return Err(SceneError::at(
+                        &span,
+                        format!(
+                            "`{}` takes {at_least}{n} argument{plural}, not {}",
+                            f.name(),
+                            arguments.len()
+                        ),
+                    ));
+                }
+                Ok(ExprKind::Function(f, arguments))
+            }
+            Some(KeywordKind::Constant(_) | KeywordKind::Syntax) => Err(self.error(
+                &name,
+                format!("`{}` is a keyword, not a function or macro", name.as_str()),
+            )),
+        }
+    }
+
+    /// The text of a `string` pair, escapes resolved.
+    fn string(&self, pair: &Pair<'_, Rule>) -> Result<String, SceneError> {
+        let raw = pair.clone().into_inner().next().map_or("", |p| p.as_str());
+        let mut text = String::with_capacity(raw.len());
+        let mut chars = raw.chars();
+        while let Some(c) = chars.next() {
+            if c != '\\' {
+                text.push(c);
+                continue;
+            }
+            match chars.next() {
+                Some('n') => text.push('\n'),
+                Some('t') => text.push('\t'),
+                Some('"') => text.push('"'),
+                Some('\\') => text.push('\\'),
+                other => {
+                    let shown = other.map_or(String::new(), String::from);
+                    return Err(self.error(
+                        pair,
+                        format!(
+                            "unknown escape `\\{shown}` in a string (known: \\n \\t \\\" \\\\)"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(text)
+    }
+}
+
+/// Adds an item to the innermost open block (after an `#else`, to its `otherwise` items).
+fn gather(stack: &mut [(Option<Open>, Vec<Item>)], item: Item) {
+    let (open, items) = stack.last_mut().expect("the body");
+    match open {
+        Some(Open::If { otherwise: Some(rest), .. }) => rest.push(item),
+        _ => items.push(item),
+    }
+}
+
+/// A block's item, once its `#end` is seen.
+fn close(open: Open, items: Vec<Item>) -> Item {
+    match open {
+        Open::If { mut branches, condition, otherwise, span } => match otherwise {
+            // Items after `#else` were gathered into `otherwise`; `items` is then empty.
+            Some(rest) => Item::If { branches, otherwise: Some(rest), span },
+            None => {
+                branches.push((condition, items));
+                Item::If { branches, otherwise: None, span }
+            }
+        },
+        Open::While { condition, span } => Item::While { condition, body: items, span },
+        Open::For { variable, from, to, step, span } => {
+            Item::For { variable, from, to, step, body: items, span }
+        }
+        Open::Macro { name, parameters, span } => {
+            Item::Macro(Arc::new(MacroDef { name, parameters, body: items, span }))
+        }
+    }
+}
+
+/// The first inner pair of `pair`.
+fn inner_pair<'i>(pair: &Pair<'i, Rule>) -> Pair<'i, Rule> {
+    pair.clone().into_inner().next().expect("the grammar gives an inner pair")
+}
