@@ -4,6 +4,7 @@ mod aabb;
 mod lanes;
 mod ray;
 mod shape;
+mod solid;
 mod triangle_mesh;
 
 pub use aabb::Aabb;
@@ -14,4 +15,5 @@ pub use shape::{
     Intersection, PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, planar_coordinates,
     planar_error, similarity_scale, sphere_error,
 };
+pub use solid::{Cone, Crossing, Crossings, Cuboid, Face, MAX_CROSSINGS};
 pub use triangle_mesh::{Placement, TriangleMesh};

@@ -4,6 +4,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
+use super::solid::{Cone, Cuboid};
 use super::triangle_mesh::{Placement, TriangleMesh};
 use super::{Aabb, Hit, Ray};
 use crate::sampling::{concentric_disk, uniform_sphere, uniform_triangle};
@@ -54,6 +55,10 @@ pub enum Shape {
         mesh: Arc<TriangleMesh>,
         placement: Option<Box<Placement>>,
     },
+    /// A box kept whole: its six faces, and its inside.
+    Box(Box<Cuboid>),
+    /// A cone or cylinder, closed by its end disks unless open.
+    Cone(Box<Cone>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,12 +95,12 @@ impl QuadricFrame {
     }
 
     /// The ray in canonical space, direction not normalised (so distances are the world's).
-    fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
+    pub(super) fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
         (self.to_object.transform_point3a(ray.origin), self.to_object.transform_vector3a(ray.dir))
     }
 
     /// Corners of a box holding both canonical quadrics.
-    fn canonical_corners() -> [Vec3; 8] {
+    pub(super) fn canonical_corners() -> [Vec3; 8] {
         std::array::from_fn(|i| {
             Vec3::new(
                 if i & 1 == 0 { -1.0 } else { 1.0 },
@@ -122,7 +127,8 @@ pub struct Intersection {
     pub t: f32,
     /// Planar shapes' and triangles' coordinates along their two edges.
     pub st: Vec2,
-    /// The triangle of a mesh.
+    /// The triangle of a mesh, the face of a box, the part of a cone (0 the side, 1 and 2 the
+    /// base and cap disks).
     pub triangle: u32,
 }
 
@@ -157,6 +163,7 @@ impl Shape {
                 let (o, d) = frame.ray_to_object(ray);
                 quadric_distance(*kind, o, d, t_max).map(Intersection::at)
             }
+            Shape::Box(_) | Shape::Cone(_) => self.solid_intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.intersection(&placement.ray_to_object(ray), t_max)
@@ -216,6 +223,7 @@ impl Shape {
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 placement.hit_to_world(mesh.hit(at))
             }
+            Shape::Box(_) | Shape::Cone(_) => self.solid_hit(ray, at).expect("a solid's hit"),
         }
     }
 
@@ -268,6 +276,7 @@ impl Shape {
                     })),
                 })
             }
+            Shape::Box(_) | Shape::Cone(_) => self.solid_bounds(),
         }
     }
 
@@ -285,6 +294,7 @@ impl Shape {
                 })
             }
             Shape::Quadric { frame, .. } => frame.area,
+            Shape::Box(_) | Shape::Cone(_) => self.solid_area(),
         }
     }
 
@@ -292,6 +302,7 @@ impl Shape {
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
             Shape::Plane { .. } | Shape::Mesh { .. } => None,
+            Shape::Box(_) | Shape::Cone(_) => self.solid_sample(u),
             Shape::Sphere { center, radius } => {
                 let normal = uniform_sphere(u);
                 let point = center + *radius * normal;
@@ -367,6 +378,14 @@ fn plane_distance(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<f3
 
 #[inline]
 fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f32> {
+    let (t0, t1) = sphere_roots(center, radius, ray)?;
+    let t = if t0 > 0.0 { t0 } else { t1 };
+    (t > 0.0 && t < t_max).then_some(t)
+}
+
+/// Both intersections of the sphere with the ray's line, in order.
+#[inline]
+pub(super) fn sphere_roots(center: Vec3, radius: f32, ray: &Ray) -> Option<(f32, f32)> {
     let dir = Vec3::from(ray.dir);
     let oc = Vec3::from(ray.origin) - center;
     let b = oc.dot(dir);
@@ -381,17 +400,23 @@ fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f
     // q = -b - sign(b) root gives the far-from-cancellation root; c / q the other (c = |oc|^2 - r^2).
     let q = if b > 0.0 { -b - root } else { -b + root };
     let c = oc.length_squared() - radius * radius;
-    let (t0, t1) = {
-        let (a, b) = (q, c / q);
-        if a < b { (a, b) } else { (b, a) }
-    };
-    let t = if t0 > 0.0 { t0 } else { t1 };
-    (t > 0.0 && t < t_max).then_some(t)
+    let (a, b) = (q, c / q);
+    Some(if a < b { (a, b) } else { (b, a) })
+}
+
+/// Möller–Trumbore's coordinates (s, t) along edge1 and edge2 of where the ray meets the
+/// plane of a planar shape, inside it or not.
+pub(super) fn planar_unbounded(origin: Vec3, edge1: Vec3, edge2: Vec3, ray: &Ray) -> (f32, f32) {
+    let dir = Vec3::from(ray.dir);
+    let pvec = dir.cross(edge2);
+    let inv_det = 1.0 / edge1.dot(pvec);
+    let tvec = Vec3::from(ray.origin) - origin;
+    (tvec.dot(pvec) * inv_det, dir.dot(tvec.cross(edge1)) * inv_det)
 }
 
 /// Möller–Trumbore: distance and the coordinates (s, t) along edge1 and edge2.
 #[inline]
-fn planar_distance(
+pub(super) fn planar_distance(
     kind: PlanarKind,
     origin: Vec3,
     edge1: Vec3,

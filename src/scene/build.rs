@@ -13,7 +13,8 @@ use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
 use crate::geometry::{
-    Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, TriangleMesh, similarity_scale,
+    Cone, Cuboid, Face, Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, TriangleMesh,
+    similarity_scale,
 };
 use crate::light::Light;
 use crate::material::Material;
@@ -244,16 +245,50 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
     // A mirroring transform would turn edge1 x edge2 inside out; normals transform by the
     // inverse transpose and keep their side, so swap the edges to follow them.
     let mirrored = m.matrix3.determinant() < 0.0;
-    let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
+    let face = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
         let (origin, e1, e2) =
             (m.transform_point3(origin), m.transform_vector3(e1), m.transform_vector3(e2));
         let (e1, e2) = if mirrored { (e2, e1) } else { (e1, e2) };
-        Shape::Planar { kind, origin, edge1: e1, edge2: e2, normal: e1.cross(e2).normalize() }
+        Face::new(kind, origin, e1, e2)
     };
-    // A disk (or cylinder cap) with the given centre and unit normal.
+    let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
+        let Face { kind, origin, edge1, edge2, normal } = face(kind, origin, e1, e2);
+        Shape::Planar { kind, origin, edge1, edge2, normal }
+    };
+    // A disk (or cone cap) with the given centre and unit normal.
     let disk = |center: Vec3, normal: Vec3, radius: f32| {
         let (t, b) = tangents(normal);
-        planar(PlanarKind::Disk, center, t * radius, b * radius)
+        face(PlanarKind::Disk, center, t * radius, b * radius)
+    };
+    let cone = |base: Vec3, base_radius: f32, cap: Vec3, cap_radius: f32, open: bool| {
+        let axis = cap - base;
+        let direction = axis.normalize();
+        let (t, b) = tangents(direction);
+        // The side in a frame of the larger radius: a cylinder's is its tube's as always.
+        let radius = base_radius.max(cap_radius);
+        let frame = m * Affine3A::from_mat3_translation(
+            glam::Mat3::from_cols(t * radius, b * radius, axis),
+            base,
+        );
+        let pi = std::f32::consts::PI;
+        let side_area = similarity_scale(&m).map(|s| {
+            let side = if base_radius == cap_radius {
+                // Side area 2 pi r h, scaled by the square of a similarity's scale.
+                2.0 * pi * radius * axis.length()
+            } else {
+                let slant = axis.length().hypot(cap_radius - base_radius);
+                pi * (base_radius + cap_radius) * slant
+            };
+            side * s * s
+        });
+        let cap_disk = |center, normal, r: f32| (!open && r > 0.0).then(|| disk(center, normal, r));
+        Shape::Cone(Box::new(Cone {
+            frame: QuadricFrame::new(frame, side_area),
+            radii: [base_radius / radius, cap_radius / radius],
+            caps: [cap_disk(base, -direction, base_radius), cap_disk(cap, direction, cap_radius)],
+            open,
+            side_area,
+        }))
     };
     match *shape {
         ShapeNode::Plane { normal, offset } => {
@@ -285,44 +320,31 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             let [x, y, z] = [Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z];
             let hi = lo + size;
             // Each face as corner, edge1, edge2 with edge1 x edge2 pointing out of the box.
-            vec![
-                planar(PlanarKind::Quad, lo, z, y),
-                planar(PlanarKind::Quad, hi, -y, -z),
-                planar(PlanarKind::Quad, lo, x, z),
-                planar(PlanarKind::Quad, hi, -z, -x),
-                planar(PlanarKind::Quad, lo, y, x),
-                planar(PlanarKind::Quad, hi, -x, -y),
-            ]
+            let faces = [
+                face(PlanarKind::Quad, lo, z, y),
+                face(PlanarKind::Quad, hi, -y, -z),
+                face(PlanarKind::Quad, lo, x, z),
+                face(PlanarKind::Quad, hi, -z, -x),
+                face(PlanarKind::Quad, lo, y, x),
+                face(PlanarKind::Quad, hi, -x, -y),
+            ];
+            let to_cube = m * Affine3A::from_scale_rotation_translation(
+                size.max(Vec3::splat(f32::MIN_POSITIVE)),
+                glam::Quat::IDENTITY,
+                lo,
+            );
+            vec![Shape::Box(Box::new(Cuboid::new(faces, to_cube)))]
         }
         ShapeNode::Triangle { a, b, c } => vec![planar(PlanarKind::Triangle, a, b - a, c - a)],
         ShapeNode::Quad { corner, edge1, edge2 } => {
             vec![planar(PlanarKind::Quad, corner, edge1, edge2)]
         }
         ShapeNode::Disk { center, normal, radius } => {
-            vec![disk(center, normal.normalize(), radius)]
+            let Face { kind, origin, edge1, edge2, normal } =
+                disk(center, normal.normalize(), radius);
+            vec![Shape::Planar { kind, origin, edge1, edge2, normal }]
         }
-        ShapeNode::Cylinder { base, cap, radius } => {
-            let axis = cap - base;
-            let direction = axis.normalize();
-            let (t, b) = tangents(direction);
-            let tube = m * Affine3A::from_mat3_translation(
-                glam::Mat3::from_cols(t * radius, b * radius, axis),
-                base,
-            );
-            vec![
-                Shape::Quadric {
-                    kind: QuadricKind::Tube,
-                    // Side area 2 pi r h, scaled by the square of a similarity's scale.
-                    frame: Box::new(QuadricFrame::new(
-                        tube,
-                        similarity_scale(&m)
-                            .map(|s| 2.0 * std::f32::consts::PI * radius * axis.length() * s * s),
-                    )),
-                },
-                disk(base, -direction, radius),
-                disk(cap, direction, radius),
-            ]
-        }
+        ShapeNode::Cylinder { base, cap, radius } => vec![cone(base, radius, cap, radius, false)],
         ShapeNode::Union(_) | ShapeNode::Instance(_) | ShapeNode::Mesh { .. } => Vec::new(),
     }
 }
