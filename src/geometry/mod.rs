@@ -5,6 +5,7 @@ mod lanes;
 mod ray;
 mod shape;
 mod solid;
+mod torus;
 mod triangle_mesh;
 
 pub use aabb::Aabb;
@@ -16,4 +17,5 @@ pub use shape::{
     planar_error, similarity_scale, sphere_error,
 };
 pub use solid::{Cone, Crossing, Crossings, Cuboid, Face, MAX_CROSSINGS};
+pub use torus::{Torus, polynomial_roots};
 pub use triangle_mesh::{Placement, TriangleMesh};

@@ -5,6 +5,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
 use super::solid::{Cone, Cuboid};
+use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
 use super::{Aabb, Hit, Ray};
 use crate::sampling::{concentric_disk, uniform_sphere, uniform_triangle};
@@ -59,6 +60,8 @@ pub enum Shape {
     Box(Box<Cuboid>),
     /// A cone or cylinder, closed by its end disks unless open.
     Cone(Box<Cone>),
+    /// POV-Ray's torus under an affine map.
+    Torus(Box<Torus>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -164,6 +167,7 @@ impl Shape {
                 quadric_distance(*kind, o, d, t_max).map(Intersection::at)
             }
             Shape::Box(_) | Shape::Cone(_) => self.solid_intersection(ray, t_max),
+            Shape::Torus(torus) => torus.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.intersection(&placement.ray_to_object(ray), t_max)
@@ -224,6 +228,7 @@ impl Shape {
                 placement.hit_to_world(mesh.hit(at))
             }
             Shape::Box(_) | Shape::Cone(_) => self.solid_hit(ray, at).expect("a solid's hit"),
+            Shape::Torus(torus) => torus.hit(ray, at),
         }
     }
 
@@ -277,6 +282,7 @@ impl Shape {
                 })
             }
             Shape::Box(_) | Shape::Cone(_) => self.solid_bounds(),
+            Shape::Torus(torus) => Some(torus.bounds()),
         }
     }
 
@@ -295,6 +301,7 @@ impl Shape {
             }
             Shape::Quadric { frame, .. } => frame.area,
             Shape::Box(_) | Shape::Cone(_) => self.solid_area(),
+            Shape::Torus(torus) => torus.area(),
         }
     }
 
@@ -303,6 +310,7 @@ impl Shape {
         match self {
             Shape::Plane { .. } | Shape::Mesh { .. } => None,
             Shape::Box(_) | Shape::Cone(_) => self.solid_sample(u),
+            Shape::Torus(torus) => torus.sample(u),
             Shape::Sphere { center, radius } => {
                 let normal = uniform_sphere(u);
                 let point = center + *radius * normal;

@@ -426,7 +426,7 @@ impl Shape {
     /// Whether this shape is a solid (it has an inside): what CSG takes as an operand.
     pub fn is_solid(&self) -> bool {
         match self {
-            Shape::Plane { .. } | Shape::Sphere { .. } | Shape::Box(_) => true,
+            Shape::Plane { .. } | Shape::Sphere { .. } | Shape::Box(_) | Shape::Torus(_) => true,
             Shape::Quadric { kind, .. } => *kind == super::QuadricKind::Ellipsoid,
             Shape::Cone(cone) => !cone.open,
             Shape::Mesh { mesh, .. } => mesh.is_closed(),
@@ -478,6 +478,7 @@ impl Shape {
             }
             Shape::Box(cuboid) => cuboid.crossings(ray, t_max),
             Shape::Cone(cone) if !cone.open => cone.crossings(ray, t_max),
+            Shape::Torus(torus) => torus.crossings(ray, t_max),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.crossings(ray, t_max),
                 Some(placement) => mesh.crossings(&placement.ray_to_object(ray), t_max),
@@ -496,6 +497,7 @@ impl Shape {
             }
             Shape::Box(cuboid) => cuboid.contains(p),
             Shape::Cone(cone) => !cone.open && cone.contains(p),
+            Shape::Torus(torus) => torus.contains(p),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.contains(p),
                 Some(placement) => mesh.contains(placement.to_object.transform_point3(p)),

@@ -13,8 +13,8 @@ use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
 use crate::geometry::{
-    Cone, Cuboid, Face, Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, TriangleMesh,
-    similarity_scale,
+    Cone, Cuboid, Face, Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, Torus,
+    TriangleMesh, similarity_scale,
 };
 use crate::light::Light;
 use crate::material::Material;
@@ -345,6 +345,12 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             vec![Shape::Planar { kind, origin, edge1, edge2, normal }]
         }
         ShapeNode::Cylinder { base, cap, radius } => vec![cone(base, radius, cap, radius, false)],
+        ShapeNode::Cone { base, base_radius, cap, cap_radius, open } => {
+            vec![cone(base, base_radius, cap, cap_radius, open)]
+        }
+        ShapeNode::Torus { major, minor } => {
+            vec![Shape::Torus(Box::new(Torus::new(major, minor, m)))]
+        }
         ShapeNode::Union(_) | ShapeNode::Instance(_) | ShapeNode::Mesh { .. } => Vec::new(),
     }
 }

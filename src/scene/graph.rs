@@ -279,11 +279,27 @@ pub enum ShapeNode {
         normal: Vec3,
         radius: f32,
     },
-    /// Closed: with both caps.
+    /// Closed: with both caps. (An open cylinder is a `Cone` with equal radii and `open`.)
     Cylinder {
         base: Vec3,
         cap: Vec3,
         radius: f32,
+    },
+    /// `cone { base, base_radius, cap, cap_radius [open] }`: radii >= 0, not both 0; closed
+    /// by its end disks (none where a radius is 0) unless `open`, which leaves the side alone
+    /// (not a solid then). Equal radii make a cylinder.
+    Cone {
+        base: Vec3,
+        base_radius: f32,
+        cap: Vec3,
+        cap_radius: f32,
+        open: bool,
+    },
+    /// `torus { major, minor }`: the points at distance `minor` from the circle of radius
+    /// `major` about the y axis in the x-z plane (POV-Ray's torus). Radii > 0.
+    Torus {
+        major: f32,
+        minor: f32,
     },
     /// `mesh { "file.ply" }`: triangles from a PLY or OBJ file (path resolved by `lang`).
     Mesh {
