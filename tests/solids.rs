@@ -1,5 +1,7 @@
-//! Solids, built from scene graphs made in Rust (the language does not have them yet): cone
-//! and torus hits against a brute-force march along the ray with the point-inside test.
+//! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
+//! cone, torus and CSG hits against a brute-force march along the ray with the point-inside
+//! test, inside tests against the operands', an emission-only render against the analytic
+//! silhouette, and build errors.
 
 mod common;
 
@@ -8,10 +10,11 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{Ray, Shape};
-use raydiance::scene::build;
 use raydiance::scene::graph::{
-    MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
+    CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
+    compose,
 };
+use raydiance::scene::{Scene, build};
 
 /// A small deterministic generator (SplitMix64).
 struct Rng(u64);
@@ -238,6 +241,358 @@ fn cone_and_torus_hits_match_a_march_on_100000_rays() {
     assert!(tally.hits > tally.rays / 4 && tally.slivers < tally.rays / 6, "{tally:?}");
 }
 
+/// A random CSG tree of the given depth, its operands random solids under random transforms.
+fn random_tree(graph: &SceneGraph, rng: &mut Rng, depth: u32) -> ObjectNode {
+    let transforms = random_transforms(rng, false);
+    let shape = if depth == 0 {
+        match (rng.next() * 6.0) as u32 {
+            0 => ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.4, 0.9) },
+            1 => ShapeNode::Box { corner_a: rng.vec(-0.9, -0.2), corner_b: rng.vec(0.2, 0.9) },
+            2 => ShapeNode::Cylinder {
+                base: rng.vec(-0.3, 0.3) - Vec3::Y,
+                cap: rng.vec(-0.3, 0.3) + Vec3::Y,
+                radius: rng.range(0.2, 0.6),
+            },
+            3 => ShapeNode::Cone {
+                base: rng.vec(-0.3, 0.3) - Vec3::Y,
+                base_radius: rng.range(0.0, 0.8),
+                cap: rng.vec(-0.3, 0.3) + Vec3::Y,
+                cap_radius: rng.range(0.1, 0.5),
+                open: false,
+            },
+            4 => ShapeNode::Torus { major: rng.range(0.4, 0.8), minor: rng.range(0.1, 0.3) },
+            _ => ShapeNode::Plane { normal: rng.direction(), offset: rng.range(-0.3, 0.3) },
+        }
+    } else {
+        let op =
+            [CsgOp::Intersection, CsgOp::Difference, CsgOp::Merge][(rng.next() * 3.0) as usize];
+        let children = 2 + (rng.next() * 2.0) as u32;
+        let mut operands: Vec<_> =
+            (0..children).map(|_| random_tree(graph, rng, depth - 1)).collect();
+        // Every operation keeps a bounded first operand, so the tree is bounded.
+        if matches!(operands[0].shape, ShapeNode::Plane { .. }) {
+            operands[0].shape = ShapeNode::Sphere { center: Vec3::ZERO, radius: 0.8 };
+        }
+        if op == CsgOp::Merge {
+            for o in &mut operands {
+                if matches!(o.shape, ShapeNode::Plane { .. }) {
+                    o.shape =
+                        ShapeNode::Box { corner_a: Vec3::splat(-0.5), corner_b: Vec3::splat(0.5) };
+                }
+            }
+        }
+        ShapeNode::Csg { op, operands }
+    };
+    node(graph, shape, transforms)
+}
+
+/// Whether `p` is inside the tree, from each operand built alone as its own object.
+fn inside_by_operands(
+    graph: &SceneGraph,
+    tree: &ObjectNode,
+    parents: &[Transform],
+    p: Vec3,
+) -> bool {
+    let mut transforms = tree.transforms.clone();
+    transforms.extend_from_slice(parents);
+    match &tree.shape {
+        ShapeNode::Csg { op, operands } => {
+            let mut inside = operands.iter().map(|o| inside_by_operands(graph, o, &transforms, p));
+            let first = inside.next().unwrap();
+            inside.fold(first, |a, b| match op {
+                CsgOp::Intersection => a && b,
+                CsgOp::Difference => a && !b,
+                CsgOp::Merge => a || b,
+            })
+        }
+        ShapeNode::Union(children) => {
+            children.iter().any(|c| inside_by_operands(graph, c, &transforms, p))
+        }
+        ShapeNode::Instance(target) => inside_by_operands(graph, target, &transforms, p),
+        ShapeNode::Plane { normal, offset } => {
+            // Inside where n . q + d < 0 for q the point in the plane's own space.
+            let q = compose(&transforms).inverse().transform_point3(p);
+            normal.dot(q) + offset < 0.0
+        }
+        shape => {
+            let alone = node(graph, shape.clone(), transforms);
+            built_shape(graph, alone).contains(p)
+        }
+    }
+}
+
+#[test]
+fn csg_trees_first_hits_match_a_march_and_inside_tests_match_the_operands() {
+    let graph = empty_graph();
+    let mut rng = Rng(5);
+    let mut tally = Tally::default();
+    let mut inside_points = 0;
+    for _ in 0..60 {
+        let tree = random_tree(&graph, &mut rng, 2);
+        let shape = built_shape(&graph, tree.clone());
+        assert!(matches!(shape, Shape::Csg(_)));
+        let Some(bounds) = shape.bounds() else { continue };
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..80 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let inside = shape.contains(p);
+            assert_eq!(inside, inside_by_operands(&graph, &tree, &[], p), "at {p}");
+            inside_points += usize::from(inside);
+        }
+        for _ in 0..300 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    assert!(tally.hits > tally.rays / 8 && inside_points > 100, "{tally:?}, {inside_points}");
+    assert!(tally.slivers < tally.rays / 100, "{tally:?}");
+}
+
+fn mesh_node(graph: &SceneGraph, file: &Path, transforms: Vec<Transform>) -> ObjectNode {
+    node(graph, ShapeNode::Mesh { path: file.to_path_buf() }, transforms)
+}
+
+#[test]
+fn csg_of_closed_meshes_instances_unions_and_nested_csg_matches_a_march() {
+    let graph = empty_graph();
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/meshes/cube.obj");
+    let tetrahedron =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/parts/tetrahedron.obj");
+    let mut rng = Rng(11);
+    let mut tally = Tally::default();
+    for _ in 0..12 {
+        let ball =
+            Arc::new(node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 0.5 }, vec![]));
+        let instance = node(&graph, ShapeNode::Instance(ball), random_transforms(&mut rng, false));
+        let union = node(
+            &graph,
+            ShapeNode::Union(vec![
+                node(&graph, ShapeNode::Torus { major: 0.6, minor: 0.2 }, vec![]),
+                mesh_node(&graph, &tetrahedron, vec![Transform::Translate(Vec3::splat(-0.3))]),
+            ]),
+            random_transforms(&mut rng, false),
+        );
+        let inner = node(
+            &graph,
+            ShapeNode::Csg {
+                op: CsgOp::Intersection,
+                operands: vec![
+                    mesh_node(
+                        &graph,
+                        &cube,
+                        vec![
+                            Transform::Scale(Vec3::splat(2.5)),
+                            Transform::Translate(Vec3::new(0.0, 1.7, 0.0)),
+                        ],
+                    ),
+                    union,
+                ],
+            },
+            random_transforms(&mut rng, false),
+        );
+        let op =
+            [CsgOp::Difference, CsgOp::Merge, CsgOp::Intersection][(rng.next() * 3.0) as usize];
+        let tree = node(
+            &graph,
+            ShapeNode::Csg { op, operands: vec![inner, instance] },
+            random_transforms(&mut rng, false),
+        );
+        let shape = built_shape(&graph, tree.clone());
+        let Some(bounds) = shape.bounds() else { continue };
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..400 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    assert!(tally.hits > tally.rays / 8, "{tally:?}");
+    // A mesh that is not closed is not a solid.
+    let dir = tempfile::tempdir().unwrap();
+    let open = dir.path().join("open.obj");
+    std::fs::write(&open, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let mut graph = graph.clone();
+    let operands = vec![mesh_node(&graph, &cube, vec![]), mesh_node(&graph, &open, vec![])];
+    graph.objects = vec![node(&graph, ShapeNode::Csg { op: CsgOp::Difference, operands }, vec![])];
+    let error = build(&graph).expect_err("an open mesh").to_string();
+    assert!(
+        error.contains("this mesh is not closed") && error.contains("is not a solid"),
+        "{error}"
+    );
+}
+
+#[test]
+fn csg_normals_point_out_of_the_result_and_surfaces_keep_their_operands_material() {
+    let mut graph = empty_graph();
+    let (red, blue) = (Vec3::new(0.8, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.8));
+    let mut cube =
+        node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+    cube.material = Some(material(&graph, red, Vec3::ZERO));
+    let mut ball = node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.3 }, vec![]);
+    ball.material = Some(material(&graph, blue, Vec3::ZERO));
+    let csg = ShapeNode::Csg { op: CsgOp::Difference, operands: vec![cube, ball] };
+    graph.objects = vec![node(&graph, csg, vec![Transform::Rotate(Vec3::new(10.0, 20.0, 30.0))])];
+    let scene = build(&graph).unwrap();
+    let shape = &scene.primitives[0].shape;
+    let mut rng = Rng(3);
+    let (mut cut, mut outer) = (0, 0);
+    for _ in 0..20_000 {
+        let origin = rng.direction() * 4.0;
+        let ray = Ray::new(origin, (rng.vec(-1.0, 1.0) - origin).normalize());
+        let Some(hit) = scene.intersect(&ray) else { continue };
+        let d = Vec3::from(ray.dir);
+        assert!(hit.normal.dot(d) < 0.0, "a ray from outside meets the outside of the result");
+        let delta = 1e-3;
+        let (behind, front) = (hit.point - hit.normal * delta, hit.point + hit.normal * delta);
+        if shape.contains(behind) == shape.contains(front) {
+            continue; // an edge
+        }
+        assert!(shape.contains(behind) && !shape.contains(front), "{hit:?}");
+        let colour = scene.material(hit.primitive, hit.point).diffuse;
+        // On the sphere (the cut, its normal towards the centre) the subtracted operand's
+        // material; elsewhere the cube's.
+        let on_sphere = hit.normal.dot(-hit.point.normalize()) > 0.9999;
+        assert_eq!(colour, if on_sphere { blue } else { red }, "{hit:?}");
+        if on_sphere { cut += 1 } else { outer += 1 }
+    }
+    assert!(cut > 500 && outer > 500, "{cut} {outer}");
+}
+
+/// Where the ray meets `box {-1, 1} - sphere {0, 1.3}`, analytically.
+fn hits_carved_cube(ray: &Ray) -> bool {
+    let Some((t0, t1)) = clip(ray, -Vec3::ONE, Vec3::ONE) else { return false };
+    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let b = o.dot(d);
+    let disc = b * b - (o.length_squared() - 1.69);
+    if disc < 0.0 {
+        return true;
+    }
+    let (s0, s1) = (-b - disc.sqrt(), -b + disc.sqrt());
+    // The cube's segment is not all inside the sphere.
+    t0 < s0 || t1 > s1
+}
+
+#[test]
+fn a_sphere_subtracted_from_a_cube_renders_its_analytic_silhouette_with_emission_only() {
+    let mut graph = empty_graph();
+    let (width, height) = (40, 30);
+    graph.settings.width = width;
+    graph.settings.height = height;
+    graph.settings.samples = 64;
+    let emissive = material(&graph, Vec3::ZERO, Vec3::ONE);
+    let cube = node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+    let ball = node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.3 }, vec![]);
+    let mut csg =
+        node(&graph, ShapeNode::Csg { op: CsgOp::Difference, operands: vec![cube, ball] }, vec![]);
+    csg.material = Some(emissive);
+    // Seen from a corner, so that the cut faces are in view.
+    graph.camera.form = raydiance::scene::graph::CameraForm::LookAt {
+        location: Vec3::new(3.0, 2.5, -4.0),
+        look_at: Vec3::ZERO,
+        up: Vec3::Y,
+        angle: 50.0,
+    };
+    graph.objects = vec![csg];
+    for integrator in [IntegratorKind::Direct, IntegratorKind::Path] {
+        graph.settings.integrator = integrator;
+        let scene: Scene = build(&graph).unwrap();
+        assert!(
+            scene.warnings.iter().any(|w| w.contains("not sampled as lights")),
+            "{:?}",
+            scene.warnings
+        );
+        let image = common::render_image(&scene);
+        let (mut edge, mut error) = (0, 0.0);
+        for y in 0..height {
+            for x in 0..width {
+                // Coverage of the pixel on a 12 x 12 grid, and of the pixel with a margin of
+                // half a pixel around it (where that is all or nothing, so is the pixel).
+                let coverage = |margin: f32| {
+                    let n = 12;
+                    let hits = (0..n * n).filter(|i| {
+                        let fraction = |k: u32| (k as f32 + 0.5) / n as f32;
+                        let u = x as f32 - margin + (1.0 + 2.0 * margin) * fraction(i % n);
+                        let v = y as f32 - margin + (1.0 + 2.0 * margin) * fraction(i / n);
+                        let (u, v) = (u / width as f32, v / height as f32);
+                        hits_carved_cube(&scene.camera.ray(u, v, Vec2::ZERO))
+                    });
+                    hits.count() as f32 / (n * n) as f32
+                };
+                let (covered, around) = (coverage(0.0), coverage(0.5));
+                let value = image.pixels[(y * width + x) as usize];
+                assert_eq!(value.x, value.z);
+                if around == 0.0 || around == 1.0 {
+                    assert_eq!(value.x, covered, "pixel ({x}, {y}) with {integrator:?}");
+                } else {
+                    edge += 1;
+                    error += (value.x - covered).abs();
+                    assert!(
+                        (value.x - covered).abs() < 0.3,
+                        "pixel ({x}, {y}): {value} vs {covered}"
+                    );
+                }
+            }
+        }
+        assert!(edge > 20 && error / (edge as f32) < 0.08, "{edge} edge pixels, error {error}");
+    }
+}
+
+#[test]
+fn operands_that_are_not_solids_are_located_errors_naming_them() {
+    let graph = empty_graph();
+    let cube = node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+    let cases = [
+        (ShapeNode::Triangle { a: Vec3::ZERO, b: Vec3::X, c: Vec3::Y }, "a triangle"),
+        (ShapeNode::Quad { corner: Vec3::ZERO, edge1: Vec3::X, edge2: Vec3::Y }, "a quad"),
+        (ShapeNode::Disk { center: Vec3::ZERO, normal: Vec3::Y, radius: 1.0 }, "a disk"),
+        (
+            ShapeNode::Cone {
+                base: Vec3::ZERO,
+                base_radius: 1.0,
+                cap: Vec3::Y,
+                cap_radius: 1.0,
+                open: true,
+            },
+            "an open cylinder",
+        ),
+        (
+            ShapeNode::Cone {
+                base: Vec3::ZERO,
+                base_radius: 1.0,
+                cap: Vec3::Y,
+                cap_radius: 0.5,
+                open: true,
+            },
+            "an open cone",
+        ),
+    ];
+    for (shape, name) in cases {
+        let mut graph = graph.clone();
+        let operands = vec![cube.clone(), node(&graph, shape, vec![])];
+        graph.objects =
+            vec![node(&graph, ShapeNode::Csg { op: CsgOp::Intersection, operands }, vec![])];
+        let error = build(&graph).expect_err("not a solid").to_string();
+        assert!(error.contains(&format!("{name} is not a solid")), "{error}");
+        assert!(error.starts_with("tests/solids.scn:1:1:"), "{error}");
+    }
+    // A CSG object without bounds.
+    let mut graph = graph.clone();
+    let plane = node(&graph, ShapeNode::Plane { normal: Vec3::Y, offset: 0.0 }, vec![]);
+    graph.objects = vec![node(
+        &graph,
+        ShapeNode::Csg { op: CsgOp::Merge, operands: vec![cube, plane] },
+        vec![],
+    )];
+    assert!(build(&graph).expect_err("unbounded").to_string().contains("unbounded"));
+}
+
 #[test]
 fn torus_and_cone_area_samples_lie_on_them_and_lit_tori_render() {
     let mut graph = empty_graph();
@@ -277,4 +632,38 @@ fn torus_and_cone_area_samples_lie_on_them_and_lit_tori_render() {
     assert_eq!(scene.lights.len(), 1);
     let image = common::render_image(&scene);
     assert!(image.pixels.iter().all(|p| p.is_finite()) && common::mean(&image).x > 0.1);
+}
+
+#[test]
+fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time() {
+    use raydiance::accel::RayLanes;
+    let mut graph = empty_graph();
+    let mut rng = Rng(23);
+    graph.objects = (0..4).map(|_| random_tree(&graph, &mut rng, 2)).collect();
+    graph.objects.push(node(&graph, ShapeNode::Plane { normal: Vec3::Y, offset: 2.0 }, vec![]));
+    let scene = build(&graph).unwrap();
+    let mut hits = 0;
+    for _ in 0..5000 {
+        let rays: [Ray; 4] = std::array::from_fn(|_| {
+            let origin = rng.direction() * 4.0;
+            Ray::new(origin, (rng.vec(-1.0, 1.0) - origin).normalize())
+        });
+        let t_max: [f32; 4] = std::array::from_fn(|_| rng.range(0.5, 8.0));
+        let lanes = RayLanes::new(&rays);
+        let nearest = scene.intersect_lanes(&lanes, [true; 4]);
+        let occluded = scene.occluded_lanes(&lanes, glam::Vec4::from_array(t_max));
+        for lane in 0..4 {
+            let one = scene.intersect(&rays[lane]);
+            let key = |h: Option<raydiance::geometry::Hit>| {
+                h.map(|h| (h.primitive, h.t, h.point, h.normal))
+            };
+            assert_eq!(key(nearest.hit(lane)), key(one));
+            let blocked = one.is_some_and(|h| h.t < t_max[lane]);
+            assert_eq!(scene.occluded(&rays[lane], t_max[lane]), blocked);
+            assert_eq!(occluded.test(lane), blocked);
+            // (Primitives 0 to 3 are the CSG objects, 4 the plane, then their surfaces.)
+            hits += usize::from(one.is_some_and(|h| h.primitive as usize >= 5));
+        }
+    }
+    assert!(hits > 1000, "{hits} hits on CSG surfaces");
 }

@@ -1,6 +1,7 @@
 //! Rays, hits and the shapes they hit.
 
 mod aabb;
+mod csg;
 mod lanes;
 mod ray;
 mod shape;
@@ -9,6 +10,7 @@ mod torus;
 mod triangle_mesh;
 
 pub use aabb::Aabb;
+pub use csg::{Csg, CsgNode, CsgOp};
 pub use lanes::{HitLanes, LANES, Lane, Vec2x4, Vec3x4};
 pub use ray::{Hit, Ray, offset_origin};
 pub(crate) use shape::REL_ERROR;

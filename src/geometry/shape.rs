@@ -4,6 +4,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
+use super::csg::Csg;
 use super::solid::{Cone, Cuboid};
 use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
@@ -62,6 +63,8 @@ pub enum Shape {
     Cone(Box<Cone>),
     /// POV-Ray's torus under an affine map.
     Torus(Box<Torus>),
+    /// A CSG solid: one primitive whose surfaces belong to its operands.
+    Csg(Box<Csg>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -133,12 +136,15 @@ pub struct Intersection {
     /// The triangle of a mesh, the face of a box, the part of a cone (0 the side, 1 and 2 the
     /// base and cap disks).
     pub triangle: u32,
+    /// For a CSG solid, the operand whose surface this is (`Csg::operand`), and whether its
+    /// normal is turned (`Csg::TURNED`); 0 for other shapes.
+    pub part: u32,
 }
 
 impl Intersection {
     /// At distance `t`, for shapes that need nothing more to make their hit record.
     pub fn at(t: f32) -> Self {
-        Intersection { t, st: Vec2::ZERO, triangle: 0 }
+        Intersection { t, st: Vec2::ZERO, triangle: 0, part: 0 }
     }
 }
 
@@ -160,7 +166,7 @@ impl Shape {
             }
             Shape::Planar { kind, origin, edge1, edge2, .. } => {
                 let (t, s, u) = planar_distance(*kind, *origin, *edge1, *edge2, ray, t_max)?;
-                Some(Intersection { t, st: Vec2::new(s, u), triangle: 0 })
+                Some(Intersection { t, st: Vec2::new(s, u), triangle: 0, part: 0 })
             }
             Shape::Quadric { kind, frame } => {
                 let (o, d) = frame.ray_to_object(ray);
@@ -168,6 +174,7 @@ impl Shape {
             }
             Shape::Box(_) | Shape::Cone(_) => self.solid_intersection(ray, t_max),
             Shape::Torus(torus) => torus.intersection(ray, t_max),
+            Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.intersection(&placement.ray_to_object(ray), t_max)
@@ -229,6 +236,7 @@ impl Shape {
             }
             Shape::Box(_) | Shape::Cone(_) => self.solid_hit(ray, at).expect("a solid's hit"),
             Shape::Torus(torus) => torus.hit(ray, at),
+            Shape::Csg(csg) => csg.hit(ray, at),
         }
     }
 
@@ -283,6 +291,7 @@ impl Shape {
             }
             Shape::Box(_) | Shape::Cone(_) => self.solid_bounds(),
             Shape::Torus(torus) => Some(torus.bounds()),
+            Shape::Csg(csg) => csg.bounds(),
         }
     }
 
@@ -302,13 +311,15 @@ impl Shape {
             Shape::Quadric { frame, .. } => frame.area,
             Shape::Box(_) | Shape::Cone(_) => self.solid_area(),
             Shape::Torus(torus) => torus.area(),
+            // Its surfaces are parts of its operands': not sampled as a light.
+            Shape::Csg(_) => None,
         }
     }
 
     /// A point distributed uniformly by area (pdf 1 / area); `None` where `area` is `None`.
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
-            Shape::Plane { .. } | Shape::Mesh { .. } => None,
+            Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) => None,
             Shape::Box(_) | Shape::Cone(_) => self.solid_sample(u),
             Shape::Torus(torus) => torus.sample(u),
             Shape::Sphere { center, radius } => {

@@ -1,6 +1,6 @@
 //! Solids kept whole: a box and a cone (a cylinder is a cone of equal radii), and what every
 //! solid answers besides its closest hit — where a ray crosses its surface, in order, and
-//! whether a point is inside.
+//! whether a point is inside. CSG (`csg.rs`) composes these answers.
 
 use arrayvec::ArrayVec;
 use glam::{Affine3A, Vec2, Vec3, Vec3A};
@@ -82,7 +82,7 @@ impl Face {
     /// (for a solid whose crossings are found another way).
     fn intersection_at(&self, ray: &Ray, t: f32, part: u32) -> Intersection {
         let (s, u) = planar_unbounded(self.origin, self.edge1, self.edge2, ray);
-        Intersection { t, st: Vec2::new(s, u), triangle: part }
+        Intersection { t, st: Vec2::new(s, u), triangle: part, part: 0 }
     }
 }
 
@@ -108,7 +108,8 @@ impl Cuboid {
         let mut closest = None;
         for (i, face) in self.faces.iter().enumerate() {
             if let Some((t, s, u)) = face.distance(ray, t_max) {
-                closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32 });
+                closest =
+                    Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32, part: 0 });
                 t_max = t;
             }
         }
@@ -233,7 +234,7 @@ impl Cone {
         for (i, cap) in self.caps.iter().enumerate() {
             if let Some((t, s, u)) = cap.as_ref().and_then(|cap| cap.distance(ray, t_max)) {
                 let part = i as u32 + 1;
-                closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: part });
+                closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: part, part: 0 });
                 t_max = t;
             }
         }
@@ -426,7 +427,11 @@ impl Shape {
     /// Whether this shape is a solid (it has an inside): what CSG takes as an operand.
     pub fn is_solid(&self) -> bool {
         match self {
-            Shape::Plane { .. } | Shape::Sphere { .. } | Shape::Box(_) | Shape::Torus(_) => true,
+            Shape::Plane { .. }
+            | Shape::Sphere { .. }
+            | Shape::Box(_)
+            | Shape::Torus(_)
+            | Shape::Csg(_) => true,
             Shape::Quadric { kind, .. } => *kind == super::QuadricKind::Ellipsoid,
             Shape::Cone(cone) => !cone.open,
             Shape::Mesh { mesh, .. } => mesh.is_closed(),
@@ -483,6 +488,7 @@ impl Shape {
                 None => mesh.crossings(ray, t_max),
                 Some(placement) => mesh.crossings(&placement.ray_to_object(ray), t_max),
             },
+            Shape::Csg(csg) => csg.crossings(ray, t_max),
             Shape::Quadric { .. } | Shape::Cone(_) | Shape::Planar { .. } => Crossings::outside(),
         }
     }
@@ -502,6 +508,7 @@ impl Shape {
                 None => mesh.contains(p),
                 Some(placement) => mesh.contains(placement.to_object.transform_point3(p)),
             },
+            Shape::Csg(csg) => csg.contains(p),
             Shape::Quadric { .. } | Shape::Planar { .. } => false,
         }
     }

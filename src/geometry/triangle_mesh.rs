@@ -56,7 +56,7 @@ impl TriangleMesh {
         let (triangles, mut closest) = (&*self.triangles, None);
         let test = |i: usize, t_max| {
             let (t, s, u) = intersect_triangle(&triangles[i], ray, t_max)?;
-            closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32 });
+            closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32, part: 0 });
             Some(t)
         };
         self.bvh.closest(ray, t_max, test, |leaf| preload(triangles, leaf));
@@ -107,7 +107,7 @@ impl TriangleMesh {
         let mut all = Vec::new();
         let mut visit = |i: usize| {
             if let Some((t, s, u)) = intersect_triangle(&triangles[i], ray, f32::INFINITY) {
-                all.push(Intersection { t, st: Vec2::new(s, u), triangle: i as u32 });
+                all.push(Intersection { t, st: Vec2::new(s, u), triangle: i as u32, part: 0 });
             }
             false
         };

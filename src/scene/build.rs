@@ -13,8 +13,8 @@ use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
 use crate::geometry::{
-    Cone, Cuboid, Face, Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, Torus,
-    TriangleMesh, similarity_scale,
+    Cone, Csg, CsgNode, CsgOp, Cuboid, Face, Placement, PlanarKind, QuadricFrame, QuadricKind,
+    Shape, Torus, TriangleMesh, similarity_scale,
 };
 use crate::light::Light;
 use crate::material::Material;
@@ -74,6 +74,15 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             .skip(if few_holds_bounded { 0 } else { bounded_count })
             .map(|(i, p)| (i as u32, &p.shape)),
     );
+    // The surfaces of CSG operands go last: hits on them are named by them (their material
+    // and texture space), they are not traced themselves.
+    let first_surface = primitives.len() as u32;
+    for primitive in &mut primitives {
+        if let Shape::Csg(csg) = &mut primitive.shape {
+            csg.surfaces += first_surface;
+        }
+    }
+    primitives.extend(flat.surfaces);
     let mut scene = Scene {
         settings,
         camera,
@@ -127,6 +136,9 @@ struct Flattener {
     meshes: HashMap<PathBuf, Arc<TriangleMesh>>,
     /// Index of each distinct material description, by address: declared materials are shared.
     material_index: HashMap<*const MaterialDesc, u32>,
+    /// The surfaces of CSG operands (material and frame of each), in the order of the CSG
+    /// primitives' operands.
+    surfaces: Vec<Primitive>,
 }
 
 impl Flattener {
@@ -147,6 +159,36 @@ impl Flattener {
                 children.iter().try_for_each(|c| self.add(c, to_world, material))
             }
             ShapeNode::Instance(target) => self.add(target, to_world, material),
+            ShapeNode::Csg { op, operands } => {
+                let first = self.surfaces.len() as u32;
+                let mut shapes = Vec::new();
+                let root = self.operation(*op, operands, to_world, material, &mut shapes)?;
+                let mut csg = Csg::new(root, shapes);
+                if csg.bounds().is_none() {
+                    return Err(SceneError::at(
+                        &node.span,
+                        "this CSG object is unbounded (it merges a plane, or only intersects \
+                         planes); only bounded CSG objects are supported",
+                    ));
+                }
+                let emissive = self.surfaces[first as usize..]
+                    .iter()
+                    .any(|s| self.materials[s.material as usize].is_emissive());
+                if emissive {
+                    self.warnings.push(format!(
+                        "{:?}: warning: the emissive surfaces of this CSG object are not sampled \
+                         as lights; only rays that hit them see their light",
+                        node.span
+                    ));
+                }
+                let material = self.material(material)?;
+                self.frames.push(to_world.inverse());
+                let frame = self.frames.len() as u32 - 1;
+                csg.surfaces = first;
+                let shape = Shape::Csg(Box::new(csg));
+                self.primitives.push(Primitive { shape, material, frame, light: None });
+                Ok(())
+            }
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
                 let placement =
@@ -165,6 +207,92 @@ impl Flattener {
                 Ok(())
             }
         }
+    }
+
+    /// The tree of an operation on `operands` placed by `to_world`, their solids appended to
+    /// `shapes` and their surfaces to `self.surfaces`.
+    fn operation(
+        &mut self,
+        op: CsgOp,
+        operands: &[ObjectNode],
+        to_world: Affine3A,
+        material: Option<&Arc<MaterialDesc>>,
+        shapes: &mut Vec<Shape>,
+    ) -> Result<CsgNode, SceneError> {
+        let children = operands
+            .iter()
+            .map(|operand| self.operand(operand, to_world, material, shapes))
+            .collect::<Result<_, _>>()?;
+        Ok(CsgNode::Operation { op, children })
+    }
+
+    /// One operand of a CSG operation: a solid, or a located error.
+    fn operand(
+        &mut self,
+        node: &ObjectNode,
+        parent: Affine3A,
+        inherited: Option<&Arc<MaterialDesc>>,
+        shapes: &mut Vec<Shape>,
+    ) -> Result<CsgNode, SceneError> {
+        let to_world = parent * compose(&node.transforms);
+        let determinant = to_world.matrix3.determinant();
+        if !determinant.is_finite() || determinant.abs() < 1e-12 {
+            return Err(SceneError::at(&node.span, "the transforms of this object are singular"));
+        }
+        let material = node.material.as_ref().or(inherited);
+        let not_solid = |what: &str| {
+            SceneError::at(
+                &node.span,
+                format!(
+                    "{what} is not a solid: the operands of intersection, difference and merge \
+                     must be solids (sphere, box, closed cylinder or cone, torus, plane, closed \
+                     mesh, CSG, or objects and unions of these)"
+                ),
+            )
+        };
+        let shape = match &node.shape {
+            ShapeNode::Csg { op, operands } => {
+                return self.operation(*op, operands, to_world, material, shapes);
+            }
+            ShapeNode::Union(children) => {
+                return self.operation(CsgOp::Merge, children, to_world, material, shapes);
+            }
+            ShapeNode::Instance(target) => return self.operand(target, to_world, material, shapes),
+            ShapeNode::Triangle { .. } => return Err(not_solid("a triangle")),
+            ShapeNode::Quad { .. } => return Err(not_solid("a quad")),
+            ShapeNode::Disk { .. } => return Err(not_solid("a disk")),
+            ShapeNode::Cone { open: true, base_radius, cap_radius, .. } => {
+                let what =
+                    if base_radius == cap_radius { "an open cylinder" } else { "an open cone" };
+                return Err(not_solid(what));
+            }
+            ShapeNode::Mesh { path } => {
+                let mesh = self.mesh(path, node)?;
+                if !mesh.is_closed() {
+                    return Err(not_solid(
+                        "this mesh is not closed (some edge is not shared by exactly two \
+                         triangles), so it",
+                    ));
+                }
+                let placement =
+                    (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
+                Shape::Mesh { mesh, placement }
+            }
+            shape => {
+                let mut world = world_shapes(shape, to_world);
+                match (world.pop(), world.is_empty()) {
+                    (Some(shape), true) => shape,
+                    _ => return Err(not_solid("this object")),
+                }
+            }
+        };
+        let index = shapes.len() as u32;
+        let material = self.material(material)?;
+        self.frames.push(to_world.inverse());
+        let frame = self.frames.len() as u32 - 1;
+        self.surfaces.push(Primitive { shape: shape.clone(), material, frame, light: None });
+        shapes.push(shape);
+        Ok(CsgNode::Operand(index))
     }
 
     fn push(&mut self, shape: Shape, material: u32, node: &ObjectNode) {
@@ -351,7 +479,10 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         ShapeNode::Torus { major, minor } => {
             vec![Shape::Torus(Box::new(Torus::new(major, minor, m)))]
         }
-        ShapeNode::Union(_) | ShapeNode::Instance(_) | ShapeNode::Mesh { .. } => Vec::new(),
+        ShapeNode::Union(_)
+        | ShapeNode::Instance(_)
+        | ShapeNode::Mesh { .. }
+        | ShapeNode::Csg { .. } => Vec::new(),
     }
 }
 

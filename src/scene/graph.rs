@@ -8,6 +8,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
+pub use crate::geometry::CsgOp;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -300,6 +301,16 @@ pub enum ShapeNode {
     Torus {
         major: f32,
         minor: f32,
+    },
+    /// `intersection`, `difference`, `merge { ... }`: a solid made of solid operands (sphere,
+    /// box, closed cylinder and cone, torus, plane as the half-space n . p + d < 0, closed
+    /// mesh, CSG, and `Union`/`Instance` nodes of solids; a union operand counts as the merge
+    /// of its children). Each operand keeps its own material (a material on this node applies
+    /// to operands without one) and transforms; `scene::build` reports any other operand as a
+    /// located error at the operand's span.
+    Csg {
+        op: CsgOp,
+        operands: Vec<ObjectNode>,
     },
     /// `mesh { "file.ply" }`: triangles from a PLY or OBJ file (path resolved by `lang`).
     Mesh {

@@ -12,7 +12,7 @@ use glam::{Affine3A, BVec4A, Vec3, Vec4};
 
 use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
-use crate::geometry::{Hit, Intersection, LANES, Lane, Ray, Shape};
+use crate::geometry::{Csg, Hit, Intersection, LANES, Lane, Ray, Shape};
 use crate::light::{LaneLight, Light};
 use crate::material::Material;
 use crate::texture::Texture;
@@ -39,7 +39,8 @@ struct Found {
 pub struct Scene {
     pub settings: Settings,
     pub camera: Camera,
-    /// Bounded primitives first, in BVH order, then the unbounded planes.
+    /// Bounded primitives first, in BVH order, then the unbounded planes, then the surfaces of
+    /// CSG operands (not traced: a hit on a CSG primitive is named by its operand's surface).
     pub primitives: Vec<Primitive>,
     bounded: usize,
     bvh: Bvh,
@@ -115,7 +116,12 @@ impl Scene {
     /// The hit record of the primitive `ray` was found to meet. (Made only for the closest.)
     fn hit(&self, ray: &Ray, found: &Found) -> Hit {
         let primitive = &self.primitives[found.primitive as usize];
-        Hit { primitive: found.primitive, ..primitive.shape.hit(ray, &found.at) }
+        // A CSG surface is named by its operand's surface, which has its material.
+        let name = match &primitive.shape {
+            Shape::Csg(csg) => csg.surfaces + Csg::operand(&found.at),
+            _ => found.primitive,
+        };
+        Hit { primitive: name, ..primitive.shape.hit(ray, &found.at) }
     }
 
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
