@@ -72,8 +72,14 @@ fn built_shape(graph: &SceneGraph, object: ObjectNode) -> Shape {
 }
 
 fn random_transforms(rng: &mut Rng, far: bool) -> Vec<Transform> {
+    // A mirror one time in four.
+    let mirror = if rng.next() < 0.25 { -1.0 } else { 1.0 };
     let mut transforms = vec![
-        Transform::Scale(Vec3::new(rng.range(0.5, 1.5), rng.range(0.5, 1.5), rng.range(0.5, 1.5))),
+        Transform::Scale(Vec3::new(
+            mirror * rng.range(0.5, 1.5),
+            rng.range(0.5, 1.5),
+            rng.range(0.5, 1.5),
+        )),
         Transform::Rotate(rng.vec(-180.0, 180.0)),
         Transform::Translate(rng.vec(-0.5, 0.5)),
     ];
@@ -149,19 +155,29 @@ fn check_ray(shape: &Shape, ray: &Ray, steps: usize, tolerance: f32, tally: &mut
         let thin = l.is_empty() || l.len() >= 2 && l[1].at.t - l[0].at.t <= 2.0 * h;
         let near = l.len() >= 2 && {
             let middle = ray.at(0.5 * (l[0].at.t + l[1].at.t));
-            let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
-            axes.iter().any(|&a| shape.contains(middle + a * hair))
+            [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z]
+                .iter()
+                .any(|&a| shape.contains(middle + a * hair))
         };
         !crossings.inside_at_start && (thin || near)
     };
     // The march's first interval is thinner than a step (its sample of the inside may be a
     // rounding of the inside test at a tangent, or a sliver the analytic test calls a touch).
-    let marched_sliver = |m: f32| (1..=16).any(|k| !shape.contains(ray.at(m + k as f32 * h / 8.0)));
+    // Or it runs within a hair of the surface (a ray along a flat cap, in its plane).
+    let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+    let shell = |p: Vec3| axes.iter().any(|&a| !shape.contains(p + a * hair));
+    let marched_sliver = |m: f32| {
+        (1..=16).any(|k| !shape.contains(ray.at(m + k as f32 * h / 8.0)))
+            || (1..=4).all(|k| shell(ray.at(m + k as f32 * h / 2.0)))
+    };
     // At a grazing hit a rounding of either test moves the crossing along the ray by as much
     // as it moves it across the surface, divided by the cosine.
-    let cosine = shape
-        .intersection(ray, f32::INFINITY)
-        .map_or(1.0, |at| shape.hit(ray, &at).normal.dot(Vec3::from(ray.dir)).abs().max(1e-2));
+    // (The smaller cosine of the hit's and of the first crossing's: a ray that grazes a flat
+    // cap lies in its plane, and which of cap and side comes first is a rounding.)
+    let cosine_at = |at| shape.hit(ray, &at).normal.dot(Vec3::from(ray.dir)).abs();
+    let hit = shape.intersection(ray, f32::INFINITY).map(cosine_at);
+    let first = crossings.list.first().map(|c| cosine_at(c.at));
+    let cosine = hit.unwrap_or(1.0).min(first.unwrap_or(1.0)).max(1e-3);
     let tolerance = tolerance / cosine;
     match (analytic, marched) {
         (None, None) => {}

@@ -302,8 +302,8 @@ impl Flattener {
         if self.materials[material as usize].is_emissive() && shape.area().is_none() {
             self.warnings.push(format!(
                 "{:?}: warning: this emitter cannot be sampled as a light (an infinite plane, a \
-                 mesh, or a sphere or cylinder under non-uniform scale); only rays that hit it \
-                 see its light",
+                 mesh, or a sphere, cylinder, cone or torus under non-uniform scale); only rays \
+                 that hit it see its light",
                 node.span
             ));
         }
