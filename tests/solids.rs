@@ -598,15 +598,6 @@ fn operands_that_are_not_solids_are_located_errors_naming_them() {
         assert!(error.contains(&format!("{name} is not a solid")), "{error}");
         assert!(error.starts_with("tests/solids.scn:1:1:"), "{error}");
     }
-    // A CSG object without bounds.
-    let mut graph = graph.clone();
-    let plane = node(&graph, ShapeNode::Plane { normal: Vec3::Y, offset: 0.0 }, vec![]);
-    graph.objects = vec![node(
-        &graph,
-        ShapeNode::Csg { op: CsgOp::Merge, operands: vec![cube, plane] },
-        vec![],
-    )];
-    assert!(build(&graph).expect_err("unbounded").to_string().contains("unbounded"));
 }
 
 #[test]
@@ -657,6 +648,12 @@ fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time(
     let mut rng = Rng(23);
     graph.objects = (0..4).map(|_| random_tree(&graph, &mut rng, 2)).collect();
     graph.objects.push(node(&graph, ShapeNode::Plane { normal: Vec3::Y, offset: 2.0 }, vec![]));
+    // And an unbounded CSG object: a ball merged with the half-space x > 1.5.
+    let ball =
+        node(&graph, ShapeNode::Sphere { center: Vec3::new(1.0, 1.0, 0.0), radius: 0.7 }, vec![]);
+    let side = node(&graph, ShapeNode::Plane { normal: -Vec3::X, offset: 1.5 }, vec![]);
+    let merge = ShapeNode::Csg { op: CsgOp::Merge, operands: vec![ball, side] };
+    graph.objects.push(node(&graph, merge, vec![]));
     let scene = build(&graph).unwrap();
     let mut hits = 0;
     for _ in 0..5000 {
@@ -677,9 +674,45 @@ fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time(
             let blocked = one.is_some_and(|h| h.t < t_max[lane]);
             assert_eq!(scene.occluded(&rays[lane], t_max[lane]), blocked);
             assert_eq!(occluded.test(lane), blocked);
-            // (Primitives 0 to 3 are the CSG objects, 4 the plane, then their surfaces.)
-            hits += usize::from(one.is_some_and(|h| h.primitive as usize >= 5));
+            // (Primitives 0 to 3 are the bounded CSG objects, 4 the plane, 5 the unbounded
+            // CSG object, then their surfaces.)
+            hits += usize::from(one.is_some_and(|h| h.primitive as usize >= 6));
         }
     }
     assert!(hits > 1000, "{hits} hits on CSG surfaces");
+}
+
+#[test]
+fn an_intersection_of_six_half_spaces_is_a_box() {
+    let mut graph = empty_graph();
+    let planes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z]
+        .map(|normal| node(&graph, ShapeNode::Plane { normal, offset: -1.0 }, vec![]));
+    let turn = vec![Transform::Rotate(Vec3::new(20.0, 30.0, 40.0))];
+    let csg = ShapeNode::Csg { op: CsgOp::Intersection, operands: planes.to_vec() };
+    graph.objects = vec![node(&graph, csg, turn.clone())];
+    let planes_scene = build(&graph).unwrap();
+    let cube = ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE };
+    graph.objects = vec![node(&graph, cube, turn)];
+    let box_scene = build(&graph).unwrap();
+    let mut rng = Rng(31);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let origin = rng.direction() * 4.0;
+        let ray = Ray::new(origin, (rng.vec(-1.5, 1.5) - origin).normalize());
+        let (a, b) = (planes_scene.intersect(&ray), box_scene.intersect(&ray));
+        assert_eq!(a.is_some(), b.is_some(), "{ray:?}: {a:?} {b:?}");
+        if let (Some(a), Some(b)) = (a, b) {
+            assert!(
+                (a.t - b.t).abs() < 1e-4 && (a.normal - b.normal).length() < 1e-3,
+                "{a:?} {b:?}"
+            );
+            hits += 1;
+        }
+        // From inside, the way out.
+        let inside = Ray::new(rng.direction() * rng.range(0.0, 0.95), rng.direction());
+        let (a, b) =
+            (planes_scene.intersect(&inside).unwrap(), box_scene.intersect(&inside).unwrap());
+        assert!((a.t - b.t).abs() < 1e-4 && (a.normal - b.normal).length() < 1e-3, "{a:?} {b:?}");
+    }
+    assert!(hits > 5000, "{hits}");
 }

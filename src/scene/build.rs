@@ -35,8 +35,12 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         flat.add(node, Affine3A::IDENTITY, None)?;
     }
 
-    let (mut bounded, planes): (Vec<Primitive>, Vec<Primitive>) =
+    let (mut bounded, unbounded): (Vec<Primitive>, Vec<Primitive>) =
         flat.primitives.into_iter().partition(|p| p.shape.bounds().is_some());
+    // Unbounded: the planes, then any other (a CSG object that merges or only intersects
+    // half-spaces).
+    let (planes, others): (Vec<Primitive>, Vec<Primitive>) =
+        unbounded.into_iter().partition(|p| matches!(p.shape, Shape::Plane { .. }));
     let bounds: Vec<_> = bounded.iter().filter_map(|p| p.shape.bounds()).collect();
     if bounds.len() > MAX_PRIMITIVES {
         return Err(SceneError::unlocated(format!(
@@ -50,6 +54,8 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         order.iter().filter_map(|&i| slots[i as usize].take()).collect();
     let bounded_count = primitives.len();
     primitives.extend(planes.iter().cloned());
+    let others_start = primitives.len();
+    primitives.extend(others);
 
     let mut lights: Vec<Light> = graph
         .lights
@@ -74,6 +80,7 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         primitives
             .iter()
             .enumerate()
+            .take(others_start)
             .skip(if few_holds_bounded { 0 } else { bounded_count })
             .map(|(i, p)| (i as u32, &p.shape)),
     );
@@ -91,6 +98,7 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         camera,
         primitives,
         bounded: bounded_count,
+        others: others_start..first_surface as usize,
         bvh,
         planes: Planes::new(
             &planes
@@ -167,13 +175,6 @@ impl Flattener {
                 let mut shapes = Vec::new();
                 let root = self.operation(*op, operands, to_world, material, &mut shapes)?;
                 let mut csg = Csg::new(root, shapes);
-                if csg.bounds().is_none() {
-                    return Err(SceneError::at(
-                        &node.span,
-                        "this CSG object is unbounded (it merges a plane, or only intersects \
-                         planes); only bounded CSG objects are supported",
-                    ));
-                }
                 let emissive = self.surfaces[first as usize..]
                     .iter()
                     .any(|s| self.materials[s.material as usize].is_emissive());
