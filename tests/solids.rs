@@ -716,3 +716,48 @@ fn an_intersection_of_six_half_spaces_is_a_box() {
     }
     assert!(hits > 5000, "{hits}");
 }
+
+#[test]
+fn csg_surfaces_evaluate_textures_in_their_operands_own_space() {
+    use raydiance::scene::graph::Pattern;
+    let mut graph = empty_graph();
+    let (a, b) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.1, 0.9));
+    let mut checker = MaterialDesc::new(graph.camera.span.clone());
+    checker.diffuse = TextureNode {
+        pattern: Pattern::Checker(Box::new(TextureNode::solid(a)), Box::new(TextureNode::solid(b))),
+        transforms: vec![],
+    };
+    let operand_transforms =
+        vec![Transform::Translate(Vec3::new(0.3, 0.2, 0.1)), Transform::Scale(Vec3::splat(0.7))];
+    let mut cube = node(
+        &graph,
+        ShapeNode::Box { corner_a: Vec3::splat(-1.75), corner_b: Vec3::splat(1.75) },
+        operand_transforms.clone(),
+    );
+    cube.material = Some(Arc::new(checker));
+    let ball = node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.0 }, vec![]);
+    let csg_transforms = vec![Transform::Rotate(Vec3::new(0.0, 30.0, 10.0))];
+    let csg = ShapeNode::Csg { op: CsgOp::Difference, operands: vec![cube, ball] };
+    graph.objects = vec![node(&graph, csg, csg_transforms.clone())];
+    let scene = build(&graph).unwrap();
+    let to_operand = compose(&[operand_transforms, csg_transforms].concat()).inverse();
+    let mut rng = Rng(41);
+    let mut checked = 0;
+    for _ in 0..5000 {
+        let origin = rng.direction() * 6.0;
+        let ray = Ray::new(origin, (rng.vec(-1.0, 1.0) - origin).normalize());
+        let Some(hit) = scene.intersect(&ray) else { continue };
+        let q = to_operand.transform_point3(hit.point);
+        if (q - q.round()).abs().min_element() < 1e-3 {
+            continue; // on a cell boundary
+        }
+        let even = (q.x.floor() + q.y.floor() + q.z.floor()) as i32 % 2 == 0;
+        assert_eq!(
+            scene.material(hit.primitive, hit.point).diffuse,
+            if even { a } else { b },
+            "at {q}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 1000, "{checked}");
+}
