@@ -761,3 +761,35 @@ fn csg_surfaces_evaluate_textures_in_their_operands_own_space() {
     }
     assert!(checked > 1000, "{checked}");
 }
+
+#[test]
+fn an_emissive_box_lights_as_its_six_faces_do() {
+    let mut graph = empty_graph();
+    graph.settings.width = 24;
+    graph.settings.height = 24;
+    graph.settings.samples = 256;
+    graph.settings.integrator = IntegratorKind::Direct;
+    let white = material(&graph, Vec3::splat(0.8), Vec3::ZERO);
+    let light = material(&graph, Vec3::ZERO, Vec3::splat(2.0));
+    let mut floor =
+        node(&graph, ShapeNode::Plane { normal: Vec3::new(0.0, 0.0, -1.0), offset: 1.0 }, vec![]);
+    floor.material = Some(white);
+    let (lo, hi) = (Vec3::new(-0.3, -0.2, 0.2), Vec3::new(0.4, 0.3, 0.5));
+    let mut cube = node(&graph, ShapeNode::Box { corner_a: lo, corner_b: hi }, vec![]);
+    cube.material = Some(light.clone());
+    graph.objects = vec![floor.clone(), cube];
+    let whole = common::render_image(&build(&graph).unwrap());
+    // The same box as six quads facing out, each its own light.
+    let size = hi - lo;
+    let [x, y, z] = [Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z];
+    let quads = [(lo, z, y), (hi, -y, -z), (lo, x, z), (hi, -z, -x), (lo, y, x), (hi, -x, -y)];
+    graph.objects = vec![floor];
+    for (corner, edge1, edge2) in quads {
+        let mut quad = node(&graph, ShapeNode::Quad { corner, edge1, edge2 }, vec![]);
+        quad.material = Some(light.clone());
+        graph.objects.push(quad);
+    }
+    let faces = common::render_image(&build(&graph).unwrap());
+    let (a, b) = (common::mean(&whole), common::mean(&faces));
+    assert!((a - b).abs().max_element() < 0.02 * b.max_element(), "{a} vs {b}");
+}
