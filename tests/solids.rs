@@ -793,3 +793,45 @@ fn an_emissive_box_lights_as_its_six_faces_do() {
     let (a, b) = (common::mean(&whole), common::mean(&faces));
     assert!((a - b).abs().max_element() < 0.02 * b.max_element(), "{a} vs {b}");
 }
+
+#[test]
+fn cones_and_tori_with_impossible_dimensions_are_located_errors() {
+    let graph = empty_graph();
+    let cases = [
+        ShapeNode::Cone {
+            base: Vec3::ZERO,
+            base_radius: 0.0,
+            cap: Vec3::Y,
+            cap_radius: 0.0,
+            open: false,
+        },
+        ShapeNode::Cone {
+            base: Vec3::ZERO,
+            base_radius: -1.0,
+            cap: Vec3::Y,
+            cap_radius: 1.0,
+            open: false,
+        },
+        ShapeNode::Cone {
+            base: Vec3::Y,
+            base_radius: 1.0,
+            cap: Vec3::Y,
+            cap_radius: 0.5,
+            open: true,
+        },
+        ShapeNode::Torus { major: 1.0, minor: 0.0 },
+        ShapeNode::Torus { major: f32::NAN, minor: 0.2 },
+    ];
+    for shape in cases {
+        let mut graph = graph.clone();
+        graph.objects = vec![node(&graph, shape.clone(), vec![])];
+        let error = build(&graph).expect_err("impossible").to_string();
+        assert!(error.starts_with("tests/solids.scn:1:1: error: a"), "{error}");
+        // The same as a CSG operand.
+        let cube =
+            node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+        let operands = vec![cube, node(&graph, shape, vec![])];
+        graph.objects = vec![node(&graph, ShapeNode::Csg { op: CsgOp::Merge, operands }, vec![])];
+        assert!(build(&graph).is_err());
+    }
+}

@@ -203,6 +203,7 @@ impl Flattener {
                 Ok(())
             }
             shape => {
+                check_dimensions(shape, node)?;
                 let material = self.material(material)?;
                 self.frames.push(to_world.inverse());
                 for shape in world_shapes(shape, to_world) {
@@ -283,6 +284,7 @@ impl Flattener {
                 Shape::Mesh { mesh, placement }
             }
             shape => {
+                check_dimensions(shape, node)?;
                 let mut world = world_shapes(shape, to_world);
                 match (world.pop(), world.is_empty()) {
                     (Some(shape), true) => shape,
@@ -370,6 +372,31 @@ impl Flattener {
         self.material_index.insert(key, index);
         Ok(index)
     }
+}
+
+/// A located error for a cone or torus the graph gives impossible dimensions (the language
+/// checks the other shapes' as it reads them).
+fn check_dimensions(shape: &ShapeNode, node: &ObjectNode) -> Result<(), SceneError> {
+    let problem = match *shape {
+        ShapeNode::Cone { base, base_radius, cap, cap_radius, .. } => {
+            // (Written so that NaN fails each test.)
+            let radii_valid =
+                base_radius >= 0.0 && cap_radius >= 0.0 && base_radius.max(cap_radius) > 0.0;
+            let axis_valid = base.distance_squared(cap) > 0.0;
+            if !radii_valid {
+                Some("a cone's radii must be at least 0, and not both 0")
+            } else if !axis_valid {
+                Some("a cone's base and cap centres must differ")
+            } else {
+                None
+            }
+        }
+        ShapeNode::Torus { major, minor } if !(major > 0.0 && minor > 0.0) => {
+            Some("a torus' radii must be greater than 0")
+        }
+        _ => None,
+    };
+    problem.map_or(Ok(()), |message| Err(SceneError::at(&node.span, message)))
 }
 
 /// The world-space shapes of one primitive node under `m`.

@@ -194,6 +194,12 @@ impl Scene {
         occluded
     }
 
+    /// How many primitives rays are traced against (the surfaces of CSG operands, which only
+    /// name hits, are not counted).
+    pub fn traced_primitives(&self) -> usize {
+        self.others.end
+    }
+
     /// Starts loading primitives a traversal may test soon (see `Bvh::closest`).
     fn preload(&self, leaf: Range<usize>) {
         crate::accel::prefetch(&self.primitives[leaf.start]);
