@@ -424,21 +424,6 @@ impl Crossings {
 }
 
 impl Shape {
-    /// Whether this shape is a solid (it has an inside): what CSG takes as an operand.
-    pub fn is_solid(&self) -> bool {
-        match self {
-            Shape::Plane { .. }
-            | Shape::Sphere { .. }
-            | Shape::Box(_)
-            | Shape::Torus(_)
-            | Shape::Csg(_) => true,
-            Shape::Quadric { kind, .. } => *kind == super::QuadricKind::Ellipsoid,
-            Shape::Cone(cone) => !cone.open,
-            Shape::Mesh { mesh, .. } => mesh.is_closed(),
-            Shape::Planar { .. } => false,
-        }
-    }
-
     /// Where the ray crosses the solid's surface in (0, t_max), and whether it starts inside.
     /// (Not a solid: no crossings, never inside.)
     pub fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
