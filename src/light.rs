@@ -67,9 +67,14 @@ impl Light {
                 let wi = to_light / distance_squared.sqrt();
                 (position, wi, power / distance_squared, 1.0, true)
             }
-            // Every emitter shape is convex or emits outwards only: it never lights itself
-            // (and a sample from its own surface would be degenerate).
-            Light::Area { primitive, .. } if primitive == hit.primitive => return None,
+            // Every emitter shape but the torus is convex or emits outwards only: it never
+            // lights itself (and a sample from its own surface would be degenerate).
+            Light::Area { primitive, .. }
+                if primitive == hit.primitive
+                    && !matches!(scene.primitives[primitive as usize].shape, Shape::Torus(_)) =>
+            {
+                return None;
+            }
             Light::Area { primitive, area } => {
                 let prim = &scene.primitives[primitive as usize];
                 let (point, normal, error, wi, pdf) = match prim.shape {

@@ -98,7 +98,7 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
         s.samples,
         s.integrator.name(),
         s.max_depth,
-        scene.primitives.len(),
+        scene.traced_primitives(),
         scene.materials.len(),
         scene.lights.len(),
     );

@@ -91,14 +91,38 @@ pub struct FewShapes {
 impl FewShapes {
     /// Whether `new` takes this kind of shape.
     pub fn takes(shape: &Shape) -> bool {
-        matches!(shape, Shape::Plane { .. } | Shape::Sphere { .. } | Shape::Planar { .. })
+        matches!(
+            shape,
+            Shape::Plane { .. } | Shape::Sphere { .. } | Shape::Planar { .. } | Shape::Box(_)
+        )
     }
 
-    /// Shapes that `takes` accepts, each with the name results give it.
+    /// How many simple shapes a shape `takes` accepts is tested as (a box as its six faces).
+    pub fn size(shape: &Shape) -> usize {
+        if matches!(shape, Shape::Box(_)) { 6 } else { 1 }
+    }
+
+    /// Shapes that `takes` accepts, each with the name results give it. A box is tested as its
+    /// six faces, each named as the box (their hit records are the box's).
     pub fn new<'a>(shapes: impl IntoIterator<Item = (u32, &'a Shape)>) -> Self {
-        let (names, shapes): (Vec<u32>, Vec<&Shape>) = shapes.into_iter().unzip();
-        let shapes = shapes
+        let faces: Vec<(u32, Shape)> = shapes
             .into_iter()
+            .flat_map(|(name, shape)| match shape {
+                Shape::Box(cuboid) => cuboid
+                    .faces
+                    .iter()
+                    .map(|f| {
+                        let (kind, origin, edge1, edge2, normal) =
+                            (f.kind, f.origin, f.edge1, f.edge2, f.normal);
+                        (name, Shape::Planar { kind, origin, edge1, edge2, normal })
+                    })
+                    .collect::<Vec<_>>(),
+                shape => vec![(name, shape.clone())],
+            })
+            .collect();
+        let (names, shapes): (Vec<u32>, Vec<Shape>) = faces.into_iter().unzip();
+        let shapes = shapes
+            .iter()
             .map(|shape| match *shape {
                 Shape::Plane { normal, offset } => {
                     Simple::Plane { normal: Vec3x4::splat(normal), offset: Vec4::splat(offset) }
@@ -251,6 +275,7 @@ impl Simple {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Cuboid, Face};
     use crate::sampling::{Sampler, uniform_sphere};
     use glam::Vec3;
 
@@ -274,6 +299,21 @@ mod tests {
             let normal = edge1.cross(edge2).normalize();
             shapes.push(Shape::Planar { kind, origin, edge1, edge2, normal });
         }
+        // A box, as `scene::build` makes one: tested as its six faces.
+        let (lo, size) = (Vec3::new(-0.2, -0.35, 0.05), Vec3::new(0.3, 0.2, 0.25));
+        let [x, y, z] = [Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z];
+        let hi = lo + size;
+        let quad = |origin, e1, e2| Face::new(PlanarKind::Quad, origin, e1, e2);
+        let faces = [
+            quad(lo, z, y),
+            quad(hi, -y, -z),
+            quad(lo, x, z),
+            quad(hi, -z, -x),
+            quad(lo, y, x),
+            quad(hi, -x, -y),
+        ];
+        let to_cube = glam::Affine3A::from_translation(lo) * glam::Affine3A::from_scale(size);
+        shapes.push(Shape::Box(Box::new(Cuboid::new(faces, to_cube))));
         let few = FewShapes::new(shapes.iter().enumerate().map(|(i, shape)| (i as u32, shape)));
         let mut sampler = Sampler::new(4, 5, 6);
         let mut hits = [0; 3];

@@ -4,6 +4,9 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
+use super::csg::Csg;
+use super::solid::{Cone, Cuboid};
+use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
 use super::{Aabb, Hit, Ray};
 use crate::sampling::{concentric_disk, uniform_sphere, uniform_triangle};
@@ -54,6 +57,14 @@ pub enum Shape {
         mesh: Arc<TriangleMesh>,
         placement: Option<Box<Placement>>,
     },
+    /// A box kept whole: its six faces, and its inside.
+    Box(Box<Cuboid>),
+    /// A cone or cylinder, closed by its end disks unless open.
+    Cone(Box<Cone>),
+    /// POV-Ray's torus under an affine map.
+    Torus(Box<Torus>),
+    /// A CSG solid: one primitive whose surfaces belong to its operands.
+    Csg(Box<Csg>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,12 +101,12 @@ impl QuadricFrame {
     }
 
     /// The ray in canonical space, direction not normalised (so distances are the world's).
-    fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
+    pub(super) fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
         (self.to_object.transform_point3a(ray.origin), self.to_object.transform_vector3a(ray.dir))
     }
 
     /// Corners of a box holding both canonical quadrics.
-    fn canonical_corners() -> [Vec3; 8] {
+    pub(super) fn canonical_corners() -> [Vec3; 8] {
         std::array::from_fn(|i| {
             Vec3::new(
                 if i & 1 == 0 { -1.0 } else { 1.0 },
@@ -122,14 +133,18 @@ pub struct Intersection {
     pub t: f32,
     /// Planar shapes' and triangles' coordinates along their two edges.
     pub st: Vec2,
-    /// The triangle of a mesh.
+    /// The triangle of a mesh, the face of a box, the part of a cone (0 the side, 1 and 2 the
+    /// base and cap disks).
     pub triangle: u32,
+    /// For a CSG solid, the operand whose surface this is (`Csg::operand`), and whether its
+    /// normal is turned (`Csg::TURNED`); 0 for other shapes.
+    pub part: u32,
 }
 
 impl Intersection {
     /// At distance `t`, for shapes that need nothing more to make their hit record.
     pub fn at(t: f32) -> Self {
-        Intersection { t, st: Vec2::ZERO, triangle: 0 }
+        Intersection { t, st: Vec2::ZERO, triangle: 0, part: 0 }
     }
 }
 
@@ -151,12 +166,15 @@ impl Shape {
             }
             Shape::Planar { kind, origin, edge1, edge2, .. } => {
                 let (t, s, u) = planar_distance(*kind, *origin, *edge1, *edge2, ray, t_max)?;
-                Some(Intersection { t, st: Vec2::new(s, u), triangle: 0 })
+                Some(Intersection { t, st: Vec2::new(s, u), triangle: 0, part: 0 })
             }
             Shape::Quadric { kind, frame } => {
                 let (o, d) = frame.ray_to_object(ray);
                 quadric_distance(*kind, o, d, t_max).map(Intersection::at)
             }
+            Shape::Box(_) | Shape::Cone(_) => self.solid_intersection(ray, t_max),
+            Shape::Torus(torus) => torus.intersection(ray, t_max),
+            Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.intersection(&placement.ray_to_object(ray), t_max)
@@ -216,6 +234,9 @@ impl Shape {
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 placement.hit_to_world(mesh.hit(at))
             }
+            Shape::Box(_) | Shape::Cone(_) => self.solid_hit(ray, at).expect("a solid's hit"),
+            Shape::Torus(torus) => torus.hit(ray, at),
+            Shape::Csg(csg) => csg.hit(ray, at),
         }
     }
 
@@ -268,6 +289,9 @@ impl Shape {
                     })),
                 })
             }
+            Shape::Box(_) | Shape::Cone(_) => self.solid_bounds(),
+            Shape::Torus(torus) => Some(torus.bounds()),
+            Shape::Csg(csg) => csg.bounds(),
         }
     }
 
@@ -285,13 +309,19 @@ impl Shape {
                 })
             }
             Shape::Quadric { frame, .. } => frame.area,
+            Shape::Box(_) | Shape::Cone(_) => self.solid_area(),
+            Shape::Torus(torus) => torus.area(),
+            // Its surfaces are parts of its operands': not sampled as a light.
+            Shape::Csg(_) => None,
         }
     }
 
     /// A point distributed uniformly by area (pdf 1 / area); `None` where `area` is `None`.
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
-            Shape::Plane { .. } | Shape::Mesh { .. } => None,
+            Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) => None,
+            Shape::Box(_) | Shape::Cone(_) => self.solid_sample(u),
+            Shape::Torus(torus) => torus.sample(u),
             Shape::Sphere { center, radius } => {
                 let normal = uniform_sphere(u);
                 let point = center + *radius * normal;
@@ -367,6 +397,14 @@ fn plane_distance(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<f3
 
 #[inline]
 fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f32> {
+    let (t0, t1) = sphere_roots(center, radius, ray)?;
+    let t = if t0 > 0.0 { t0 } else { t1 };
+    (t > 0.0 && t < t_max).then_some(t)
+}
+
+/// Both intersections of the sphere with the ray's line, in order.
+#[inline]
+pub(super) fn sphere_roots(center: Vec3, radius: f32, ray: &Ray) -> Option<(f32, f32)> {
     let dir = Vec3::from(ray.dir);
     let oc = Vec3::from(ray.origin) - center;
     let b = oc.dot(dir);
@@ -381,17 +419,23 @@ fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f
     // q = -b - sign(b) root gives the far-from-cancellation root; c / q the other (c = |oc|^2 - r^2).
     let q = if b > 0.0 { -b - root } else { -b + root };
     let c = oc.length_squared() - radius * radius;
-    let (t0, t1) = {
-        let (a, b) = (q, c / q);
-        if a < b { (a, b) } else { (b, a) }
-    };
-    let t = if t0 > 0.0 { t0 } else { t1 };
-    (t > 0.0 && t < t_max).then_some(t)
+    let (a, b) = (q, c / q);
+    Some(if a < b { (a, b) } else { (b, a) })
+}
+
+/// Möller–Trumbore's coordinates (s, t) along edge1 and edge2 of where the ray meets the
+/// plane of a planar shape, inside it or not.
+pub(super) fn planar_unbounded(origin: Vec3, edge1: Vec3, edge2: Vec3, ray: &Ray) -> (f32, f32) {
+    let dir = Vec3::from(ray.dir);
+    let pvec = dir.cross(edge2);
+    let inv_det = 1.0 / edge1.dot(pvec);
+    let tvec = Vec3::from(ray.origin) - origin;
+    (tvec.dot(pvec) * inv_det, dir.dot(tvec.cross(edge1)) * inv_det)
 }
 
 /// Möller–Trumbore: distance and the coordinates (s, t) along edge1 and edge2.
 #[inline]
-fn planar_distance(
+pub(super) fn planar_distance(
     kind: PlanarKind,
     origin: Vec3,
     edge1: Vec3,

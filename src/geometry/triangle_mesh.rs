@@ -7,6 +7,7 @@ use std::ops::Range;
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
 use super::shape::Intersection;
+use super::solid::Crossings;
 use super::{Aabb, Hit, Ray};
 use crate::accel::{Bvh, HugeArray, prefetch};
 use crate::mesh::Mesh;
@@ -55,7 +56,7 @@ impl TriangleMesh {
         let (triangles, mut closest) = (&*self.triangles, None);
         let test = |i: usize, t_max| {
             let (t, s, u) = intersect_triangle(&triangles[i], ray, t_max)?;
-            closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32 });
+            closest = Some(Intersection { t, st: Vec2::new(s, u), triangle: i as u32, part: 0 });
             Some(t)
         };
         self.bvh.closest(ray, t_max, test, |leaf| preload(triangles, leaf));
@@ -86,6 +87,55 @@ impl TriangleMesh {
             error: 256.0 * f32::EPSILON * self.magnitude,
             primitive: 0,
         }
+    }
+
+    /// Whether every edge is shared by exactly two triangles: the mesh bounds a solid.
+    pub fn is_closed(&self) -> bool {
+        let mut edges = std::collections::HashMap::<(u32, u32), u32>::new();
+        for t in &self.indices {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        !edges.is_empty() && edges.values().all(|&n| n == 2)
+    }
+
+    /// Where the ray (object space) crosses the closed mesh in (0, t_max), and whether it
+    /// starts inside: by the parity of all its crossings beyond the origin.
+    pub fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
+        let triangles = &*self.triangles;
+        let mut all = Vec::new();
+        let mut visit = |i: usize| {
+            if let Some((t, s, u)) = intersect_triangle(&triangles[i], ray, f32::INFINITY) {
+                all.push(Intersection { t, st: Vec2::new(s, u), triangle: i as u32, part: 0 });
+            }
+            false
+        };
+        self.bvh.any(ray, f32::INFINITY, &mut visit, |leaf| preload(triangles, leaf));
+        all.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
+        let mut crossings = Crossings::outside();
+        crossings.inside_at_start = all.len() % 2 == 1;
+        let mut inside = crossings.inside_at_start;
+        for at in all.into_iter().take_while(|at| at.t < t_max) {
+            inside = !inside;
+            crossings.push(at, inside);
+        }
+        crossings
+    }
+
+    /// Whether `p` (object space) is inside the closed mesh: the parity of the crossings of a
+    /// ray from it.
+    pub fn contains(&self, p: Vec3) -> bool {
+        let dir = Vec3::new(0.5773, 0.5774, 0.5775).normalize();
+        let ray = Ray::new(p, dir);
+        let triangles = &*self.triangles;
+        let mut count = 0;
+        let mut visit = |i: usize| {
+            count += usize::from(intersect_triangle(&triangles[i], &ray, f32::INFINITY).is_some());
+            false
+        };
+        self.bvh.any(&ray, f32::INFINITY, &mut visit, |leaf| preload(triangles, leaf));
+        count % 2 == 1
     }
 
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -13,14 +13,16 @@ use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
 use crate::geometry::{
-    Placement, PlanarKind, QuadricFrame, QuadricKind, Shape, TriangleMesh, similarity_scale,
+    Cone, Csg, CsgNode, CsgOp, Cuboid, Face, Placement, PlanarKind, QuadricFrame, QuadricKind,
+    Shape, Torus, TriangleMesh, similarity_scale,
 };
 use crate::light::Light;
 use crate::material::Material;
 use crate::texture::{ImageMap, Texture};
 
-/// Scenes with at most this many bounded primitives, all simple (spheres, planar shapes), test
-/// rays traced in lanes against all of them instead of traversing the BVH. (Measured: the lab
+/// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
+/// and at most this many of them (a box counting six), test rays traced in lanes against all
+/// of them instead of traversing the BVH. (Measured: the lab
 /// box with 16 spheres and the area light renders as fast either way, one thread.)
 const FEW_BOUNDED_MAX: usize = 16;
 
@@ -33,8 +35,12 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         flat.add(node, Affine3A::IDENTITY, None)?;
     }
 
-    let (mut bounded, planes): (Vec<Primitive>, Vec<Primitive>) =
+    let (mut bounded, unbounded): (Vec<Primitive>, Vec<Primitive>) =
         flat.primitives.into_iter().partition(|p| p.shape.bounds().is_some());
+    // Unbounded: the planes, then any other (a CSG object that merges or only intersects
+    // half-spaces).
+    let (planes, others): (Vec<Primitive>, Vec<Primitive>) =
+        unbounded.into_iter().partition(|p| matches!(p.shape, Shape::Plane { .. }));
     let bounds: Vec<_> = bounded.iter().filter_map(|p| p.shape.bounds()).collect();
     if bounds.len() > MAX_PRIMITIVES {
         return Err(SceneError::unlocated(format!(
@@ -48,6 +54,8 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         order.iter().filter_map(|&i| slots[i as usize].take()).collect();
     let bounded_count = primitives.len();
     primitives.extend(planes.iter().cloned());
+    let others_start = primitives.len();
+    primitives.extend(others);
 
     let mut lights: Vec<Light> = graph
         .lights
@@ -64,20 +72,33 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     let mut warnings = camera_warnings;
     warnings.extend(flat.warnings);
     // Rays traced in lanes meet few simple shapes at less cost than the BVH's.
-    let few_holds_bounded = bounded_count <= FEW_BOUNDED_MAX
-        && primitives[..bounded_count].iter().all(|p| FewShapes::takes(&p.shape));
+    let few_holds_bounded =
+        primitives[..bounded_count].iter().map(|p| FewShapes::size(&p.shape)).sum::<usize>()
+            <= FEW_BOUNDED_MAX
+            && primitives[..bounded_count].iter().all(|p| FewShapes::takes(&p.shape));
     let few = FewShapes::new(
         primitives
             .iter()
             .enumerate()
+            .take(others_start)
             .skip(if few_holds_bounded { 0 } else { bounded_count })
             .map(|(i, p)| (i as u32, &p.shape)),
     );
+    // The surfaces of CSG operands go last: hits on them are named by them (their material
+    // and texture space), they are not traced themselves.
+    let first_surface = primitives.len() as u32;
+    for primitive in &mut primitives {
+        if let Shape::Csg(csg) = &mut primitive.shape {
+            csg.surfaces += first_surface;
+        }
+    }
+    primitives.extend(flat.surfaces);
     let mut scene = Scene {
         settings,
         camera,
         primitives,
         bounded: bounded_count,
+        others: others_start..first_surface as usize,
         bvh,
         planes: Planes::new(
             &planes
@@ -126,6 +147,9 @@ struct Flattener {
     meshes: HashMap<PathBuf, Arc<TriangleMesh>>,
     /// Index of each distinct material description, by address: declared materials are shared.
     material_index: HashMap<*const MaterialDesc, u32>,
+    /// The surfaces of CSG operands (material and frame of each), in the order of the CSG
+    /// primitives' operands.
+    surfaces: Vec<Primitive>,
 }
 
 impl Flattener {
@@ -146,6 +170,29 @@ impl Flattener {
                 children.iter().try_for_each(|c| self.add(c, to_world, material))
             }
             ShapeNode::Instance(target) => self.add(target, to_world, material),
+            ShapeNode::Csg { op, operands } => {
+                let first = self.surfaces.len() as u32;
+                let mut shapes = Vec::new();
+                let root = self.operation(*op, operands, to_world, material, &mut shapes)?;
+                let mut csg = Csg::new(root, shapes);
+                let emissive = self.surfaces[first as usize..]
+                    .iter()
+                    .any(|s| self.materials[s.material as usize].is_emissive());
+                if emissive {
+                    self.warnings.push(format!(
+                        "{:?}: warning: the emissive surfaces of this CSG object are not sampled \
+                         as lights; only rays that hit them see their light",
+                        node.span
+                    ));
+                }
+                let material = self.material(material)?;
+                self.frames.push(to_world.inverse());
+                let frame = self.frames.len() as u32 - 1;
+                csg.surfaces = first;
+                let shape = Shape::Csg(Box::new(csg));
+                self.primitives.push(Primitive { shape, material, frame, light: None });
+                Ok(())
+            }
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
                 let placement =
@@ -156,6 +203,7 @@ impl Flattener {
                 Ok(())
             }
             shape => {
+                check_dimensions(shape, node)?;
                 let material = self.material(material)?;
                 self.frames.push(to_world.inverse());
                 for shape in world_shapes(shape, to_world) {
@@ -166,12 +214,99 @@ impl Flattener {
         }
     }
 
+    /// The tree of an operation on `operands` placed by `to_world`, their solids appended to
+    /// `shapes` and their surfaces to `self.surfaces`.
+    fn operation(
+        &mut self,
+        op: CsgOp,
+        operands: &[ObjectNode],
+        to_world: Affine3A,
+        material: Option<&Arc<MaterialDesc>>,
+        shapes: &mut Vec<Shape>,
+    ) -> Result<CsgNode, SceneError> {
+        let children = operands
+            .iter()
+            .map(|operand| self.operand(operand, to_world, material, shapes))
+            .collect::<Result<_, _>>()?;
+        Ok(CsgNode::Operation { op, children })
+    }
+
+    /// One operand of a CSG operation: a solid, or a located error.
+    fn operand(
+        &mut self,
+        node: &ObjectNode,
+        parent: Affine3A,
+        inherited: Option<&Arc<MaterialDesc>>,
+        shapes: &mut Vec<Shape>,
+    ) -> Result<CsgNode, SceneError> {
+        let to_world = parent * compose(&node.transforms);
+        let determinant = to_world.matrix3.determinant();
+        if !determinant.is_finite() || determinant.abs() < 1e-12 {
+            return Err(SceneError::at(&node.span, "the transforms of this object are singular"));
+        }
+        let material = node.material.as_ref().or(inherited);
+        let not_solid = |what: &str| {
+            SceneError::at(
+                &node.span,
+                format!(
+                    "{what} is not a solid: the operands of intersection, difference and merge \
+                     must be solids (sphere, box, closed cylinder or cone, torus, plane, closed \
+                     mesh, CSG, or objects and unions of these)"
+                ),
+            )
+        };
+        let shape = match &node.shape {
+            ShapeNode::Csg { op, operands } => {
+                return self.operation(*op, operands, to_world, material, shapes);
+            }
+            ShapeNode::Union(children) => {
+                return self.operation(CsgOp::Merge, children, to_world, material, shapes);
+            }
+            ShapeNode::Instance(target) => return self.operand(target, to_world, material, shapes),
+            ShapeNode::Triangle { .. } => return Err(not_solid("a triangle")),
+            ShapeNode::Quad { .. } => return Err(not_solid("a quad")),
+            ShapeNode::Disk { .. } => return Err(not_solid("a disk")),
+            ShapeNode::Cone { open: true, base_radius, cap_radius, .. } => {
+                let what =
+                    if base_radius == cap_radius { "an open cylinder" } else { "an open cone" };
+                return Err(not_solid(what));
+            }
+            ShapeNode::Mesh { path } => {
+                let mesh = self.mesh(path, node)?;
+                if !mesh.is_closed() {
+                    return Err(not_solid(
+                        "this mesh is not closed (some edge is not shared by exactly two \
+                         triangles), so it",
+                    ));
+                }
+                let placement =
+                    (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
+                Shape::Mesh { mesh, placement }
+            }
+            shape => {
+                check_dimensions(shape, node)?;
+                let mut world = world_shapes(shape, to_world);
+                match (world.pop(), world.is_empty()) {
+                    (Some(shape), true) => shape,
+                    _ => return Err(not_solid("this object")),
+                }
+            }
+        };
+        let index = shapes.len() as u32;
+        let material = self.material(material)?;
+        self.frames.push(to_world.inverse());
+        let frame = self.frames.len() as u32 - 1;
+        self.surfaces.push(Primitive { shape: shape.clone(), material, frame, light: None });
+        shapes.push(shape);
+        Ok(CsgNode::Operand(index))
+    }
+
     fn push(&mut self, shape: Shape, material: u32, node: &ObjectNode) {
         if self.materials[material as usize].is_emissive() && shape.area().is_none() {
             self.warnings.push(format!(
                 "{:?}: warning: this emitter cannot be sampled as a light (an infinite plane, a \
-                 mesh, or a sphere or cylinder under non-uniform scale); only rays that hit it \
-                 see its light",
+                 mesh, or a sphere, cylinder, cone or torus under non-uniform scale); only rays \
+                 that hit it see its light",
                 node.span
             ));
         }
@@ -245,21 +380,80 @@ impl Flattener {
     }
 }
 
+/// A located error for a cone or torus the graph gives impossible dimensions (the language
+/// checks the other shapes' as it reads them).
+fn check_dimensions(shape: &ShapeNode, node: &ObjectNode) -> Result<(), SceneError> {
+    let problem = match *shape {
+        ShapeNode::Cone { base, base_radius, cap, cap_radius, .. } => {
+            // (Written so that NaN fails each test.)
+            let radii_valid =
+                base_radius >= 0.0 && cap_radius >= 0.0 && base_radius.max(cap_radius) > 0.0;
+            let axis_valid = base.distance_squared(cap) > 0.0;
+            if !radii_valid {
+                Some("a cone's radii must be at least 0, and not both 0")
+            } else if !axis_valid {
+                Some("a cone's base and cap centres must differ")
+            } else {
+                None
+            }
+        }
+        ShapeNode::Torus { major, minor } if !(major > 0.0 && minor > 0.0) => {
+            Some("a torus' radii must be greater than 0")
+        }
+        _ => None,
+    };
+    problem.map_or(Ok(()), |message| Err(SceneError::at(&node.span, message)))
+}
+
 /// The world-space shapes of one primitive node under `m`.
 fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
     // A mirroring transform would turn edge1 x edge2 inside out; normals transform by the
     // inverse transpose and keep their side, so swap the edges to follow them.
     let mirrored = m.matrix3.determinant() < 0.0;
-    let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
+    let face = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
         let (origin, e1, e2) =
             (m.transform_point3(origin), m.transform_vector3(e1), m.transform_vector3(e2));
         let (e1, e2) = if mirrored { (e2, e1) } else { (e1, e2) };
-        Shape::Planar { kind, origin, edge1: e1, edge2: e2, normal: e1.cross(e2).normalize() }
+        Face::new(kind, origin, e1, e2)
     };
-    // A disk (or cylinder cap) with the given centre and unit normal.
+    let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
+        let Face { kind, origin, edge1, edge2, normal } = face(kind, origin, e1, e2);
+        Shape::Planar { kind, origin, edge1, edge2, normal }
+    };
+    // A disk (or cone cap) with the given centre and unit normal.
     let disk = |center: Vec3, normal: Vec3, radius: f32| {
         let (t, b) = tangents(normal);
-        planar(PlanarKind::Disk, center, t * radius, b * radius)
+        face(PlanarKind::Disk, center, t * radius, b * radius)
+    };
+    let cone = |base: Vec3, base_radius: f32, cap: Vec3, cap_radius: f32, open: bool| {
+        let axis = cap - base;
+        let direction = axis.normalize();
+        let (t, b) = tangents(direction);
+        // The side in a frame of the larger radius: a cylinder's is its tube's as always.
+        let radius = base_radius.max(cap_radius);
+        let frame = m * Affine3A::from_mat3_translation(
+            glam::Mat3::from_cols(t * radius, b * radius, axis),
+            base,
+        );
+        let pi = std::f32::consts::PI;
+        let side_area = similarity_scale(&m).map(|s| {
+            let side = if base_radius == cap_radius {
+                // Side area 2 pi r h, scaled by the square of a similarity's scale.
+                2.0 * pi * radius * axis.length()
+            } else {
+                let slant = axis.length().hypot(cap_radius - base_radius);
+                pi * (base_radius + cap_radius) * slant
+            };
+            side * s * s
+        });
+        let cap_disk = |center, normal, r: f32| (!open && r > 0.0).then(|| disk(center, normal, r));
+        Shape::Cone(Box::new(Cone {
+            frame: QuadricFrame::new(frame, side_area),
+            radii: [base_radius / radius, cap_radius / radius],
+            caps: [cap_disk(base, -direction, base_radius), cap_disk(cap, direction, cap_radius)],
+            open,
+            side_area,
+        }))
     };
     match *shape {
         ShapeNode::Plane { normal, offset } => {
@@ -291,45 +485,41 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             let [x, y, z] = [Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z];
             let hi = lo + size;
             // Each face as corner, edge1, edge2 with edge1 x edge2 pointing out of the box.
-            vec![
-                planar(PlanarKind::Quad, lo, z, y),
-                planar(PlanarKind::Quad, hi, -y, -z),
-                planar(PlanarKind::Quad, lo, x, z),
-                planar(PlanarKind::Quad, hi, -z, -x),
-                planar(PlanarKind::Quad, lo, y, x),
-                planar(PlanarKind::Quad, hi, -x, -y),
-            ]
+            let faces = [
+                face(PlanarKind::Quad, lo, z, y),
+                face(PlanarKind::Quad, hi, -y, -z),
+                face(PlanarKind::Quad, lo, x, z),
+                face(PlanarKind::Quad, hi, -z, -x),
+                face(PlanarKind::Quad, lo, y, x),
+                face(PlanarKind::Quad, hi, -x, -y),
+            ];
+            let to_cube = m * Affine3A::from_scale_rotation_translation(
+                size.max(Vec3::splat(f32::MIN_POSITIVE)),
+                glam::Quat::IDENTITY,
+                lo,
+            );
+            vec![Shape::Box(Box::new(Cuboid::new(faces, to_cube)))]
         }
         ShapeNode::Triangle { a, b, c } => vec![planar(PlanarKind::Triangle, a, b - a, c - a)],
         ShapeNode::Quad { corner, edge1, edge2 } => {
             vec![planar(PlanarKind::Quad, corner, edge1, edge2)]
         }
         ShapeNode::Disk { center, normal, radius } => {
-            vec![disk(center, normal.normalize(), radius)]
+            let Face { kind, origin, edge1, edge2, normal } =
+                disk(center, normal.normalize(), radius);
+            vec![Shape::Planar { kind, origin, edge1, edge2, normal }]
         }
-        ShapeNode::Cylinder { base, cap, radius } => {
-            let axis = cap - base;
-            let direction = axis.normalize();
-            let (t, b) = tangents(direction);
-            let tube = m * Affine3A::from_mat3_translation(
-                glam::Mat3::from_cols(t * radius, b * radius, axis),
-                base,
-            );
-            vec![
-                Shape::Quadric {
-                    kind: QuadricKind::Tube,
-                    // Side area 2 pi r h, scaled by the square of a similarity's scale.
-                    frame: Box::new(QuadricFrame::new(
-                        tube,
-                        similarity_scale(&m)
-                            .map(|s| 2.0 * std::f32::consts::PI * radius * axis.length() * s * s),
-                    )),
-                },
-                disk(base, -direction, radius),
-                disk(cap, direction, radius),
-            ]
+        ShapeNode::Cylinder { base, cap, radius } => vec![cone(base, radius, cap, radius, false)],
+        ShapeNode::Cone { base, base_radius, cap, cap_radius, open } => {
+            vec![cone(base, base_radius, cap, cap_radius, open)]
         }
-        ShapeNode::Union(_) | ShapeNode::Instance(_) | ShapeNode::Mesh { .. } => Vec::new(),
+        ShapeNode::Torus { major, minor } => {
+            vec![Shape::Torus(Box::new(Torus::new(major, minor, m)))]
+        }
+        ShapeNode::Union(_)
+        | ShapeNode::Instance(_)
+        | ShapeNode::Mesh { .. }
+        | ShapeNode::Csg { .. } => Vec::new(),
     }
 }
 

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
+pub use crate::geometry::CsgOp;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -279,11 +280,37 @@ pub enum ShapeNode {
         normal: Vec3,
         radius: f32,
     },
-    /// Closed: with both caps.
+    /// Closed: with both caps. (An open cylinder is a `Cone` with equal radii and `open`.)
     Cylinder {
         base: Vec3,
         cap: Vec3,
         radius: f32,
+    },
+    /// `cone { base, base_radius, cap, cap_radius [open] }`: radii >= 0, not both 0; closed
+    /// by its end disks (none where a radius is 0) unless `open`, which leaves the side alone
+    /// (not a solid then). Equal radii make a cylinder.
+    Cone {
+        base: Vec3,
+        base_radius: f32,
+        cap: Vec3,
+        cap_radius: f32,
+        open: bool,
+    },
+    /// `torus { major, minor }`: the points at distance `minor` from the circle of radius
+    /// `major` about the y axis in the x-z plane (POV-Ray's torus). Radii > 0.
+    Torus {
+        major: f32,
+        minor: f32,
+    },
+    /// `intersection`, `difference`, `merge { ... }`: a solid made of solid operands (sphere,
+    /// box, closed cylinder and cone, torus, plane as the half-space n . p + d < 0, closed
+    /// mesh, CSG, and `Union`/`Instance` nodes of solids; a union operand counts as the merge
+    /// of its children). Each operand keeps its own material (a material on this node applies
+    /// to operands without one) and transforms; `scene::build` reports any other operand as a
+    /// located error at the operand's span.
+    Csg {
+        op: CsgOp,
+        operands: Vec<ObjectNode>,
     },
     /// `mesh { "file.ply" }`: triangles from a PLY or OBJ file (path resolved by `lang`).
     Mesh {

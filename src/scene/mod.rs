@@ -12,7 +12,7 @@ use glam::{Affine3A, BVec4A, Vec3, Vec4};
 
 use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
-use crate::geometry::{Hit, Intersection, LANES, Lane, Ray, Shape};
+use crate::geometry::{Csg, Hit, Intersection, LANES, Lane, Ray, Shape};
 use crate::light::{LaneLight, Light};
 use crate::material::Material;
 use crate::texture::Texture;
@@ -39,13 +39,18 @@ struct Found {
 pub struct Scene {
     pub settings: Settings,
     pub camera: Camera,
-    /// Bounded primitives first, in BVH order, then the unbounded planes.
+    /// Bounded primitives first, in BVH order, then the unbounded planes, then other unbounded
+    /// primitives, then the surfaces of CSG operands (not traced: a hit on a CSG primitive is
+    /// named by its operand's surface).
     pub primitives: Vec<Primitive>,
     bounded: usize,
     bvh: Bvh,
     /// The unbounded planes, `primitives[bounded..]`, in the same order, four to a group for
     /// one ray at a time.
     planes: Planes,
+    /// Unbounded primitives other than planes (CSG objects without bounds), after the planes:
+    /// tested by every ray.
+    others: Range<usize>,
     /// For rays traced in lanes: the planes, and the bounded primitives too when they are all
     /// simple and few (`few_holds_bounded`: the BVH is then not traversed).
     few: FewShapes,
@@ -74,7 +79,13 @@ impl Scene {
             closest = Some(Found { primitive: i as u32, at });
             Some(at.t)
         };
-        let t_max = self.bvh.closest(ray, f32::INFINITY, test, |leaf| self.preload(leaf));
+        let mut t_max = self.bvh.closest(ray, f32::INFINITY, test, |leaf| self.preload(leaf));
+        for i in self.others.clone() {
+            if let Some(at) = self.primitives[i].shape.intersection(ray, t_max) {
+                closest = Some(Found { primitive: i as u32, at });
+                t_max = at.t;
+            }
+        }
         if let Some((k, t)) = self.planes.closest(ray, t_max) {
             closest = Some(Found { primitive: (self.bounded + k) as u32, at: Intersection::at(t) });
         }
@@ -98,6 +109,9 @@ impl Scene {
                 t_max[lane] = self.bvh.closest(ray, t_max[lane], test, |leaf| self.preload(leaf));
             }
         }
+        if !self.others.is_empty() {
+            self.closest_others(rays, active, &mut closest, &mut t_max);
+        }
         let mut nearest = self.few.closest(rays, Vec4::from_array(t_max));
         for (lane, found) in closest.iter().enumerate() {
             if nearest.names[lane].is_none()
@@ -112,23 +126,60 @@ impl Scene {
         nearest
     }
 
+    /// The closest of the unbounded primitives other than planes along each active lane's ray,
+    /// nearer than what was found so far.
+    #[cold]
+    fn closest_others(
+        &self,
+        rays: &RayLanes,
+        active: [bool; LANES],
+        closest: &mut [Option<Found>; LANES],
+        t_max: &mut [f32; LANES],
+    ) {
+        for lane in (0..LANES).filter(|&lane| active[lane]) {
+            let ray = &rays.lane(lane);
+            for i in self.others.clone() {
+                if let Some(at) = self.primitives[i].shape.intersection(ray, t_max[lane]) {
+                    closest[lane] = Some(Found { primitive: i as u32, at });
+                    t_max[lane] = at.t;
+                }
+            }
+        }
+    }
+
     /// The hit record of the primitive `ray` was found to meet. (Made only for the closest.)
     fn hit(&self, ray: &Ray, found: &Found) -> Hit {
         let primitive = &self.primitives[found.primitive as usize];
-        Hit { primitive: found.primitive, ..primitive.shape.hit(ray, &found.at) }
+        // A CSG surface is named by its operand's surface, which has its material.
+        let name = match &primitive.shape {
+            Shape::Csg(csg) => csg.surfaces + Csg::operand(&found.at),
+            _ => found.primitive,
+        };
+        Hit { primitive: name, ..primitive.shape.hit(ray, &found.at) }
     }
 
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let bounded = &self.primitives[..self.bounded];
         let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
-        self.planes.any(ray, t_max) || self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
+        self.planes.any(ray, t_max)
+            || self.others.clone().any(|i| self.primitives[i].shape.occludes(ray, t_max))
+            || self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
     }
 
     /// Per lane, whether any surface lies along the ray before its `t_max`; a
     /// lane with `t_max` 0 is never occluded.
     pub fn occluded_lanes(&self, rays: &RayLanes, t_max: Vec4) -> BVec4A {
         let mut occluded = self.few.any(rays, t_max);
+        if !self.others.is_empty() {
+            let open = occluded;
+            for lane in (0..LANES).filter(|&lane| !open.lane(lane) && t_max[lane] > 0.0) {
+                let (ray, t_max) = (&rays.lane(lane), t_max[lane]);
+                if self.others.clone().any(|i| self.primitives[i].shape.occludes(ray, t_max)) {
+                    occluded.set_lane(lane, true);
+                }
+            }
+        }
         if !self.few_holds_bounded {
             let bounded = &self.primitives[..self.bounded];
             let open = occluded;
@@ -141,6 +192,12 @@ impl Scene {
             }
         }
         occluded
+    }
+
+    /// How many primitives rays are traced against (the surfaces of CSG operands, which only
+    /// name hits, are not counted).
+    pub fn traced_primitives(&self) -> usize {
+        self.others.end
     }
 
     /// Starts loading primitives a traversal may test soon (see `Bvh::closest`).

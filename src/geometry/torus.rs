@@ -1,0 +1,310 @@
+//! POV-Ray's torus: the points at distance `minor` from the circle of radius `major` about the
+//! y axis in the x-z plane, under an affine map. Its intersections are the real roots of a
+//! quartic, found robustly: in the torus' own space scaled to major radius 1, from a ray
+//! origin moved to the torus' bounding sphere first (so a torus far from the origin or seen
+//! from far away is as precise as one nearby), by isolating each root between the roots of the
+//! derivatives and refining it with safeguarded Newton steps in f64.
+
+use std::f64::consts::PI as PI64;
+
+use arrayvec::ArrayVec;
+use glam::{Affine3A, DMat3, DVec3, Vec2, Vec3, Vec3A};
+
+use super::shape::{Intersection, QuadricFrame, REL_ERROR, SurfaceSample};
+use super::solid::Crossings;
+use super::{Aabb, Hit, Ray};
+
+#[derive(Debug, Clone)]
+pub struct Torus {
+    /// Maps the torus of major radius 1 and minor radius `minor` (its own space) to the world.
+    pub frame: QuadricFrame,
+    /// The minor radius over the major radius.
+    pub minor: f32,
+    /// World area, when the map is a similarity (then uniform sampling of the torus' own
+    /// space is uniform by area).
+    pub area: Option<f32>,
+    /// The centre in the world and the inverse of the map's linear part, in f64.
+    center: DVec3,
+    linear_to_object: DMat3,
+}
+
+impl Torus {
+    /// The torus `torus { major, minor }` placed in the world by `to_world`.
+    pub fn new(major: f32, minor: f32, to_world: Affine3A) -> Self {
+        let frame_map = to_world * Affine3A::from_scale(Vec3::splat(major));
+        let area = super::similarity_scale(&to_world)
+            .map(|s| 4.0 * std::f32::consts::PI.powi(2) * major * minor * s * s);
+        let mut frame = QuadricFrame::new(frame_map, area);
+        let ratio = minor / major;
+        let reach = 1.0 + ratio;
+        frame.magnitude = Torus::local_corners(ratio, reach)
+            .iter()
+            .fold(0.0f32, |m, c| m.max(frame_map.transform_point3(*c).abs().max_element()));
+        let linear = glam::Mat3::from(frame_map.matrix3).as_dmat3();
+        let center = Vec3::from(frame_map.translation).as_dvec3();
+        Torus { frame, minor: ratio, area, center, linear_to_object: linear.inverse() }
+    }
+
+    fn local_corners(minor: f32, reach: f32) -> [Vec3; 8] {
+        std::array::from_fn(|i| {
+            Vec3::new(
+                if i & 1 == 0 { -reach } else { reach },
+                if i & 2 == 0 { -minor } else { minor },
+                if i & 4 == 0 { -reach } else { reach },
+            )
+        })
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        let corners = Torus::local_corners(self.minor, 1.0 + self.minor);
+        Aabb::from_points(&corners.map(|c| self.frame.to_world.transform_point3(c)))
+    }
+
+    pub fn area(&self) -> Option<f32> {
+        self.area
+    }
+
+    /// Every intersection of the ray's whole line with the torus, in order (world distances).
+    pub fn roots(&self, ray: &Ray) -> ArrayVec<f32, 4> {
+        let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
+        let speed = d.length();
+        let mut roots = ArrayVec::new();
+        if speed == 0.0 || !speed.is_finite() {
+            return roots;
+        }
+        let d = d / speed;
+        let minor = f64::from(self.minor);
+        // The bounding sphere of radius 1 + minor: no root outside it. Move the origin to the
+        // line's point nearest the centre, so that the quartic's coefficients are of the
+        // torus' size however far away the ray starts.
+        let reach = 1.0 + minor;
+        let shift = -o.dot(d);
+        let near = o + shift * d;
+        let half_chord_squared = reach * reach - near.length_squared();
+        if half_chord_squared < 0.0 {
+            return roots;
+        }
+        let half_chord = half_chord_squared.sqrt();
+        // (|p|^2 + 1 - r^2)^2 - 4 (x^2 + z^2) for p = near + s d, |d| = 1.
+        let a = near.dot(d);
+        let b = near.length_squared() + 1.0 - minor * minor;
+        let horizontal = d.x * d.x + d.z * d.z;
+        let cross = near.x * d.x + near.z * d.z;
+        let quartic = [
+            b * b - 4.0 * (near.x * near.x + near.z * near.z),
+            4.0 * a * b - 8.0 * cross,
+            4.0 * a * a + 2.0 * b - 4.0 * horizontal,
+            4.0 * a,
+            1.0,
+        ];
+        let margin = 1e-9 * reach;
+        for s in polynomial_roots(&quartic, -half_chord - margin, half_chord + margin) {
+            roots.push(((shift + s) / speed) as f32);
+        }
+        roots
+    }
+
+    pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
+        self.roots(ray).into_iter().find(|&t| t > 0.0 && t < t_max).map(Intersection::at)
+    }
+
+    pub fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
+        Crossings::from_roots(&self.roots(ray), t_max, Intersection::at)
+    }
+
+    /// The point on the torus nearest `p` (own space) and the outward normal there.
+    fn project(&self, p: Vec3A) -> (Vec3A, Vec3A) {
+        let ring = Vec3A::new(p.x, 0.0, p.z).normalize_or(Vec3A::X);
+        let normal = (p - ring).normalize_or(ring);
+        (ring + normal * self.minor, normal)
+    }
+
+    pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
+        let (o, d) = self.frame.ray_to_object(ray);
+        let (point, normal) = self.project(o + at.t * d);
+        let normal: Vec3 = (self.frame.normal_to_world * normal).normalize().into();
+        Hit {
+            t: at.t,
+            point: self.frame.to_world.transform_point3a(point).into(),
+            normal,
+            shading_normal: normal,
+            error: REL_ERROR * self.frame.magnitude,
+            primitive: 0,
+        }
+    }
+
+    pub fn contains(&self, p: Vec3) -> bool {
+        let (p, _) = self.to_object(p, Vec3::ZERO);
+        let ring = (p.x * p.x + p.z * p.z).sqrt() - 1.0;
+        let minor = f64::from(self.minor);
+        ring * ring + p.y * p.y < minor * minor
+    }
+
+    /// A point and a vector in the torus' own space, in f64, the point taken relative to the
+    /// torus' centre first: a torus far from the origin loses nothing to cancellation.
+    fn to_object(&self, p: Vec3, v: Vec3) -> (DVec3, DVec3) {
+        let m = &self.linear_to_object;
+        (*m * (p.as_dvec3() - self.center), *m * v.as_dvec3())
+    }
+
+    /// A point uniform by area: the angle about the y axis uniform, the angle about the tube
+    /// with density proportional to 1 + r cos(theta), by Newton's method on its distribution.
+    /// `None` unless the area is known and the torus is a ring (minor < major).
+    pub fn sample(&self, u: Vec2) -> Option<SurfaceSample> {
+        self.area?;
+        let r = f64::from(self.minor);
+        if r >= 1.0 {
+            return None;
+        }
+        // theta + r sin(theta) = 2 pi u, increasing in theta.
+        let target = 2.0 * PI64 * f64::from(u.x);
+        let mut theta = target;
+        for _ in 0..20 {
+            let step = (theta + r * theta.sin() - target) / (1.0 + r * theta.cos());
+            theta = (theta - step).clamp(0.0, 2.0 * PI64);
+            if step.abs() < 1e-12 {
+                break;
+            }
+        }
+        let phi = 2.0 * std::f32::consts::PI * u.y;
+        let ring = Vec3::new(phi.cos(), 0.0, phi.sin());
+        let theta = theta as f32;
+        let normal = ring * theta.cos() + Vec3::Y * theta.sin();
+        let frame = &self.frame;
+        Some(SurfaceSample {
+            point: frame.to_world.transform_point3(ring + normal * self.minor),
+            normal: (frame.normal_to_world * Vec3A::from(normal)).normalize().into(),
+            error: REL_ERROR * frame.magnitude,
+        })
+    }
+}
+
+/// `c[0] + c[1] x + c[2] x^2 + ...` at `x`.
+fn evaluate(c: &[f64], x: f64) -> f64 {
+    c.iter().rev().fold(0.0, |acc, &k| acc * x + k)
+}
+
+/// The real roots of the polynomial `c` (lowest degree first, degree at most 4) in [lo, hi],
+/// in order. Between consecutive roots of the derivative the polynomial is monotonic, so each
+/// such interval holds at most one root, found by bisection-safeguarded Newton steps. A root
+/// of even multiplicity (a grazing ray) is kept when the polynomial reaches zero at the
+/// derivative's root to within rounding.
+pub fn polynomial_roots(c: &[f64], lo: f64, hi: f64) -> ArrayVec<f64, 4> {
+    let mut roots = ArrayVec::new();
+    let degree = c.len() - 1;
+    if degree == 1 {
+        if c[1] != 0.0 {
+            let x = -c[0] / c[1];
+            if (lo..=hi).contains(&x) {
+                roots.push(x);
+            }
+        }
+        return roots;
+    }
+    let derivative: ArrayVec<f64, 4> = (1..=degree).map(|i| c[i] * i as f64).collect();
+    let mut ends = ArrayVec::<f64, 6>::new();
+    ends.push(lo);
+    ends.extend(polynomial_roots(&derivative, lo, hi));
+    ends.push(hi);
+    // The size of the terms, for what counts as zero at a touching extremum.
+    let scale = |x: f64| c.iter().rev().fold(0.0, |acc, &k| acc * x.abs() + k.abs());
+    // An extremum that reaches zero within rounding is a touching root (a grazing ray): in and
+    // out at once, so it counts twice and the monotonic pieces beside it hold no other root.
+    let last = ends.len() - 1;
+    let touching: ArrayVec<bool, 6> = (0..ends.len())
+        .map(|i| i > 0 && i < last && evaluate(c, ends[i]).abs() <= 1e-12 * scale(ends[i]))
+        .collect();
+    for i in 0..last {
+        let (a, b) = (ends[i], ends[i + 1]);
+        if !touching[i] && !touching[i + 1] {
+            let (fa, fb) = (evaluate(c, a), evaluate(c, b));
+            if fa == 0.0 {
+                push_distinct(&mut roots, a);
+            } else if fa.signum() != fb.signum() && fb != 0.0 {
+                push_distinct(&mut roots, refine(c, &derivative, a, b, fa));
+            }
+        }
+        if touching[i + 1] && roots.len() + 2 <= roots.capacity() {
+            roots.push(b);
+            roots.push(b);
+        }
+    }
+    roots
+}
+
+fn push_distinct(roots: &mut ArrayVec<f64, 4>, x: f64) {
+    if roots.last() != Some(&x) && !roots.is_full() {
+        roots.push(x);
+    }
+}
+
+/// The root in [a, b], where the polynomial changes sign (`fa` at a) and is monotonic.
+fn refine(c: &[f64], derivative: &[f64], mut a: f64, mut b: f64, fa: f64) -> f64 {
+    let mut x = 0.5 * (a + b);
+    for _ in 0..100 {
+        let fx = evaluate(c, x);
+        if fx == 0.0 {
+            return x;
+        }
+        if fx.signum() == fa.signum() {
+            a = x;
+        } else {
+            b = x;
+        }
+        let slope = evaluate(derivative, x);
+        let newton = x - fx / slope;
+        let next = if newton > a && newton < b { newton } else { 0.5 * (a + b) };
+        if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) || b - a <= 1e-15 * (1.0 + x.abs()) {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn polynomial_roots_of_known_factors() {
+        // (x - 1)(x - 2)(x + 3)(x - 0.5) = x^4 - 0.5 x^3 - 7 x^2 + 9.5 x - 3
+        let c = [-3.0, 9.5, -7.0, -0.5, 1.0];
+        let roots = polynomial_roots(&c, -10.0, 10.0);
+        let expected = [-3.0, 0.5, 1.0, 2.0];
+        assert_eq!(roots.len(), 4, "{roots:?}");
+        for (r, e) in roots.iter().zip(expected) {
+            assert!((r - e).abs() < 1e-12, "{roots:?}");
+        }
+        // A double root (x - 1)^2 (x^2 + 1): touching, counted twice.
+        let c = [1.0, -2.0, 2.0, -2.0, 1.0];
+        let roots = polynomial_roots(&c, -10.0, 10.0);
+        assert_eq!(roots.len(), 2, "{roots:?}");
+        assert!(roots.iter().all(|r| (r - 1.0).abs() < 1e-6));
+        assert!(polynomial_roots(&[1.0, 0.0, 1.0, 0.0, 1.0], -10.0, 10.0).is_empty());
+    }
+
+    #[test]
+    fn torus_seen_along_an_axis_and_from_far() {
+        let torus = Torus::new(2.0, 0.5, Affine3A::IDENTITY);
+        let ray = Ray::new(Vec3::new(-10.0, 0.0, 0.0), Vec3::X);
+        let roots = torus.roots(&ray);
+        let expected = [7.5, 8.5, 11.5, 12.5];
+        assert_eq!(roots.len(), 4);
+        for (r, e) in roots.iter().zip(expected) {
+            assert!((r - e).abs() < 1e-5, "{roots:?}");
+        }
+        let hit = torus.hit(&ray, &Intersection::at(roots[0]));
+        assert!((hit.normal + Vec3::X).length() < 1e-5 && (hit.point.x + 2.5).abs() < 1e-5);
+        // Down the hole: no hit.
+        assert!(torus.roots(&Ray::new(Vec3::new(0.0, 10.0, 0.0), -Vec3::Y)).is_empty());
+        // 1000 units away, moved there.
+        let far = Torus::new(2.0, 0.5, Affine3A::from_translation(Vec3::splat(1000.0)));
+        let ray = Ray::new(Vec3::new(990.0, 1000.0, 1000.0), Vec3::X);
+        let roots = far.roots(&ray);
+        assert_eq!(roots.len(), 4);
+        assert!((roots[0] - 7.5).abs() < 1e-3, "{roots:?}");
+        assert!(far.contains(Vec3::new(1002.0, 1000.2, 1000.0)));
+        assert!(!far.contains(Vec3::new(1000.0, 1000.0, 1000.0)));
+    }
+}

@@ -1,0 +1,837 @@
+//! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
+//! cone, torus and CSG hits against a brute-force march along the ray with the point-inside
+//! test, inside tests against the operands', an emission-only render against the analytic
+//! silhouette, and build errors.
+
+mod common;
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+use raydiance::geometry::{Ray, Shape};
+use raydiance::scene::graph::{
+    CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
+    compose,
+};
+use raydiance::scene::{Scene, build};
+
+/// A small deterministic generator (SplitMix64).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.next()
+    }
+
+    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+
+    fn direction(&mut self) -> Vec3 {
+        loop {
+            let v = self.vec(-1.0, 1.0);
+            if v.length_squared() > 0.01 && v.length_squared() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
+}
+
+/// An empty scene graph (camera looking at the origin), for objects to be added to.
+fn empty_graph() -> SceneGraph {
+    let text = "camera { location <0, 0, -5>  look_at <0, 0, 0>  angle 40  up <0, 1, 0> }";
+    raydiance::lang::parse_scene(Path::new("tests/solids.scn"), text).expect("camera parses")
+}
+
+fn node(graph: &SceneGraph, shape: ShapeNode, transforms: Vec<Transform>) -> ObjectNode {
+    ObjectNode { shape, material: None, transforms, depth: 1, span: graph.camera.span.clone() }
+}
+
+fn material(graph: &SceneGraph, diffuse: Vec3, emission: Vec3) -> Arc<MaterialDesc> {
+    let mut m = MaterialDesc::new(graph.camera.span.clone());
+    m.diffuse = TextureNode::solid(diffuse);
+    m.emission = emission;
+    Arc::new(m)
+}
+
+/// The one bounded shape a graph of one object builds to.
+fn built_shape(graph: &SceneGraph, object: ObjectNode) -> Shape {
+    let mut graph = graph.clone();
+    graph.objects = vec![object];
+    let scene = build(&graph).unwrap_or_else(|e| panic!("{e}"));
+    scene.primitives[0].shape.clone()
+}
+
+fn random_transforms(rng: &mut Rng, far: bool) -> Vec<Transform> {
+    // A mirror one time in four.
+    let mirror = if rng.next() < 0.25 { -1.0 } else { 1.0 };
+    let mut transforms = vec![
+        Transform::Scale(Vec3::new(
+            mirror * rng.range(0.5, 1.5),
+            rng.range(0.5, 1.5),
+            rng.range(0.5, 1.5),
+        )),
+        Transform::Rotate(rng.vec(-180.0, 180.0)),
+        Transform::Translate(rng.vec(-0.5, 0.5)),
+    ];
+    if far {
+        transforms.push(Transform::Translate(Vec3::new(1000.0, -700.0, 600.0)));
+    }
+    transforms
+}
+
+/// The first point along `ray` in (0, t_end) where `inside` changes from its value at the
+/// origin, by marching `steps` steps and bisecting; `None` if no sample differs.
+fn march(
+    inside: impl Fn(Vec3) -> bool,
+    ray: &Ray,
+    t_start: f32,
+    t_end: f32,
+    steps: usize,
+) -> Option<f32> {
+    let start = inside(ray.at(t_start));
+    let h = (t_end - t_start) / steps as f32;
+    let mut previous = t_start;
+    for i in 1..=steps {
+        let t = t_start + h * i as f32;
+        if inside(ray.at(t)) != start {
+            let (mut a, mut b) = (previous, t);
+            for _ in 0..40 {
+                let m = 0.5 * (a + b);
+                if inside(ray.at(m)) != start { b = m } else { a = m }
+            }
+            return Some(0.5 * (a + b));
+        }
+        previous = t;
+    }
+    None
+}
+
+/// The segment of the ray's line inside the box (slab test), if any.
+fn clip(ray: &Ray, min: Vec3, max: Vec3) -> Option<(f32, f32)> {
+    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let (t0, t1) = ((min - o) / d, (max - o) / d);
+    let (near, far) = (t0.min(t1).max_element(), t0.max(t1).min_element());
+    (near <= far && far > 0.0).then_some((near.max(0.0), far))
+}
+
+#[derive(Default, Debug)]
+struct Tally {
+    rays: usize,
+    hits: usize,
+    slivers: usize,
+}
+
+/// The shape's first hit against the march: they agree within `tolerance`, or the analytic
+/// hit is on an interval thinner than a march step (a sliver the march steps over). A march
+/// crossing that the analytic test misses or finds late is a hole: that fails.
+fn check_ray(shape: &Shape, ray: &Ray, steps: usize, tolerance: f32, tally: &mut Tally) {
+    tally.rays += 1;
+    let bounds = shape.bounds().expect("bounded");
+    let pad = 1e-3 * bounds.extent().max_element();
+    let Some((t0, t1)) = clip(ray, bounds.min - pad, bounds.max + pad) else {
+        assert!(shape.intersection(ray, f32::INFINITY).is_none(), "hit outside the bounds");
+        return;
+    };
+    let h = (t1 - t0) / steps as f32;
+    let analytic = shape.intersection(ray, f32::INFINITY).map(|i| i.t);
+    let marched = march(|p| shape.contains(p), ray, t0, t1, steps);
+    let crossings = shape.crossings(ray, f32::INFINITY);
+    // The analytic first interval is thinner than a step, or its middle is within a hair of
+    // the inside (a ray along a cone's side line dips in by a rounding over a long stretch).
+    let hair = 1e-4 * bounds.extent().max_element();
+    let sliver = || {
+        let l = &crossings.list;
+        // (No crossing at all where the hit is a touch: a tangent, or the apex of a cone.)
+        let thin = l.is_empty() || l.len() >= 2 && l[1].at.t - l[0].at.t <= 2.0 * h;
+        let near = l.len() >= 2 && {
+            let middle = ray.at(0.5 * (l[0].at.t + l[1].at.t));
+            [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z]
+                .iter()
+                .any(|&a| shape.contains(middle + a * hair))
+        };
+        !crossings.inside_at_start && (thin || near)
+    };
+    // The march's first interval is thinner than a step (its sample of the inside may be a
+    // rounding of the inside test at a tangent, or a sliver the analytic test calls a touch).
+    // Or it runs within a hair of the surface (a ray along a flat cap, in its plane).
+    let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+    let shell = |p: Vec3| axes.iter().any(|&a| !shape.contains(p + a * hair));
+    let marched_sliver = |m: f32| {
+        (1..=16).any(|k| !shape.contains(ray.at(m + k as f32 * h / 8.0)))
+            || (1..=4).all(|k| shell(ray.at(m + k as f32 * h / 2.0)))
+    };
+    // At a grazing hit a rounding of either test moves the crossing along the ray by as much
+    // as it moves it across the surface, divided by the cosine.
+    // (The smaller cosine of the hit's and of the first crossing's: a ray that grazes a flat
+    // cap lies in its plane, and which of cap and side comes first is a rounding.)
+    let cosine_at = |at| shape.hit(ray, &at).normal.dot(Vec3::from(ray.dir)).abs();
+    let hit = shape.intersection(ray, f32::INFINITY).map(cosine_at);
+    let first = crossings.list.first().map(|c| cosine_at(c.at));
+    let cosine = hit.unwrap_or(1.0).min(first.unwrap_or(1.0)).max(1e-3);
+    let tolerance = tolerance / cosine;
+    match (analytic, marched) {
+        (None, None) => {}
+        (Some(a), Some(m)) if (a - m).abs() <= tolerance => tally.hits += 1,
+        (Some(a), Some(m)) if a < m && sliver() => tally.slivers += 1,
+        (Some(_), None) if sliver() => tally.slivers += 1,
+        (Some(a), Some(m)) if a > m && marched_sliver(m) => tally.slivers += 1,
+        (None, Some(m)) if marched_sliver(m) => tally.slivers += 1,
+        _ => panic!(
+            "{shape:?}\nray {ray:?}: analytic {analytic:?}, march {marched:?} (step {h}), \
+             crossings {crossings:?}"
+        ),
+    }
+}
+
+/// Rays through the shape's bounds from outside, and rays grazing its surface (a sampled
+/// point, a direction along the tangent plane tilted by a hair).
+fn check_shape(shape: &Shape, rng: &mut Rng, rays: usize, tally: &mut Tally) {
+    let bounds = shape.bounds().expect("bounded");
+    let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+    let tolerance = 2e-4 * size + 1e-5 * center.abs().max_element();
+    for i in 0..rays {
+        let ray = if i % 2 == 0 || shape.area().is_none() {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            Ray::new(origin, (target - origin).normalize())
+        } else {
+            let s = shape.sample_area(Vec2::new(rng.next(), rng.next())).expect("sampled");
+            let tangent = s.normal.cross(rng.direction()).normalize();
+            let dir = (tangent + s.normal * rng.range(-1e-3, 1e-3)).normalize();
+            Ray::new(s.point - dir * 2.0 * size, dir)
+        };
+        check_ray(shape, &ray, 200, tolerance, tally);
+    }
+}
+
+#[test]
+fn cone_and_torus_hits_match_a_march_on_100000_rays() {
+    let graph = empty_graph();
+    let mut rng = Rng(17);
+    let mut tally = Tally::default();
+    for k in 0..20 {
+        let far = k % 5 == 4;
+        let transforms = random_transforms(&mut rng, far);
+        let torus = ShapeNode::Torus { major: rng.range(0.5, 1.0), minor: rng.range(0.05, 0.45) };
+        // Similarity transforms for half of them, so that grazing rays from area samples run.
+        let transforms = if k % 2 == 0 {
+            vec![Transform::Rotate(rng.vec(-180.0, 180.0)), Transform::Scale(Vec3::splat(0.8))]
+                .into_iter()
+                .chain(far.then_some(Transform::Translate(Vec3::new(1000.0, -700.0, 600.0))))
+                .collect()
+        } else {
+            transforms
+        };
+        let shape = built_shape(&graph, node(&graph, torus, transforms.clone()));
+        check_shape(&shape, &mut rng, 3000, &mut tally);
+        let radii = [rng.range(0.0, 0.6), rng.range(0.1, 0.6)];
+        let radii = if k % 3 == 0 { [0.0, radii[1]] } else { radii };
+        let cone = ShapeNode::Cone {
+            base: rng.vec(-0.5, 0.5),
+            base_radius: radii[k % 2],
+            cap: rng.vec(-0.5, 0.5) + Vec3::Y,
+            cap_radius: radii[(k + 1) % 2],
+            open: false,
+        };
+        // (Cones, like cylinders and ellipsoids, are intersected in f32 in their own space, so
+        // far from the origin they lose precision to the translation: tested near it.)
+        let near: Vec<_> = transforms
+            .into_iter()
+            .filter(|t| !far || !matches!(t, Transform::Translate(v) if v.x == 1000.0))
+            .collect();
+        let shape = built_shape(&graph, node(&graph, cone, near));
+        check_shape(&shape, &mut rng, 2000, &mut tally);
+    }
+    assert!(tally.rays >= 100_000, "{tally:?}");
+    // Half the rays graze on purpose: many meet a sliver thinner than the march's step.
+    assert!(tally.hits > tally.rays / 4 && tally.slivers < tally.rays / 6, "{tally:?}");
+}
+
+/// A random CSG tree of the given depth, its operands random solids under random transforms.
+fn random_tree(graph: &SceneGraph, rng: &mut Rng, depth: u32) -> ObjectNode {
+    let transforms = random_transforms(rng, false);
+    let shape = if depth == 0 {
+        match (rng.next() * 6.0) as u32 {
+            0 => ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.4, 0.9) },
+            1 => ShapeNode::Box { corner_a: rng.vec(-0.9, -0.2), corner_b: rng.vec(0.2, 0.9) },
+            2 => ShapeNode::Cylinder {
+                base: rng.vec(-0.3, 0.3) - Vec3::Y,
+                cap: rng.vec(-0.3, 0.3) + Vec3::Y,
+                radius: rng.range(0.2, 0.6),
+            },
+            3 => ShapeNode::Cone {
+                base: rng.vec(-0.3, 0.3) - Vec3::Y,
+                base_radius: rng.range(0.0, 0.8),
+                cap: rng.vec(-0.3, 0.3) + Vec3::Y,
+                cap_radius: rng.range(0.1, 0.5),
+                open: false,
+            },
+            4 => ShapeNode::Torus { major: rng.range(0.4, 0.8), minor: rng.range(0.1, 0.3) },
+            _ => ShapeNode::Plane { normal: rng.direction(), offset: rng.range(-0.3, 0.3) },
+        }
+    } else {
+        let op =
+            [CsgOp::Intersection, CsgOp::Difference, CsgOp::Merge][(rng.next() * 3.0) as usize];
+        let children = 2 + (rng.next() * 2.0) as u32;
+        let mut operands: Vec<_> =
+            (0..children).map(|_| random_tree(graph, rng, depth - 1)).collect();
+        // Every operation keeps a bounded first operand, so the tree is bounded.
+        if matches!(operands[0].shape, ShapeNode::Plane { .. }) {
+            operands[0].shape = ShapeNode::Sphere { center: Vec3::ZERO, radius: 0.8 };
+        }
+        if op == CsgOp::Merge {
+            for o in &mut operands {
+                if matches!(o.shape, ShapeNode::Plane { .. }) {
+                    o.shape =
+                        ShapeNode::Box { corner_a: Vec3::splat(-0.5), corner_b: Vec3::splat(0.5) };
+                }
+            }
+        }
+        ShapeNode::Csg { op, operands }
+    };
+    node(graph, shape, transforms)
+}
+
+/// Whether `p` is inside the tree, from each operand built alone as its own object.
+fn inside_by_operands(
+    graph: &SceneGraph,
+    tree: &ObjectNode,
+    parents: &[Transform],
+    p: Vec3,
+) -> bool {
+    let mut transforms = tree.transforms.clone();
+    transforms.extend_from_slice(parents);
+    match &tree.shape {
+        ShapeNode::Csg { op, operands } => {
+            let mut inside = operands.iter().map(|o| inside_by_operands(graph, o, &transforms, p));
+            let first = inside.next().unwrap();
+            inside.fold(first, |a, b| match op {
+                CsgOp::Intersection => a && b,
+                CsgOp::Difference => a && !b,
+                CsgOp::Merge => a || b,
+            })
+        }
+        ShapeNode::Union(children) => {
+            children.iter().any(|c| inside_by_operands(graph, c, &transforms, p))
+        }
+        ShapeNode::Instance(target) => inside_by_operands(graph, target, &transforms, p),
+        ShapeNode::Plane { normal, offset } => {
+            // Inside where n . q + d < 0 for q the point in the plane's own space.
+            let q = compose(&transforms).inverse().transform_point3(p);
+            normal.dot(q) + offset < 0.0
+        }
+        shape => {
+            let alone = node(graph, shape.clone(), transforms);
+            built_shape(graph, alone).contains(p)
+        }
+    }
+}
+
+#[test]
+fn csg_trees_first_hits_match_a_march_and_inside_tests_match_the_operands() {
+    let graph = empty_graph();
+    let mut rng = Rng(5);
+    let mut tally = Tally::default();
+    let mut inside_points = 0;
+    for _ in 0..60 {
+        let tree = random_tree(&graph, &mut rng, 2);
+        let shape = built_shape(&graph, tree.clone());
+        assert!(matches!(shape, Shape::Csg(_)));
+        let Some(bounds) = shape.bounds() else { continue };
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..80 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let inside = shape.contains(p);
+            assert_eq!(inside, inside_by_operands(&graph, &tree, &[], p), "at {p}");
+            inside_points += usize::from(inside);
+        }
+        for _ in 0..300 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    assert!(tally.hits > tally.rays / 8 && inside_points > 100, "{tally:?}, {inside_points}");
+    assert!(tally.slivers < tally.rays / 100, "{tally:?}");
+}
+
+fn mesh_node(graph: &SceneGraph, file: &Path, transforms: Vec<Transform>) -> ObjectNode {
+    node(graph, ShapeNode::Mesh { path: file.to_path_buf() }, transforms)
+}
+
+#[test]
+fn csg_of_closed_meshes_instances_unions_and_nested_csg_matches_a_march() {
+    let graph = empty_graph();
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/meshes/cube.obj");
+    let tetrahedron =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/parts/tetrahedron.obj");
+    let mut rng = Rng(11);
+    let mut tally = Tally::default();
+    for _ in 0..12 {
+        let ball =
+            Arc::new(node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 0.5 }, vec![]));
+        let instance = node(&graph, ShapeNode::Instance(ball), random_transforms(&mut rng, false));
+        let union = node(
+            &graph,
+            ShapeNode::Union(vec![
+                node(&graph, ShapeNode::Torus { major: 0.6, minor: 0.2 }, vec![]),
+                mesh_node(&graph, &tetrahedron, vec![Transform::Translate(Vec3::splat(-0.3))]),
+            ]),
+            random_transforms(&mut rng, false),
+        );
+        let inner = node(
+            &graph,
+            ShapeNode::Csg {
+                op: CsgOp::Intersection,
+                operands: vec![
+                    mesh_node(
+                        &graph,
+                        &cube,
+                        vec![
+                            Transform::Scale(Vec3::splat(2.5)),
+                            Transform::Translate(Vec3::new(0.0, 1.7, 0.0)),
+                        ],
+                    ),
+                    union,
+                ],
+            },
+            random_transforms(&mut rng, false),
+        );
+        let op =
+            [CsgOp::Difference, CsgOp::Merge, CsgOp::Intersection][(rng.next() * 3.0) as usize];
+        let tree = node(
+            &graph,
+            ShapeNode::Csg { op, operands: vec![inner, instance] },
+            random_transforms(&mut rng, false),
+        );
+        let shape = built_shape(&graph, tree.clone());
+        let Some(bounds) = shape.bounds() else { continue };
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..400 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    assert!(tally.hits > tally.rays / 8, "{tally:?}");
+    // A mesh that is not closed is not a solid.
+    let dir = tempfile::tempdir().unwrap();
+    let open = dir.path().join("open.obj");
+    std::fs::write(&open, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let mut graph = graph.clone();
+    let operands = vec![mesh_node(&graph, &cube, vec![]), mesh_node(&graph, &open, vec![])];
+    graph.objects = vec![node(&graph, ShapeNode::Csg { op: CsgOp::Difference, operands }, vec![])];
+    let error = build(&graph).expect_err("an open mesh").to_string();
+    assert!(
+        error.contains("this mesh is not closed") && error.contains("is not a solid"),
+        "{error}"
+    );
+}
+
+#[test]
+fn csg_normals_point_out_of_the_result_and_surfaces_keep_their_operands_material() {
+    let mut graph = empty_graph();
+    let (red, blue) = (Vec3::new(0.8, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.8));
+    let mut cube =
+        node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+    cube.material = Some(material(&graph, red, Vec3::ZERO));
+    let mut ball = node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.3 }, vec![]);
+    ball.material = Some(material(&graph, blue, Vec3::ZERO));
+    let csg = ShapeNode::Csg { op: CsgOp::Difference, operands: vec![cube, ball] };
+    graph.objects = vec![node(&graph, csg, vec![Transform::Rotate(Vec3::new(10.0, 20.0, 30.0))])];
+    let scene = build(&graph).unwrap();
+    let shape = &scene.primitives[0].shape;
+    let mut rng = Rng(3);
+    let (mut cut, mut outer) = (0, 0);
+    for _ in 0..20_000 {
+        let origin = rng.direction() * 4.0;
+        let ray = Ray::new(origin, (rng.vec(-1.0, 1.0) - origin).normalize());
+        let Some(hit) = scene.intersect(&ray) else { continue };
+        let d = Vec3::from(ray.dir);
+        assert!(hit.normal.dot(d) < 0.0, "a ray from outside meets the outside of the result");
+        let delta = 1e-3;
+        let (behind, front) = (hit.point - hit.normal * delta, hit.point + hit.normal * delta);
+        if shape.contains(behind) == shape.contains(front) {
+            continue; // an edge
+        }
+        assert!(shape.contains(behind) && !shape.contains(front), "{hit:?}");
+        let colour = scene.material(hit.primitive, hit.point).diffuse;
+        // On the sphere (the cut, its normal towards the centre) the subtracted operand's
+        // material; elsewhere the cube's.
+        let on_sphere = hit.normal.dot(-hit.point.normalize()) > 0.9999;
+        assert_eq!(colour, if on_sphere { blue } else { red }, "{hit:?}");
+        if on_sphere { cut += 1 } else { outer += 1 }
+    }
+    assert!(cut > 500 && outer > 500, "{cut} {outer}");
+}
+
+/// Where the ray meets `box {-1, 1} - sphere {0, 1.3}`, analytically.
+fn hits_carved_cube(ray: &Ray) -> bool {
+    let Some((t0, t1)) = clip(ray, -Vec3::ONE, Vec3::ONE) else { return false };
+    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let b = o.dot(d);
+    let disc = b * b - (o.length_squared() - 1.69);
+    if disc < 0.0 {
+        return true;
+    }
+    let (s0, s1) = (-b - disc.sqrt(), -b + disc.sqrt());
+    // The cube's segment is not all inside the sphere.
+    t0 < s0 || t1 > s1
+}
+
+#[test]
+fn a_sphere_subtracted_from_a_cube_renders_its_analytic_silhouette_with_emission_only() {
+    let mut graph = empty_graph();
+    let (width, height) = (40, 30);
+    graph.settings.width = width;
+    graph.settings.height = height;
+    graph.settings.samples = 64;
+    let emissive = material(&graph, Vec3::ZERO, Vec3::ONE);
+    let cube = node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+    let ball = node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.3 }, vec![]);
+    let mut csg =
+        node(&graph, ShapeNode::Csg { op: CsgOp::Difference, operands: vec![cube, ball] }, vec![]);
+    csg.material = Some(emissive);
+    // Seen from a corner, so that the cut faces are in view.
+    graph.camera.form = raydiance::scene::graph::CameraForm::LookAt {
+        location: Vec3::new(3.0, 2.5, -4.0),
+        look_at: Vec3::ZERO,
+        up: Vec3::Y,
+        angle: 50.0,
+    };
+    graph.objects = vec![csg];
+    for integrator in [IntegratorKind::Direct, IntegratorKind::Path] {
+        graph.settings.integrator = integrator;
+        let scene: Scene = build(&graph).unwrap();
+        assert!(
+            scene.warnings.iter().any(|w| w.contains("not sampled as lights")),
+            "{:?}",
+            scene.warnings
+        );
+        let image = common::render_image(&scene);
+        let (mut edge, mut error) = (0, 0.0);
+        for y in 0..height {
+            for x in 0..width {
+                // Coverage of the pixel on a 12 x 12 grid, and of the pixel with a margin of
+                // half a pixel around it (where that is all or nothing, so is the pixel).
+                let coverage = |margin: f32| {
+                    let n = 12;
+                    let hits = (0..n * n).filter(|i| {
+                        let fraction = |k: u32| (k as f32 + 0.5) / n as f32;
+                        let u = x as f32 - margin + (1.0 + 2.0 * margin) * fraction(i % n);
+                        let v = y as f32 - margin + (1.0 + 2.0 * margin) * fraction(i / n);
+                        let (u, v) = (u / width as f32, v / height as f32);
+                        hits_carved_cube(&scene.camera.ray(u, v, Vec2::ZERO))
+                    });
+                    hits.count() as f32 / (n * n) as f32
+                };
+                let (covered, around) = (coverage(0.0), coverage(0.5));
+                let value = image.pixels[(y * width + x) as usize];
+                assert_eq!(value.x, value.z);
+                if around == 0.0 || around == 1.0 {
+                    assert_eq!(value.x, covered, "pixel ({x}, {y}) with {integrator:?}");
+                } else {
+                    edge += 1;
+                    error += (value.x - covered).abs();
+                    assert!(
+                        (value.x - covered).abs() < 0.3,
+                        "pixel ({x}, {y}): {value} vs {covered}"
+                    );
+                }
+            }
+        }
+        assert!(edge > 20 && error / (edge as f32) < 0.08, "{edge} edge pixels, error {error}");
+    }
+}
+
+#[test]
+fn operands_that_are_not_solids_are_located_errors_naming_them() {
+    let graph = empty_graph();
+    let cube = node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+    let cases = [
+        (ShapeNode::Triangle { a: Vec3::ZERO, b: Vec3::X, c: Vec3::Y }, "a triangle"),
+        (ShapeNode::Quad { corner: Vec3::ZERO, edge1: Vec3::X, edge2: Vec3::Y }, "a quad"),
+        (ShapeNode::Disk { center: Vec3::ZERO, normal: Vec3::Y, radius: 1.0 }, "a disk"),
+        (
+            ShapeNode::Cone {
+                base: Vec3::ZERO,
+                base_radius: 1.0,
+                cap: Vec3::Y,
+                cap_radius: 1.0,
+                open: true,
+            },
+            "an open cylinder",
+        ),
+        (
+            ShapeNode::Cone {
+                base: Vec3::ZERO,
+                base_radius: 1.0,
+                cap: Vec3::Y,
+                cap_radius: 0.5,
+                open: true,
+            },
+            "an open cone",
+        ),
+    ];
+    for (shape, name) in cases {
+        let mut graph = graph.clone();
+        let operands = vec![cube.clone(), node(&graph, shape, vec![])];
+        graph.objects =
+            vec![node(&graph, ShapeNode::Csg { op: CsgOp::Intersection, operands }, vec![])];
+        let error = build(&graph).expect_err("not a solid").to_string();
+        assert!(error.contains(&format!("{name} is not a solid")), "{error}");
+        assert!(error.starts_with("tests/solids.scn:1:1:"), "{error}");
+    }
+}
+
+#[test]
+fn torus_and_cone_area_samples_lie_on_them_and_lit_tori_render() {
+    let mut graph = empty_graph();
+    let torus = node(
+        &graph,
+        ShapeNode::Torus { major: 1.0, minor: 0.25 },
+        vec![Transform::Rotate(Vec3::new(60.0, 0.0, 0.0))],
+    );
+    let cone = ShapeNode::Cone {
+        base: Vec3::ZERO,
+        base_radius: 0.5,
+        cap: Vec3::Y,
+        cap_radius: 0.0,
+        open: false,
+    };
+    let cone = node(&graph, cone, vec![Transform::Scale(Vec3::splat(2.0))]);
+    for object in [torus.clone(), cone] {
+        let shape = built_shape(&graph, object);
+        let area = shape.area().expect("a similarity: area known");
+        let mut rng = Rng(9);
+        for _ in 0..2000 {
+            let s = shape.sample_area(Vec2::new(rng.next(), rng.next())).unwrap();
+            let ray = Ray::new(s.point + s.normal * 1e-3, -s.normal);
+            let hit = shape.intersect(&ray, 1.0).expect("a sample is on the surface");
+            assert!((hit.point - s.point).length() < 1e-3 && hit.normal.dot(s.normal) > 0.99);
+        }
+        assert!(area > 0.0);
+    }
+    // A torus light over nothing but itself: it lights its own inner side; renders finite.
+    let mut lit = torus;
+    lit.material = Some(material(&graph, Vec3::splat(0.5), Vec3::ONE));
+    graph.objects = vec![lit];
+    graph.settings.width = 16;
+    graph.settings.height = 16;
+    graph.settings.samples = 4;
+    let scene = build(&graph).unwrap();
+    assert_eq!(scene.lights.len(), 1);
+    let image = common::render_image(&scene);
+    assert!(image.pixels.iter().all(|p| p.is_finite()) && common::mean(&image).x > 0.1);
+}
+
+#[test]
+fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time() {
+    use raydiance::accel::RayLanes;
+    let mut graph = empty_graph();
+    let mut rng = Rng(23);
+    graph.objects = (0..4).map(|_| random_tree(&graph, &mut rng, 2)).collect();
+    graph.objects.push(node(&graph, ShapeNode::Plane { normal: Vec3::Y, offset: 2.0 }, vec![]));
+    // And an unbounded CSG object: a ball merged with the half-space x > 1.5.
+    let ball =
+        node(&graph, ShapeNode::Sphere { center: Vec3::new(1.0, 1.0, 0.0), radius: 0.7 }, vec![]);
+    let side = node(&graph, ShapeNode::Plane { normal: -Vec3::X, offset: 1.5 }, vec![]);
+    let merge = ShapeNode::Csg { op: CsgOp::Merge, operands: vec![ball, side] };
+    graph.objects.push(node(&graph, merge, vec![]));
+    let scene = build(&graph).unwrap();
+    let mut hits = 0;
+    for _ in 0..5000 {
+        let rays: [Ray; 4] = std::array::from_fn(|_| {
+            let origin = rng.direction() * 4.0;
+            Ray::new(origin, (rng.vec(-1.0, 1.0) - origin).normalize())
+        });
+        let t_max: [f32; 4] = std::array::from_fn(|_| rng.range(0.5, 8.0));
+        let lanes = RayLanes::new(&rays);
+        let nearest = scene.intersect_lanes(&lanes, [true; 4]);
+        let occluded = scene.occluded_lanes(&lanes, glam::Vec4::from_array(t_max));
+        for lane in 0..4 {
+            let one = scene.intersect(&rays[lane]);
+            let key = |h: Option<raydiance::geometry::Hit>| {
+                h.map(|h| (h.primitive, h.t, h.point, h.normal))
+            };
+            assert_eq!(key(nearest.hit(lane)), key(one));
+            let blocked = one.is_some_and(|h| h.t < t_max[lane]);
+            assert_eq!(scene.occluded(&rays[lane], t_max[lane]), blocked);
+            assert_eq!(occluded.test(lane), blocked);
+            // (Primitives 0 to 3 are the bounded CSG objects, 4 the plane, 5 the unbounded
+            // CSG object, then their surfaces.)
+            hits += usize::from(one.is_some_and(|h| h.primitive as usize >= 6));
+        }
+    }
+    assert!(hits > 1000, "{hits} hits on CSG surfaces");
+}
+
+#[test]
+fn an_intersection_of_six_half_spaces_is_a_box() {
+    let mut graph = empty_graph();
+    let planes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z]
+        .map(|normal| node(&graph, ShapeNode::Plane { normal, offset: -1.0 }, vec![]));
+    let turn = vec![Transform::Rotate(Vec3::new(20.0, 30.0, 40.0))];
+    let csg = ShapeNode::Csg { op: CsgOp::Intersection, operands: planes.to_vec() };
+    graph.objects = vec![node(&graph, csg, turn.clone())];
+    let planes_scene = build(&graph).unwrap();
+    let cube = ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE };
+    graph.objects = vec![node(&graph, cube, turn)];
+    let box_scene = build(&graph).unwrap();
+    let mut rng = Rng(31);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let origin = rng.direction() * 4.0;
+        let ray = Ray::new(origin, (rng.vec(-1.5, 1.5) - origin).normalize());
+        let (a, b) = (planes_scene.intersect(&ray), box_scene.intersect(&ray));
+        assert_eq!(a.is_some(), b.is_some(), "{ray:?}: {a:?} {b:?}");
+        if let (Some(a), Some(b)) = (a, b) {
+            assert!(
+                (a.t - b.t).abs() < 1e-4 && (a.normal - b.normal).length() < 1e-3,
+                "{a:?} {b:?}"
+            );
+            hits += 1;
+        }
+        // From inside, the way out.
+        let inside = Ray::new(rng.direction() * rng.range(0.0, 0.95), rng.direction());
+        let (a, b) =
+            (planes_scene.intersect(&inside).unwrap(), box_scene.intersect(&inside).unwrap());
+        assert!((a.t - b.t).abs() < 1e-4 && (a.normal - b.normal).length() < 1e-3, "{a:?} {b:?}");
+    }
+    assert!(hits > 5000, "{hits}");
+}
+
+#[test]
+fn csg_surfaces_evaluate_textures_in_their_operands_own_space() {
+    use raydiance::scene::graph::Pattern;
+    let mut graph = empty_graph();
+    let (a, b) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.1, 0.9));
+    let mut checker = MaterialDesc::new(graph.camera.span.clone());
+    checker.diffuse = TextureNode {
+        pattern: Pattern::Checker(Box::new(TextureNode::solid(a)), Box::new(TextureNode::solid(b))),
+        transforms: vec![],
+    };
+    let operand_transforms =
+        vec![Transform::Translate(Vec3::new(0.3, 0.2, 0.1)), Transform::Scale(Vec3::splat(0.7))];
+    let mut cube = node(
+        &graph,
+        ShapeNode::Box { corner_a: Vec3::splat(-1.75), corner_b: Vec3::splat(1.75) },
+        operand_transforms.clone(),
+    );
+    cube.material = Some(Arc::new(checker));
+    let ball = node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.0 }, vec![]);
+    let csg_transforms = vec![Transform::Rotate(Vec3::new(0.0, 30.0, 10.0))];
+    let csg = ShapeNode::Csg { op: CsgOp::Difference, operands: vec![cube, ball] };
+    graph.objects = vec![node(&graph, csg, csg_transforms.clone())];
+    let scene = build(&graph).unwrap();
+    let to_operand = compose(&[operand_transforms, csg_transforms].concat()).inverse();
+    let mut rng = Rng(41);
+    let mut checked = 0;
+    for _ in 0..5000 {
+        let origin = rng.direction() * 6.0;
+        let ray = Ray::new(origin, (rng.vec(-1.0, 1.0) - origin).normalize());
+        let Some(hit) = scene.intersect(&ray) else { continue };
+        let q = to_operand.transform_point3(hit.point);
+        if (q - q.round()).abs().min_element() < 1e-3 {
+            continue; // on a cell boundary
+        }
+        let even = (q.x.floor() + q.y.floor() + q.z.floor()) as i32 % 2 == 0;
+        assert_eq!(
+            scene.material(hit.primitive, hit.point).diffuse,
+            if even { a } else { b },
+            "at {q}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 1000, "{checked}");
+}
+
+#[test]
+fn an_emissive_box_lights_as_its_six_faces_do() {
+    let mut graph = empty_graph();
+    graph.settings.width = 24;
+    graph.settings.height = 24;
+    graph.settings.samples = 256;
+    graph.settings.integrator = IntegratorKind::Direct;
+    let white = material(&graph, Vec3::splat(0.8), Vec3::ZERO);
+    let light = material(&graph, Vec3::ZERO, Vec3::splat(2.0));
+    let mut floor =
+        node(&graph, ShapeNode::Plane { normal: Vec3::new(0.0, 0.0, -1.0), offset: 1.0 }, vec![]);
+    floor.material = Some(white);
+    let (lo, hi) = (Vec3::new(-0.3, -0.2, 0.2), Vec3::new(0.4, 0.3, 0.5));
+    let mut cube = node(&graph, ShapeNode::Box { corner_a: lo, corner_b: hi }, vec![]);
+    cube.material = Some(light.clone());
+    graph.objects = vec![floor.clone(), cube];
+    let whole = common::render_image(&build(&graph).unwrap());
+    // The same box as six quads facing out, each its own light.
+    let size = hi - lo;
+    let [x, y, z] = [Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z];
+    let quads = [(lo, z, y), (hi, -y, -z), (lo, x, z), (hi, -z, -x), (lo, y, x), (hi, -x, -y)];
+    graph.objects = vec![floor];
+    for (corner, edge1, edge2) in quads {
+        let mut quad = node(&graph, ShapeNode::Quad { corner, edge1, edge2 }, vec![]);
+        quad.material = Some(light.clone());
+        graph.objects.push(quad);
+    }
+    let faces = common::render_image(&build(&graph).unwrap());
+    let (a, b) = (common::mean(&whole), common::mean(&faces));
+    assert!((a - b).abs().max_element() < 0.02 * b.max_element(), "{a} vs {b}");
+}
+
+#[test]
+fn cones_and_tori_with_impossible_dimensions_are_located_errors() {
+    let graph = empty_graph();
+    let cases = [
+        ShapeNode::Cone {
+            base: Vec3::ZERO,
+            base_radius: 0.0,
+            cap: Vec3::Y,
+            cap_radius: 0.0,
+            open: false,
+        },
+        ShapeNode::Cone {
+            base: Vec3::ZERO,
+            base_radius: -1.0,
+            cap: Vec3::Y,
+            cap_radius: 1.0,
+            open: false,
+        },
+        ShapeNode::Cone {
+            base: Vec3::Y,
+            base_radius: 1.0,
+            cap: Vec3::Y,
+            cap_radius: 0.5,
+            open: true,
+        },
+        ShapeNode::Torus { major: 1.0, minor: 0.0 },
+        ShapeNode::Torus { major: f32::NAN, minor: 0.2 },
+    ];
+    for shape in cases {
+        let mut graph = graph.clone();
+        graph.objects = vec![node(&graph, shape.clone(), vec![])];
+        let error = build(&graph).expect_err("impossible").to_string();
+        assert!(error.starts_with("tests/solids.scn:1:1: error: a"), "{error}");
+        // The same as a CSG operand.
+        let cube =
+            node(&graph, ShapeNode::Box { corner_a: -Vec3::ONE, corner_b: Vec3::ONE }, vec![]);
+        let operands = vec![cube, node(&graph, shape, vec![])];
+        graph.objects = vec![node(&graph, ShapeNode::Csg { op: CsgOp::Merge, operands }, vec![])];
+        assert!(build(&graph).is_err());
+    }
+}
