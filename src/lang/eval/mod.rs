@@ -66,7 +66,7 @@ pub struct Evaluator {
     context: Option<Arc<Context>>,
     loop_turns: u64,
     /// The state of each `seed(n)` stream.
-    streams: Vec<u64>,
+    streams: Vec<u32>,
 }
 
 /// Where items stand, which decides what they may be.
