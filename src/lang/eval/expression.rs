@@ -378,19 +378,12 @@ impl Evaluator {
 }
 
 /// `str(value, width, decimals)`: at least |width| characters, padded with zeros on the left
-/// (`str(7, 3, 0)` is `007`, as the language's reference says); `decimals` digits after the
-/// point, or as many as needed when negative.
+/// (`str(7, 3, 0)` is `007`, as the language's contract says; POV-Ray pads a positive width with
+/// blanks and only a negative one with zeros); `decimals` digits after the point, or six when
+/// negative (POV-Ray's `%f`).
 fn format_number(x: f64, width: f64, decimals: f64) -> String {
     let width = width.abs().min(1000.0) as usize;
-    if decimals < 0.0 {
-        let text = format!("{x}");
-        let pad = width.saturating_sub(text.len());
-        return match text.strip_prefix('-') {
-            Some(digits) => format!("-{}{digits}", "0".repeat(pad)),
-            None => format!("{}{text}", "0".repeat(pad)),
-        };
-    }
-    let decimals = decimals.min(64.0) as usize;
+    let decimals = if decimals < 0.0 { 6 } else { decimals.min(64.0) as usize };
     format!("{x:0width$.decimals$}")
 }
 
@@ -520,7 +513,8 @@ mod tests {
         assert_eq!(format_number(7.0, 3.0, 0.0), "007");
         assert_eq!(format_number(1.23456, 0.0, 2.0), "1.23");
         assert_eq!(format_number(-2.5, 6.0, 1.0), "-002.5");
-        assert_eq!(format_number(0.25, 0.0, -1.0), "0.25");
+        assert_eq!(format_number(0.25, 0.0, -1.0), "0.250000");
+        assert_eq!(format_number(7.0, -3.0, 0.0), "007");
     }
 
     #[test]
