@@ -11,13 +11,32 @@ pub struct SourceFile {
     pub text: String,
 }
 
-/// A position in a source file (1-based line and column, columns counted in characters).
-#[derive(Clone, PartialEq, Eq)]
+/// A position in a source file (1-based line and column, columns counted in characters), and
+/// for a node made inside macro calls or included files, how evaluation got there: an error
+/// found later at the node (while building the scene) then names the calls too.
+#[derive(Clone)]
 pub struct Span {
     pub file: Arc<SourceFile>,
     pub line: u32,
     pub col: u32,
+    pub context: Option<Arc<Context>>,
 }
+
+/// One macro call or include around a node, innermost first (`in macro Ball, called at ...`).
+#[derive(Debug)]
+pub struct Context {
+    pub note: String,
+    pub outer: Option<Arc<Context>>,
+}
+
+/// Spans are equal where they point to the same place, however it was reached.
+impl PartialEq for Span {
+    fn eq(&self, other: &Self) -> bool {
+        self.file == other.file && self.line == other.line && self.col == other.col
+    }
+}
+
+impl Eq for Span {}
 
 impl Span {
     /// The text of the line this span points into, without its line ending.
@@ -44,8 +63,40 @@ pub struct SceneError {
 }
 
 impl SceneError {
+    /// An error at `span`, with a note for each macro call or include the span was reached by.
     pub fn at(span: &Span, message: impl Into<String>) -> Self {
-        SceneError { span: Some(span.clone()), message: message.into(), notes: Vec::new() }
+        let mut error =
+            SceneError { span: Some(span.clone()), message: message.into(), notes: Vec::new() };
+        let mut context = span.context.as_deref();
+        while let Some(c) = context {
+            error = error.noted(c.note.clone());
+            context = c.outer.as_deref();
+        }
+        error
+    }
+
+    /// Adds a note of where an error came from (an include, a macro call), but not a wall of
+    /// them: a note repeated by recursion is counted, and after four different ones the rest are
+    /// elided.
+    pub fn noted(mut self, text: String) -> Self {
+        if let Some(last) = self.notes.last_mut() {
+            if *last == text {
+                *last = format!("{text} (2 times)");
+                return self;
+            }
+            let count = last.strip_prefix(&text).and_then(|rest| {
+                rest.strip_prefix(" (")?.strip_suffix(" times)")?.parse::<u64>().ok()
+            });
+            if let Some(count) = count {
+                *last = format!("{text} ({} times)", count + 1);
+                return self;
+            }
+        }
+        match self.notes.len() {
+            0..4 => self.with_note(text),
+            4 => self.with_note("(and more)"),
+            _ => self,
+        }
     }
 
     /// An error about a file as a whole (e.g. one that cannot be read).

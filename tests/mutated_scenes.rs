@@ -89,3 +89,58 @@ proptest! {
         }
     }
 }
+
+/// Pieces of directives, for mutating a scene with macros, loops and arrays (no unbounded
+/// `#while`: a scene that loops to the limit is an error, but a slow one).
+const DIRECTIVE_FRAGMENTS: [&str; 22] = [
+    "#if (1)",
+    "#if (0)",
+    "#else",
+    "#elseif (1)",
+    "#end",
+    "#for (I, 0, 3)",
+    "#macro M(A)",
+    "M(1)",
+    "Ball(<0, 0, 0>, 1)",
+    "Tree(3)",
+    "#local Q = 1;",
+    "#declare R = ",
+    "#undef White",
+    "array[2] { 1, 2 }",
+    "[1]",
+    " ? 1 : 0",
+    " & ",
+    "(",
+    ")",
+    ",",
+    "\"",
+    "#debug \"\"",
+];
+
+fn directive_mutation() -> impl Strategy<Value = (usize, usize, usize)> {
+    (any::<usize>(), 0..8usize, 0..DIRECTIVE_FRAGMENTS.len())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mutated_directives_give_an_error_or_a_scene(
+        mutations in proptest::collection::vec(directive_mutation(), 1..4)
+    ) {
+        let mut text: Vec<char> =
+            std::fs::read_to_string("tests/scenes/macros.scn").unwrap().chars().collect();
+        for (at, len, fragment) in mutations {
+            let at = at % (text.len() + 1);
+            let end = (at + len).min(text.len());
+            text.splice(at..end, DIRECTIVE_FRAGMENTS[fragment].chars());
+        }
+        let text: String = text.into_iter().collect();
+        let path = std::path::Path::new("tests/scenes/mutated.scn");
+        // Never a panic or a hang; an error is located and shows its line.
+        match raydiance::lang::parse_scene(path, &text) {
+            Ok(_) => {}
+            Err(e) => prop_assert!(e.span.is_some() && e.to_string().contains(" | "), "{e}"),
+        }
+    }
+}

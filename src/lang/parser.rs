@@ -33,7 +33,7 @@ pub fn span_at(file: &Arc<SourceFile>, offset: usize) -> Span {
     let line = before.matches('\n').count() as u32 + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let col = before[line_start..].chars().count() as u32 + 1;
-    Span { file: file.clone(), line, col }
+    Span { file: file.clone(), line, col, context: None }
 }
 
 /// Finds unterminated comments and strings before pest sees the text, so that they are reported

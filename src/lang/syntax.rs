@@ -169,7 +169,7 @@ pub struct Declare {
 #[derive(Debug, Clone)]
 pub enum Declared {
     Material(Material),
-    Object(Object),
+    Object(Box<Object>),
     Texture(Texture),
     Array(ArrayLiteral),
     Value(Expr),

@@ -24,7 +24,9 @@ struct Builder {
     depth: usize,
 }
 
-/// A block being filled while its directives are folded.
+/// A block being filled while its directives are folded (a few at a time: their size does not
+/// matter).
+#[allow(clippy::large_enum_variant)]
 enum Open {
     If {
         branches: Vec<(Condition, Vec<Item>)>,
@@ -74,7 +76,7 @@ impl Open {
 impl Builder {
     fn span(&self, pair: &Pair<'_, Rule>) -> Span {
         let (line, col) = pair.line_col();
-        Span { file: self.file.clone(), line: line as u32, col: col as u32 }
+        Span { file: self.file.clone(), line: line as u32, col: col as u32, context: None }
     }
 
     fn error(&self, pair: &Pair<'_, Rule>, message: impl Into<String>) -> SceneError {
@@ -328,7 +330,7 @@ impl Builder {
     fn declared(&mut self, pair: Pair<'_, Rule>) -> Result<Declared, SceneError> {
         Ok(match pair.as_rule() {
             Rule::material => Declared::Material(self.material(pair)?),
-            Rule::object => Declared::Object(self.object(pair)?),
+            Rule::object => Declared::Object(Box::new(self.object(pair)?)),
             Rule::texture => Declared::Texture(self.texture(pair)?),
             Rule::array => Declared::Array(self.array(pair)?),
             Rule::rgb_colour | Rule::expr => Declared::Value(self.value_expr(pair)?),

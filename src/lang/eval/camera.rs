@@ -131,7 +131,7 @@ impl Evaluator {
                 format!("focal_distance {d} must be positive"),
             ));
         }
-        self.camera = Some(CameraDesc { form, aperture, focal_distance, span: span.clone() });
+        self.camera = Some(CameraDesc { form, aperture, focal_distance, span: self.here(span) });
         Ok(())
     }
 }

@@ -378,36 +378,27 @@ impl Evaluator {
 }
 
 /// `str(value, width, decimals)`: at least |width| characters, padded with zeros on the left
-/// (`str(7, 3, 0)` is `007`, as the language's reference says); `decimals` digits after the
-/// point, or as many as needed when negative.
+/// (`str(7, 3, 0)` is `007`, as the language's contract says; POV-Ray pads a positive width with
+/// blanks and only a negative one with zeros); `decimals` digits after the point, or six when
+/// negative (POV-Ray's `%f`).
 fn format_number(x: f64, width: f64, decimals: f64) -> String {
     let width = width.abs().min(1000.0) as usize;
-    if decimals < 0.0 {
-        let text = format!("{x}");
-        let pad = width.saturating_sub(text.len());
-        return match text.strip_prefix('-') {
-            Some(digits) => format!("-{}{digits}", "0".repeat(pad)),
-            None => format!("{}{text}", "0".repeat(pad)),
-        };
-    }
-    let decimals = decimals.min(64.0) as usize;
+    let decimals = if decimals < 0.0 { 6 } else { decimals.min(64.0) as usize };
     format!("{x:0width$.decimals$}")
 }
 
-/// A stream's state from `seed(n)`: the number's bits, so that every different seed gives a
-/// different stream.
-fn seed_state(n: f64) -> u64 {
-    (n.trunc() as i64 as u64) ^ 0x5EED_5EED_5EED_5EED
+/// A stream's state from `seed(n)`: n's integer part as a 32-bit word, as POV-Ray 3.7 seeds it.
+fn seed_state(n: f64) -> u32 {
+    n.trunc() as i32 as u32
 }
 
-/// SplitMix64 (Steele, Lea and Flood 2014): the next number of a stream, in [0, 1) with 53 bits.
-fn next_random(state: &mut u64) -> f64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+/// The next number of a stream: POV-Ray 3.7's generator (the linear congruential step
+/// `next = next * 1812433253 + 12345` modulo 2^32), so that a scene draws the same numbers as in
+/// POV-Ray; divided by 2^32 where POV-Ray divides by 2^32 - 1, so that every value is below 1
+/// (they differ by at most 2.4e-10).
+fn next_random(state: &mut u32) -> f64 {
+    *state = state.wrapping_mul(1_812_433_253).wrapping_add(12_345);
+    f64::from(*state) / 4_294_967_296.0
 }
 
 /// A value where a colour is expected: a number (grey) or a vector, not negative.
@@ -522,11 +513,17 @@ mod tests {
         assert_eq!(format_number(7.0, 3.0, 0.0), "007");
         assert_eq!(format_number(1.23456, 0.0, 2.0), "1.23");
         assert_eq!(format_number(-2.5, 6.0, 1.0), "-002.5");
-        assert_eq!(format_number(0.25, 0.0, -1.0), "0.25");
+        assert_eq!(format_number(0.25, 0.0, -1.0), "0.250000");
+        assert_eq!(format_number(7.0, -3.0, 0.0), "007");
     }
 
     #[test]
     fn random_streams_are_uniform_and_reproducible() {
+        // POV-Ray's first numbers for seed(0): 12345 / 2^32, then the next step.
+        let mut zero = seed_state(0.0);
+        assert_eq!(next_random(&mut zero), 12_345.0 / 4_294_967_296.0);
+        let second = 12_345u32.wrapping_mul(1_812_433_253).wrapping_add(12_345);
+        assert_eq!(next_random(&mut zero), f64::from(second) / 4_294_967_296.0);
         let mut a = seed_state(42.0);
         let mut b = seed_state(42.0);
         let first: Vec<f64> = (0..1000).map(|_| next_random(&mut a)).collect();

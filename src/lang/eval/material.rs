@@ -38,8 +38,8 @@ impl Evaluator {
             }
         }
         let mut material = match base {
-            Some(base) => MaterialDesc { name: None, span: span.clone(), ..(*base).clone() },
-            None => MaterialDesc::new(span.clone()),
+            Some(base) => MaterialDesc { name: None, span: self.here(&span), ..(*base).clone() },
+            None => MaterialDesc::new(self.here(&span)),
         };
         material.name = name.map(str::to_string);
         self.exec(&m.items, &mut Body::Material(&mut material))?;

@@ -18,7 +18,7 @@ mod scope;
 use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind};
 use super::value::Value;
 use super::{parser, tree};
-use crate::diagnostic::{SceneError, SourceFile, Span};
+use crate::diagnostic::{Context, SceneError, SourceFile, Span};
 use crate::scene::graph::{
     CameraDesc, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings,
 };
@@ -59,11 +59,14 @@ pub struct Evaluator {
     /// The files being read, outermost first: their identity (canonical path) and their path
     /// as named.
     open_files: Vec<(PathBuf, PathBuf)>,
-    /// The macro calls being evaluated, outermost first.
+    /// How many macro calls are being evaluated.
     calls: usize,
+    /// The macro calls and includes being evaluated, innermost first: nodes made here carry it
+    /// in their spans, so that errors found while building the scene name them.
+    context: Option<Arc<Context>>,
     loop_turns: u64,
     /// The state of each `seed(n)` stream.
-    streams: Vec<u64>,
+    streams: Vec<u32>,
 }
 
 /// Where items stand, which decides what they may be.
@@ -215,6 +218,11 @@ impl Evaluator {
         }
     }
 
+    /// `span` as the span of a node made here: with the macro calls and includes around it.
+    pub(super) fn here(&self, span: &Span) -> Span {
+        Span { context: self.context.clone(), ..span.clone() }
+    }
+
     /// An item that cannot stand in `body`.
     fn misplaced(item: &Item, body: &Body) -> SceneError {
         SceneError::at(item.span(), format!("{} cannot stand {}", item.describe(), body.place()))
@@ -246,7 +254,7 @@ impl Evaluator {
                 self.lights.push(PointLightDesc {
                     position: position.as_vec3(),
                     power,
-                    span: span.clone(),
+                    span: self.here(span),
                 });
                 Ok(())
             }
@@ -258,7 +266,7 @@ impl Evaluator {
             Item::Value(expr) => match self.value(expr)? {
                 // A macro or array element that holds an object, standing as a statement.
                 Value::Object(node) => {
-                    self.objects.push(instance(node, expr.span.clone()));
+                    self.objects.push(instance(node, self.here(&expr.span)));
                     Ok(())
                 }
                 _ => Err(Self::misplaced(item, &Body::Scene)),
@@ -497,11 +505,14 @@ impl Evaluator {
         }
         self.scopes.push(scope);
         self.calls += 1;
+        let note = format!("in macro {}, called at {:?}", definition.name.name, call.span);
+        let outer = self.context.replace(Arc::new(Context { note, outer: self.context.clone() }));
         let result = self.exec(&definition.body, body);
+        self.context = outer;
         self.calls -= 1;
         self.scopes.pop();
         result.map_err(|e| {
-            note(e, format!("in macro {}, called at {:?}", definition.name.name, call.span))
+            e.noted(format!("in macro {}, called at {:?}", definition.name.name, call.span))
         })
     }
 
@@ -534,33 +545,13 @@ impl Evaluator {
         self.open_files.push((id, file.path.clone()));
         // The file's `#local`s end with it.
         self.scopes.push(Scope::default());
+        let note = format!("included from {at:?}");
+        let outer = self.context.replace(Arc::new(Context { note, outer: self.context.clone() }));
         let result = tree::parse_file(&file).and_then(|items| self.exec(&items, body));
+        self.context = outer;
         self.scopes.pop();
         self.open_files.pop();
-        result.map_err(|e| note(e, format!("included from {at:?}")))
-    }
-}
-
-/// Adds a note of where an error came from (an include, a macro call), but not a wall of them:
-/// a note repeated by recursion is counted, and after four different ones the rest are elided.
-fn note(mut e: SceneError, text: String) -> SceneError {
-    if let Some(last) = e.notes.last_mut() {
-        if *last == text {
-            *last = format!("{text} (2 times)");
-            return e;
-        }
-        if let Some(count) = last
-            .strip_prefix(&text)
-            .and_then(|rest| rest.strip_prefix(" (")?.strip_suffix(" times)")?.parse::<u64>().ok())
-        {
-            *last = format!("{text} ({} times)", count + 1);
-            return e;
-        }
-    }
-    match e.notes.len() {
-        0..4 => e.with_note(text),
-        4 => e.with_note("(and more)"),
-        _ => e,
+        result.map_err(|e| e.noted(format!("included from {at:?}")))
     }
 }
 

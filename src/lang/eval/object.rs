@@ -10,7 +10,7 @@ use crate::scene::graph::{ObjectNode, ShapeNode, Transform};
 
 impl Evaluator {
     pub(super) fn object(&mut self, object: &syntax::Object) -> Result<ObjectNode, SceneError> {
-        let span = object.span.clone();
+        let span = self.here(&object.span);
         let shape = match &object.shape {
             Shape::Plane { normal, offset } => {
                 let normal = self.nonzero(normal, "the plane's normal")?;
@@ -97,7 +97,7 @@ impl Evaluator {
         self.exec(&object.items, &mut Body::Object(&mut node))?;
         if node.depth > MAX_OBJECT_DEPTH {
             return Err(SceneError::at(
-                &node.span,
+                &object.span,
                 format!("objects nested more than {MAX_OBJECT_DEPTH} levels deep"),
             ));
         }
@@ -122,7 +122,7 @@ impl Evaluator {
                 // What a macro gives among an object's items: a material, or a union's child.
                 Value::Material(m) => node.material = Some(m),
                 Value::Object(child) if matches!(node.shape, ShapeNode::Union(_)) => {
-                    let child = super::instance(child, expr.span.clone());
+                    let child = super::instance(child, self.here(&expr.span));
                     add_child(node, child);
                 }
                 _ => return Err(Self::misplaced(item, &Body::Object(node))),
