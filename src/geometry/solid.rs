@@ -3,7 +3,7 @@
 //! whether a point is inside. CSG (`csg.rs`) composes these answers.
 
 use arrayvec::ArrayVec;
-use glam::{Affine3A, Vec2, Vec3, Vec3A};
+use glam::{Affine3A, DMat3, DVec3, Vec2, Vec3, Vec3A};
 
 use super::shape::{
     Intersection, PlanarKind, QuadricFrame, Shape, SurfaceSample, planar_coordinates,
@@ -171,12 +171,58 @@ pub struct Cone {
     pub open: bool,
     /// World area of the side when sampling it by its canonical parameters is uniform by area.
     pub side_area: Option<f32>,
+    /// The frame's origin in the world and the inverse of its linear part, in f64: a cone's
+    /// side and every crossing and inside test are computed relative to the origin, so that a
+    /// cone far from the world's origin loses nothing to cancellation. (A cylinder's closest
+    /// hit keeps the f32 arithmetic it has always had.)
+    origin: DVec3,
+    linear_to_object: DMat3,
 }
 
 /// Which part of a cone an intersection is on (`Intersection::triangle`).
 const SIDE: u32 = 0;
 
 impl Cone {
+    pub fn new(
+        frame: QuadricFrame,
+        radii: [f32; 2],
+        caps: [Option<Face>; 2],
+        open: bool,
+        side_area: Option<f32>,
+    ) -> Self {
+        let origin = Vec3::from(frame.to_world.translation).as_dvec3();
+        let linear = glam::Mat3::from(frame.to_world.matrix3).as_dmat3().inverse();
+        Cone { frame, radii, caps, open, side_area, origin, linear_to_object: linear }
+    }
+
+    /// A point and a vector in the cone's own space, in f64.
+    fn to_object(&self, p: Vec3, v: Vec3) -> (DVec3, DVec3) {
+        let m = &self.linear_to_object;
+        (*m * (p.as_dvec3() - self.origin), *m * v.as_dvec3())
+    }
+
+    /// `side_roots` in f64.
+    fn side_roots_f64(&self, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
+        let (r0, k) = (f64::from(self.radii[0]), f64::from(self.slope()));
+        let r = r0 + k * o.z;
+        let a = d.x * d.x + d.y * d.y - k * k * d.z * d.z;
+        let b = o.x * d.x + o.y * d.y - k * d.z * r;
+        let c = o.x * o.x + o.y * o.y - r * r;
+        let disc = b * b - a * c;
+        if a == 0.0 || disc < 0.0 {
+            return None;
+        }
+        let root = disc.sqrt();
+        let q = if b > 0.0 { -b - root } else { -b + root };
+        let (x, y) = (q / a, c / q);
+        Some(if x < y { (x, y) } else { (y, x) })
+    }
+
+    fn on_side_f64(&self, o: DVec3, d: DVec3, t: f64) -> bool {
+        let z = o.z + t * d.z;
+        (0.0..=1.0).contains(&z) && f64::from(self.radii[0]) + f64::from(self.slope()) * z >= 0.0
+    }
+
     /// Area of the whole surface, when it is known in closed form.
     fn area(&self) -> Option<f32> {
         Some(self.side_area? + self.caps.iter().flatten().map(Face::area).sum::<f32>())
@@ -222,14 +268,25 @@ impl Cone {
 
     #[inline]
     fn intersection(&self, ray: &Ray, mut t_max: f32) -> Option<Intersection> {
-        let (o, d) = self.frame.ray_to_object(ray);
         let mut closest = None;
-        if let Some((t0, t1)) = self.side_roots(o, d) {
-            let accept = |t: f32| t > 0.0 && t < t_max && self.on_side(o, d, t);
-            if let Some(t) = [t0, t1].into_iter().find(|&t| accept(t)) {
-                closest = Some(Intersection::at(t));
-                t_max = t;
-            }
+        let side = if self.slope() == 0.0 {
+            let (o, d) = self.frame.ray_to_object(ray);
+            self.side_roots(o, d).and_then(|(t0, t1)| {
+                let accept = |t: f32| t > 0.0 && t < t_max && self.on_side(o, d, t);
+                [t0, t1].into_iter().find(|&t| accept(t))
+            })
+        } else {
+            let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
+            self.side_roots_f64(o, d).and_then(|(t0, t1)| {
+                let accept = |t: f64| {
+                    t > 0.0 && (t as f32) < t_max && t as f32 > 0.0 && self.on_side_f64(o, d, t)
+                };
+                [t0, t1].into_iter().find(|&t| accept(t)).map(|t| t as f32)
+            })
+        };
+        if let Some(t) = side {
+            closest = Some(Intersection::at(t));
+            t_max = t;
         }
         for (i, cap) in self.caps.iter().enumerate() {
             if let Some((t, s, u)) = cap.as_ref().and_then(|cap| cap.distance(ray, t_max)) {
@@ -246,8 +303,13 @@ impl Cone {
             let cap = self.caps[at.triangle as usize - 1].as_ref();
             return cap.expect("a cap that was hit").hit(at.t, at.st);
         }
-        let (o, d) = self.frame.ray_to_object(ray);
-        let p = o + at.t * d;
+        let p = if self.slope() == 0.0 {
+            let (o, d) = self.frame.ray_to_object(ray);
+            o + at.t * d
+        } else {
+            let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
+            Vec3A::from((o + f64::from(at.t) * d).as_vec3())
+        };
         // (`normalize`, not `normalize_or`: they round differently.)
         let radial = Vec3A::new(p.x, p.y, 0.0);
         let radial = if radial == Vec3A::ZERO { Vec3A::X } else { radial.normalize() };
@@ -274,17 +336,17 @@ impl Cone {
     /// Crossings of the closed cone: it is convex, so the nearest and farthest of the side's
     /// and the caps' intersections.
     fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
-        let (o, d) = self.frame.ray_to_object(ray);
-        let mut found = ArrayVec::<(f32, u32), 4>::new();
-        if let Some((t0, t1)) = self.side_roots(o, d) {
-            found
-                .extend([t0, t1].into_iter().filter(|&t| self.on_side(o, d, t)).map(|t| (t, SIDE)));
+        let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
+        let mut found = ArrayVec::<(f64, u32), 4>::new();
+        if let Some((t0, t1)) = self.side_roots_f64(o, d) {
+            let on_side = |&t: &f64| self.on_side_f64(o, d, t);
+            found.extend([t0, t1].into_iter().filter(on_side).map(|t| (t, SIDE)));
         }
         if d.z != 0.0 {
             for (i, z) in [0.0, 1.0].into_iter().enumerate() {
                 let t = (z - o.z) / d.z;
                 let p = o + t * d;
-                let r = self.radii[i];
+                let r = f64::from(self.radii[i]);
                 if r > 0.0 && p.x * p.x + p.y * p.y <= r * r {
                     found.push((t, i as u32 + 1));
                 }
@@ -297,6 +359,7 @@ impl Cone {
         if found.len() < 2 {
             return Crossings::outside();
         }
+        let (first, last) = ((first.0 as f32, first.1), (last.0 as f32, last.1));
         let at = |(t, part): (f32, u32)| match part {
             SIDE => Intersection::at(t),
             cap => self.caps[cap as usize - 1]
@@ -307,8 +370,8 @@ impl Cone {
     }
 
     fn contains(&self, p: Vec3) -> bool {
-        let local = self.frame.to_object.transform_point3(p);
-        let r = self.radii[0] + self.slope() * local.z;
+        let (local, _) = self.to_object(p, Vec3::ZERO);
+        let r = f64::from(self.radii[0]) + f64::from(self.slope()) * local.z;
         local.z > 0.0 && local.z < 1.0 && local.x * local.x + local.y * local.y < r * r
     }
 

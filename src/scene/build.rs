@@ -447,13 +447,13 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             side * s * s
         });
         let cap_disk = |center, normal, r: f32| (!open && r > 0.0).then(|| disk(center, normal, r));
-        Shape::Cone(Box::new(Cone {
-            frame: QuadricFrame::new(frame, side_area),
-            radii: [base_radius / radius, cap_radius / radius],
-            caps: [cap_disk(base, -direction, base_radius), cap_disk(cap, direction, cap_radius)],
+        Shape::Cone(Box::new(Cone::new(
+            QuadricFrame::new(frame, side_area),
+            [base_radius / radius, cap_radius / radius],
+            [cap_disk(base, -direction, base_radius), cap_disk(cap, direction, cap_radius)],
             open,
             side_area,
-        }))
+        )))
     };
     match *shape {
         ShapeNode::Plane { normal, offset } => {
