@@ -39,6 +39,11 @@ fn objects_transforms_groups_instances() {
 }
 
 #[test]
+fn solids_cones_tori_and_csg() {
+    insta::assert_debug_snapshot!(graph("solids"));
+}
+
+#[test]
 fn materials() {
     insta::assert_debug_snapshot!(graph("materials"));
 }

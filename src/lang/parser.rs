@@ -135,6 +135,9 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         && found.starts_with(|c: char| c.is_alphanumeric() || "<(-.".contains(c))
     {
         message.push_str(" (is a `,` missing?)");
+    } else if expected.contains(&"an operator") && found == "}" {
+        // A complete value, then the end of the block: an object short of its arguments.
+        message.push_str(" (is an argument missing?)");
     }
     SceneError::at(&span, message)
 }
@@ -259,8 +262,13 @@ fn describe(rule: Rule) -> &'static str {
         Rule::quad => "`quad`",
         Rule::disk => "`disk`",
         Rule::cylinder => "`cylinder`",
+        Rule::cone => "`cone`",
+        Rule::torus => "`torus`",
         Rule::mesh => "`mesh`",
         Rule::union => "`union`",
+        Rule::intersection => "`intersection`",
+        Rule::difference => "`difference`",
+        Rule::merge => "`merge`",
         Rule::instance => "`object`",
         Rule::material => "`material`",
         Rule::material_name | Rule::base_material => "a material's name",

@@ -239,16 +239,62 @@ pub struct Object {
 
 #[derive(Debug, Clone)]
 pub enum Shape {
-    Plane { normal: Expr, offset: Expr },
-    Sphere { center: Expr, radius: Expr },
-    Box { corner_a: Expr, corner_b: Expr },
-    Triangle { a: Expr, b: Expr, c: Expr },
-    Quad { corner: Expr, edge1: Expr, edge2: Expr },
-    Disk { center: Expr, normal: Expr, radius: Expr },
-    Cylinder { base: Expr, cap: Expr, radius: Expr },
-    Mesh { file: Expr },
+    Plane {
+        normal: Expr,
+        offset: Expr,
+    },
+    Sphere {
+        center: Expr,
+        radius: Expr,
+    },
+    Box {
+        corner_a: Expr,
+        corner_b: Expr,
+    },
+    Triangle {
+        a: Expr,
+        b: Expr,
+        c: Expr,
+    },
+    Quad {
+        corner: Expr,
+        edge1: Expr,
+        edge2: Expr,
+    },
+    Disk {
+        center: Expr,
+        normal: Expr,
+        radius: Expr,
+    },
+    /// `open`: the side alone, no end disks.
+    Cylinder {
+        base: Expr,
+        cap: Expr,
+        radius: Expr,
+        open: bool,
+    },
+    Cone {
+        base: Expr,
+        base_radius: Expr,
+        cap: Expr,
+        cap_radius: Expr,
+        open: bool,
+    },
+    Torus {
+        major: Expr,
+        minor: Expr,
+    },
+    Mesh {
+        file: Expr,
+    },
     Union,
-    Instance { of: Expr },
+    /// CSG: the operands are the objects among the items.
+    Intersection,
+    Difference,
+    Merge,
+    Instance {
+        of: Expr,
+    },
 }
 
 #[derive(Debug, Clone)]

@@ -293,7 +293,16 @@ impl Builder {
             }
             Rule::object => Item::Object(self.object(pair)?),
             Rule::material => Item::Material(self.material(pair)?),
-            Rule::material_name => Item::MaterialName(self.name(inner_pair(&pair))?),
+            Rule::material_name => {
+                let name = inner_pair(&pair);
+                if name.as_str() == "open" {
+                    return Err(self.error(
+                        &name,
+                        "`open` stands only in a cone or cylinder, right after its arguments",
+                    ));
+                }
+                Item::MaterialName(self.name(name)?)
+            }
             Rule::transform => Item::Transform(self.transform(pair)?),
             Rule::material_item => Item::MaterialParam(self.material_param(pair)?),
             Rule::texture => Item::Texture(self.texture(pair)?),
@@ -427,7 +436,7 @@ impl Builder {
         let mut inner = pair.into_inner().skip(1).peekable();
         let mut take =
             |b: &mut Self| b.expr(inner.next().expect("the grammar gives the arguments"));
-        let shape = match rule {
+        let mut shape = match rule {
             Rule::plane => Shape::Plane { normal: take(self)?, offset: take(self)? },
             Rule::sphere => Shape::Sphere { center: take(self)?, radius: take(self)? },
             Rule::box_shape => Shape::Box { corner_a: take(self)?, corner_b: take(self)? },
@@ -438,14 +447,31 @@ impl Builder {
             Rule::disk => {
                 Shape::Disk { center: take(self)?, normal: take(self)?, radius: take(self)? }
             }
-            Rule::cylinder => {
-                Shape::Cylinder { base: take(self)?, cap: take(self)?, radius: take(self)? }
-            }
+            Rule::cylinder => Shape::Cylinder {
+                base: take(self)?,
+                cap: take(self)?,
+                radius: take(self)?,
+                open: false,
+            },
+            Rule::cone => Shape::Cone {
+                base: take(self)?,
+                base_radius: take(self)?,
+                cap: take(self)?,
+                cap_radius: take(self)?,
+                open: false,
+            },
+            Rule::torus => Shape::Torus { major: take(self)?, minor: take(self)? },
             Rule::mesh => Shape::Mesh { file: take(self)? },
             Rule::instance => Shape::Instance { of: take(self)? },
             Rule::union => Shape::Union,
+            Rule::intersection => Shape::Intersection,
+            Rule::difference => Shape::Difference,
+            Rule::merge => Shape::Merge,
             rule => unreachable!("no object {rule:?}"),
         };
+        if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } = &mut shape {
+            *open = inner.next_if(|p| p.as_rule() == Rule::kw_open).is_some();
+        }
         let items = self.items(inner)?;
         self.leave();
         Ok(Object { shape, items, span })

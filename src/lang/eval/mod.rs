@@ -20,7 +20,7 @@ use super::value::Value;
 use super::{parser, tree};
 use crate::diagnostic::{Context, SceneError, SourceFile, Span};
 use crate::scene::graph::{
-    CameraDesc, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings,
+    CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
 };
 
 use array::element_index;
@@ -33,6 +33,11 @@ pub const MAX_INCLUDE_DEPTH: usize = 32;
 
 /// Groups and instances may nest this deep (instances of instances need no brackets).
 pub const MAX_OBJECT_DEPTH: u32 = 256;
+
+/// Intersections, differences and merges may nest this deep, counting the unions among their
+/// operands (each a merge): tracing a CSG object keeps the crossings of every level on the render
+/// thread's stack (about 3 KiB a level).
+pub const MAX_CSG_DEPTH: u32 = 64;
 
 /// Macro calls may nest this deep (a macro calling itself counts each call).
 pub const MAX_MACRO_DEPTH: usize = 256;
@@ -67,6 +72,9 @@ pub struct Evaluator {
     loop_turns: u64,
     /// The state of each `seed(n)` stream.
     streams: Vec<u32>,
+    /// Levels of CSG operations of the declared objects that CSG operands have instanced, by
+    /// address (the `Arc` kept so that the address stays theirs): shared objects are counted once.
+    csg_levels: std::collections::HashMap<usize, (Arc<ObjectNode>, u32)>,
 }
 
 /// Where items stand, which decides what they may be.
@@ -90,12 +98,23 @@ impl Body<'_> {
             Body::Settings(_) => "in `settings`",
             Body::Camera(_) => "in a camera",
             Body::Light(_) => "in a light_source",
-            Body::Object(node)
-                if matches!(node.shape, crate::scene::graph::ShapeNode::Union(_)) =>
-            {
-                "in a union"
-            }
-            Body::Object(_) => "in this object",
+            Body::Object(node) => match node.shape {
+                ShapeNode::Union(_) => "in a union",
+                ShapeNode::Csg { op: CsgOp::Intersection, .. } => "in an intersection",
+                ShapeNode::Csg { op: CsgOp::Difference, .. } => "in a difference",
+                ShapeNode::Csg { op: CsgOp::Merge, .. } => "in a merge",
+                ShapeNode::Plane { .. }
+                | ShapeNode::Sphere { .. }
+                | ShapeNode::Box { .. }
+                | ShapeNode::Triangle { .. }
+                | ShapeNode::Quad { .. }
+                | ShapeNode::Disk { .. }
+                | ShapeNode::Cylinder { .. }
+                | ShapeNode::Cone { .. }
+                | ShapeNode::Torus { .. }
+                | ShapeNode::Mesh { .. }
+                | ShapeNode::Instance(_) => "in this object",
+            },
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",
             Body::ColorMap(_) => "in a color_map",
@@ -559,7 +578,7 @@ impl Evaluator {
 fn instance(node: Arc<ObjectNode>, span: Span) -> ObjectNode {
     let depth = node.depth + 1;
     ObjectNode {
-        shape: crate::scene::graph::ShapeNode::Instance(node),
+        shape: ShapeNode::Instance(node),
         material: None,
         transforms: Vec::new(),
         depth,

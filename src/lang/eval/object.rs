@@ -1,12 +1,14 @@
 //! Objects: shapes checked where they are written, modifiers, groups and instances.
 
+use std::sync::Arc;
+
 use glam::{Mat3, Vec3};
 
-use super::{Body, Evaluator, MAX_OBJECT_DEPTH, as_vector, resolve};
+use super::{Body, Evaluator, MAX_CSG_DEPTH, MAX_OBJECT_DEPTH, as_vector, resolve};
 use crate::diagnostic::SceneError;
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
 use crate::lang::value::Value;
-use crate::scene::graph::{ObjectNode, ShapeNode, Transform};
+use crate::scene::graph::{CsgOp, ObjectNode, ShapeNode, Transform};
 
 impl Evaluator {
     pub(super) fn object(&mut self, object: &syntax::Object) -> Result<ObjectNode, SceneError> {
@@ -59,7 +61,7 @@ impl Evaluator {
                 let normal = self.nonzero(normal, "the disk's normal")?;
                 ShapeNode::Disk { center, normal, radius: self.positive(radius, "radius")? }
             }
-            Shape::Cylinder { base, cap, radius } => {
+            Shape::Cylinder { base, cap, radius, open } => {
                 let at = cap.span.clone();
                 let (base, cap) = (self.vec3(base)?, self.vec3(cap)?);
                 if base == cap {
@@ -68,8 +70,46 @@ impl Evaluator {
                         "the cylinder's base and cap centres are the same point",
                     ));
                 }
-                ShapeNode::Cylinder { base, cap, radius: self.positive(radius, "radius")? }
+                let radius = self.positive(radius, "radius")?;
+                if *open {
+                    // The side alone: a cone with equal radii.
+                    ShapeNode::Cone {
+                        base,
+                        base_radius: radius,
+                        cap,
+                        cap_radius: radius,
+                        open: true,
+                    }
+                } else {
+                    ShapeNode::Cylinder { base, cap, radius }
+                }
             }
+            Shape::Cone { base, base_radius, cap, cap_radius, open } => {
+                // In written order: arguments may draw from a random stream.
+                let base_at = base_radius.span.clone();
+                let base = self.vec3(base)?;
+                let base_radius = self.non_negative(base_radius, "the cone's base radius")?;
+                let cap_at = cap.span.clone();
+                let cap = self.vec3(cap)?;
+                let cap_radius = self.non_negative(cap_radius, "the cone's cap radius")?;
+                if base == cap {
+                    return Err(SceneError::at(
+                        &cap_at,
+                        "the cone's base and cap centres are the same point",
+                    ));
+                }
+                if base_radius == 0.0 && cap_radius == 0.0 {
+                    return Err(SceneError::at(
+                        &base_at,
+                        "the cone's radii are both 0: it has no volume",
+                    ));
+                }
+                ShapeNode::Cone { base, base_radius, cap, cap_radius, open: *open }
+            }
+            Shape::Torus { major, minor } => ShapeNode::Torus {
+                major: self.positive(major, "the torus' major radius")?,
+                minor: self.positive(minor, "the torus' minor radius")?,
+            },
             Shape::Mesh { file } => {
                 let name = self.string(file, "`mesh`")?;
                 ShapeNode::Mesh { path: resolve(&file.span.file.path, &name) }
@@ -88,6 +128,9 @@ impl Evaluator {
                 }
             },
             Shape::Union => ShapeNode::Union(Vec::new()),
+            Shape::Intersection => ShapeNode::Csg { op: CsgOp::Intersection, operands: Vec::new() },
+            Shape::Difference => ShapeNode::Csg { op: CsgOp::Difference, operands: Vec::new() },
+            Shape::Merge => ShapeNode::Csg { op: CsgOp::Merge, operands: Vec::new() },
         };
         let depth = match &shape {
             ShapeNode::Instance(target) => target.depth + 1,
@@ -101,10 +144,65 @@ impl Evaluator {
                 format!("objects nested more than {MAX_OBJECT_DEPTH} levels deep"),
             ));
         }
+        if let ShapeNode::Csg { .. } = node.shape {
+            if self.csg_levels(&node) > MAX_CSG_DEPTH {
+                return Err(SceneError::at(
+                    &object.span,
+                    format!(
+                        "intersection, difference and merge nested more than {MAX_CSG_DEPTH} \
+                         levels deep (counting the unions among their operands)"
+                    ),
+                ));
+            }
+        }
         Ok(node)
     }
 
-    /// A modifier of an object, or (in a union) a child.
+    /// The levels of CSG operations that tracing `node` as an operand takes: one per CSG node and
+    /// per union (a merge) on the way down to the deepest solid.
+    fn csg_levels(&mut self, node: &ObjectNode) -> u32 {
+        let below = |e: &mut Self, nodes: &[ObjectNode]| {
+            nodes.iter().map(|n| e.csg_levels(n)).max().unwrap_or(0)
+        };
+        match &node.shape {
+            ShapeNode::Csg { operands: children, .. } | ShapeNode::Union(children) => {
+                1 + below(self, children)
+            }
+            ShapeNode::Instance(target) => {
+                let key = Arc::as_ptr(target) as usize;
+                if let Some((_, levels)) = self.csg_levels.get(&key) {
+                    return *levels;
+                }
+                let levels = self.csg_levels(target);
+                self.csg_levels.insert(key, (target.clone(), levels));
+                levels
+            }
+            ShapeNode::Plane { .. }
+            | ShapeNode::Sphere { .. }
+            | ShapeNode::Box { .. }
+            | ShapeNode::Triangle { .. }
+            | ShapeNode::Quad { .. }
+            | ShapeNode::Disk { .. }
+            | ShapeNode::Cylinder { .. }
+            | ShapeNode::Cone { .. }
+            | ShapeNode::Torus { .. }
+            | ShapeNode::Mesh { .. } => 0,
+        }
+    }
+
+    /// A radius that may be 0 (a cone's).
+    fn non_negative(&mut self, expr: &syntax::Expr, what: &str) -> Result<f32, SceneError> {
+        let f = self.float(expr)?;
+        if f < 0.0 || f.is_nan() {
+            return Err(SceneError::at(
+                &expr.span,
+                format!("{what} {f} is negative: it must be 0 or more"),
+            ));
+        }
+        Ok(f as f32)
+    }
+
+    /// A modifier of an object, or (in a union or CSG object) a child.
     pub(super) fn object_item(
         &mut self,
         item: &Item,
@@ -114,14 +212,15 @@ impl Evaluator {
             Item::Material(m) => node.material = Some(self.material(m, None)?),
             Item::MaterialName(name) => node.material = Some(self.material_named(name)?),
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
-            Item::Object(object) if matches!(node.shape, ShapeNode::Union(_)) => {
+            Item::Object(object) if children(&mut node.shape).is_some() => {
                 let child = self.object(object)?;
                 add_child(node, child);
             }
             Item::Value(expr) => match self.value(expr)? {
-                // What a macro gives among an object's items: a material, or a union's child.
+                // What a macro gives among an object's items: a material, or a child of a group
+                // or CSG object.
                 Value::Material(m) => node.material = Some(m),
-                Value::Object(child) if matches!(node.shape, ShapeNode::Union(_)) => {
+                Value::Object(child) if children(&mut node.shape).is_some() => {
                     let child = super::instance(child, self.here(&expr.span));
                     add_child(node, child);
                 }
@@ -179,9 +278,28 @@ impl Evaluator {
     }
 }
 
+/// The children of a group, or the operands of a CSG object: where the objects among its items
+/// go. `None` for the other shapes, which take no objects.
+pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
+    match shape {
+        ShapeNode::Union(children) | ShapeNode::Csg { operands: children, .. } => Some(children),
+        ShapeNode::Plane { .. }
+        | ShapeNode::Sphere { .. }
+        | ShapeNode::Box { .. }
+        | ShapeNode::Triangle { .. }
+        | ShapeNode::Quad { .. }
+        | ShapeNode::Disk { .. }
+        | ShapeNode::Cylinder { .. }
+        | ShapeNode::Cone { .. }
+        | ShapeNode::Torus { .. }
+        | ShapeNode::Mesh { .. }
+        | ShapeNode::Instance(_) => None,
+    }
+}
+
 fn add_child(node: &mut ObjectNode, child: ObjectNode) {
     node.depth = node.depth.max(child.depth + 1);
-    if let ShapeNode::Union(children) = &mut node.shape {
+    if let Some(children) = children(&mut node.shape) {
         children.push(child);
     }
 }
