@@ -226,3 +226,89 @@ fn random_streams_do_not_depend_on_the_settings_seed() {
     // The numbers differ from each other (a stream, not a constant).
     assert!(first.windows(2).all(|w| w[0] != w[1]));
 }
+
+/// A block pierced by four holes and crowned by a merge of spheres, written out by hand.
+const CSG_UNROLLED: &str = r#"
+light_source { <0, 0.5, -0.5> power rgb 1 }
+difference {
+  box { <-0.8, -1, -0.3>, <0.8, -0.5, 0.3> }
+  cylinder { <-0.6, -0.75, -0.4>, <-0.6, -0.75, 0.4>, 0.12 }
+  cylinder { <-0.2, -0.75, -0.4>, <-0.2, -0.75, 0.4>, 0.12  material { diffuse rgb 0.1 } }
+  cylinder { <0.2, -0.75, -0.4>, <0.2, -0.75, 0.4>, 0.12 }
+  cylinder { <0.6, -0.75, -0.4>, <0.6, -0.75, 0.4>, 0.12  material { diffuse rgb 0.1 } }
+  cone { <0, -1.1, 0>, 0.15, <0, -0.4, 0>, 0.05 }
+  material { diffuse rgb <0.2, 0.4, 0.8> }
+}
+merge {
+  sphere { <-0.4, -0.3, 0>, 0.2 }
+  sphere { <-0.2, -0.3, 0>, 0.2 }
+  sphere { <0, -0.3, 0>, 0.2 }
+  sphere { <0.2, -0.3, 0>, 0.2 }
+  torus { 0.3, 0.05 }
+  material { diffuse rgb <0.8, 0.7, 0.2> }
+}
+intersection { sphere { <0.6, 0.2, 0>, 0.2 }  plane { y, -0.2 }  material { diffuse rgb 0.5 } }
+"#;
+
+#[test]
+fn loops_and_macros_making_csg_render_the_same_image_as_their_unrolled_text() {
+    let unrolled = render(CSG_UNROLLED);
+    let variants = [
+        // #for and #if among a difference's operands, #while among a merge's
+        r#"light_source { <0, 0.5, -0.5> power rgb 1 }
+           difference {
+             box { <-0.8, -1, -0.3>, <0.8, -0.5, 0.3> }
+             #for (I, 0, 3)
+               #if (mod(I, 2) = 0)
+                 cylinder { <-0.6 + 0.4 * I, -0.75, -0.4>, <-0.6 + 0.4 * I, -0.75, 0.4>, 0.12 }
+               #else
+                 cylinder { <-0.6 + 0.4 * I, -0.75, -0.4>, <-0.6 + 0.4 * I, -0.75, 0.4>, 0.12
+                            material { diffuse rgb 0.1 } }
+               #end
+             #end
+             cone { <0, -1.1, 0>, 0.15, <0, -0.4, 0>, 0.05 }
+             material { diffuse rgb <0.2, 0.4, 0.8> }
+           }
+           merge {
+             #declare I = 0;
+             #while (I < 4) sphere { <-0.4 + 0.2 * I, -0.3, 0>, 0.2 } #declare I = I + 1; #end
+             torus { 0.3, 0.05 }
+             material { diffuse rgb <0.8, 0.7, 0.2> }
+           }
+           intersection { sphere { <0.6, 0.2, 0>, 0.2 }  plane { y, -0.2 }  material { diffuse rgb 0.5 } }"#,
+        // macros giving operands and whole CSG objects, a declared CSG object instanced, x y z
+        r#"#macro Hole(X, M) cylinder { <X, -0.75, -0.4>, <X, -0.75, 0.4>, 0.12  M } #end
+           #macro Dark() material { diffuse rgb 0.1 } #end
+           #macro Block(Holes)
+             difference {
+               box { <-0.8, -1, -0.3>, <0.8, -0.5, 0.3> }
+               #for (I, 0, Holes - 1)
+                 #if (mod(I, 2) = 0) cylinder { <-0.6 + 0.4 * I, -0.75, -0.4>, <-0.6 + 0.4 * I, -0.75, 0.4>, 0.12 }
+                 #else Hole(-0.6 + 0.4 * I, Dark())
+                 #end
+               #end
+               cone { <0, -1.1, 0>, 0.15, <0, -0.4, 0>, 0.05 }
+               material { diffuse rgb <0.2, 0.4, 0.8> }
+             }
+           #end
+           light_source { <0, 0.5, -0.5> power rgb 1 }
+           Block(4)
+           #macro Ball(X) sphere { <X, -0.3, 0>, 0.2 } #end
+           #declare Crown = merge {
+             #for (I, 0, 3) Ball(-0.4 + 0.2 * I) #end
+             torus { 0.3, 0.05 }
+           }
+           object { Crown  material { diffuse rgb <0.8, 0.7, 0.2> } }
+           intersection { sphere { 0.6*x + 0.2*y, 0.2 }  plane { y, -0.2 }  material { diffuse rgb 0.5 } }"#,
+    ];
+    for (i, variant) in variants.iter().enumerate() {
+        let difference = max_abs_difference(&unrolled, &render(variant));
+        assert_eq!(difference, 0.0, "variant {i} differs by {difference}");
+    }
+    // Guards against comparing images that cannot differ.
+    let moved = CSG_UNROLLED.replace(
+        "<0.2, -0.75, -0.4>, <0.2, -0.75, 0.4>",
+        "<0.25, -0.75, -0.4>, <0.25, -0.75, 0.4>",
+    );
+    assert!(max_abs_difference(&unrolled, &render(&moved)) > 1e-3);
+}
