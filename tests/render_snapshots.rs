@@ -46,6 +46,11 @@ fn gallery_bunnies() {
 }
 
 #[test]
+fn gallery_csg() {
+    insta::assert_snapshot!(check("gallery-csg"));
+}
+
+#[test]
 fn mesh_bunny() {
     insta::assert_snapshot!(check("mesh-bunny"));
 }
