@@ -245,3 +245,60 @@ fn a_closed_stdout_is_no_panic() {
     assert!(output.status.success(), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// Writes scene text to `dir/NAME`; `check` and `render` both refuse it, naming `expected`.
+fn assert_scene_refused(dir: &Path, name: &str, text: &str, expected: &str) {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    let (scene, out) = (path.to_str().unwrap(), dir.join("out.exr"));
+    assert_refused(&limited(&["check", scene], 20), expected);
+    assert_refused(&limited(&["render", scene, "-o", out.to_str().unwrap()], 20), expected);
+    assert!(!out.exists());
+}
+
+/// A few lines that stand for 2^26 objects or texture nodes are refused from their counts,
+/// before anything is expanded.
+#[test]
+fn expansion_bombs_are_refused_before_they_expand() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut objects = String::from("#declare O0 = sphere { 0, 1 }\n");
+    for i in 1..=26 {
+        objects += &format!(
+            "#declare O{i} = union {{ object {{ O{} }} object {{ O{} }} }}\n",
+            i - 1,
+            i - 1
+        );
+    }
+    objects += "object { O26 }\n";
+    let text = format!("{SMALL_SCENE}{objects}");
+    assert_scene_refused(dir.path(), "objects.scn", &text, "the scene has 67108865 primitives");
+
+    let mut textures = String::from("#declare T0 = checker { rgb 1, rgb 0 }\n");
+    for i in 1..=26 {
+        textures += &format!("#declare T{i} = mix {{ T{}, T{}, rgb 0.5 }}\n", i - 1, i - 1);
+    }
+    let text = format!("{SMALL_SCENE}{textures}");
+    assert_scene_refused(dir.path(), "textures.scn", &text, "at most 65536 nodes nested 64 deep");
+
+    let chain = "#declare T = mix { T, rgb 0, rgb 0.5 }\n".repeat(10_000);
+    let text = format!("{SMALL_SCENE}#declare T = rgb 1\n{chain}");
+    assert_scene_refused(dir.path(), "chain.scn", &text, "nested 65 deep");
+}
+
+/// 31 files, each including the next twice, would read 2^31 files.
+#[test]
+fn an_include_bomb_is_refused_by_its_count() {
+    let dir = tempfile::tempdir().unwrap();
+    for i in 0..31 {
+        let next = format!("#include \"f{}.inc\"\n", i + 1);
+        std::fs::write(dir.path().join(format!("f{i}.inc")), next.repeat(2)).unwrap();
+    }
+    std::fs::write(dir.path().join("f31.inc"), "").unwrap();
+    let text = format!("{SMALL_SCENE}#include \"f0.inc\"\n");
+    assert_scene_refused(dir.path(), "includes.scn", &text, "more than 10000 files included");
+    let text = format!("{SMALL_SCENE}#include \"/dev/zero\"\n");
+    assert_scene_refused(dir.path(), "zero.scn", &text, "not a regular file (a device)");
+    let fifo = dir.path().join("pipe.scn");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    assert_refused(&limited(&["check", fifo.to_str().unwrap()], 10), "not a regular file (a FIFO)");
+}

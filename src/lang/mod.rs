@@ -9,7 +9,9 @@ pub mod syntax;
 mod tree;
 mod value;
 
-pub use eval::{MAX_INCLUDE_DEPTH, MAX_LOOP_TURNS, MAX_MACRO_DEPTH};
+pub use eval::{
+    MAX_INCLUDE_DEPTH, MAX_INCLUDED_BYTES, MAX_INCLUDES, MAX_LOOP_TURNS, MAX_MACRO_DEPTH,
+};
 pub use parser::MAX_NESTING;
 
 use std::path::Path;
@@ -20,7 +22,7 @@ use crate::scene::graph::SceneGraph;
 
 /// Reads and evaluates a scene file.
 pub fn load_scene(path: &Path) -> Result<SceneGraph, SceneError> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::input::read_text(path, crate::input::MAX_SCENE_BYTES)
         .map_err(|e| SceneError::unlocated(format!("cannot read `{}`: {e}", path.display())))?;
     parse_scene(path, &text)
 }

@@ -26,10 +26,59 @@ use crate::texture::{ImageMap, Texture};
 /// box with 16 spheres and the area light renders as fast either way, one thread.)
 const FEW_BOUNDED_MAX: usize = 16;
 
+/// The most primitives a scene may expand to (about 100 bytes each, with the BVH).
+pub const MAX_SCENE_PRIMITIVES: u64 = 1 << 24;
+
+/// The primitives `node` expands to; a shared (declared) object is counted once and its count
+/// reused, so counting takes time in the size of the text, not of the expansion.
+fn primitive_count(node: &ObjectNode, counts: &mut HashMap<*const ObjectNode, u64>) -> u64 {
+    match &node.shape {
+        ShapeNode::Union(children) => {
+            children.iter().fold(0, |sum, child| sum.saturating_add(primitive_count(child, counts)))
+        }
+        ShapeNode::Instance(target) => match counts.get(&Arc::as_ptr(target)) {
+            Some(&count) => count,
+            None => {
+                let count = primitive_count(target, counts);
+                counts.insert(Arc::as_ptr(target), count);
+                count
+            }
+        },
+        ShapeNode::Plane { .. }
+        | ShapeNode::Sphere { .. }
+        | ShapeNode::Box { .. }
+        | ShapeNode::Triangle { .. }
+        | ShapeNode::Quad { .. }
+        | ShapeNode::Disk { .. }
+        | ShapeNode::Cylinder { .. }
+        | ShapeNode::Cone { .. }
+        | ShapeNode::Torus { .. }
+        | ShapeNode::Csg { .. }
+        | ShapeNode::Mesh { .. } => 1,
+    }
+}
+
 /// Builds the render-ready scene. `graph.settings` are final (command-line overrides applied).
 pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     let settings = graph.settings.clone();
     let (camera, camera_warnings) = Camera::new(&graph.camera, settings.width, settings.height)?;
+    // Counted before anything is expanded: a few lines of nested instances can stand for 2^26
+    // primitives, which must be an error, not gigabytes.
+    let mut counts = HashMap::new();
+    let mut total = 0u64;
+    for node in &graph.objects {
+        total = total.saturating_add(primitive_count(node, &mut counts));
+        if total > MAX_SCENE_PRIMITIVES {
+            return Err(SceneError::at(
+                &node.span,
+                format!(
+                    "with this object the scene has {total} primitives once its groups and \
+                     instances are expanded; at most {MAX_SCENE_PRIMITIVES} are supported (a \
+                     mesh counts one for each instance)"
+                ),
+            ));
+        }
+    }
     let mut flat = Flattener::default();
     for node in &graph.objects {
         flat.add(node, Affine3A::IDENTITY, None)?;

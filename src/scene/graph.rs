@@ -129,6 +129,24 @@ impl TextureNode {
         TextureNode { pattern: Pattern::Solid(colour), transforms: Vec::new() }
     }
 
+    /// How many nodes the texture holds, and how deeply they nest (a solid colour: 1, 1).
+    pub fn size_and_depth(&self) -> (usize, u32) {
+        let children: &[&TextureNode] = match &self.pattern {
+            Pattern::Checker(a, b) | Pattern::Stripes { a, b, .. } => &[a, b],
+            Pattern::Mix { a, b, t } => &[a, b, t],
+            Pattern::Solid(_)
+            | Pattern::Gradient { .. }
+            | Pattern::Noise { .. }
+            | Pattern::Marble { .. }
+            | Pattern::Wood { .. }
+            | Pattern::Image { .. } => &[],
+        };
+        children
+            .iter()
+            .map(|c| c.size_and_depth())
+            .fold((1, 1), |(size, depth), (s, d)| (size + s, depth.max(d + 1)))
+    }
+
     /// The largest value in any channel the texture can take (for the energy check).
     pub fn max_value(&self) -> Vec3 {
         match &self.pattern {

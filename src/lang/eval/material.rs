@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::expression::colour_of;
 use super::{Body, Evaluator, resolve};
-use crate::diagnostic::SceneError;
+use crate::diagnostic::{SceneError, Span};
 use crate::lang::syntax::{
     self, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind, TextureParamKind,
 };
@@ -23,6 +23,12 @@ pub struct TextureState {
     octaves: Option<u32>,
     turbulence: Option<f32>,
 }
+
+/// The most nodes one texture may hold, and how deeply they may nest.
+pub const MAX_TEXTURE_NODES: usize = 65_536;
+pub const MAX_TEXTURE_DEPTH: u32 = 64;
+/// The most texture nodes made or copied in one scene.
+pub const MAX_SCENE_TEXTURE_NODES: u64 = 1 << 20;
 
 impl Evaluator {
     pub(super) fn material(
@@ -91,11 +97,29 @@ impl Evaluator {
                     return Ok(TextureNode::solid(self.colour(colour)?));
                 }
                 match self.value(&colour.value)? {
-                    Value::Texture(texture) => Ok((*texture).clone()),
+                    Value::Texture(texture) => {
+                        self.count_texture_nodes(texture.size_and_depth().0, &colour.span)?;
+                        Ok((*texture).clone())
+                    }
                     other => Ok(TextureNode::solid(colour_of(other, &colour.span)?)),
                 }
             }
         }
+    }
+
+    /// Counts texture nodes made or copied in the scene against `MAX_SCENE_TEXTURE_NODES`.
+    fn count_texture_nodes(&mut self, nodes: usize, at: &Span) -> Result<(), SceneError> {
+        self.texture_nodes += nodes as u64;
+        if self.texture_nodes > MAX_SCENE_TEXTURE_NODES {
+            return Err(SceneError::at(
+                at,
+                format!(
+                    "the scene's textures hold more than {MAX_SCENE_TEXTURE_NODES} nodes (each \
+                     use of a declared texture copies it)"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     pub(super) fn texture(&mut self, t: &syntax::Texture) -> Result<TextureNode, SceneError> {
@@ -142,7 +166,21 @@ impl Evaluator {
             }
             TextureKind::Mix => Pattern::Mix { a: arg(), b: arg(), t: arg() },
         };
-        Ok(TextureNode { pattern, transforms: state.transforms })
+        self.count_texture_nodes(1, &t.span)?;
+        let node = TextureNode { pattern, transforms: state.transforms };
+        // Checked as each node is made, so no texture grows past the bounds: every use of a
+        // declared texture copies it, and rendering evaluates it by recursion.
+        let (size, depth) = node.size_and_depth();
+        if size > MAX_TEXTURE_NODES || depth > MAX_TEXTURE_DEPTH {
+            return Err(SceneError::at(
+                &t.span,
+                format!(
+                    "this texture has {size} nodes nested {depth} deep; at most \
+                     {MAX_TEXTURE_NODES} nodes nested {MAX_TEXTURE_DEPTH} deep are supported"
+                ),
+            ));
+        }
+        Ok(node)
     }
 
     pub(super) fn texture_item(

@@ -31,6 +31,12 @@ use scope::{Scope, Slot};
 /// Includes may nest this deep.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
 
+/// Files read by `#include` in one scene (the same file included twice counts twice), and
+/// their text together: a chain of files that each include the next twice would otherwise read
+/// 2^depth files.
+pub const MAX_INCLUDES: u32 = 10_000;
+pub const MAX_INCLUDED_BYTES: u64 = 256 << 20;
+
 /// Groups and instances may nest this deep (instances of instances need no brackets).
 pub const MAX_OBJECT_DEPTH: u32 = 256;
 
@@ -70,6 +76,10 @@ pub struct Evaluator {
     /// in their spans, so that errors found while building the scene name them.
     context: Option<Arc<Context>>,
     loop_turns: u64,
+    includes: u32,
+    included_bytes: u64,
+    /// Texture nodes made or copied so far.
+    texture_nodes: u64,
     /// The state of each `seed(n)` stream.
     streams: Vec<u32>,
     /// Levels of CSG operations of the declared objects that CSG operands have instanced, by
@@ -558,8 +568,22 @@ impl Evaluator {
                 format!("include cycle: {} includes `{name}` again", chain.join(" includes ")),
             ));
         }
-        let text = std::fs::read_to_string(&path)
+        self.includes += 1;
+        if self.includes > MAX_INCLUDES {
+            return Err(SceneError::at(
+                at,
+                format!("more than {MAX_INCLUDES} files included in one scene"),
+            ));
+        }
+        let text = crate::input::read_text(&path, crate::input::MAX_SCENE_BYTES)
             .map_err(|e| SceneError::at(at, format!("cannot read `{}`: {e}", path.display())))?;
+        self.included_bytes += text.len() as u64;
+        if self.included_bytes > MAX_INCLUDED_BYTES {
+            return Err(SceneError::at(
+                at,
+                format!("more than {} MiB of text included in one scene", MAX_INCLUDED_BYTES >> 20),
+            ));
+        }
         let file = Arc::new(SourceFile { path, text });
         self.open_files.push((id, file.path.clone()));
         // The file's `#local`s end with it.
