@@ -4,11 +4,53 @@ use std::fmt;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// A source file as read, kept so that any later error can quote its line.
+/// A source file as read, kept so that any later error can quote its line, with an index of its
+/// lines so that a position is found in time independent of the file's size.
 #[derive(PartialEq, Eq)]
 pub struct SourceFile {
     pub path: PathBuf,
     pub text: String,
+    /// The byte offset where each line starts, and whether the line is ASCII (so that a
+    /// column, counted in characters, is its byte offset in the line).
+    line_starts: Vec<usize>,
+    ascii_lines: Vec<bool>,
+}
+
+impl SourceFile {
+    pub fn new(path: PathBuf, text: String) -> SourceFile {
+        let line_starts: Vec<usize> =
+            std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect();
+        let ascii_lines = line_starts
+            .iter()
+            .enumerate()
+            .map(|(i, &start)| {
+                let end = line_starts.get(i + 1).copied().unwrap_or(text.len());
+                text.as_bytes()[start..end].is_ascii()
+            })
+            .collect();
+        SourceFile { path, text, line_starts, ascii_lines }
+    }
+
+    /// The 1-based line and column (in characters) of a byte offset.
+    pub fn position(&self, offset: usize) -> (u32, u32) {
+        let offset = offset.min(self.text.len());
+        let line = self.line_starts.partition_point(|&start| start <= offset) - 1;
+        let start = self.line_starts[line];
+        let col = match self.ascii_lines[line] {
+            true => offset - start,
+            false => self.text[start..offset].chars().count(),
+        };
+        (line as u32 + 1, col as u32 + 1)
+    }
+
+    /// The text of a 1-based line, without its line ending.
+    pub fn line(&self, line: u32) -> &str {
+        let Some(&start) = self.line_starts.get(line.saturating_sub(1) as usize) else {
+            return "";
+        };
+        let end = self.line_starts.get(line as usize).copied().unwrap_or(self.text.len());
+        self.text[start..end].trim_end_matches(['\n', '\r'])
+    }
 }
 
 /// A position in a source file (1-based line and column, columns counted in characters), and
@@ -41,8 +83,7 @@ impl Eq for Span {}
 impl Span {
     /// The text of the line this span points into, without its line ending.
     pub fn line_text(&self) -> &str {
-        let line = self.file.text.lines().nth(self.line.saturating_sub(1) as usize);
-        line.unwrap_or("").trim_end_matches('\r')
+        self.file.line(self.line)
     }
 }
 
@@ -113,24 +154,73 @@ impl SceneError {
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.span {
-            None => write!(f, "error: {}", self.message)?,
+            None => write!(f, "error: {}", printable(&self.message))?,
             Some(span) => {
-                write!(f, "{span:?}: error: {}", self.message)?;
+                write!(f, "{span:?}: error: {}", printable(&self.message))?;
                 let number = span.line.to_string();
                 let gutter = " ".repeat(number.len());
-                let text = span.line_text();
-                // The caret goes under the column's character; tabs are kept so it lines up.
-                let pad: String = text
-                    .chars()
-                    .take(span.col.saturating_sub(1) as usize)
-                    .map(|c| if c == '\t' { '\t' } else { ' ' })
-                    .collect();
+                let (text, pad) = excerpt(span.line_text(), span.col.saturating_sub(1) as usize);
                 write!(f, "\n{gutter} |\n{number} | {text}\n{gutter} | {pad}^")?;
             }
         }
         for note in &self.notes {
-            write!(f, "\n  = note: {note}")?;
+            write!(f, "\n  = note: {}", printable(note))?;
         }
         Ok(())
     }
+}
+
+/// Characters of a line shown on each side of an error's column: a scene on one long line (or a
+/// 30,000-character name) gives an error of a few lines, not megabytes.
+const EXCERPT_REACH: usize = 120;
+
+/// The part of `line` around the character at `column` (0-based), clipped with `…`, and the
+/// padding that puts a caret under that character. Tabs are kept so the caret lines up; other
+/// control characters are shown escaped.
+fn excerpt(line: &str, column: usize) -> (String, String) {
+    let first = column.saturating_sub(EXCERPT_REACH);
+    let mut chars = line.chars().skip(first).peekable();
+    let (mut text, mut pad) = (String::new(), String::new());
+    if first > 0 {
+        text.push('…');
+        pad.push(' ');
+    }
+    for i in first..column + EXCERPT_REACH {
+        let Some(c) = chars.next() else { break };
+        let shown = if c == '\t' || !c.is_control() {
+            c.to_string()
+        } else {
+            c.escape_default().to_string()
+        };
+        if i < column {
+            let blank = if c == '\t' { '\t' } else { ' ' };
+            pad.extend(std::iter::repeat_n(blank, shown.chars().count()));
+        }
+        text.push_str(&shown);
+    }
+    if chars.peek().is_some() {
+        text.push('…');
+    }
+    (text, pad)
+}
+
+/// The most characters of a message shown: one that quotes a 30,000-character name shows its
+/// start and end.
+const MESSAGE_REACH: usize = 400;
+
+/// `text` with control characters shown escaped (a file name can hold an escape sequence that
+/// would otherwise drive the terminal), and its middle elided past `MESSAGE_REACH` characters.
+pub fn printable(text: &str) -> String {
+    let escape = |c: char| match c.is_control() && c != '\n' {
+        true => c.escape_default().to_string(),
+        false => c.to_string(),
+    };
+    let count = text.chars().count();
+    if count <= MESSAGE_REACH {
+        return text.chars().map(escape).collect();
+    }
+    let half = MESSAGE_REACH / 2;
+    let start: String = text.chars().take(half).map(escape).collect();
+    let end: String = text.chars().skip(count - half).map(escape).collect();
+    format!("{start}…{end}")
 }

@@ -302,3 +302,36 @@ fn an_include_bomb_is_refused_by_its_count() {
     assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
     assert_refused(&limited(&["check", fifo.to_str().unwrap()], 10), "not a regular file (a FIFO)");
 }
+
+/// Positions come from a line index and error excerpts are clipped around the column: a scene
+/// of a megabyte on one line checks in time linear in its size, and an error in it, or at a
+/// 30,000-character name, is a few lines long. Control characters in names are shown escaped.
+#[test]
+fn long_lines_and_names_give_short_errors_in_linear_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let spheres: Vec<String> =
+        (0..40_000).map(|i| format!("sphere {{ <{}, 0, 0>, 0.1 }}", i % 100)).collect();
+    let one_line =
+        format!("camera {{ location <0, 0, -5>  look_at <0, 0, 0> }} {}", spheres.join(" "));
+    let path = dir.path().join("one_line.scn");
+    std::fs::write(&path, &one_line).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 20);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+
+    std::fs::write(&path, format!("{one_line} sphere {{ <0, 0, 0> 0.1 }}")).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 20);
+    assert_refused(&output, "is a `,` missing?");
+    assert!(output.stderr.len() < 2000, "{} bytes of error", output.stderr.len());
+
+    let name = "x".repeat(30_000);
+    let text = format!("sphere {{ 0, {name} }}");
+    let output = limited(&["check", &write_scene(dir.path(), "name.scn", &text)], 20);
+    assert_refused(&output, "unknown identifier `xxxx");
+    assert!(output.stderr.len() < 2000, "{} bytes of error", output.stderr.len());
+
+    let text = "mesh { \"bell\u{7}\u{1b}[31m.ply\" }";
+    let output = limited(&["check", &write_scene(dir.path(), "escape.scn", text)], 20);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains('\u{1b}') && !stderr.contains('\u{7}'), "{stderr:?}");
+    assert!(stderr.contains("bell\\u{7}\\u{1b}[31m.ply"), "{stderr}");
+}

@@ -29,12 +29,12 @@ pub fn load_scene(path: &Path) -> Result<SceneGraph, SceneError> {
 
 /// Evaluates scene text as if read from `path` (which locates errors and relative paths).
 pub fn parse_scene(path: &Path, text: &str) -> Result<SceneGraph, SceneError> {
-    let file = Arc::new(SourceFile { path: path.to_path_buf(), text: text.to_string() });
+    let file = Arc::new(SourceFile::new(path.to_path_buf(), text.to_string()));
     eval::Evaluator::default().scene(file)
 }
 
 /// Parses scene text into its syntax tree, without evaluating it.
 pub fn parse_tree(path: &Path, text: &str) -> Result<Vec<syntax::Item>, SceneError> {
-    let file = Arc::new(SourceFile { path: path.to_path_buf(), text: text.to_string() });
+    let file = Arc::new(SourceFile::new(path.to_path_buf(), text.to_string()));
     tree::parse_file(&file)
 }

@@ -29,10 +29,7 @@ pub fn parse(file: &Arc<SourceFile>) -> Result<Pairs<'_, Rule>, SceneError> {
 }
 
 pub fn span_at(file: &Arc<SourceFile>, offset: usize) -> Span {
-    let before = &file.text[..offset.min(file.text.len())];
-    let line = before.matches('\n').count() as u32 + 1;
-    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let col = before[line_start..].chars().count() as u32 + 1;
+    let (line, col) = file.position(offset);
     Span { file: file.clone(), line, col, context: None }
 }
 
@@ -352,7 +349,7 @@ mod tests {
     fn errors_after_multibyte_characters_do_not_panic() {
         // Found by fuzzing: a byte-order mark in the middle of a scene, before a parse error.
         let text = "camera { origin <0, \u{feff}era { origin <0, 0, -3.5>  left <-1,specularup";
-        let file = Arc::new(SourceFile { path: "x.scn".into(), text: text.into() });
+        let file = Arc::new(SourceFile::new("x.scn".into(), text.into()));
         let error = parse(&file).map(|_| ()).unwrap_err();
         assert!(error.to_string().starts_with("x.scn:1:"), "{error}");
     }

@@ -74,9 +74,10 @@ impl Open {
 }
 
 impl Builder {
+    /// From the file's line index: pest's `line_col` counts the columns from the line's start
+    /// every time, quadratic in the length of a long line.
     fn span(&self, pair: &Pair<'_, Rule>) -> Span {
-        let (line, col) = pair.line_col();
-        Span { file: self.file.clone(), line: line as u32, col: col as u32, context: None }
+        super::parser::span_at(&self.file, pair.as_span().start())
     }
 
     fn error(&self, pair: &Pair<'_, Rule>, message: impl Into<String>) -> SceneError {

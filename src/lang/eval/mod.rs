@@ -584,7 +584,7 @@ impl Evaluator {
                 format!("more than {} MiB of text included in one scene", MAX_INCLUDED_BYTES >> 20),
             ));
         }
-        let file = Arc::new(SourceFile { path, text });
+        let file = Arc::new(SourceFile::new(path, text));
         self.open_files.push((id, file.path.clone()));
         // The file's `#local`s end with it.
         self.scopes.push(Scope::default());
