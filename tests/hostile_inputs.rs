@@ -335,3 +335,20 @@ fn long_lines_and_names_give_short_errors_in_linear_time() {
     assert!(!stderr.contains('\u{1b}') && !stderr.contains('\u{7}'), "{stderr:?}");
     assert!(stderr.contains("bell\\u{7}\\u{1b}[31m.ply"), "{stderr}");
 }
+
+/// Numbers finite in the language's f64 but not in the renderer's f32 (or that vanish there)
+/// are located errors, not black images or missing objects.
+#[test]
+fn numbers_beyond_f32_are_located_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (object, expected) in [
+        ("sphere { <1e39, 0, 0>, 1 }", "1e39 is too large"),
+        ("sphere { 0, 1e-50 }", "1e-50 is too small"),
+        ("light_source { <0, 1, 0>  power rgb 1e39 }", "1e39 is too large"),
+        ("plane { <0, 1, 0>, -1e40 }", "-1e40 is too large"),
+    ] {
+        let output = limited(&["check", &write_scene(dir.path(), "n.scn", object)], 10);
+        assert_refused(&output, expected);
+        assert!(String::from_utf8_lossy(&output.stderr).contains("n.scn:4:"), "{object}");
+    }
+}

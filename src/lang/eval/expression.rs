@@ -36,6 +36,11 @@ impl Evaluator {
         Ok(value)
     }
 
+    /// A number as the renderer holds it (f32): one out of its range is an error here.
+    pub(super) fn single(&mut self, expr: &Expr) -> Result<f32, SceneError> {
+        single(self.float(expr)?, &expr.span)
+    }
+
     pub(super) fn float(&mut self, expr: &Expr) -> Result<f64, SceneError> {
         as_float(&self.value(expr)?, &expr.span, "this value")
     }
@@ -50,7 +55,8 @@ impl Evaluator {
     }
 
     pub(super) fn vec3(&mut self, expr: &Expr) -> Result<Vec3, SceneError> {
-        self.vector(expr).map(|v| v.as_vec3())
+        let v = self.vector(expr)?;
+        Ok(Vec3::new(single(v.x, &expr.span)?, single(v.y, &expr.span)?, single(v.z, &expr.span)?))
     }
 
     pub(super) fn nonzero(&mut self, expr: &Expr, what: &str) -> Result<Vec3, SceneError> {
@@ -70,7 +76,7 @@ impl Evaluator {
                 format!("{what} {f} is {sign}: it must be positive"),
             ));
         }
-        Ok(f as f32)
+        single(f, &expr.span)
     }
 
     pub(super) fn integer(&mut self, expr: &Expr, min: u64, max: u64) -> Result<u64, SceneError> {
@@ -411,7 +417,7 @@ pub(super) fn colour_of(value: Value, at: &Span) -> Result<Vec3, SceneError> {
         }
     };
     check_colour(colour, at)?;
-    Ok(colour.as_vec3())
+    Ok(Vec3::new(single(colour.x, at)?, single(colour.y, at)?, single(colour.z, at)?))
 }
 
 fn check_colour(colour: DVec3, at: &Span) -> Result<(), SceneError> {
@@ -502,6 +508,31 @@ fn arithmetic(
             )),
         },
     }
+}
+
+/// `value` as f32, the precision the renderer computes in: a value that is finite here but would
+/// be infinite there (beyond 3.4e38), or that would vanish (non-zero, below 1.2e-38), is an error
+/// at `at` rather than a silently black image or a missing object.
+pub(super) fn single(value: f64, at: &Span) -> Result<f32, SceneError> {
+    let single = value as f32;
+    if value.is_finite() && !single.is_finite() {
+        return Err(SceneError::at(
+            at,
+            format!(
+                "{value:e} is too large: the renderer computes in 32-bit floats (at most 3.4e38)"
+            ),
+        ));
+    }
+    if value != 0.0 && value.abs() < f64::from(f32::MIN_POSITIVE) {
+        return Err(SceneError::at(
+            at,
+            format!(
+                "{value:e} is too small: the renderer computes in 32-bit floats, where it would \
+                 vanish (the least is 1.2e-38)"
+            ),
+        ));
+    }
+    Ok(single)
 }
 
 #[cfg(test)]

@@ -234,7 +234,7 @@ impl Evaluator {
                         state.octaves = Some(self.integer(&param.value, 1, 16)? as u32)
                     }
                     TextureParamKind::Turbulence => {
-                        let t = self.float(&param.value)? as f32;
+                        let t = self.single(&param.value)?;
                         if t < 0.0 {
                             return Err(SceneError::at(
                                 &param.value.span,
@@ -259,7 +259,7 @@ impl Evaluator {
             return Err(Self::misplaced(item, &Body::ColorMap(entries)));
         };
         let at = position.span.clone();
-        let position = self.float(position)? as f32;
+        let position = self.single(position)?;
         let colour = self.colour(colour)?;
         let previous = entries.last().map_or(0.0, |e| e.0);
         if !(previous..=1.0).contains(&position) {

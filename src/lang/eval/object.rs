@@ -16,7 +16,7 @@ impl Evaluator {
         let shape = match &object.shape {
             Shape::Plane { normal, offset } => {
                 let normal = self.nonzero(normal, "the plane's normal")?;
-                ShapeNode::Plane { normal, offset: self.float(offset)? as f32 }
+                ShapeNode::Plane { normal, offset: self.single(offset)? }
             }
             Shape::Sphere { center, radius } => ShapeNode::Sphere {
                 center: self.vec3(center)?,
@@ -199,7 +199,7 @@ impl Evaluator {
                 format!("{what} {f} is negative: it must be 0 or more"),
             ));
         }
-        Ok(f as f32)
+        super::expression::single(f, &expr.span)
     }
 
     /// A modifier of an object, or (in a union or CSG object) a child.
