@@ -352,3 +352,23 @@ fn numbers_beyond_f32_are_located_errors() {
         assert!(String::from_utf8_lossy(&output.stderr).contains("n.scn:4:"), "{object}");
     }
 }
+
+/// A mesh whose bad token is 20 MB long, with escape sequences: the error quotes a clipped,
+/// escaped excerpt of it.
+#[test]
+fn a_huge_token_in_a_mesh_is_quoted_short_and_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let token = format!("\u{1b}[31m{}", "9".repeat(20 << 20));
+    let ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         {token} 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+    );
+    std::fs::write(dir.path().join("huge.ply"), ply).unwrap();
+    let output =
+        limited(&["check", &write_scene(dir.path(), "m.scn", "mesh { \"huge.ply\" }")], 20);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{}", &stderr[..stderr.len().min(500)]);
+    assert!(output.stderr.len() < 2000, "{} bytes of error", output.stderr.len());
+    assert!(!stderr.contains('\u{1b}'), "{stderr:?}");
+}

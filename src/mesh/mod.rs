@@ -8,6 +8,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::accel::MAX_PRIMITIVES;
+use crate::diagnostic::printable;
 
 /// An indexed triangle mesh in its own (object) space.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,7 +29,11 @@ pub struct MeshError {
 
 /// Reads a `.ply` or `.obj` file by its extension.
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
-    let error = |message: String| MeshError { file: path.display().to_string(), message };
+    // A message may quote the file's bytes (a 20 MB token, escape sequences): clipped and escaped.
+    let error = |message: String| MeshError {
+        file: printable(&path.display().to_string()),
+        message: printable(&message),
+    };
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let format = match extension.as_deref() {
         Some("ply") => MeshFormat::Ply,
