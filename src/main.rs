@@ -177,8 +177,10 @@ fn main() -> ExitCode {
             ppm_res,
             max_memory,
         } => {
-            if let Some(t) = time.filter(|t| !(t.is_finite() && *t > 0.0)) {
-                return fail(format!("error: --time {t} must be a positive number of seconds"));
+            if let Some(t) = time.filter(|t| !(*t > 0.0 && *t <= MAX_TIME)) {
+                return fail(format!(
+                    "error: --time {t} must be a positive number of seconds, at most {MAX_TIME:e}"
+                ));
             }
             // With a time budget the sample count is only a ceiling.
             let samples = samples.or(time.map(|_| raydiance::MAX_SAMPLES));
@@ -238,6 +240,9 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 /// Set when a render was stopped before its last sample: the exit status is then 130.
 static STOPPED: AtomicBool = AtomicBool::new(false);
+
+/// The longest `--time` budget, in seconds (some 30 years; more cannot be a deadline).
+const MAX_TIME: f64 = 1e9;
 
 /// The most worker threads `--threads` starts.
 const MAX_THREADS: usize = 1024;

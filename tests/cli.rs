@@ -116,6 +116,10 @@ fn bad_command_line_values_are_errors_naming_the_value() {
         (vec!["--threads", "0"], "--threads 0 is out of range (1 to 1024)"),
         (vec!["--integrator", "photon"], "unknown integrator `photon`"),
         (vec!["--time", "-3"], "--time -3 must be a positive number"),
+        (
+            vec!["--time", "1e19"],
+            "--time 10000000000000000000 must be a positive number of seconds, at most 1e9",
+        ),
     ] {
         let mut all = vec!["render", "scenes/lab4-direct.scn", "-o", "/tmp/raydiance-never.exr"];
         all.extend(args);
