@@ -7,9 +7,6 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use glam::{Vec2, Vec3};
-use raydiance::geometry::Ray;
-
 /// `box {-1, 1}` less `sphere {0, 1.3}`, emitting only, seen from a corner so that the cut faces
 /// are in view.
 const CARVED_CUBE: &str = r#"
@@ -22,28 +19,6 @@ difference {
   material { emission rgb 1 }
 }
 "#;
-
-/// The segment of the ray's line inside the box (slab test), if any.
-fn clip(ray: &Ray, min: Vec3, max: Vec3) -> Option<(f32, f32)> {
-    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
-    let (t0, t1) = ((min - o) / d, (max - o) / d);
-    let (near, far) = (t0.min(t1).max_element(), t0.max(t1).min_element());
-    (near <= far && far > 0.0).then_some((near.max(0.0), far))
-}
-
-/// Whether the ray meets `box {-1, 1} - sphere {0, 1.3}`, analytically: the ray's segment in
-/// the cube is not all inside the sphere.
-fn hits_carved_cube(ray: &Ray) -> bool {
-    let Some((t0, t1)) = clip(ray, -Vec3::ONE, Vec3::ONE) else { return false };
-    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
-    let b = o.dot(d);
-    let disc = b * b - (o.length_squared() - 1.69);
-    if disc < 0.0 {
-        return true;
-    }
-    let (s0, s1) = (-b - disc.sqrt(), -b + disc.sqrt());
-    t0 < s0 || t1 > s1
-}
 
 #[test]
 fn a_sphere_subtracted_from_a_cube_in_scn_text_renders_its_analytic_silhouette() {
@@ -67,18 +42,17 @@ fn a_sphere_subtracted_from_a_cube_in_scn_text_renders_its_analytic_silhouette()
         let (mut edge, mut error, mut lit) = (0, 0.0, 0);
         for y in 0..height {
             for x in 0..width {
-                // Coverage of the pixel on a 12 x 12 grid, and of the pixel with a margin of
-                // half a pixel around it (where that is all or nothing, so is the pixel).
+                // Coverage of the pixel, and of the pixel with a margin of half a pixel around it
+                // (where that is all or nothing, so is the pixel).
+                let (pixel, size) = ((x, y), (width, height));
                 let coverage = |margin: f32| {
-                    let n = 12;
-                    let hits = (0..n * n).filter(|i| {
-                        let fraction = |k: usize| (k as f32 + 0.5) / n as f32;
-                        let u = x as f32 - margin + (1.0 + 2.0 * margin) * fraction(i % n);
-                        let v = y as f32 - margin + (1.0 + 2.0 * margin) * fraction(i / n);
-                        let (u, v) = (u / width as f32, v / height as f32);
-                        hits_carved_cube(&scene.camera.ray(u, v, Vec2::ZERO))
-                    });
-                    hits.count() as f32 / (n * n) as f32
+                    common::pixel_coverage(
+                        &scene.camera,
+                        pixel,
+                        size,
+                        margin,
+                        common::hits_carved_cube,
+                    )
                 };
                 let (covered, around) = (coverage(0.0), coverage(0.5));
                 let value = image.pixels[y * width + x];

@@ -116,14 +116,6 @@ fn march(
     None
 }
 
-/// The segment of the ray's line inside the box (slab test), if any.
-fn clip(ray: &Ray, min: Vec3, max: Vec3) -> Option<(f32, f32)> {
-    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
-    let (t0, t1) = ((min - o) / d, (max - o) / d);
-    let (near, far) = (t0.min(t1).max_element(), t0.max(t1).min_element());
-    (near <= far && far > 0.0).then_some((near.max(0.0), far))
-}
-
 #[derive(Default, Debug)]
 struct Tally {
     rays: usize,
@@ -138,7 +130,7 @@ fn check_ray(shape: &Shape, ray: &Ray, steps: usize, tolerance: f32, tally: &mut
     tally.rays += 1;
     let bounds = shape.bounds().expect("bounded");
     let pad = 1e-3 * bounds.extent().max_element();
-    let Some((t0, t1)) = clip(ray, bounds.min - pad, bounds.max + pad) else {
+    let Some((t0, t1)) = common::clip(ray, bounds.min - pad, bounds.max + pad) else {
         assert!(shape.intersection(ray, f32::INFINITY).is_none(), "hit outside the bounds");
         return;
     };
@@ -475,20 +467,6 @@ fn csg_normals_point_out_of_the_result_and_surfaces_keep_their_operands_material
     assert!(cut > 500 && outer > 500, "{cut} {outer}");
 }
 
-/// Where the ray meets `box {-1, 1} - sphere {0, 1.3}`, analytically.
-fn hits_carved_cube(ray: &Ray) -> bool {
-    let Some((t0, t1)) = clip(ray, -Vec3::ONE, Vec3::ONE) else { return false };
-    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
-    let b = o.dot(d);
-    let disc = b * b - (o.length_squared() - 1.69);
-    if disc < 0.0 {
-        return true;
-    }
-    let (s0, s1) = (-b - disc.sqrt(), -b + disc.sqrt());
-    // The cube's segment is not all inside the sphere.
-    t0 < s0 || t1 > s1
-}
-
 #[test]
 fn a_sphere_subtracted_from_a_cube_renders_its_analytic_silhouette_with_emission_only() {
     let mut graph = empty_graph();
@@ -522,18 +500,17 @@ fn a_sphere_subtracted_from_a_cube_renders_its_analytic_silhouette_with_emission
         let (mut edge, mut error) = (0, 0.0);
         for y in 0..height {
             for x in 0..width {
-                // Coverage of the pixel on a 12 x 12 grid, and of the pixel with a margin of
-                // half a pixel around it (where that is all or nothing, so is the pixel).
+                // Coverage of the pixel, and of the pixel with a margin of half a pixel around it
+                // (where that is all or nothing, so is the pixel).
+                let (pixel, size) = ((x as usize, y as usize), (width as usize, height as usize));
                 let coverage = |margin: f32| {
-                    let n = 12;
-                    let hits = (0..n * n).filter(|i| {
-                        let fraction = |k: u32| (k as f32 + 0.5) / n as f32;
-                        let u = x as f32 - margin + (1.0 + 2.0 * margin) * fraction(i % n);
-                        let v = y as f32 - margin + (1.0 + 2.0 * margin) * fraction(i / n);
-                        let (u, v) = (u / width as f32, v / height as f32);
-                        hits_carved_cube(&scene.camera.ray(u, v, Vec2::ZERO))
-                    });
-                    hits.count() as f32 / (n * n) as f32
+                    common::pixel_coverage(
+                        &scene.camera,
+                        pixel,
+                        size,
+                        margin,
+                        common::hits_carved_cube,
+                    )
                 };
                 let (covered, around) = (coverage(0.0), coverage(0.5));
                 let value = image.pixels[(y * width + x) as usize];

@@ -68,3 +68,44 @@ pub fn outside_tool(name: &str, package: &str, test: &str) -> bool {
     let _ = std::io::stderr().write_all(line.as_bytes());
     false
 }
+
+/// The segment of the ray's line inside the box (slab test), if any.
+pub fn clip(ray: &raydiance::geometry::Ray, min: Vec3, max: Vec3) -> Option<(f32, f32)> {
+    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let (t0, t1) = ((min - o) / d, (max - o) / d);
+    let (near, far) = (t0.min(t1).max_element(), t0.max(t1).min_element());
+    (near <= far && far > 0.0).then_some((near.max(0.0), far))
+}
+
+/// Whether the ray meets `box { -1, 1 }` minus `sphere { 0, 1.3 }`, analytically: the ray's
+/// segment in the cube is not all inside the sphere.
+pub fn hits_carved_cube(ray: &raydiance::geometry::Ray) -> bool {
+    let Some((t0, t1)) = clip(ray, -Vec3::ONE, Vec3::ONE) else { return false };
+    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let b = o.dot(d);
+    let disc = b * b - (o.length_squared() - 1.69);
+    if disc < 0.0 {
+        return true;
+    }
+    let (s0, s1) = (-b - disc.sqrt(), -b + disc.sqrt());
+    t0 < s0 || t1 > s1
+}
+
+/// The fraction of pixel (x, y) of a `width` x `height` image, widened by `margin` pixels on each
+/// side, whose pinhole rays `hits`, on a 12 x 12 grid.
+pub fn pixel_coverage(
+    camera: &raydiance::camera::Camera,
+    (x, y): (usize, usize),
+    (width, height): (usize, usize),
+    margin: f32,
+    hits: impl Fn(&raydiance::geometry::Ray) -> bool,
+) -> f32 {
+    let n = 12;
+    let hits = (0..n * n).filter(|i| {
+        let fraction = |k: usize| (k as f32 + 0.5) / n as f32;
+        let u = x as f32 - margin + (1.0 + 2.0 * margin) * fraction(i % n);
+        let v = y as f32 - margin + (1.0 + 2.0 * margin) * fraction(i / n);
+        hits(&camera.ray(u / width as f32, v / height as f32, glam::Vec2::ZERO))
+    });
+    hits.count() as f32 / (n * n) as f32
+}
