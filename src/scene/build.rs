@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use super::graph::{MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
+use super::graph::{Below, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use super::{Primitive, Scene};
 use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
@@ -32,11 +32,11 @@ pub const MAX_SCENE_PRIMITIVES: u64 = 1 << 24;
 /// The primitives `node` expands to; a shared (declared) object is counted once and its count
 /// reused, so counting takes time in the size of the text, not of the expansion.
 fn primitive_count(node: &ObjectNode, counts: &mut HashMap<*const ObjectNode, u64>) -> u64 {
-    match &node.shape {
-        ShapeNode::Union(children) => {
+    match node.shape.below() {
+        Below::Children(children) => {
             children.iter().fold(0, |sum, child| sum.saturating_add(primitive_count(child, counts)))
         }
-        ShapeNode::Instance(target) => match counts.get(&Arc::as_ptr(target)) {
+        Below::Shared(target) => match counts.get(&Arc::as_ptr(target)) {
             Some(&count) => count,
             None => {
                 let count = primitive_count(target, counts);
@@ -44,17 +44,8 @@ fn primitive_count(node: &ObjectNode, counts: &mut HashMap<*const ObjectNode, u6
                 count
             }
         },
-        ShapeNode::Plane { .. }
-        | ShapeNode::Sphere { .. }
-        | ShapeNode::Box { .. }
-        | ShapeNode::Triangle { .. }
-        | ShapeNode::Quad { .. }
-        | ShapeNode::Disk { .. }
-        | ShapeNode::Cylinder { .. }
-        | ShapeNode::Cone { .. }
-        | ShapeNode::Torus { .. }
-        | ShapeNode::Csg { .. }
-        | ShapeNode::Mesh { .. } => 1,
+        // A CSG object is one primitive, however many operands it has.
+        Below::Operands(_) | Below::Nothing => 1,
     }
 }
 

@@ -165,6 +165,41 @@ impl TextureNode {
     }
 }
 
+/// What a node of the graph holds below it.
+#[derive(Debug, Clone, Copy)]
+pub enum Below<'a> {
+    /// Nothing: a shape.
+    Nothing,
+    /// A union's children.
+    Children(&'a [ObjectNode]),
+    /// A CSG object's operands.
+    Operands(&'a [ObjectNode]),
+    /// The declared object an instance shares.
+    Shared(&'a Arc<ObjectNode>),
+}
+
+impl ShapeNode {
+    /// What this node holds below it: the one place that sorts the kinds into shapes and nodes
+    /// of nodes, for walks over the graph.
+    pub fn below(&self) -> Below<'_> {
+        match self {
+            ShapeNode::Union(children) => Below::Children(children),
+            ShapeNode::Csg { operands, .. } => Below::Operands(operands),
+            ShapeNode::Instance(target) => Below::Shared(target),
+            ShapeNode::Plane { .. }
+            | ShapeNode::Sphere { .. }
+            | ShapeNode::Box { .. }
+            | ShapeNode::Triangle { .. }
+            | ShapeNode::Quad { .. }
+            | ShapeNode::Disk { .. }
+            | ShapeNode::Cylinder { .. }
+            | ShapeNode::Cone { .. }
+            | ShapeNode::Torus { .. }
+            | ShapeNode::Mesh { .. } => Below::Nothing,
+        }
+    }
+}
+
 /// `color_map { [position colour] ... }`, positions ascending in [0, 1].
 pub type ColorMap = Vec<(f32, Vec3)>;
 

@@ -8,7 +8,7 @@ use super::{Body, Evaluator, MAX_CSG_DEPTH, MAX_OBJECT_DEPTH, as_vector, resolve
 use crate::diagnostic::SceneError;
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
 use crate::lang::value::Value;
-use crate::scene::graph::{CsgOp, ObjectNode, ShapeNode, Transform};
+use crate::scene::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform};
 
 impl Evaluator {
     pub(super) fn object(&mut self, object: &syntax::Object) -> Result<ObjectNode, SceneError> {
@@ -164,11 +164,9 @@ impl Evaluator {
         let below = |e: &mut Self, nodes: &[ObjectNode]| {
             nodes.iter().map(|n| e.csg_levels(n)).max().unwrap_or(0)
         };
-        match &node.shape {
-            ShapeNode::Csg { operands: children, .. } | ShapeNode::Union(children) => {
-                1 + below(self, children)
-            }
-            ShapeNode::Instance(target) => {
+        match node.shape.below() {
+            Below::Operands(children) | Below::Children(children) => 1 + below(self, children),
+            Below::Shared(target) => {
                 let key = Arc::as_ptr(target) as usize;
                 if let Some((_, levels)) = self.csg_levels.get(&key) {
                     return *levels;
@@ -177,16 +175,7 @@ impl Evaluator {
                 self.csg_levels.insert(key, (target.clone(), levels));
                 levels
             }
-            ShapeNode::Plane { .. }
-            | ShapeNode::Sphere { .. }
-            | ShapeNode::Box { .. }
-            | ShapeNode::Triangle { .. }
-            | ShapeNode::Quad { .. }
-            | ShapeNode::Disk { .. }
-            | ShapeNode::Cylinder { .. }
-            | ShapeNode::Cone { .. }
-            | ShapeNode::Torus { .. }
-            | ShapeNode::Mesh { .. } => 0,
+            Below::Nothing => 0,
         }
     }
 
