@@ -3,8 +3,10 @@
 //! scopes and macros. Knows nothing of rendering.
 
 mod eval;
+mod hints;
 pub mod keywords;
 mod parser;
+mod povray;
 pub mod syntax;
 mod tree;
 mod value;

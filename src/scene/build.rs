@@ -109,8 +109,21 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             lights.push(Light::Area { primitive: i as u32, area });
         }
     }
-    let mut warnings = camera_warnings;
+    let mut warnings = graph.warnings.clone();
+    warnings.extend(camera_warnings);
     warnings.extend(flat.warnings);
+    let emits = !lights.is_empty()
+        || settings.background.max_element() > 0.0
+        || flat.materials.iter().any(Material::is_emissive);
+    if !emits {
+        warnings.push(
+            "warning: the scene emits no light (no light_source, no material with `emission`, \
+             a black background): every pixel will be black. Add `light_source { <x, y, z> \
+             power rgb <r, g, b> }`, give an object `material { emission rgb <r, g, b> }`, or \
+             set `settings { background rgb <r, g, b> }`"
+                .to_string(),
+        );
+    }
     // Rays traced in lanes meet few simple shapes at less cost than the BVH's.
     let few_holds_bounded =
         primitives[..bounded_count].iter().map(|p| FewShapes::size(&p.shape)).sum::<usize>()

@@ -16,6 +16,8 @@ pub struct SceneGraph {
     pub camera: CameraDesc,
     pub lights: Vec<PointLightDesc>,
     pub objects: Vec<ObjectNode>,
+    /// What the language found worth saying that is not an error (POV-Ray's `#version`).
+    pub warnings: Vec<String>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -80,6 +80,8 @@ pub struct Evaluator {
     included_bytes: u64,
     /// Texture nodes made or copied so far.
     texture_nodes: u64,
+    /// Warnings given while evaluating (`#warning` prints its own at once).
+    warnings: Vec<String>,
     /// The state of each `seed(n)` stream.
     streams: Vec<u32>,
     /// Levels of CSG operations of the declared objects that CSG operands have instanced, by
@@ -151,6 +153,7 @@ impl Evaluator {
             camera,
             lights: self.lights,
             objects: self.objects,
+            warnings: self.warnings,
         })
     }
 
@@ -215,6 +218,10 @@ impl Evaluator {
                     MessageKind::Warning => eprintln!("{span:?}: warning: {text}"),
                     MessageKind::Error => return Err(SceneError::at(span, text.to_string())),
                 }
+                Ok(())
+            }
+            Item::Ignored { what, span } => {
+                self.warnings.push(format!("{:?}: warning: {}", self.here(span), what.warning()));
                 Ok(())
             }
             Item::Call(call) => self.call_macro(call, body),
