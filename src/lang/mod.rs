@@ -13,6 +13,7 @@ mod value;
 
 pub use eval::{
     MAX_INCLUDE_DEPTH, MAX_INCLUDED_BYTES, MAX_INCLUDES, MAX_LOOP_TURNS, MAX_MACRO_DEPTH,
+    MAX_OBJECTS_MADE,
 };
 pub use parser::MAX_NESTING;
 

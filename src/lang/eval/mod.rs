@@ -48,6 +48,11 @@ pub const MAX_CSG_DEPTH: u32 = 64;
 /// Macro calls may nest this deep (a macro calling itself counts each call).
 pub const MAX_MACRO_DEPTH: usize = 256;
 
+/// Objects the interpreter makes in one scene (each object written, every time it is evaluated;
+/// a mesh is one): a loop making unions of objects is stopped at about half a gigabyte, before
+/// the build counts primitives. `object { Name }` counts one, however much `Name` holds.
+pub const MAX_OBJECTS_MADE: u64 = 1 << 22;
+
 /// Turns of all `#while` and `#for` loops of one scene together.
 pub const MAX_LOOP_TURNS: u64 = 10_000_000;
 
@@ -80,6 +85,8 @@ pub struct Evaluator {
     included_bytes: u64,
     /// Texture nodes made or copied so far.
     texture_nodes: u64,
+    /// Objects made so far.
+    objects_made: u64,
     /// Warnings given while evaluating (`#warning` prints its own at once).
     warnings: Vec<String>,
     /// The state of each `seed(n)` stream.
