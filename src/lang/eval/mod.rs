@@ -51,10 +51,15 @@ pub const MAX_MACRO_DEPTH: usize = 256;
 /// Objects the interpreter makes in one scene (each object written, every time it is evaluated;
 /// a mesh is one): a loop making unions of objects is stopped at about half a gigabyte, before
 /// the build counts primitives. `object { Name }` counts one, however much `Name` holds.
-pub const MAX_OBJECTS_MADE: u64 = 1 << 22;
+pub const MAX_OBJECTS_MADE: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 1 << 22 };
 
 /// Turns of all `#while` and `#for` loops of one scene together.
-pub const MAX_LOOP_TURNS: u64 = 10_000_000;
+pub const MAX_LOOP_TURNS: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 10_000_000 };
+
+/// The fuzz targets run each input under a sanitizer, many times slower: there the budgets of
+/// loops and objects are smaller, so that a loop that never ends is refused in a fraction of a
+/// second rather than read as a hang. The checks themselves are the same.
+const FUZZING_BUDGET: u64 = 100_000;
 
 /// POV-Ray's tolerance for `=`, `!=`, `<=`, `>=`.
 pub const EPSILON: f64 = 1e-10;
