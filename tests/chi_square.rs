@@ -277,8 +277,8 @@ fn rough_sampling_matches_pdf(
     let n = Vec3::new(0.3, -0.2, 0.9).normalize();
     let (t, _) = n.any_orthonormal_pair();
     for alpha in [0.01, 0.1, 0.5, 1.0] {
-        let bsdf =
-            rough(diffuse, specular, transmission, fresnel, alpha).bsdf(n, TransportMode::Radiance);
+        let material = rough(diffuse, specular, transmission, fresnel, alpha);
+        let bsdf = material.bsdf(n, TransportMode::Radiance);
         for theta in [0.0f32, 0.8, 1.45] {
             let wo = theta.cos() * n + theta.sin() * t;
             for wo in [wo, -wo] {

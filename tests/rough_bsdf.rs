@@ -152,7 +152,8 @@ fn rough_reflection_albedo_matches_a_quadrature_of_the_model() {
     for alpha in [0.1f32, 0.3, 0.6, 1.0] {
         for theta in [0.0f32, 0.7, 1.2, 1.5] {
             let (frame, wo, local) = setup(theta, false);
-            let bsdf = material(1.0, 0.0, false, alpha).bsdf(frame.2, TransportMode::Radiance);
+            let metal = material(1.0, 0.0, false, alpha);
+            let bsdf = metal.bsdf(frame.2, TransportMode::Radiance);
             let (model, none) = model_albedo(f64::from(alpha), local, 1.5, |_| (1.0, 0.0));
             assert_eq!(none, 0.0);
             let (eval, no_transmission) = eval_albedo(&bsdf, frame, f64::from(alpha), local, 1.5);
@@ -179,7 +180,8 @@ fn rough_dielectric_reflects_and_transmits_at_most_what_arrives() {
             for below in [false, true] {
                 let (frame, wo, local) = setup(theta, below);
                 let n = if below { -frame.2 } else { frame.2 };
-                let bsdf = material(0.0, 1.0, true, alpha).bsdf(n, TransportMode::Importance);
+                let glass = material(0.0, 1.0, true, alpha);
+                let bsdf = glass.bsdf(n, TransportMode::Importance);
                 let eta = if below { 1.0 / 1.5 } else { 1.5 };
                 let fresnel = |om: f64| {
                     let f = f64::from(fresnel_dielectric(om as f32, eta as f32));

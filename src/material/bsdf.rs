@@ -37,11 +37,13 @@ impl LobeFlags {
     pub const DELTA: Self = LobeFlags(16);
 
     /// Whether every flag of `other` is set.
+    #[inline]
     pub fn contains(self, other: Self) -> bool {
         self.0 & other.0 == other.0
     }
 
     /// Whether some flag of `other` is set.
+    #[inline]
     pub fn intersects(self, other: Self) -> bool {
         self.0 & other.0 != 0
     }
@@ -53,6 +55,22 @@ impl LobeFlags {
 
     pub fn is_delta(self) -> bool {
         self.contains(LobeFlags::DELTA)
+    }
+
+    /// Whether it is a diffuse lobe alone, which `sample_lambertian_lanes` samples.
+    pub fn is_lambertian(self) -> bool {
+        self == LobeFlags::DIFFUSE | LobeFlags::REFLECTION
+    }
+
+    /// Whether its lobes with a density are Lambertian alone (`eval_diffuse_lanes` evaluates
+    /// them), whatever its delta lobes.
+    pub fn is_diffuse_where_non_delta(self) -> bool {
+        self.contains(LobeFlags::DIFFUSE) && !self.contains(LobeFlags::GLOSSY)
+    }
+
+    /// Whether `Bsdf::sample` reads its `u_lobe`: there are lobes besides a diffuse one.
+    pub fn chooses_lobe(self) -> bool {
+        self.intersects(LobeFlags::DELTA | LobeFlags::GLOSSY)
     }
 }
 
@@ -80,16 +98,13 @@ pub struct BsdfSample {
 /// refraction: a Lambertian lobe `diffuse`, and a reflection lobe `specular` and a refraction
 /// lobe `transmission` (split by Fresnel's equations with `fresnel`), both perfect (delta) where
 /// `roughness` is 0, else GGX microfacet lobes of that alpha (glossy).
-#[derive(Debug, Clone)]
-pub struct Bsdf {
+#[derive(Debug, Clone, Copy)]
+pub struct Bsdf<'m> {
     n: Vec3,
-    diffuse: Vec3,
-    specular: Vec3,
-    transmission: Vec3,
-    ior: f32,
-    fresnel: bool,
-    roughness: f32,
+    material: &'m Material,
     mode: TransportMode,
+    /// Its lobes, found once where it is made.
+    flags: LobeFlags,
 }
 
 /// The reflectance of each delta lobe seen from one `wo`, and where they send light.
@@ -106,28 +121,13 @@ struct DeltaLobes {
 
 impl Material {
     /// The BSDF of this material where the shading normal is `n`, for `mode` transport.
-    pub fn bsdf(&self, n: Vec3, mode: TransportMode) -> Bsdf {
-        Bsdf {
-            n,
-            diffuse: self.diffuse,
-            specular: self.specular,
-            transmission: self.transmission,
-            ior: self.ior,
-            fresnel: self.fresnel,
-            roughness: self.roughness,
-            mode,
-        }
-    }
-}
-
-impl Bsdf {
-    /// The kinds of lobes it has.
-    pub fn flags(&self) -> LobeFlags {
+    #[inline]
+    pub fn bsdf(&self, n: Vec3, mode: TransportMode) -> Bsdf<'_> {
         let mut flags = LobeFlags::NONE;
-        if self.has_diffuse() {
+        if self.diffuse.max_element() > 0.0 {
             flags = flags | LobeFlags::DIFFUSE | LobeFlags::REFLECTION;
         }
-        if self.chooses_lobe() {
+        if self.specular.max_element() > 0.0 || self.transmission.max_element() > 0.0 {
             let kind = if self.roughness > 0.0 { LobeFlags::GLOSSY } else { LobeFlags::DELTA };
             // Refraction reflects totally beyond the critical angle: a reflection lobe too.
             flags = flags | kind | LobeFlags::REFLECTION;
@@ -135,37 +135,36 @@ impl Bsdf {
                 flags = flags | LobeFlags::TRANSMISSION;
             }
         }
-        flags
+        Bsdf { n, material: self, mode, flags }
     }
+}
 
-    /// Whether it is a diffuse lobe alone, which `sample_lambertian_lanes` samples.
-    pub fn is_lambertian(&self) -> bool {
-        self.flags() == LobeFlags::DIFFUSE | LobeFlags::REFLECTION
-    }
-
-    /// Whether its lobes with a density are Lambertian alone (`eval_diffuse_lanes` evaluates
-    /// them), whatever its delta lobes.
-    pub fn is_diffuse_where_non_delta(&self) -> bool {
-        self.has_diffuse() && !self.is_glossy()
+impl Bsdf<'_> {
+    /// The kinds of lobes it has.
+    #[inline]
+    pub fn flags(&self) -> LobeFlags {
+        self.flags
     }
 
     fn is_glossy(&self) -> bool {
-        self.roughness > 0.0 && self.chooses_lobe()
+        self.flags.contains(LobeFlags::GLOSSY)
     }
 
     /// Whether `sample` reads its `u_lobe`: it has lobes other than the diffuse one.
-    pub fn chooses_lobe(&self) -> bool {
-        self.specular.max_element() > 0.0 || self.transmission.max_element() > 0.0
+    fn chooses_lobe(&self) -> bool {
+        self.flags.chooses_lobe()
     }
 
     fn has_diffuse(&self) -> bool {
-        self.diffuse.max_element() > 0.0
+        self.flags.contains(LobeFlags::DIFFUSE)
     }
 
     /// The non-delta part of f(wo, wi): Lambert's kd / pi, reflection only (both sides), and
     /// the glossy lobes.
+    #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let diffuse = if same_side(self.n, wo, wi) { self.diffuse * FRAC_1_PI } else { Vec3::ZERO };
+        let diffuse =
+            if same_side(self.n, wo, wi) { self.material.diffuse * FRAC_1_PI } else { Vec3::ZERO };
         if !self.is_glossy() {
             return diffuse;
         }
@@ -173,6 +172,7 @@ impl Bsdf {
     }
 
     /// Solid-angle density with which `sample` returns `wi` through its non-delta lobes.
+    #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let p_diffuse = self.diffuse_probability(wo);
         let diffuse = if same_side(self.n, wo, wi) {
@@ -192,8 +192,8 @@ impl Bsdf {
     #[inline]
     pub fn diffuse_probability(&self, wo: Vec3) -> f32 {
         if self.is_glossy() {
-            let d = mean(self.diffuse);
-            d / (d + mean(self.specular + self.transmission))
+            let d = mean(self.material.diffuse);
+            d / (d + mean(self.material.specular + self.material.transmission))
         } else if self.chooses_lobe() {
             self.lobe_probabilities(&self.delta_lobes(wo))[0]
         } else if self.has_diffuse() {
@@ -251,7 +251,7 @@ impl Bsdf {
         // f |cos| / pdf = (kd / pi) cos / (p cos / pi) = kd / p
         (pdf > 0.0).then(|| BsdfSample {
             wi,
-            weight: self.diffuse / p_diffuse,
+            weight: self.material.diffuse / p_diffuse,
             pdf,
             delta: false,
             eta: 1.0,
@@ -281,24 +281,27 @@ impl Bsdf {
     /// eta = eta_t / eta_i for a direction crossing the boundary from that side.
     fn glossy_frame(&self, wo: Vec3) -> GlossyFrame {
         let cos_o = self.n.dot(wo);
-        let (facing, eta) =
-            if cos_o >= 0.0 { (self.n, self.ior) } else { (-self.n, 1.0 / self.ior) };
+        let (facing, eta) = if cos_o >= 0.0 {
+            (self.n, self.material.ior)
+        } else {
+            (-self.n, 1.0 / self.material.ior)
+        };
         let (tangent, bitangent) = facing.any_orthonormal_pair();
-        GlossyFrame { tangent, bitangent, facing, eta, ggx: Ggx { alpha: self.roughness } }
+        GlossyFrame { tangent, bitangent, facing, eta, ggx: Ggx { alpha: self.material.roughness } }
     }
 
     /// Reflectance and transmittance at a microfacet seen at cosine `cos_om` from wo: with
     /// `fresnel`, F (ks + kt) and (1 - F)(ks + kt); else ks and kt, where kt goes to reflection
     /// if the microfacet reflects totally.
     fn microfacet_split(&self, cos_om: f32, eta: f32) -> (Vec3, Vec3) {
-        let total = self.specular + self.transmission;
-        if self.fresnel {
+        let total = self.material.specular + self.material.transmission;
+        if self.material.fresnel {
             let f = fresnel_dielectric(cos_om, eta);
             (f * total, (1.0 - f) * total)
         } else if reflects_totally(cos_om, eta) {
             (total, Vec3::ZERO)
         } else {
-            (self.specular, self.transmission)
+            (self.material.specular, self.material.transmission)
         }
     }
 
@@ -407,16 +410,16 @@ impl Bsdf {
         let facing = if cos_o < 0.0 { -n } else { n };
         let reflect_dir = 2.0 * cos_o * n - wo;
         // Relative index of refraction eta = eta_t / eta_i across the boundary crossed by wi.
-        let eta = if cos_o >= 0.0 { self.ior } else { 1.0 / self.ior };
-        let has_transmission = self.transmission.max_element() > 0.0;
+        let eta = if cos_o >= 0.0 { self.material.ior } else { 1.0 / self.material.ior };
+        let has_transmission = self.material.transmission.max_element() > 0.0;
         let transmit_dir =
-            if has_transmission || self.fresnel { refract(wo, facing, eta) } else { None };
-        let (mut reflect, mut transmit) = if self.fresnel {
+            if has_transmission || self.material.fresnel { refract(wo, facing, eta) } else { None };
+        let (mut reflect, mut transmit) = if self.material.fresnel {
             let f = fresnel_dielectric(cos_o.abs(), eta);
-            let total = self.specular + self.transmission;
+            let total = self.material.specular + self.material.transmission;
             (f * total, (1.0 - f) * total)
         } else {
-            (self.specular, self.transmission)
+            (self.material.specular, self.material.transmission)
         };
         if transmit_dir.is_none() {
             reflect += transmit;
@@ -427,7 +430,7 @@ impl Bsdf {
 
     /// Probabilities of the diffuse, reflection and transmission lobes, from their mean energy.
     fn lobe_probabilities(&self, lobes: &DeltaLobes) -> [f32; 3] {
-        let d = mean(self.diffuse);
+        let d = mean(self.material.diffuse);
         let r = mean(lobes.reflect);
         let t = mean(lobes.transmit);
         let total = d + r + t;
