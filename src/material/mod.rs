@@ -1,6 +1,7 @@
 //! Materials of the course's model — Lambertian `diffuse` (kd), mirror `specular` (ks),
-//! refractive `transmission` (kt) with `ior`, `emission` — and the BSDF each makes at a hit
-//! (`Material::bsdf`): `eval`, `sample`, `pdf`, and lane versions of its Lambertian lobe.
+//! refractive `transmission` (kt) with `ior`, `emission`, and `roughness` that makes the mirror
+//! and refraction GGX microfacet lobes — and the BSDF each makes at a hit (`Material::bsdf`):
+//! `eval`, `sample`, `pdf`, and lane versions of its Lambertian lobe.
 
 mod bsdf;
 mod fresnel;
@@ -8,9 +9,8 @@ mod lanes;
 mod microfacet;
 
 pub use bsdf::{Bsdf, BsdfSample, LobeFlags, TransportMode};
-pub use fresnel::{fresnel_dielectric, reflects_totally, refract};
+pub use fresnel::{fresnel_dielectric, refract};
 pub use lanes::{BsdfSampleLanes, eval_diffuse_lanes, sample_lambertian_lanes};
-pub use microfacet::Ggx;
 
 use glam::Vec3;
 
