@@ -88,7 +88,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "intersection" => S, "difference" => S, "merge" => S, "object" => S, "material" => S,
     "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
     "diffuse" => S, "specular" => S, "transmission" => S, "emission" => S, "ior" => S,
-    "fresnel" => S, "rgb" => S,
+    "fresnel" => S, "roughness" => S, "rgb" => S,
     "checker" => S, "stripes" => S, "gradient" => S, "noise" => S, "marble" => S, "wood" => S,
     "image_map" => S, "mix" => S, "axis" => S, "octaves" => S, "turbulence" => S,
     "color_map" => S, "colour_map" => S, "array" => S,

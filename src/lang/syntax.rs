@@ -365,6 +365,7 @@ pub enum MaterialParamKind {
     Emission(Colour),
     Ior(Expr),
     Fresnel,
+    Roughness(Expr),
 }
 
 /// `rgb <r, g, b>`, `rgb s`, or an expression, where a colour is expected.

@@ -418,6 +418,12 @@ impl Flattener {
                     d.span
                 ));
             }
+            if d.roughness > 0.0 && !refracts && d.specular.max_element() <= 0.0 {
+                self.warnings.push(format!(
+                    "{:?}: warning: `roughness` has no effect without `specular` or `transmission`",
+                    d.span
+                ));
+            }
             if d.fresnel && !refracts && d.specular.max_element() <= 0.0 {
                 self.warnings.push(format!(
                     "{:?}: warning: `fresnel` has no effect without `specular` or `transmission`",

@@ -99,6 +99,8 @@ pub struct MaterialDesc {
     pub ior: f32,
     pub emission: Vec3,
     pub fresnel: bool,
+    /// GGX alpha of the `specular` and `transmission` lobes, in [0, 1]; 0: perfect lobes.
+    pub roughness: f32,
     pub span: Span,
 }
 
@@ -113,6 +115,7 @@ impl MaterialDesc {
             ior: 1.0,
             emission: Vec3::ZERO,
             fresnel: false,
+            roughness: 0.0,
             span,
         }
     }
