@@ -24,8 +24,9 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         }
         "finish" => {
             "POV-Ray's `finish` is here the material itself: `material { diffuse rgb ... \
-             specular rgb ... }` (`specular` is mirror reflectance, `fresnel` makes it depend on \
-             the angle); there is no `phong` or `ambient`: highlights come from the lights"
+             specular rgb ...  roughness 0.2 }` (`specular` is mirror reflectance, `roughness` \
+             blurs it, `fresnel` makes it depend on the angle); there is no `phong` or \
+             `ambient`: highlights are reflections of the lights"
         }
         "texture" => {
             "POV-Ray's `texture` is here `material { ... }`: `diffuse` takes a colour or a \
@@ -42,8 +43,8 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         }
         "phong" | "ambient" | "reflection" | "brilliance" | "metallic" => {
             "that is an item of POV-Ray's `finish`; here a material has `diffuse`, `specular` \
-             (mirror reflectance), `transmission`, `ior`, `fresnel` and `emission`, and light \
-             comes only from lights, emitters and the background"
+             (mirror reflectance), `transmission`, `ior`, `fresnel`, `roughness` and \
+             `emission`, and light comes only from lights, emitters and the background"
         }
         "sky_sphere" => {
             "POV-Ray's `sky_sphere` is here a constant colour: `settings { background rgb ... }` \
