@@ -127,7 +127,12 @@ fn missing_shares(crop: &Crop, tile: &mut [&PartHeader]) -> Result<Vec<String>, 
         gaps.push(covered..total);
     }
     let files: Vec<String> = tile.iter().map(|p| p.path.display().to_string()).collect();
-    let place = format!("of crop {crop} (which has {})", files.join(", "));
+    let whole = *crop == Crop::whole(tile[0].width, tile[0].height);
+    let (place, with_crop) = if whole {
+        (format!("of the image (there are {})", files.join(", ")), String::new())
+    } else {
+        (format!("of crop {crop} (there are {})", files.join(", ")), format!(" with --crop {crop}"))
+    };
     let count = tile[0].region.share.count;
     let one_split = tile.iter().all(|p| p.region.share.count == count);
     let mut lines = Vec::new();
@@ -138,10 +143,7 @@ fn missing_shares(crop: &Crop, tile: &mut [&PartHeader]) -> Result<Vec<String>, 
                 .filter(|s| s.numbers(total).start >= gap.start && s.numbers(total).end <= gap.end)
                 .map(|s| format!("--part {s}"))
                 .collect();
-            lines.push(format!(
-                "missing shares {place}: render {} with --crop {crop}",
-                listed(&shares)
-            ));
+            lines.push(format!("missing shares {place}: render {}{with_crop}", listed(&shares)));
         } else {
             lines.push(format!(
                 "missing samples {}..{} of the {total} {place}: the shares given split it \

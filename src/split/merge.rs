@@ -34,8 +34,8 @@ pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, String> {
     let missing = coverage::missing_work(&parts)?;
     if !missing.is_empty() && !allow_partial {
         return Err(format!(
-            "error: the {} parts do not make the whole image:\n  {}\nrender what is missing and \
-             merge again (or merge with --allow-partial)",
+            "error: the parts given ({}) do not make the whole image:\n  {}\nrender what is \
+             missing and merge again (or merge with --allow-partial)",
             parts.len(),
             missing.join("\n  ")
         ));
