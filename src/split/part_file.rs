@@ -64,7 +64,7 @@ fn text(value: impl ToString) -> AttributeValue {
 pub fn write(path: &Path, film: &Film, header: &PartHeader) -> Result<(), ImageError> {
     let region = &header.region;
     let pixels = film.width * film.height;
-    let mut channels: Vec<Vec<f32>> = vec![Vec::with_capacity(pixels); 6];
+    let mut channels: Vec<Vec<f32>> = (0..6).map(|_| Vec::with_capacity(pixels)).collect();
     let mut counts = Vec::with_capacity(pixels);
     for (pixel, (sum, squares)) in film.sum.iter().zip(&film.sum_squares).enumerate() {
         let count = region.samples_of(pixel as u64).len().min(film.samples as usize) as u32;
@@ -189,8 +189,7 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
         ("B", SampleType::F32),
         (SAMPLES, SampleType::U32),
     ] {
-        if !header.channels.list.iter().any(|c| c.name == Text::from(name) && c.sample_type == kind)
-        {
+        if !header.channels.list.iter().any(|c| c.name == *name && c.sample_type == kind) {
             return Err(format!("it has no {kind:?} channel `{name}`"));
         }
     }
@@ -231,12 +230,10 @@ pub fn read_pixels(
                     let name = &header.channels.list[line.location.channel].name;
                     let row = line.location.position.y() - block.index.pixel_position.y();
                     let at = row * size.width()..(row + 1) * size.width();
-                    let channel = ["R", "G", "B"].iter().position(|c| *name == Text::from(*c));
+                    let channel = ["R", "G", "B"].iter().position(|c| name == *c);
                     match channel {
                         Some(c) => line.read_samples_into_slice(&mut rgb[c][at])?,
-                        None if *name == Text::from(SAMPLES) => {
-                            line.read_samples_into_slice(&mut counts[at])?
-                        }
+                        None if name == SAMPLES => line.read_samples_into_slice(&mut counts[at])?,
                         None => {}
                     }
                 }
