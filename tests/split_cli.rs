@@ -327,3 +327,19 @@ fn frames_are_named_by_the_hash_pattern_and_combine_with_parts() {
     let (a, b) = (d.join("p0-0.exr"), d.join("p1-1.exr"));
     assert_refused(&merge(&[&a, &b], &out, &[]), &out, &[&a, &b], "frames");
 }
+
+#[test]
+fn a_part_whose_render_was_stopped_is_named_as_incomplete() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A time budget ends the render after its first pass: 1 of the 500 samples of the share.
+    let options = ["--samples", "1000", "--time", "0.000001"];
+    let stopped =
+        rendered(SCENE, &d.join("stopped.exr"), &[&["--part", "0/2"][..], &options].concat());
+    let done = rendered(SCENE, &d.join("done.exr"), &["--part", "1/2", "--samples", "1000"]);
+    let out = d.join("out.exr");
+    assert_refused(&merge(&[&stopped, &done], &out, &[]), &out, &[&stopped], "incomplete");
+    let output = merge(&[&stopped, &done], &out, &["--allow-partial"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(String::from_utf8_lossy(&output.stdout).contains(", 501 spp,"));
+}
