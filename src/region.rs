@@ -162,22 +162,53 @@ impl Region {
 
     /// The sample indices the share takes in pixel `pixel` of the crop (row-major).
     pub fn samples_of(&self, pixel: u64) -> Range<u32> {
-        let pixels = self.crop.pixels();
+        self.layout().samples_of(pixel)
+    }
+
+    /// What `samples_of` needs, worked out once for many pixels.
+    pub fn layout(&self) -> Layout {
         let numbers = self.share.numbers(self.total());
-        // The first s with s * P + pixel >= g.
-        let first = |g: u64| (g.saturating_sub(pixel)).div_ceil(pixels) as u32;
-        first(numbers.start)..first(numbers.end)
+        Layout {
+            numbers,
+            pixels: self.crop.pixels(),
+            whole: (self.share.count == 1).then_some(self.samples),
+        }
     }
 
     /// The samples of the share taken when each pixel has taken at most `taken` of its own.
     pub fn samples_taken(&self, taken: u32) -> u64 {
-        (0..self.crop.pixels()).map(|p| u64::from(taken.min(self.samples_of(p).len() as u32))).sum()
+        let layout = self.layout();
+        (0..self.crop.pixels())
+            .map(|p| u64::from(taken.min(layout.samples_of(p).len() as u32)))
+            .sum()
     }
 
     /// The most samples any pixel takes in this share.
     pub fn most_samples(&self) -> u32 {
         let numbers = self.share.numbers(self.total());
         (numbers.end - numbers.start).div_ceil(self.crop.pixels()) as u32
+    }
+}
+
+/// A share's sample numbers in a crop of `pixels` pixels: each pixel's sample indices.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    numbers: Range<u64>,
+    pixels: u64,
+    /// Every sample of every pixel: this many.
+    whole: Option<u32>,
+}
+
+impl Layout {
+    /// The sample indices the share takes in pixel `pixel` of the crop (row-major).
+    #[inline]
+    pub fn samples_of(&self, pixel: u64) -> Range<u32> {
+        if let Some(samples) = self.whole {
+            return 0..samples;
+        }
+        // The first s with s * P + pixel >= g.
+        let first = |g: u64| g.saturating_sub(pixel).div_ceil(self.pixels) as u32;
+        first(self.numbers.start)..first(self.numbers.end)
     }
 }
 

@@ -96,6 +96,7 @@ pub fn render_with(
     render_with_in(scene, integrator, &Region::whole(s.width, s.height, s.samples), progress)
 }
 
+/// `render_with` of a region.
 fn render_with_in(
     scene: &Scene,
     integrator: &impl Integrator,
@@ -161,6 +162,7 @@ fn render_pass(
     let samples_per_task = count.min(TASK_SAMPLES) as u32;
     let abandoned = AtomicBool::new(false);
     let dropped = AtomicU64::new(0);
+    let layout = region.layout();
     pass.sum
         .par_chunks_mut(width)
         .zip(pass.sum_squares.par_chunks_mut(width))
@@ -182,7 +184,7 @@ fn render_pass(
                     // Each pixel's sample indices in this task: offsets first..last of its share.
                     task.clear();
                     task.extend(columns.clone().map(|column| {
-                        let share = region.samples_of((row * width + column) as u64);
+                        let share = layout.samples_of((row * width + column) as u64);
                         let start = (share.start + first).min(share.end);
                         (column, start..(share.start + last).min(share.end))
                     }));

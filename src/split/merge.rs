@@ -83,9 +83,11 @@ fn add_part(
 ) -> Result<(), String> {
     let region = &part.region;
     let crop = region.crop;
+    let layout = region.layout();
+    let crop_width = crop.width() as usize;
     let mut seen = vec![false; crop.pixels() as usize];
     part_file::read_pixels(part, |pixel, sum, count| {
-        let expected = region.samples_of(pixel as u64).len().min(part.taken as usize) as u32;
+        let expected = layout.samples_of(pixel as u64).len().min(part.taken as usize) as u32;
         let Some(seen) = seen.get_mut(pixel) else {
             return Err(format!("pixel {pixel} lies outside its crop (the file is damaged)"));
         };
@@ -96,7 +98,6 @@ fn add_part(
                 region.share
             ));
         }
-        let crop_width = crop.width() as usize;
         let (x, y) = (crop.x0 as usize + pixel % crop_width, crop.y0 as usize + pixel / crop_width);
         sums[y * width + x] += sum;
         counts[y * width + x] += count;

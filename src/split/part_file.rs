@@ -63,11 +63,12 @@ fn text(value: impl ToString) -> AttributeValue {
 /// Writes the part rendered into `film` (the crop's, `film.samples` of each pixel's share taken).
 pub fn write(path: &Path, film: &Film, header: &PartHeader) -> Result<(), ImageError> {
     let region = &header.region;
+    let layout = region.layout();
     let pixels = film.width * film.height;
     let mut channels: Vec<Vec<f32>> = (0..6).map(|_| Vec::with_capacity(pixels)).collect();
     let mut counts = Vec::with_capacity(pixels);
     for (pixel, (sum, squares)) in film.sum.iter().zip(&film.sum_squares).enumerate() {
-        let count = region.samples_of(pixel as u64).len().min(film.samples as usize) as u32;
+        let count = layout.samples_of(pixel as u64).len().min(film.samples as usize) as u32;
         let scale = 1.0 / f64::from(count.max(1));
         let (mean, moment2) = ((*sum * scale).as_vec3(), (*squares * scale).as_vec3());
         for (channel, value) in
