@@ -6,9 +6,10 @@
 # merge job), waits for the merge, prints each job's end state, and stops the daemons by the
 # PIDs it started.
 #
-#   deploy/slurm/local-slurm.sh SCENE OUT [SHARES] [-- RENDER OPTIONS...]
+#   deploy/slurm/local-slurm.sh SCENE OUT [SHARES] [--frames F0..F1] [-- RENDER OPTIONS...]
 #
-# Exit status: 0 when the merge job completed ($OUT/image.exr written), 1 when a job failed,
+# Exit status: 0 when the merge job completed ($OUT/image.exr, or one frame-NNNN.exr a frame,
+# written), 1 when a job failed,
 # 77 when Slurm is not installed and cannot be installed here.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -16,8 +17,18 @@ if [ $# -lt 2 ]; then
   sed -n '2,12p' "$0" >&2
   exit 2
 fi
-scene=$1 out=$2 shares=${3:-4}
-shift $(($# < 3 ? 2 : 3))
+scene=$1 out=$2
+shift 2
+shares=4
+case "${1:-}" in
+  '' | --*) ;;
+  *) shares=$1; shift ;;
+esac
+frames=()
+if [ "${1:-}" = "--frames" ]; then
+  frames=(--frames "$2")
+  shift 2
+fi
 if [ "${1:-}" = "--" ]; then
   shift
 fi
@@ -124,7 +135,7 @@ if ! wait_for 60 node_idle; then
 fi
 
 start=$SECONDS
-read -r render merge < <("$here/submit.sh" "$scene" "$out" "$shares" -- "$@")
+read -r render merge < <("$here/submit.sh" "$scene" "$out" "$shares" "${frames[@]}" -- "$@")
 echo "submitted render array $render ($shares shares) and merge job $merge (afterok:$render)"
 job_done() { ! squeue -h -j "$1" 2>/dev/null | grep -q .; }
 if ! wait_for 1800 job_done "$merge" || ! wait_for 60 job_done "$render"; then
