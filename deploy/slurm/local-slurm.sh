@@ -4,7 +4,7 @@
 # a private munged and the two Slurm daemons, all state in a temporary folder, nothing written
 # to /etc. Submits deploy/slurm/submit.sh (a job array of SHARES shares plus the dependent
 # merge job), waits for the merge, prints each job's end state, and stops the daemons by the
-# PIDs it started.
+# PIDs it started. One at a time on a machine: a second run alongside did not come up.
 #
 #   deploy/slurm/local-slurm.sh SCENE OUT [SHARES] [--frames F0..F1] [-- RENDER OPTIONS...]
 #
