@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -362,23 +363,34 @@ fn render_all(
                 .map_err(|e| format!("error: {e}"))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    // Ctrl-C, SIGTERM and SIGHUP stop the render within a task; a second one ends the process
-    // at once, leaving no temporary file. One before rendering starts ends it as usual.
-    ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::SeqCst) {
-            let _no_more_renames = raydiance::image::remove_pending_files();
-            std::process::exit(130);
-        }
-    })
-    .map_err(|e| format!("error: cannot handle signals: {e}"))?;
     for (job, format) in jobs.iter().zip(&formats) {
-        let request = RenderRequest { frame: job.frame, ..request.clone() };
-        render(scene_path, job, format, &request, options)?;
-        if STOPPED.load(Ordering::SeqCst) {
+        // A signal during a frame ends the run once that frame is written.
+        if INTERRUPTED.load(Ordering::SeqCst) {
+            STOPPED.store(true, Ordering::SeqCst);
             break;
         }
+        let request = RenderRequest { frame: job.frame, ..request.clone() };
+        render(scene_path, job, format, &request, options)?;
     }
     Ok(())
+}
+
+/// Ctrl-C, SIGTERM and SIGHUP stop the render within a task; a second one ends the process at
+/// once, leaving no temporary file. Installed when the first render starts: one before it ends
+/// the process as usual.
+fn handle_signals() -> Result<(), String> {
+    static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
+    INSTALLED
+        .get_or_init(|| {
+            ctrlc::set_handler(|| {
+                if INTERRUPTED.swap(true, Ordering::SeqCst) {
+                    let _no_more_renames = raydiance::image::remove_pending_files();
+                    std::process::exit(130);
+                }
+            })
+            .map_err(|e| format!("error: cannot handle signals: {e}"))
+        })
+        .clone()
 }
 
 fn render(
@@ -416,6 +428,7 @@ fn render(
     for warning in &scene.warnings {
         tell!("{warning}");
     }
+    handle_signals()?;
     let deadline = options.time.map(|t| Instant::now() + Duration::from_secs_f64(t));
     let progress = Bar::new(
         if deadline.is_some() { None } else { Some(region.samples_taken(u32::MAX)) },

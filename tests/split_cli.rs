@@ -343,3 +343,22 @@ fn a_part_whose_render_was_stopped_is_named_as_incomplete() {
     assert!(output.status.success(), "{}", stderr(&output));
     assert!(String::from_utf8_lossy(&output.stdout).contains(", 501 spp,"));
 }
+
+#[test]
+fn a_signal_during_an_animation_ends_it_after_the_frame_under_way() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f#.exr");
+    let child = Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["render", SCENE, "-o", out.to_str().unwrap(), "--frames", "0..3"])
+        .args(["--width", "64", "--height", "64", "--samples", "1000000"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let sent = Command::new("kill").args(["-TERM", &child.id().to_string()]).status();
+    assert!(sent.unwrap().success());
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(130), "{}", stderr(&output));
+    assert!(dir.path().join("f0.exr").exists(), "the frame under way is written");
+    assert!(!dir.path().join("f1.exr").exists(), "no frame is started after the signal");
+}
