@@ -5,9 +5,11 @@
 #![forbid(unsafe_code)]
 
 pub mod accel;
+pub mod animation;
 pub mod bench;
 pub mod camera;
 pub mod diagnostic;
+pub mod digest;
 pub mod film;
 pub mod geometry;
 pub mod image;
@@ -18,14 +20,16 @@ pub mod light;
 pub mod material;
 pub mod mesh;
 mod pipeline;
+pub mod region;
 pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod snapshot;
+pub mod split;
 pub mod texture;
 pub mod tonemap;
 
 pub use pipeline::{
     LoadError, MAX_RESOLUTION, MAX_SAMPLES, OutputFormat, RenderRequest, check, check_film_memory,
-    load, tonemap_file, write_render,
+    load, load_with_digest, tonemap_file, write_image, write_render,
 };

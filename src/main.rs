@@ -2,14 +2,19 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use raydiance::animation;
+use raydiance::region::{Crop, Region};
 use raydiance::render::Progress;
 use raydiance::scene::graph::IntegratorKind;
+use raydiance::split::part_file::{self, PartHeader};
+use raydiance::split::plan::{self, Choices, Job, PartChoice};
 use raydiance::tonemap::{Operator, ToneMap};
 use raydiance::{RenderRequest, bench, snapshot};
 
@@ -64,6 +69,44 @@ enum Command {
         /// The most memory the film may take, in GiB (it takes 96 bytes a pixel).
         #[arg(long, default_value_t = 8.0)]
         max_memory: f64,
+        /// Render share I (0-based) of N disjoint shares of the samples, into a part file
+        /// (.exr) for `merge`; `auto` takes the share from a Slurm job array or a Kubernetes
+        /// Indexed Job (with --parts).
+        #[arg(long, value_name = "I/N|auto")]
+        part: Option<PartChoice>,
+        /// With --part auto under Kubernetes: the number of shares of each frame (the Job's
+        /// completions divided by the frames).
+        #[arg(long, value_name = "N")]
+        parts: Option<u32>,
+        /// Render only pixels X0 <= x < X1, Y0 <= y < Y1 of the image, into a part file (.exr).
+        #[arg(long, value_name = "X0,X1,Y0,Y1")]
+        crop: Option<Crop>,
+        /// Render frames F0 to F1 (inclusive) of an animation; a run of `#` in the output's
+        /// name becomes the frame number (else it is appended before the extension).
+        #[arg(long, value_name = "F0..F1", value_parser = animation::parse_frames)]
+        frames: Option<(u32, u32)>,
+        /// Render only frame F of --frames.
+        #[arg(long, value_name = "F")]
+        frame: Option<u32>,
+        /// `clock` runs from C0 at the first frame to C1 at the last [default: 0..1].
+        #[arg(long, value_name = "C0..C1", value_parser = animation::parse_clock, allow_hyphen_values = true)]
+        clock: Option<(f64, f64)>,
+    },
+    /// Merge part files (render --part / --crop) into the image one render would have made.
+    Merge {
+        /// The part files (.exr), in any order.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// The image to write: .exr, .ppm (HDR with #MAX) or .png (tone-mapped).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Merge the parts there are even when shares or tiles are missing: the image is the
+        /// mean of the samples there are, and records the fewest a pixel holds.
+        #[arg(long)]
+        allow_partial: bool,
+        /// The integer that MAX stands for in HDR .ppm output.
+        #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES)]
+        ppm_res: u32,
     },
     /// Tone-map an HDR image (.exr or .ppm) to LDR .ppm (#MAX=1) or .png.
     Tonemap {
@@ -176,6 +219,12 @@ fn main() -> ExitCode {
             time,
             ppm_res,
             max_memory,
+            part,
+            parts,
+            crop,
+            frames,
+            frame,
+            clock,
         } => {
             if let Some(t) = time.filter(|t| !(*t > 0.0 && *t <= MAX_TIME)) {
                 return fail(format!(
@@ -184,7 +233,15 @@ fn main() -> ExitCode {
             }
             // With a time budget the sample count is only a ceiling.
             let samples = samples.or(time.map(|_| raydiance::MAX_SAMPLES));
-            let request = RenderRequest { samples, width, height, seed, integrator, max_depth };
+            let request = RenderRequest {
+                samples,
+                width,
+                height,
+                seed,
+                integrator,
+                max_depth,
+                frame: Default::default(),
+            };
             if !(max_memory.is_finite() && max_memory > 0.0) {
                 return fail(format!("error: --max-memory {max_memory} must be a positive number"));
             }
@@ -193,7 +250,19 @@ fn main() -> ExitCode {
             let output = output.unwrap_or_else(|| {
                 PathBuf::from(scene.file_stem().unwrap_or_default()).with_extension("png")
             });
-            with_threads(threads, || render(&scene, &output, &request, ppm_res, time, max_bytes))
+            let choices = Choices { part, parts, crop, frames, frame, clock };
+            let plan = match plan::plan(&choices, &output, |name| std::env::var(name).ok()) {
+                Ok(plan) => plan,
+                Err(message) => return fail(message),
+            };
+            if let Some(task) = &plan.task {
+                tell!("{task}");
+            }
+            let options = RenderOptions { ppm_res, time, max_bytes };
+            with_threads(threads, || render_all(&scene, &plan.jobs, &request, &options))
+        }
+        Command::Merge { parts, output, allow_partial, ppm_res } => {
+            merge(&parts, &output, allow_partial, ppm_res)
         }
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
             let tone_map = ToneMap { op, v, gamma, exposure, white };
@@ -265,40 +334,126 @@ fn with_threads(
     }
 }
 
-fn render(
-    scene_path: &Path,
-    output: &Path,
-    request: &RenderRequest,
+/// What every render of a command shares.
+struct RenderOptions {
     ppm_res: u32,
     time: Option<f64>,
     max_bytes: u64,
+}
+
+/// Renders the planned jobs (frames) one after another; a signal ends the run after the
+/// frame under way is written.
+fn render_all(
+    scene_path: &Path,
+    jobs: &[Job],
+    request: &RenderRequest,
+    options: &RenderOptions,
 ) -> Result<(), String> {
-    // Everything that can be checked before rendering is: the output's type and folder first.
-    let format =
-        raydiance::OutputFormat::for_path(output, ppm_res).map_err(|e| format!("error: {e}"))?;
-    let scene = raydiance::load(scene_path, request).map_err(|e| e.to_string())?;
-    raydiance::check_film_memory(&scene.settings, max_bytes)?;
+    // Everything that can be checked before rendering is: the outputs' types and folders first.
+    let formats = jobs
+        .iter()
+        .map(|job| {
+            if job.is_part() && raydiance::image::extension(&job.output).as_deref() != Some("exr") {
+                return Err(format!(
+                    "error: {}: a part (--part or --crop) is an OpenEXR file: name it .exr",
+                    job.output.display()
+                ));
+            }
+            raydiance::OutputFormat::for_path(&job.output, options.ppm_res)
+                .map_err(|e| format!("error: {e}"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    for (job, format) in jobs.iter().zip(&formats) {
+        // A signal during a frame ends the run once that frame is written.
+        if INTERRUPTED.load(Ordering::SeqCst) {
+            STOPPED.store(true, Ordering::SeqCst);
+            break;
+        }
+        let request = RenderRequest { frame: job.frame, ..request.clone() };
+        render(scene_path, job, format, &request, options)?;
+    }
+    Ok(())
+}
+
+/// Ctrl-C, SIGTERM and SIGHUP stop the render within a task; a second one ends the process at
+/// once, leaving no temporary file. Installed when the first render starts: one before it ends
+/// the process as usual.
+fn handle_signals() -> Result<(), String> {
+    static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
+    INSTALLED
+        .get_or_init(|| {
+            ctrlc::set_handler(|| {
+                if INTERRUPTED.swap(true, Ordering::SeqCst) {
+                    let _no_more_renames = raydiance::image::remove_pending_files();
+                    std::process::exit(130);
+                }
+            })
+            .map_err(|e| format!("error: cannot handle signals: {e}"))
+        })
+        .clone()
+}
+
+fn render(
+    scene_path: &Path,
+    job: &Job,
+    format: &raydiance::OutputFormat,
+    request: &RenderRequest,
+    options: &RenderOptions,
+) -> Result<(), String> {
+    let output = &job.output;
+    let (scene, digest) =
+        raydiance::load_with_digest(scene_path, request).map_err(|e| e.to_string())?;
+    let settings = &scene.settings;
+    let region = Region {
+        crop: job.crop.unwrap_or(Crop::whole(settings.width, settings.height)),
+        share: job.share.unwrap_or(raydiance::region::Share::WHOLE),
+        samples: settings.samples,
+    };
+    if job.is_part() {
+        if !settings.integrator.splits_into_shares() {
+            return Err(format!(
+                "error: --part and --crop do not work with integrator {} yet: its samples are \
+                 not independent of each other",
+                settings.integrator.name()
+            ));
+        }
+        region.check(settings.width, settings.height).map_err(|e| format!("error: {e}"))?;
+    }
+    let film_settings = raydiance::scene::graph::Settings {
+        width: region.crop.width(),
+        height: region.crop.height(),
+        ..settings.clone()
+    };
+    raydiance::check_film_memory(&film_settings, options.max_bytes)?;
     for warning in &scene.warnings {
         tell!("{warning}");
     }
-    let settings = &scene.settings;
-    // Ctrl-C, SIGTERM and SIGHUP stop the render within a task; a second one ends the process
-    // at once, leaving no temporary file. One before rendering starts ends it as usual.
-    ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::SeqCst) {
-            let _no_more_renames = raydiance::image::remove_pending_files();
-            std::process::exit(130);
-        }
-    })
-    .map_err(|e| format!("error: cannot handle signals: {e}"))?;
-    let total =
-        u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.samples);
-    let deadline = time.map(|t| Instant::now() + Duration::from_secs_f64(t));
-    let progress = Bar::new(if deadline.is_some() { None } else { Some(total) }, deadline);
-    let (film, stats) = raydiance::render::render(&scene, &progress);
+    handle_signals()?;
+    let deadline = options.time.map(|t| Instant::now() + Duration::from_secs_f64(t));
+    let progress = Bar::new(
+        if deadline.is_some() { None } else { Some(region.samples_taken(u32::MAX)) },
+        deadline,
+    );
+    let (film, stats) = raydiance::render::render_region(&scene, &region, &progress);
     progress.bar.finish_and_clear();
-    raydiance::write_render(output, &format, &film, &stats, settings)
-        .map_err(|e| format!("error: {e}"))?;
+    let written = if job.is_part() {
+        let header = PartHeader {
+            path: output.clone(),
+            width: settings.width,
+            height: settings.height,
+            region,
+            taken: stats.samples_per_pixel,
+            seed: settings.seed,
+            integrator: settings.integrator.name().to_string(),
+            digest: digest.to_string(),
+            frame: job.frame,
+            seconds: stats.seconds,
+        };
+        part_file::write(output, &film, &header)
+    } else {
+        raydiance::write_render(output, format, &film, &stats, settings)
+    };
+    written.map_err(|e| format!("error: {e}"))?;
     if stats.dropped > 0 {
         tell!("warning: {} samples were NaN or infinite and were dropped", stats.dropped);
     }
@@ -306,23 +461,71 @@ fn render(
         tell!("{warning}");
     }
     // A time budget ends a render too; only a signal makes it "interrupted".
-    if INTERRUPTED.load(Ordering::SeqCst) && stats.samples_per_pixel < settings.samples {
+    let most = region.most_samples();
+    if INTERRUPTED.load(Ordering::SeqCst) && stats.samples_per_pixel < most {
         STOPPED.store(true, Ordering::SeqCst);
         tell!(
             "interrupted: wrote the {} of {} samples per pixel completed",
             stats.samples_per_pixel,
-            settings.samples
+            most
         );
     }
+    let what = if job.is_part() {
+        format!(
+            "share {} of crop {} of {}x{}",
+            region.share, region.crop, settings.width, settings.height
+        )
+    } else {
+        format!("{}x{}", film.width, film.height)
+    };
+    let samples = region.samples_taken(stats.samples_per_pixel) as f64 / stats.seconds.max(1e-9);
     say!(
-        "{}: {}x{}, {} spp, {}, {:.3} s, {:.2} Msamples/s",
+        "{}: {what}, {} spp, {}, {:.3} s, {:.2} Msamples/s",
         output.display(),
-        film.width,
-        film.height,
         stats.samples_per_pixel,
         settings.integrator.name(),
         stats.seconds,
-        stats.samples_per_second(&film) / 1e6,
+        samples / 1e6,
+    );
+    Ok(())
+}
+
+/// `raydiance merge`: checks the parts together, adds them, writes the image.
+fn merge(
+    parts: &[PathBuf],
+    output: &Path,
+    allow_partial: bool,
+    ppm_res: u32,
+) -> Result<(), String> {
+    let start = Instant::now();
+    let format =
+        raydiance::OutputFormat::for_path(output, ppm_res).map_err(|e| format!("error: {e}"))?;
+    if let Ok(out) = std::fs::canonicalize(output) {
+        if let Some(part) = parts.iter().find(|p| std::fs::canonicalize(p).is_ok_and(|p| p == out))
+        {
+            return Err(format!(
+                "error: {}: is one of the parts; merging would replace it",
+                part.display()
+            ));
+        }
+    }
+    let merged = raydiance::split::merge::merge(parts, allow_partial)?;
+    raydiance::write_image(output, &format, &merged.image, &merged.info)
+        .map_err(|e| format!("error: {e}"))?;
+    for line in &merged.missing {
+        tell!("warning: {line}");
+    }
+    let (least, most) = merged.samples;
+    let spp = if least == most { least.to_string() } else { format!("{least} to {most}") };
+    say!(
+        "{}: {}x{}, {spp} spp, {}, merged from {} parts in {:.3} s ({:.3} s of rendering)",
+        output.display(),
+        merged.image.width,
+        merged.image.height,
+        merged.info.integrator,
+        merged.parts,
+        start.elapsed().as_secs_f64(),
+        merged.info.seconds,
     );
     Ok(())
 }

@@ -4,9 +4,11 @@
 use std::fmt;
 use std::path::Path;
 
+use crate::animation::Frame;
 use crate::diagnostic::SceneError;
+use crate::digest::Digest;
 use crate::film::Film;
-use crate::image::{self, ImageError, RenderInfo};
+use crate::image::{self, Image, ImageError, RenderInfo};
 use crate::render::RenderStats;
 use crate::scene::graph::{IntegratorKind, SceneGraph, Settings};
 use crate::scene::{self, Scene};
@@ -21,6 +23,8 @@ pub struct RenderRequest {
     pub seed: Option<u64>,
     pub integrator: Option<IntegratorKind>,
     pub max_depth: Option<u32>,
+    /// The animation frame to evaluate the scene at (`clock`, `frame_number`).
+    pub frame: Frame,
 }
 
 /// Largest image side and sample count accepted from the command line, as from `settings`.
@@ -72,7 +76,25 @@ impl fmt::Display for LoadError {
 
 /// Parses the scene file, applies the overrides and builds the render-ready scene.
 pub fn load(path: &Path, request: &RenderRequest) -> Result<Scene, LoadError> {
-    build(load_graph(path)?, request)
+    load_with_digest(path, request).map(|(scene, _)| scene)
+}
+
+/// As `load`, with a digest of what decides the image: the text of the scene and its includes,
+/// the settings after the overrides, and the animation frame.
+pub fn load_with_digest(
+    path: &Path,
+    request: &RenderRequest,
+) -> Result<(Scene, Digest), LoadError> {
+    let (mut graph, sources) =
+        crate::lang::load_scene_at(path, request.frame).map_err(LoadError::Scene)?;
+    graph.settings = request.apply(&graph.settings).map_err(LoadError::Request)?;
+    let frame = request.frame;
+    let digest = sources
+        .with(format!("{:?}", graph.settings).as_bytes())
+        .with(&frame.number.to_le_bytes())
+        .with(&frame.clock.to_le_bytes());
+    let scene = scene::build(&graph).map_err(LoadError::Scene)?;
+    Ok((scene, digest))
 }
 
 /// Parses and evaluates the scene file.
@@ -119,8 +141,9 @@ pub fn check_film_memory(settings: &Settings, max_bytes: u64) -> Result<(), Stri
     let gib = |bytes: u64| bytes as f64 / f64::from(1u32 << 30);
     Err(format!(
         "error: a {}x{} film needs {:.1} GiB ({} bytes a pixel while rendering), more than \
-         --max-memory {:.1} GiB allows: lower the resolution, or raise --max-memory if the \
-         machine has the memory",
+         --max-memory {:.1} GiB allows: render it in tiles with `--crop X0,X1,Y0,Y1` and join \
+         them with `raydiance merge`, lower the resolution, or raise --max-memory if the machine \
+         has the memory",
         settings.width,
         settings.height,
         gib(needed),
@@ -169,20 +192,27 @@ pub fn write_render(
     stats: &RenderStats,
     settings: &Settings,
 ) -> Result<(), ImageError> {
-    let image = film.image();
+    let info = RenderInfo {
+        samples_per_pixel: stats.samples_per_pixel,
+        integrator: settings.integrator.name().to_string(),
+        seed: settings.seed,
+        seconds: stats.seconds,
+    };
+    write_image(path, format, &film.image(), &info)
+}
+
+/// Writes an image to `path` in `format` (`info` goes into an EXR's header).
+pub fn write_image(
+    path: &Path,
+    format: &OutputFormat,
+    image: &Image,
+    info: &RenderInfo,
+) -> Result<(), ImageError> {
     match *format {
-        OutputFormat::Exr => {
-            let info = RenderInfo {
-                samples_per_pixel: stats.samples_per_pixel,
-                integrator: settings.integrator.name().to_string(),
-                seed: settings.seed,
-                seconds: stats.seconds,
-            };
-            image::exr::write(path, &image, &info)
-        }
-        OutputFormat::Ppm { res } => image::ppm::write_hdr(path, &image, res),
+        OutputFormat::Exr => image::exr::write(path, image, info),
+        OutputFormat::Ppm { res } => image::ppm::write_hdr(path, image, res),
         OutputFormat::Png => {
-            let pixels = tonemap::quantise(&tonemap::tonemap(&image, &ToneMap::default()));
+            let pixels = tonemap::quantise(&tonemap::tonemap(image, &ToneMap::default()));
             image::png::write(path, image.width, image.height, &pixels)
         }
     }

@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use crate::film::Film;
 use crate::integrator::{Direct, Integrator, Path, Strategy};
+use crate::region::Region;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::scene::graph::IntegratorKind;
@@ -64,15 +65,24 @@ impl RenderStats {
 /// the last one shortened to end at the sample count or where `Progress::pass_limit` says), so
 /// that a render stopped between passes is still an unbiased image.
 pub fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
+    let s = &scene.settings;
+    render_region(scene, &Region::whole(s.width, s.height, s.samples), progress)
+}
+
+/// Renders a crop of the image and a share of its samples (see `region`): the film is the
+/// crop's, and its `samples` counts the passes' samples per pixel, of which each pixel holds
+/// at most its share (`Region::samples_of`).
+pub fn render_region(
+    scene: &Scene,
+    region: &Region,
+    progress: &dyn Progress,
+) -> (Film, RenderStats) {
+    let max_depth = scene.settings.max_depth;
     match scene.settings.integrator {
-        IntegratorKind::Direct => {
-            render_with(scene, &Direct { max_depth: scene.settings.max_depth }, progress)
+        IntegratorKind::Direct => render_with_in(scene, &Direct { max_depth }, region, progress),
+        IntegratorKind::Path => {
+            render_with_in(scene, &Path { max_depth, strategy: Strategy::Mis }, region, progress)
         }
-        IntegratorKind::Path => render_with(
-            scene,
-            &Path { max_depth: scene.settings.max_depth, strategy: Strategy::Mis },
-            progress,
-        ),
     }
 }
 
@@ -82,14 +92,25 @@ pub fn render_with(
     integrator: &impl Integrator,
     progress: &dyn Progress,
 ) -> (Film, RenderStats) {
+    let s = &scene.settings;
+    render_with_in(scene, integrator, &Region::whole(s.width, s.height, s.samples), progress)
+}
+
+/// `render_with` of a region.
+fn render_with_in(
+    scene: &Scene,
+    integrator: &impl Integrator,
+    region: &Region,
+    progress: &dyn Progress,
+) -> (Film, RenderStats) {
     let start = Instant::now();
-    let settings = &scene.settings;
-    let (width, height) = (settings.width as usize, settings.height as usize);
+    let (width, height) = (region.crop.width() as usize, region.crop.height() as usize);
     let mut film = Film::new(width, height);
     let mut pass_film = Film::new(width, height);
     let mut seconds_per_sample = 0.0;
-    while film.samples < settings.samples {
-        let mut pass = film.samples.max(1).min(settings.samples - film.samples);
+    let most = region.most_samples();
+    while film.samples < most {
+        let mut pass = film.samples.max(1).min(most - film.samples);
         if film.samples > 0 {
             match progress.pass_limit(seconds_per_sample) {
                 Some(0) => break,
@@ -102,6 +123,7 @@ pub fn render_with(
             scene,
             integrator,
             progress,
+            region,
             film.samples..film.samples + pass,
             &mut pass_film,
         ) {
@@ -118,45 +140,59 @@ pub fn render_with(
     (film, stats)
 }
 
-/// Renders the sample indices `samples` of every pixel into `pass` (overwritten), rows in
-/// parallel, each row in tasks of at most `TASK_SAMPLES` samples: several pixels' samples
-/// together (so that integrators tracing paths in lanes have enough of them), or a part of one
-/// pixel's. A pixel's samples are summed in index order. False when the pass was abandoned.
+/// Renders the samples `offsets` of each pixel's share (its sample indices
+/// `Region::samples_of(pixel)`, from the first) into `pass` (overwritten), rows in parallel, each
+/// row in tasks of at most `TASK_SAMPLES` samples: several pixels' samples together (so that
+/// integrators tracing paths in lanes have enough of them), or a part of one pixel's. A pixel's
+/// samples are summed in index order. False when the pass was abandoned.
 fn render_pass(
     scene: &Scene,
     integrator: &impl Integrator,
     progress: &dyn Progress,
-    samples: Range<u32>,
+    region: &Region,
+    offsets: Range<u32>,
     pass: &mut Film,
 ) -> bool {
     let settings = &scene.settings;
-    let (width, height) = (pass.width, pass.height);
-    let count = (samples.end - samples.start) as usize;
+    let (image_width, image_height) = (settings.width as usize, settings.height as usize);
+    let (x0, y0) = (region.crop.x0 as usize, region.crop.y0 as usize);
+    let width = pass.width;
+    let count = (offsets.end - offsets.start) as usize;
     let pixels_per_task = (TASK_SAMPLES / count).clamp(1, width);
-    let samples_per_task = count.min(TASK_SAMPLES);
+    let samples_per_task = count.min(TASK_SAMPLES) as u32;
     let abandoned = AtomicBool::new(false);
     let dropped = AtomicU64::new(0);
+    let layout = region.layout();
     pass.sum
         .par_chunks_mut(width)
         .zip(pass.sum_squares.par_chunks_mut(width))
         .enumerate()
-        .for_each(|(y, (sum_row, squares_row))| {
+        .for_each(|(row, (sum_row, squares_row))| {
             sum_row.fill(DVec3::ZERO);
             squares_row.fill(DVec3::ZERO);
-            let mut radiance = vec![Vec3::ZERO; pixels_per_task * samples_per_task];
-            for x0 in (0..width).step_by(pixels_per_task) {
-                let pixels = x0..(x0 + pixels_per_task).min(width);
-                for first in samples.clone().step_by(samples_per_task) {
+            let y = y0 + row;
+            let mut radiance = vec![Vec3::ZERO; pixels_per_task * samples_per_task as usize];
+            let mut task: Vec<(usize, Range<u32>)> = Vec::with_capacity(pixels_per_task);
+            for first_x in (0..width).step_by(pixels_per_task) {
+                let columns = first_x..(first_x + pixels_per_task).min(width);
+                for first in offsets.clone().step_by(samples_per_task as usize) {
                     if abandoned.load(Ordering::Relaxed) || progress.should_abandon() {
                         abandoned.store(true, Ordering::Relaxed);
                         return;
                     }
-                    let indices = first..(first + samples_per_task as u32).min(samples.end);
-                    let per_pixel = indices.len();
+                    let last = (first + samples_per_task).min(offsets.end);
+                    // Each pixel's sample indices in this task: offsets first..last of its share.
+                    task.clear();
+                    task.extend(columns.clone().map(|column| {
+                        let share = layout.samples_of((row * width + column) as u64);
+                        let start = (share.start + first).min(share.end);
+                        (column, start..(share.start + last).min(share.end))
+                    }));
                     // The task's camera samples, pixel by pixel, each pixel's in index order.
-                    let mut camera_samples = pixels.clone().flat_map(|x| {
+                    let mut camera_samples = task.iter().flat_map(|(column, indices)| {
+                        let x = x0 + column;
                         indices.clone().map(move |index| {
-                            let pixel = (y * width + x) as u64;
+                            let pixel = (y * image_width + x) as u64;
                             let mut sampler = Sampler::new(settings.seed, pixel, u64::from(index));
                             let jitter = sampler.next_2d();
                             // A pinhole camera needs no lens sample.
@@ -166,20 +202,21 @@ fn render_pass(
                                 glam::Vec2::ZERO
                             };
                             let ray = scene.camera.ray(
-                                (x as f32 + jitter.x) / width as f32,
-                                (y as f32 + jitter.y) / height as f32,
+                                (x as f32 + jitter.x) / image_width as f32,
+                                (y as f32 + jitter.y) / image_height as f32,
                                 lens,
                             );
                             (ray, sampler)
                         })
                     });
-                    let radiance = &mut radiance[..pixels.len() * per_pixel];
+                    let taken: usize = task.iter().map(|(_, indices)| indices.len()).sum();
+                    let radiance = &mut radiance[..taken];
                     integrator.radiance_of_all(scene, &mut camera_samples, radiance);
                     let mut task_dropped = 0;
-                    let sums =
-                        sum_row[pixels.clone()].iter_mut().zip(&mut squares_row[pixels.clone()]);
-                    for ((sum, squares), samples) in sums.zip(radiance.chunks(per_pixel)) {
-                        for radiance in samples {
+                    let mut samples = radiance.iter();
+                    for (column, indices) in &task {
+                        let (sum, squares) = (&mut sum_row[*column], &mut squares_row[*column]);
+                        for radiance in samples.by_ref().take(indices.len()) {
                             if radiance.is_finite() {
                                 let radiance = radiance.as_dvec3();
                                 *sum += radiance;
@@ -190,11 +227,11 @@ fn render_pass(
                         }
                     }
                     dropped.fetch_add(task_dropped, Ordering::Relaxed);
-                    progress.advance((pixels.len() * per_pixel) as u64);
+                    progress.advance(taken as u64);
                 }
             }
         });
-    pass.samples = samples.end - samples.start;
+    pass.samples = offsets.end - offsets.start;
     pass.dropped = dropped.into_inner();
     !abandoned.into_inner()
 }

@@ -10,7 +10,8 @@ pub enum KeywordKind {
     Syntax,
     /// A built-in function, called as `word(...)`.
     Function(Function),
-    /// A value: `pi`, the unit vectors `x`, `y`, `z`, and POV-Ray's truth values.
+    /// A value: `pi`, the unit vectors `x`, `y`, `z`, POV-Ray's truth values, and the
+    /// animation's `clock` and `frame_number`.
     Constant(Constant),
 }
 
@@ -24,6 +25,10 @@ pub enum Constant {
     True,
     /// `false`, `no`, `off`: 0.
     False,
+    /// The animation's clock (section 14): 0 without animation options.
+    Clock,
+    /// The frame's number: 0 without animation options.
+    FrameNumber,
 }
 
 /// The built-in functions (section 2 and 10 of the language).
@@ -95,6 +100,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),
     "true" => C(Constant::True), "yes" => C(Constant::True), "on" => C(Constant::True),
     "false" => C(Constant::False), "no" => C(Constant::False), "off" => C(Constant::False),
+    "clock" => C(Constant::Clock), "frame_number" => C(Constant::FrameNumber),
     "sin" => F(Function::Sin), "cos" => F(Function::Cos), "tan" => F(Function::Tan),
     "asin" => F(Function::Asin), "acos" => F(Function::Acos), "atan" => F(Function::Atan),
     "sqrt" => F(Function::Sqrt), "pow" => F(Function::Pow), "abs" => F(Function::Abs),

@@ -20,14 +20,23 @@ pub use parser::MAX_NESTING;
 use std::path::Path;
 use std::sync::Arc;
 
+use crate::animation::Frame;
 use crate::diagnostic::{SceneError, SourceFile};
+use crate::digest::Digest;
 use crate::scene::graph::SceneGraph;
 
 /// Reads and evaluates a scene file.
 pub fn load_scene(path: &Path) -> Result<SceneGraph, SceneError> {
+    load_scene_at(path, Frame::default()).map(|(graph, _)| graph)
+}
+
+/// Reads and evaluates a scene file at an animation frame (its `clock` and `frame_number`);
+/// returns the scene and a digest of the text of every file read (the scene and its includes).
+pub fn load_scene_at(path: &Path, frame: Frame) -> Result<(SceneGraph, Digest), SceneError> {
     let text = crate::input::read_text(path, crate::input::MAX_SCENE_BYTES)
         .map_err(|e| SceneError::unlocated(format!("cannot read `{}`: {e}", path.display())))?;
-    parse_scene(path, &text)
+    let file = Arc::new(SourceFile::new(path.to_path_buf(), text));
+    eval::Evaluator::at(frame).scene_and_sources(file)
 }
 
 /// Evaluates scene text as if read from `path` (which locates errors and relative paths).

@@ -33,6 +33,17 @@ impl IntegratorKind {
             IntegratorKind::Path => "path",
         }
     }
+
+    /// Whether the image is a mean of independent pixel samples, each a pure function of (seed,
+    /// pixel, sample index), so that disjoint shares of the samples rendered apart merge into
+    /// the render of all of them (`--part`). An integrator whose pixels share work across
+    /// samples (a photon map built per pass, SPPM's shrinking radii) answers false until its
+    /// shares have a merge of their own, and `render --part` refuses it.
+    pub fn splits_into_shares(self) -> bool {
+        match self {
+            IntegratorKind::Direct | IntegratorKind::Path => true,
+        }
+    }
 }
 
 /// `settings { ... }`; `Default` gives the language's defaults.

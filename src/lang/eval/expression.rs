@@ -136,6 +136,8 @@ impl Evaluator {
                 Constant::Z => Value::Vector(DVec3::Z),
                 Constant::True => Value::Float(1.0),
                 Constant::False => Value::Float(0.0),
+                Constant::Clock => Value::Float(self.frame.clock),
+                Constant::FrameNumber => Value::Float(f64::from(self.frame.number)),
             },
             ExprKind::Ident(name) => match self.lookup(name) {
                 Some(v) => v.clone(),

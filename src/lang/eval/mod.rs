@@ -18,7 +18,9 @@ mod scope;
 use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind};
 use super::value::Value;
 use super::{parser, tree};
+use crate::animation::Frame;
 use crate::diagnostic::{Context, SceneError, SourceFile, Span};
+use crate::digest::Digest;
 use crate::scene::graph::{
     CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
 };
@@ -99,6 +101,10 @@ pub struct Evaluator {
     /// Levels of CSG operations of the declared objects that CSG operands have instanced, by
     /// address (the `Arc` kept so that the address stays theirs): shared objects are counted once.
     csg_levels: std::collections::HashMap<usize, (Arc<ObjectNode>, u32)>,
+    /// The animation frame the scene is evaluated at: `clock` and `frame_number`.
+    frame: Frame,
+    /// Digest of the text of every file read, in the order read.
+    sources: Digest,
 }
 
 /// Where items stand, which decides what they may be.
@@ -148,8 +154,22 @@ impl Body<'_> {
 }
 
 impl Evaluator {
+    /// An evaluator for the scene at animation frame `frame`.
+    pub fn at(frame: Frame) -> Self {
+        Evaluator { frame, ..Evaluator::default() }
+    }
+
     /// Evaluates the main file and returns the scene it describes.
-    pub fn scene(mut self, file: Arc<SourceFile>) -> Result<SceneGraph, SceneError> {
+    pub fn scene(self, file: Arc<SourceFile>) -> Result<SceneGraph, SceneError> {
+        self.scene_and_sources(file).map(|(graph, _)| graph)
+    }
+
+    /// Evaluates the main file; returns the scene and a digest of the text of every file read.
+    pub fn scene_and_sources(
+        mut self,
+        file: Arc<SourceFile>,
+    ) -> Result<(SceneGraph, Digest), SceneError> {
+        self.sources.add(file.text.as_bytes());
         self.scopes.push(Scope::default());
         self.open_files.push((identity(&file.path), file.path.clone()));
         let items = tree::parse_file(&file)?;
@@ -160,13 +180,14 @@ impl Evaluator {
                 "missing camera: a scene needs one `camera { ... }`",
             )
         })?;
-        Ok(SceneGraph {
+        let graph = SceneGraph {
             settings: self.settings.unwrap_or_default(),
             camera,
             lights: self.lights,
             objects: self.objects,
             warnings: self.warnings,
-        })
+        };
+        Ok((graph, self.sources))
     }
 
     /// Runs the items of a body.
@@ -603,6 +624,7 @@ impl Evaluator {
                 format!("more than {} MiB of text included in one scene", MAX_INCLUDED_BYTES >> 20),
             ));
         }
+        self.sources.add(text.as_bytes());
         let file = Arc::new(SourceFile::new(path, text));
         self.open_files.push((id, file.path.clone()));
         // The file's `#local`s end with it.

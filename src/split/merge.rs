@@ -1,0 +1,114 @@
+//! `raydiance merge`: the parts' headers are checked together first (`coverage`), then their
+//! pixels are added one part at a time, block by block, into sums of the whole image: memory is
+//! the output image's sums and one block of one part, however many parts there are.
+
+use std::path::PathBuf;
+
+use glam::DVec3;
+
+use super::coverage;
+use super::part_file::{self, PartHeader};
+use crate::image::{Image, RenderInfo};
+
+/// A merged image and what to say about it.
+#[derive(Debug)]
+pub struct Merged {
+    pub image: Image,
+    pub info: RenderInfo,
+    /// The parts merged.
+    pub parts: usize,
+    /// What was missing (only with `allow_partial`; a merge without it refuses instead).
+    pub missing: Vec<String>,
+    /// The fewest and most samples a pixel holds.
+    pub samples: (u32, u32),
+}
+
+/// Merges the part files; with `allow_partial`, missing shares, tiles and samples are not an
+/// error (the image is the mean of the samples there are, and records the fewest per pixel).
+pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, String> {
+    let mut parts = paths
+        .iter()
+        .map(|path| part_file::read_header(path).map_err(|e| format!("error: {e}")))
+        .collect::<Result<Vec<_>, _>>()?;
+    coverage::check_same_render(&parts)?;
+    let missing = coverage::missing_work(&parts)?;
+    if !missing.is_empty() && !allow_partial {
+        return Err(format!(
+            "error: the parts given ({}) do not make the whole image:\n  {}\nrender what is \
+             missing and merge again (or merge with --allow-partial)",
+            parts.len(),
+            missing.join("\n  ")
+        ));
+    }
+    // A fixed order: the same image bit for bit whatever the order the parts were given in.
+    parts.sort_by_key(|p| {
+        (p.region.crop, p.region.share.numbers(p.region.total()).start, p.region.share.count)
+    });
+    let first = &parts[0];
+    let (width, height) = (first.width as usize, first.height as usize);
+    let mut sums = vec![DVec3::ZERO; width * height];
+    let mut counts = vec![0u32; width * height];
+    for part in &parts {
+        add_part(part, width, &mut sums, &mut counts)?;
+    }
+    let least = counts.iter().copied().min().unwrap_or(0);
+    let most = counts.iter().copied().max().unwrap_or(0);
+    let pixels = sums
+        .iter()
+        .zip(&counts)
+        .map(|(sum, count)| (*sum * (1.0 / f64::from((*count).max(1)))).as_vec3())
+        .collect();
+    let info = RenderInfo {
+        samples_per_pixel: least,
+        integrator: first.integrator.clone(),
+        seed: first.seed,
+        seconds: parts.iter().map(|p| p.seconds).sum(),
+    };
+    Ok(Merged {
+        image: Image { width, height, pixels },
+        info,
+        parts: parts.len(),
+        missing,
+        samples: (least, most),
+    })
+}
+
+/// Adds a part's sums and counts into the image's, checking that each pixel's count is what
+/// its header's share says and that every pixel of its crop is there once.
+fn add_part(
+    part: &PartHeader,
+    width: usize,
+    sums: &mut [DVec3],
+    counts: &mut [u32],
+) -> Result<(), String> {
+    let region = &part.region;
+    let crop = region.crop;
+    let layout = region.layout();
+    let crop_width = crop.width() as usize;
+    let mut seen = vec![false; crop.pixels() as usize];
+    part_file::read_pixels(part, |pixel, sum, count| {
+        let expected = layout.samples_of(pixel as u64).len().min(part.taken as usize) as u32;
+        let Some(seen) = seen.get_mut(pixel) else {
+            return Err(format!("pixel {pixel} lies outside its crop (the file is damaged)"));
+        };
+        if count != expected || std::mem::replace(seen, true) {
+            return Err(format!(
+                "pixel {pixel} of the crop holds {count} samples where share {} has {expected} \
+                 (the file is damaged)",
+                region.share
+            ));
+        }
+        let (x, y) = (crop.x0 as usize + pixel % crop_width, crop.y0 as usize + pixel / crop_width);
+        sums[y * width + x] += sum;
+        counts[y * width + x] += count;
+        Ok(())
+    })
+    .map_err(|e| format!("error: {e}"))?;
+    if let Some(pixel) = seen.iter().position(|s| !s) {
+        return Err(format!(
+            "error: {}: pixel {pixel} of its crop is missing (the file is damaged)",
+            part.path.display()
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,261 @@
+//! A part file: an OpenEXR image whose RGB is the part's own mean (a viewer opens it as an
+//! image), its data window the crop and its display window the whole image, with what an exact
+//! merge needs: per-pixel sample counts (`samples`, 32-bit unsigned) and second moments
+//! (`moment2.R`, `moment2.G`, `moment2.B`: the mean of the squared radiance), and in the header
+//! the share, the crop, the image size, the seed, the sample count of the whole render and a
+//! digest of the scene and settings (`exrheader` shows them all).
+
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+
+use ::exr::block::reader::ChunksReader;
+use ::exr::meta::header::Header;
+use ::exr::prelude::*;
+
+type Result<T, E = String> = std::result::Result<T, E>;
+use glam::DVec3;
+
+use crate::animation::Frame;
+use crate::film::Film;
+use crate::image::{ImageError, write_atomic};
+use crate::region::{Crop, Region, Share};
+
+/// The channel of per-pixel sample counts.
+const SAMPLES: &str = "samples";
+/// The channels of per-pixel means of the squared radiance.
+const MOMENT2: [&str; 3] = ["moment2.R", "moment2.G", "moment2.B"];
+
+/// What a part's header says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartHeader {
+    pub path: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    /// The crop, the share, and the samples per pixel of the whole render they split.
+    pub region: Region,
+    /// The samples per pixel taken of each pixel's share (fewer than `Region::most_samples`
+    /// when the render was stopped).
+    pub taken: u32,
+    pub seed: u64,
+    pub integrator: String,
+    /// Digest of the scene's text, its includes, the settings and the frame.
+    pub digest: String,
+    pub frame: Frame,
+    pub seconds: f64,
+}
+
+impl PartHeader {
+    /// True when every pixel holds all the samples of its share.
+    pub fn complete(&self) -> bool {
+        self.taken >= self.region.most_samples()
+    }
+}
+
+fn key(name: &str) -> Text {
+    Text::from(format!("raydiance:{name}").as_str())
+}
+
+fn text(value: impl ToString) -> AttributeValue {
+    AttributeValue::Text(Text::from(value.to_string().as_str()))
+}
+
+/// Writes the part rendered into `film` (the crop's, `film.samples` of each pixel's share taken).
+pub fn write(path: &Path, film: &Film, header: &PartHeader) -> Result<(), ImageError> {
+    let region = &header.region;
+    let layout = region.layout();
+    let pixels = film.width * film.height;
+    let mut channels: Vec<Vec<f32>> = (0..6).map(|_| Vec::with_capacity(pixels)).collect();
+    let mut counts = Vec::with_capacity(pixels);
+    for (pixel, (sum, squares)) in film.sum.iter().zip(&film.sum_squares).enumerate() {
+        let count = layout.samples_of(pixel as u64).len().min(film.samples as usize) as u32;
+        let scale = 1.0 / f64::from(count.max(1));
+        let (mean, moment2) = ((*sum * scale).as_vec3(), (*squares * scale).as_vec3());
+        for (channel, value) in
+            channels.iter_mut().zip(mean.to_array().into_iter().chain(moment2.to_array()))
+        {
+            channel.push(value);
+        }
+        counts.push(count);
+    }
+    let names = ["R", "G", "B", MOMENT2[0], MOMENT2[1], MOMENT2[2]];
+    let mut list: Vec<AnyChannel<FlatSamples>> = names
+        .iter()
+        .zip(channels)
+        .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values)))
+        .collect();
+    list.push(AnyChannel::new(SAMPLES, FlatSamples::U32(counts)));
+    let crop = region.crop;
+    let mut attributes = LayerAttributes::named("");
+    attributes.software_name = Some(Text::from("raydiance"));
+    attributes.layer_position = Vec2(crop.x0 as i32, crop.y0 as i32);
+    let layer = Layer::new(
+        (film.width, film.height),
+        attributes,
+        Encoding { line_order: LineOrder::Increasing, ..Encoding::SMALL_LOSSLESS },
+        AnyChannels::sort(SmallVec::from_vec(list)),
+    );
+    let mut image = ::exr::image::Image::from_layer(layer);
+    image.attributes.display_window =
+        IntegerBounds::from_dimensions((header.width as usize, header.height as usize));
+    let other = &mut image.attributes.other;
+    let int = |n: u32| AttributeValue::I32(i32::try_from(n).unwrap_or(i32::MAX));
+    other.insert(key("samples_per_pixel"), int(header.taken));
+    other.insert(key("integrator"), text(&header.integrator));
+    other.insert(key("seed"), text(header.seed));
+    other.insert(key("render_seconds"), AttributeValue::F64(header.seconds));
+    other.insert(key("part"), text(region.share));
+    other.insert(key("crop"), text(crop));
+    other.insert(key("image_size"), text(format!("{}x{}", header.width, header.height)));
+    other.insert(key("render_samples"), int(region.samples));
+    other.insert(key("digest"), text(&header.digest));
+    other.insert(key("frame"), int(header.frame.number));
+    other.insert(key("clock"), AttributeValue::F64(header.frame.clock));
+    write_atomic(path, |writer| {
+        image.write().to_buffered(writer).map_err(|e| ImageError::format(path, e.to_string()))
+    })
+}
+
+/// Opens a regular file for reading (a FIFO or a folder is an error, not a hang).
+fn open(path: &Path) -> Result<BufReader<File>, String> {
+    let metadata = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if !metadata.is_file() {
+        return Err("not a regular file".to_string());
+    }
+    File::open(path).map(BufReader::new).map_err(|e| e.to_string())
+}
+
+/// Reads and checks a part's header; the message names the file.
+pub fn read_header(path: &Path) -> Result<PartHeader, String> {
+    let named = |message: String| format!("{}: {message}", path.display());
+    let reader = open(path).map_err(named)?;
+    let meta = MetaData::read_from_buffered(reader, false)
+        .map_err(|e| named(format!("not a readable OpenEXR file ({e})")))?;
+    let [header] = &meta.headers[..] else {
+        return Err(named("not a part: a part file has one layer".to_string()));
+    };
+    parse_header(path, header).map_err(named)
+}
+
+fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
+    let get = |name: &str| {
+        let key = key(name);
+        header.own_attributes.other.get(&key).or_else(|| header.shared_attributes.other.get(&key))
+    };
+    if get("part").is_none() {
+        return Err(
+            "not a part (it has no raydiance:part: render parts with --part or --crop)".to_string()
+        );
+    }
+    let missing = |name: &str| format!("its header has no valid raydiance:{name}");
+    let text_of = |name: &str| match get(name) {
+        Some(AttributeValue::Text(t)) => Ok(t.to_string()),
+        _ => Err(missing(name)),
+    };
+    let int_of = |name: &str| match get(name) {
+        Some(AttributeValue::I32(n)) => u32::try_from(*n).map_err(|_| missing(name)),
+        _ => Err(missing(name)),
+    };
+    let float_of = |name: &str| match get(name) {
+        Some(AttributeValue::F64(x)) => Ok(*x),
+        _ => Err(missing(name)),
+    };
+    let share: Share = text_of("part")?.parse().map_err(|_| missing("part"))?;
+    let crop: Crop = text_of("crop")?.parse().map_err(|_| missing("crop"))?;
+    let size = text_of("image_size")?;
+    let (width, height) = size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .ok_or_else(|| missing("image_size"))?;
+    let region = Region { crop, share, samples: int_of("render_samples")? };
+    region.check(width, height).map_err(|e| format!("its header is inconsistent: {e}"))?;
+    // The EXR windows must say what the attributes say.
+    let display = header.shared_attributes.display_window;
+    let data = IntegerBounds::new(header.own_attributes.layer_position, header.layer_size);
+    let expected_data = IntegerBounds::new(
+        Vec2(crop.x0 as i32, crop.y0 as i32),
+        (crop.width() as usize, crop.height() as usize),
+    );
+    if display != IntegerBounds::from_dimensions((width as usize, height as usize))
+        || data != expected_data
+    {
+        return Err(format!(
+            "its data and display windows do not match raydiance:crop {crop} and \
+             raydiance:image_size {size}"
+        ));
+    }
+    for (name, kind) in [
+        ("R", SampleType::F32),
+        ("G", SampleType::F32),
+        ("B", SampleType::F32),
+        (SAMPLES, SampleType::U32),
+    ] {
+        if !header.channels.list.iter().any(|c| c.name == *name && c.sample_type == kind) {
+            return Err(format!("it has no {kind:?} channel `{name}`"));
+        }
+    }
+    Ok(PartHeader {
+        path: path.to_path_buf(),
+        width,
+        height,
+        region,
+        taken: int_of("samples_per_pixel")?,
+        seed: text_of("seed")?.parse().map_err(|_| missing("seed"))?,
+        integrator: text_of("integrator")?,
+        digest: text_of("digest")?,
+        frame: Frame { number: int_of("frame")?, clock: float_of("clock")? },
+        seconds: float_of("render_seconds")?,
+    })
+}
+
+/// Reads a part's pixels block by block (never the whole part at once), calling `visit` with
+/// each pixel's position in the crop (row-major), sum of radiance (mean times count) and count.
+pub fn read_pixels(
+    part: &PartHeader,
+    mut visit: impl FnMut(usize, DVec3, u32) -> Result<(), String>,
+) -> Result<(), String> {
+    let named = |message: String| format!("{}: {message}", part.path.display());
+    let reader = open(&part.path).map_err(named)?;
+    let width = part.region.crop.width() as usize;
+    let mut error = None;
+    let result = ::exr::block::read(reader, false)
+        .and_then(|reader| reader.all_chunks(false))
+        .and_then(|chunks| {
+            chunks.decompress_parallel(false, |meta, block| {
+                let header = &meta.headers[block.index.layer];
+                let size = block.index.pixel_size;
+                let pixels = size.width() * size.height();
+                let mut rgb = [vec![0f32; pixels], vec![0f32; pixels], vec![0f32; pixels]];
+                let mut counts = vec![0u32; pixels];
+                for line in block.lines(&header.channels) {
+                    let name = &header.channels.list[line.location.channel].name;
+                    let row = line.location.position.y() - block.index.pixel_position.y();
+                    let at = row * size.width()..(row + 1) * size.width();
+                    let channel = ["R", "G", "B"].iter().position(|c| name == *c);
+                    match channel {
+                        Some(c) => line.read_samples_into_slice(&mut rgb[c][at])?,
+                        None if name == SAMPLES => line.read_samples_into_slice(&mut counts[at])?,
+                        None => {}
+                    }
+                }
+                let (x0, y0) = (block.index.pixel_position.x(), block.index.pixel_position.y());
+                for i in 0..pixels {
+                    let (x, y) = (x0 + i % size.width(), y0 + i / size.width());
+                    let mean = DVec3::new(rgb[0][i].into(), rgb[1][i].into(), rgb[2][i].into());
+                    let count = counts[i];
+                    if let Err(message) = visit(y * width + x, mean * f64::from(count), count) {
+                        error.get_or_insert(message);
+                        return Err(Error::Aborted);
+                    }
+                }
+                Ok(())
+            })
+        });
+    match (error, result) {
+        (Some(message), _) => Err(named(message)),
+        (None, Err(e)) => {
+            Err(named(format!("cannot read its pixels (truncated or damaged?): {e}")))
+        }
+        (None, Ok(())) => Ok(()),
+    }
+}

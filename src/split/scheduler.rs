@@ -1,0 +1,160 @@
+//! `--part auto`: the task of the scheduler that started the process. Slurm job arrays give
+//! task `SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN` (divided by `SLURM_ARRAY_TASK_STEP` when
+//! the array has a step) of `SLURM_ARRAY_TASK_COUNT`, so `--array=1-16` works as `0-15`;
+//! Kubernetes Indexed Jobs give task `JOB_COMPLETION_INDEX`, the count being `--parts N` times
+//! the frames.
+
+/// Task `index` of `count` tasks, and who said so.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Task {
+    pub index: u32,
+    pub count: u32,
+    pub scheduler: &'static str,
+}
+
+/// The task from the environment (`var` looks a variable up), for `parts` shares of each frame
+/// (`--parts`, needed with Kubernetes) of `frames` frames.
+pub fn task(
+    var: impl Fn(&str) -> Option<String>,
+    parts: Option<u32>,
+    frames: u32,
+) -> Result<Task, String> {
+    let number = |name: &str| -> Result<Option<u32>, String> {
+        match var(name) {
+            None => Ok(None),
+            Some(v) => v
+                .trim()
+                .parse()
+                .map(Some)
+                .map_err(|_| format!("error: --part auto: {name}={v:?} is not a whole number")),
+        }
+    };
+    let slurm = number("SLURM_ARRAY_TASK_ID")?;
+    let kubernetes = number("JOB_COMPLETION_INDEX")?;
+    match (slurm, kubernetes) {
+        (Some(_), Some(_)) => Err("error: --part auto: both SLURM_ARRAY_TASK_ID (Slurm) and \
+             JOB_COMPLETION_INDEX (Kubernetes) are set: cannot tell which scheduler started \
+             this process; give --part I/N instead"
+            .to_string()),
+        (Some(id), None) => {
+            let need = |name: &str| {
+                number(name)?.ok_or_else(|| {
+                    format!("error: --part auto: SLURM_ARRAY_TASK_ID is set but {name} is not")
+                })
+            };
+            let (min, count) = (need("SLURM_ARRAY_TASK_MIN")?, need("SLURM_ARRAY_TASK_COUNT")?);
+            let step = number("SLURM_ARRAY_TASK_STEP")?.unwrap_or(1).max(1);
+            let offset = id.checked_sub(min).filter(|o| o % step == 0);
+            match offset.map(|o| o / step).filter(|&index| index < count) {
+                Some(index) => {
+                    check_count(Task { index, count, scheduler: "Slurm" }, parts, frames)
+                }
+                None => Err(format!(
+                    "error: --part auto: Slurm array task {id} is not one of {count} tasks from \
+                     {min} by {step} (the array must be a range such as --array=0-{})",
+                    count.saturating_sub(1)
+                )),
+            }
+        }
+        (None, Some(index)) => {
+            let Some(parts) = parts else {
+                return Err("error: --part auto: JOB_COMPLETION_INDEX is set (a Kubernetes \
+                     Indexed Job) but the number of shares is not: give --parts N (the Job's \
+                     completions, divided by the frames)"
+                    .to_string());
+            };
+            let count =
+                parts.checked_mul(frames).ok_or("error: --parts times --frames is too large")?;
+            if index >= count {
+                return Err(format!(
+                    "error: --part auto: JOB_COMPLETION_INDEX {index} is not less than the {count} \
+                     tasks of --parts {parts} (times {frames} frames)"
+                ));
+            }
+            Ok(Task { index, count, scheduler: "Kubernetes" })
+        }
+        (None, None) => {
+            let slurm_job = var("SLURM_JOB_ID").is_some();
+            Err(format!(
+                "error: --part auto: no scheduler task found: neither a Slurm job array \
+                 (SLURM_ARRAY_TASK_ID{}) nor a Kubernetes Indexed Job (JOB_COMPLETION_INDEX) \
+                 started this process; give --part I/N instead",
+                if slurm_job {
+                    " is unset: this Slurm job is not an array, submit it with --array"
+                } else {
+                    ""
+                }
+            ))
+        }
+    }
+}
+
+/// A Slurm array's count must be a multiple of the frames, and of `--parts` when given.
+fn check_count(task: Task, parts: Option<u32>, frames: u32) -> Result<Task, String> {
+    let per_frame = task.count / frames;
+    if task.count % frames != 0 || parts.is_some_and(|p| p != per_frame) {
+        return Err(format!(
+            "error: --part auto: the Slurm array has {} tasks, not {} frames times {}",
+            task.count,
+            frames,
+            parts.map_or("a whole number of shares".to_string(), |p| format!("--parts {p}"))
+        ));
+    }
+    Ok(task)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn env(vars: &[(&str, &str)]) -> impl Fn(&str) -> Option<String> + use<> {
+        let vars: Vec<(String, String)> =
+            vars.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
+        move |name| vars.iter().find(|(k, _)| k == name).map(|(_, v)| v.clone())
+    }
+
+    #[test]
+    fn slurm_arrays_count_from_their_first_task() {
+        let array = |id: &str| {
+            env(&[
+                ("SLURM_ARRAY_TASK_ID", id),
+                ("SLURM_ARRAY_TASK_MIN", "1"),
+                ("SLURM_ARRAY_TASK_COUNT", "16"),
+            ])
+        };
+        assert_eq!(task(array("1"), None, 1).unwrap().index, 0);
+        assert_eq!(
+            task(array("16"), None, 1).unwrap(),
+            Task { index: 15, count: 16, scheduler: "Slurm" }
+        );
+        assert!(task(array("17"), None, 1).unwrap_err().contains("not one of 16 tasks"));
+        assert!(task(array("x"), None, 1).unwrap_err().contains("not a whole number"));
+        assert!(task(array("3"), None, 3).unwrap_err().contains("not 3 frames"));
+        assert!(task(array("3"), Some(8), 1).unwrap_err().contains("not 1 frames times --parts 8"));
+        let stepped = env(&[
+            ("SLURM_ARRAY_TASK_ID", "6"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+            ("SLURM_ARRAY_TASK_STEP", "2"),
+        ]);
+        assert_eq!(task(stepped, None, 1).unwrap().index, 3);
+    }
+
+    #[test]
+    fn kubernetes_needs_the_count() {
+        let indexed = env(&[("JOB_COMPLETION_INDEX", "5")]);
+        assert_eq!(task(&indexed, Some(8), 1).unwrap().index, 5);
+        assert_eq!(task(&indexed, Some(2), 3).unwrap().count, 6);
+        assert!(task(&indexed, None, 1).unwrap_err().contains("give --parts N"));
+        assert!(task(&indexed, Some(4), 1).unwrap_err().contains("not less than the 4"));
+    }
+
+    #[test]
+    fn without_a_scheduler_it_is_an_error_that_says_so() {
+        assert!(task(env(&[]), None, 1).unwrap_err().contains("no scheduler task found"));
+        let plain = env(&[("SLURM_JOB_ID", "7")]);
+        assert!(task(plain, None, 1).unwrap_err().contains("not an array"));
+        let both = env(&[("SLURM_ARRAY_TASK_ID", "0"), ("JOB_COMPLETION_INDEX", "0")]);
+        assert!(task(both, Some(2), 1).unwrap_err().contains("both"));
+    }
+}
