@@ -17,6 +17,7 @@ pub mod lang;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod photon;
 mod pipeline;
 pub mod render;
 pub mod sampling;

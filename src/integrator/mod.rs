@@ -43,7 +43,7 @@ fn direct_from_all_lights(
     let mut radiance = Vec3::ZERO;
     for light in &scene.lights {
         let u = sampler.next_2d();
-        let Some(sample) = light.sample(scene, hit, u) else { continue };
+        let Some(sample) = light.sample(hit, u) else { continue };
         if !scene.occluded(&sample.shadow.ray, sample.shadow.t_max) {
             let f = material.eval(hit.shading_normal, wo, sample.wi);
             radiance += f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf;

@@ -314,7 +314,7 @@ impl Path {
             Strategy::LightSampling => 0.0,
             Strategy::Mis => {
                 let light_pdf = scene.light_probability(light as usize)
-                    * scene.lights[light as usize].pdf(scene, from, hit);
+                    * scene.lights[light as usize].pdf(from, hit);
                 power_heuristic(bsdf_pdf, light_pdf)
             }
         }
@@ -405,7 +405,7 @@ impl Path {
         u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
         let material = scene.material(hit.primitive, hit.point);
-        let sample = scene.lights[light].sample(scene, hit, u)?;
+        let sample = scene.lights[light].sample(hit, u)?;
         let f = material.eval(hit.shading_normal, wo, sample.wi);
         if f == Vec3::ZERO {
             return None;
