@@ -9,7 +9,7 @@ use std::f32::consts::PI;
 use glam::Vec3;
 use raydiance::geometry::{Hit, Ray, Shape};
 use raydiance::light::Light;
-use raydiance::material::Material;
+use raydiance::material::{Material, TransportMode};
 use raydiance::sampling::{Sampler, cosine_hemisphere};
 
 const COS_BINS: usize = 16;
@@ -127,14 +127,15 @@ fn bsdf_sampling_matches_bsdf_pdf() {
         (material(0.5, 0.3, 0.0, false), "diffuse + mirror"),
         (material(0.3, 0.0, 0.6, true), "diffuse + fresnel glass"),
     ] {
+        let bsdf = m.bsdf(n, TransportMode::Radiance);
         for wo in [wo, -wo] {
             chi_square(
                 name,
                 |s| {
-                    let sample = m.sample(n, wo, s.next_1d(), s.next_2d())?;
-                    (!sample.specular).then_some(sample.wi)
+                    let sample = bsdf.sample(wo, s.next_1d(), s.next_2d())?;
+                    (!sample.delta).then_some(sample.wi)
                 },
-                |wi| m.pdf(n, wo, wi),
+                |wi| bsdf.pdf(wo, wi),
             );
         }
     }

@@ -7,7 +7,7 @@ use common::{LAB_BOX, scene};
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 use raydiance::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4};
 use raydiance::light::sample_lanes;
-use raydiance::material::{Material, eval_diffuse_lanes, sample_lambertian_lanes};
+use raydiance::material::{Material, TransportMode, eval_diffuse_lanes, sample_lambertian_lanes};
 use raydiance::sampling::{Sampler, uniform_sphere};
 
 #[test]
@@ -95,7 +95,7 @@ fn diffuse(sampler: &mut Sampler) -> Material {
 fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
     let mut sampler = Sampler::new(1, 2, 3);
     let key = |s: Option<raydiance::material::BsdfSample>| {
-        s.map(|s| (s.wi, s.weight, s.pdf, s.specular, s.eta))
+        s.map(|s| (s.wi, s.weight, s.pdf, s.delta, s.eta))
     };
     for round in 0..5000 {
         let n = normals(&mut sampler);
@@ -116,11 +116,11 @@ fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
             Vec2x4::from_lanes(u),
         );
         for lane in 0..LANES {
-            let alone =
-                materials[lane].sample(n[lane], wo[lane], 0.0, u[lane]).filter(|_| present[lane]);
+            let bsdf = materials[lane].bsdf(n[lane], TransportMode::Radiance);
+            let alone = bsdf.sample(wo[lane], 0.0, u[lane]).filter(|_| present[lane]);
             let in_lanes = lanes.found.test(lane).then(|| {
                 let (wi, weight) = (lanes.wi.lane(lane), lanes.weight.lane(lane));
-                (wi, weight, lanes.pdf[lane], lanes.specular.test(lane), lanes.eta[lane])
+                (wi, weight, lanes.pdf[lane], lanes.delta.test(lane), lanes.eta[lane])
             });
             assert_eq!(in_lanes, key(alone), "n {} wo {} u {}", n[lane], wo[lane], u[lane]);
         }
@@ -145,8 +145,10 @@ fn diffuse_lobes_evaluated_in_lanes_agree_with_eval_and_pdf() {
                 ..diffuse(&mut sampler)
             },
         });
+        let bsdfs: [_; LANES] =
+            std::array::from_fn(|lane| materials[lane].bsdf(n[lane], TransportMode::Radiance));
         let p_diffuse: [f32; LANES] =
-            std::array::from_fn(|lane| materials[lane].diffuse_probability(n[lane], wo[lane]));
+            std::array::from_fn(|lane| bsdfs[lane].diffuse_probability(wo[lane]));
         let (f, pdf) = eval_diffuse_lanes(
             Vec3x4::from_lanes(n),
             Vec3x4::from_lanes(wo),
@@ -154,9 +156,9 @@ fn diffuse_lobes_evaluated_in_lanes_agree_with_eval_and_pdf() {
             Vec3x4::from_lanes(materials.each_ref().map(|m| m.diffuse)),
             Vec4::from_array(p_diffuse),
         );
-        for (lane, m) in materials.iter().enumerate() {
-            assert_eq!(f.lane(lane), m.eval(n[lane], wo[lane], wi[lane]));
-            assert_eq!(pdf[lane], m.pdf(n[lane], wo[lane], wi[lane]));
+        for (lane, bsdf) in bsdfs.iter().enumerate() {
+            assert_eq!(f.lane(lane), bsdf.eval(wo[lane], wi[lane]));
+            assert_eq!(pdf[lane], bsdf.pdf(wo[lane], wi[lane]));
         }
     }
 }

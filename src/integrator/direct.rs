@@ -1,12 +1,13 @@
-//! The course's Lab 4 integrator: emission seen directly, direct light at non-specular surfaces
-//! with shadow rays (from point lights, area lights and the background), perfect mirrors and
-//! refraction followed Whitted-style; no indirect diffuse.
+//! The course's Lab 4 integrator: emission seen directly, direct light at surfaces with lobes
+//! that have a density (diffuse, glossy) with shadow rays (from point lights, area lights and
+//! the background), delta lobes (perfect mirrors and refraction) followed Whitted-style; no
+//! indirect light otherwise.
 
 use glam::Vec3;
 
 use super::{Integrator, direct_from_all_lights};
 use crate::geometry::{Hit, Ray, offset_origin};
-use crate::material::Material;
+use crate::material::{Bsdf, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -16,22 +17,21 @@ pub struct Direct {
 }
 
 /// Light of the background (an environment of constant radiance L all around) reflected towards
-/// `wo` by the diffuse lobe: one cosine-weighted direction with a shadow ray to infinity, whose
-/// estimate f L cos / pdf is kd L where the sky is seen. A black background draws no sample, so
-/// the seed's scenes render as they always have.
+/// `wo` by the non-delta lobes: one direction sampled from them with a shadow ray to infinity,
+/// whose estimate is f L cos / pdf (kd L for a diffuse lobe) where the sky is seen. A black
+/// background draws no sample, so the seed's scenes render as they always have.
 fn direct_from_background(
     scene: &Scene,
     hit: &Hit,
     wo: Vec3,
-    material: &Material,
+    bsdf: &Bsdf,
     sampler: &mut Sampler,
 ) -> Vec3 {
     let background = scene.background();
     if background == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let Some(sample) = material.sample_diffuse(hit.shading_normal, wo, 1.0, sampler.next_2d())
-    else {
+    let Some(sample) = bsdf.sample_non_delta(wo, sampler.next_2d()) else {
         return Vec3::ZERO;
     };
     let ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
@@ -54,17 +54,18 @@ impl Integrator for Direct {
             if bounces == self.max_depth {
                 break;
             }
-            if material.has_diffuse() {
-                radiance += beta * direct_from_all_lights(scene, &hit, wo, &material, sampler);
-                radiance += beta * direct_from_background(scene, &hit, wo, &material, sampler);
+            let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
+            let flags = bsdf.flags();
+            if flags.is_non_delta() {
+                radiance += beta * direct_from_all_lights(scene, &hit, wo, &bsdf, sampler);
+                radiance += beta * direct_from_background(scene, &hit, wo, &bsdf, sampler);
             }
             // With both mirror and refraction one of them is followed, chosen at random with
             // its weight divided by its probability: one ray, no branching, no bias.
-            if !material.has_specular() {
+            if !flags.is_delta() {
                 break;
             }
-            let Some(sample) = material.sample_specular(hit.shading_normal, wo, sampler.next_1d())
-            else {
+            let Some(sample) = bsdf.sample_delta(wo, sampler.next_1d()) else {
                 break;
             };
             beta *= sample.weight;

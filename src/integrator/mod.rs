@@ -9,7 +9,7 @@ pub use path::{Path, Strategy};
 use glam::Vec3;
 
 use crate::geometry::{Hit, Ray};
-use crate::material::Material;
+use crate::material::Bsdf;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -31,13 +31,13 @@ pub trait Integrator: Sync {
     }
 }
 
-/// Light reflected towards `wo` by the non-specular part of `material` at `hit`, one sample
-/// from every light (point lights exactly: the seed's p / r^2 f |n . wi|).
+/// Light scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, one sample from
+/// every light (point lights exactly: the seed's p / r^2 f |n . wi|).
 fn direct_from_all_lights(
     scene: &Scene,
     hit: &Hit,
     wo: Vec3,
-    material: &Material,
+    bsdf: &Bsdf,
     sampler: &mut Sampler,
 ) -> Vec3 {
     let mut radiance = Vec3::ZERO;
@@ -45,7 +45,7 @@ fn direct_from_all_lights(
         let u = sampler.next_2d();
         let Some(sample) = light.sample(hit, u) else { continue };
         if !scene.occluded(&sample.shadow.ray, sample.shadow.t_max) {
-            let f = material.eval(hit.shading_normal, wo, sample.wi);
+            let f = bsdf.eval(wo, sample.wi);
             radiance += f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf;
         }
     }

@@ -6,9 +6,11 @@ use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use super::Integrator;
 use crate::accel::{Nearest, RayLanes};
-use crate::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4};
+use crate::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
 use crate::light::{ShadowRay, sample_lanes};
-use crate::material::{BsdfSampleLanes, eval_diffuse_lanes, sample_lambertian_lanes};
+use crate::material::{
+    Bsdf, BsdfSampleLanes, TransportMode, eval_diffuse_lanes, sample_lambertian_lanes,
+};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -18,7 +20,7 @@ use crate::scene::Scene;
 pub enum Strategy {
     /// Both, weighted by the power heuristic.
     Mis,
-    /// Next-event estimation only; emitters hit by BSDF-sampled rays count only after a specular bounce.
+    /// Next-event estimation only; emitters hit by BSDF-sampled rays count only after a delta bounce.
     LightSampling,
     /// BSDF sampling only: emitters count when a sampled ray hits them.
     BsdfSampling,
@@ -33,17 +35,74 @@ pub struct Path {
 const ROULETTE_AFTER: u32 = 3;
 
 impl Integrator for Path {
-    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
-        let mut radiance = [Vec3::ZERO];
-        self.radiance_of_all(scene, &mut std::iter::once((ray, sampler.clone())), &mut radiance);
-        radiance[0]
+    /// The reference estimator: one path, one vertex at a time, through the scalar BSDFs and
+    /// lights. `radiance_of_all` must give each path exactly this radiance.
+    fn radiance(&self, scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Vec3 {
+        let mut radiance = Vec3::ZERO;
+        let mut beta = Vec3::ONE;
+        let mut eta_scale = 1.0f32;
+        // Where the last direction was sampled from a non-delta lobe, that vertex's point and
+        // the direction's solid-angle pdf (for MIS where the path meets an emitter).
+        let mut previous: Option<(Vec3, f32)> = None;
+        for bounces in 0.. {
+            let Some(hit) = scene.intersect(&ray) else {
+                radiance += beta * scene.background();
+                break;
+            };
+            let wo = -Vec3::from(ray.dir);
+            let material = scene.material(hit.primitive, hit.point);
+            let emitted = material.emitted(hit.normal, wo);
+            if emitted != Vec3::ZERO {
+                radiance += beta * emitted * self.emission_weight(scene, &hit, previous);
+            }
+            if bounces == self.max_depth {
+                break;
+            }
+            let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
+            let light =
+                if bsdf.flags().is_non_delta() { self.choose_light(scene, sampler) } else { None };
+            let u_lobe = sampler.next_1d_if(bsdf.chooses_lobe());
+            let u = sampler.next_2d();
+            let shadowed = light.and_then(|(light, probability, u_light)| {
+                let (shadow, li) =
+                    self.next_event(scene, &hit, wo, &bsdf, (light, probability), u_light)?;
+                Some((shadow, beta * li))
+            });
+            let sample = bsdf.sample(wo, u_lobe, u);
+            let continues = sample.is_some_and(|sample| {
+                beta *= sample.weight;
+                eta_scale *= sample.eta * sample.eta;
+                previous = (!sample.delta).then_some((hit.point, sample.pdf));
+                ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
+                let roulette = bounces + 1 >= ROULETTE_AFTER;
+                let survive = (beta * eta_scale).max_element().min(1.0);
+                let u = sampler.next_1d_if(roulette);
+                if roulette && u >= survive {
+                    return false;
+                }
+                if roulette {
+                    beta /= survive;
+                }
+                true
+            });
+            if let Some((shadow, li)) = shadowed
+                && !scene.occluded(&shadow.ray, shadow.t_max)
+            {
+                radiance += li;
+            }
+            if !continues {
+                break;
+            }
+        }
+        radiance
     }
 
     /// Traces `LANES` paths at a time, bounce by bounce, so that their rays and their shadow
     /// rays meet the scene together (`Scene::intersect_lanes`), and light and BSDF samples of
-    /// the common kinds (point and planar lights, Lambertian materials) and the throughput are
+    /// the common kinds (point and planar lights, Lambertian lobes) and the throughput are
     /// computed side by side; a finished path's lane takes the next camera sample. Each path
-    /// draws its sample values in the order it would alone, so it gets the same radiance.
+    /// draws its sample values in the order `radiance` draws them and computes what it computes
+    /// with the same operations, so it gets the same radiance, bit for bit.
     fn radiance_of_all(
         &self,
         scene: &Scene,
@@ -114,10 +173,10 @@ struct PathLanes {
     /// Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
     /// so paths through glass are not cut for a throughput drop that the exit restores.
     eta_scale: Vec4,
-    /// Lanes whose last direction was sampled at a non-specular vertex, where a light sample
+    /// Lanes whose last direction was sampled from a non-delta lobe, where a light sample
     /// could have found the path too (not the camera's), and there that vertex's point and
     /// the direction's solid-angle pdf.
-    from_diffuse: BVec4A,
+    from_non_delta: BVec4A,
     previous_point: Vec3x4,
     previous_pdf: Vec4,
 }
@@ -138,7 +197,7 @@ impl PathLanes {
             radiance: Vec3x4::ZERO,
             beta: Vec3x4::ZERO,
             eta_scale: Vec4::ONE,
-            from_diffuse: BVec4A::FALSE,
+            from_non_delta: BVec4A::FALSE,
             previous_point: Vec3x4::ZERO,
             previous_pdf: Vec4::ZERO,
         }
@@ -151,7 +210,7 @@ impl PathLanes {
         self.radiance.set_lane(lane, Vec3::ZERO);
         self.beta.set_lane(lane, Vec3::ONE);
         self.eta_scale.set_lane(lane, 1.0);
-        self.from_diffuse.set_lane(lane, false);
+        self.from_non_delta.set_lane(lane, false);
     }
 
     /// Takes each path on along its BSDF sample, or ends it (no sample, or Russian roulette);
@@ -160,7 +219,7 @@ impl PathLanes {
     fn leave(&mut self, hits: &HitLanes, samples: &BsdfSampleLanes) -> [bool; LANES] {
         self.beta = self.beta * samples.weight;
         self.eta_scale *= samples.eta * samples.eta;
-        self.from_diffuse = !samples.specular;
+        self.from_non_delta = !samples.delta;
         self.previous_point = hits.point;
         self.previous_pdf = samples.pdf;
         self.rays = RayLanes { origin: hits.offset_origin(samples.wi), dir: samples.wi };
@@ -197,9 +256,11 @@ struct Vertices {
     found: BVec4A,
     /// The primitive hit (`u32::MAX` where there is no vertex).
     primitives: [u32; LANES],
-    /// The material's diffuse reflectance there, and lanes whose material is Lambertian alone.
+    /// The BSDF's diffuse reflectance there; lanes whose BSDF is Lambertian alone (sampled in
+    /// lanes), and lanes whose non-delta lobes are Lambertian alone (evaluated in lanes).
     diffuse: Vec3x4,
     lambertian: BVec4A,
+    diffuse_where_non_delta: BVec4A,
     /// For next-event estimation: the light chosen (`None`: none), the probability of that
     /// choice, the point of the unit square that samples it, and the probability of the
     /// diffuse lobe.
@@ -218,6 +279,7 @@ impl Vertices {
             primitives: [u32::MAX; LANES],
             diffuse: Vec3x4::ZERO,
             lambertian: BVec4A::FALSE,
+            diffuse_where_non_delta: BVec4A::FALSE,
             lights: [None; LANES],
             light_probability: Vec4::ONE,
             u_light: Vec2x4::ZERO,
@@ -272,7 +334,7 @@ impl Path {
         if emitted != Vec3::ZERO {
             let hit = hits.lane(lane, primitive, found.t.lane(lane));
             let previous = lanes
-                .from_diffuse
+                .from_non_delta
                 .lane(lane)
                 .then(|| (lanes.previous_point.lane(lane), lanes.previous_pdf.lane(lane)));
             emission.found.set_lane(lane, true);
@@ -284,27 +346,31 @@ impl Path {
             return;
         }
         let sampler = &mut path.sampler;
-        let light = if material.has_diffuse() { self.choose_light(scene, sampler) } else { None };
-        // Only a material with specular lobes has a lobe to choose.
-        vertices.u_lobe[lane] = sampler.next_1d_if(material.has_specular());
+        let bsdf = material.bsdf(hits.shading_normal.lane(lane), TransportMode::Radiance);
+        let light =
+            if bsdf.flags().is_non_delta() { self.choose_light(scene, sampler) } else { None };
+        vertices.u_lobe[lane] = sampler.next_1d_if(bsdf.chooses_lobe());
         vertices.u_direction.set_lane(lane, sampler.next_2d());
         vertices.found.set_lane(lane, true);
         vertices.primitives[lane] = primitive;
         vertices.diffuse.set_lane(lane, material.diffuse);
+        let diffuse_where_non_delta = bsdf.is_diffuse_where_non_delta();
         if let Some((light, probability, u)) = light {
-            let p_diffuse = material.diffuse_probability(hits.shading_normal.lane(lane), wo);
             vertices.lights[lane] = Some(light);
             vertices.light_probability.set_lane(lane, probability);
             vertices.u_light.set_lane(lane, u);
-            vertices.p_diffuse.set_lane(lane, p_diffuse);
+            if diffuse_where_non_delta {
+                vertices.p_diffuse.set_lane(lane, bsdf.diffuse_probability(wo));
+            }
         }
-        vertices.lambertian.set_lane(lane, material.is_lambertian());
+        vertices.lambertian.set_lane(lane, bsdf.is_lambertian());
+        vertices.diffuse_where_non_delta.set_lane(lane, diffuse_where_non_delta);
     }
 
     /// The weight of emission found by a BSDF-sampled ray.
     fn emission_weight(&self, scene: &Scene, hit: &Hit, previous: Option<(Vec3, f32)>) -> f32 {
         let Some((from, bsdf_pdf)) = previous else {
-            return 1.0; // seen by the camera or through specular bounces
+            return 1.0; // seen by the camera or through delta bounces
         };
         let Some(light) = scene.primitives[hit.primitive as usize].light else {
             return 1.0; // no light sample can find this emitter
@@ -334,7 +400,8 @@ impl Path {
 
     /// Next-event estimation at the lanes' vertices: light from each vertex's chosen light,
     /// weighted against BSDF sampling, if its shadow ray turns out unoccluded. Point lights and
-    /// planar area lights are sampled in lanes, other lights one vertex at a time.
+    /// planar area lights seen from Lambertian lobes are sampled in lanes; other lights, and
+    /// every light from other non-delta lobes, one vertex at a time.
     fn next_event_lanes(
         &self,
         scene: &Scene,
@@ -344,7 +411,10 @@ impl Path {
         wo: Vec3x4,
     ) -> Shadowed {
         let (hits, lights) = (&found.hits, vertices.lights);
-        let sampled = sample_lanes(scene, hits, vertices.primitives, lights, vertices.u_light);
+        let in_lanes = std::array::from_fn(|lane| {
+            lights[lane].filter(|_| vertices.diffuse_where_non_delta.lane(lane))
+        });
+        let sampled = sample_lanes(scene, hits, vertices.primitives, in_lanes, vertices.u_light);
         // Lanes without a shadow ray keep whatever ray: `found` leaves them untested.
         let mut shadowed = Shadowed {
             found: BVec4A::FALSE,
@@ -375,15 +445,15 @@ impl Path {
         }
         let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
         for lane in (0..LANES).filter(|&lane| !handled.lane(lane)) {
-            if let Some(light) = lights[lane]
-                && let Some(hit) = found.hit(lane)
-                && let Some((shadow, radiance)) = self.next_event(
-                    scene,
-                    &hit,
-                    wo.lane(lane),
-                    (light, vertices.light_probability.lane(lane)),
-                    vertices.u_light.lane(lane),
-                )
+            let Some(light) = lights[lane] else { continue };
+            let Some(hit) = found.hit(lane) else { continue };
+            let bsdf = scene
+                .material(hit.primitive, hit.point)
+                .bsdf(hit.shading_normal, TransportMode::Radiance);
+            let light = (light, vertices.light_probability.lane(lane));
+            let u = vertices.u_light.lane(lane);
+            if let Some((shadow, radiance)) =
+                self.next_event(scene, &hit, wo.lane(lane), &bsdf, light, u)
             {
                 shadowed.found.set_lane(lane, true);
                 shadowed.rays.set_lane(lane, &shadow.ray);
@@ -394,19 +464,19 @@ impl Path {
         shadowed
     }
 
-    /// Light from `light`, chosen with `probability`, at one vertex, weighted against BSDF
-    /// sampling, if its shadow ray is unoccluded.
+    /// Light from `light`, chosen with `probability`, scattered by `bsdf` at one vertex,
+    /// weighted against BSDF sampling, if its shadow ray is unoccluded.
     fn next_event(
         &self,
         scene: &Scene,
         hit: &Hit,
         wo: Vec3,
+        bsdf: &Bsdf,
         (light, probability): (usize, f32),
         u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
-        let material = scene.material(hit.primitive, hit.point);
         let sample = scene.lights[light].sample(hit, u)?;
-        let f = material.eval(hit.shading_normal, wo, sample.wi);
+        let f = bsdf.eval(wo, sample.wi);
         if f == Vec3::ZERO {
             return None;
         }
@@ -414,7 +484,7 @@ impl Path {
         let weight = if sample.is_delta || self.strategy == Strategy::LightSampling {
             1.0
         } else {
-            power_heuristic(light_pdf, material.pdf(hit.shading_normal, wo, sample.wi))
+            power_heuristic(light_pdf, bsdf.pdf(wo, sample.wi))
         };
         let radiance = f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf;
         Some((sample.shadow, radiance))
@@ -434,8 +504,9 @@ fn sample_bsdf_lanes(
         sample_lambertian_lanes(lambertian, vertices.diffuse, n, wo, vertices.u_direction);
     for lane in (0..LANES).filter(|&lane| (vertices.found & !lambertian).lane(lane)) {
         let material = scene.material(vertices.primitives[lane], found.hits.point.lane(lane));
+        let bsdf = material.bsdf(n.lane(lane), TransportMode::Radiance);
         let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction.lane(lane));
-        let sample = material.sample(n.lane(lane), wo.lane(lane), u_lobe, u);
+        let sample = bsdf.sample(wo.lane(lane), u_lobe, u);
         samples.set_lane(lane, sample);
     }
     samples
