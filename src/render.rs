@@ -12,7 +12,8 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::film::Film;
-use crate::integrator::{Direct, Integrator, Path, Strategy};
+use crate::geometry::Ray;
+use crate::integrator::{Direct, Integrator, Path, PhotonMapping, Strategy, sppm};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::scene::graph::IntegratorKind;
@@ -73,7 +74,24 @@ pub fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
             &Path { max_depth: scene.settings.max_depth, strategy: Strategy::Mis },
             progress,
         ),
+        IntegratorKind::Photon => {
+            let start = Instant::now();
+            match PhotonMapping::new(scene, progress) {
+                Some(integrator) => {
+                    let (film, stats) = render_with(scene, &integrator, progress);
+                    (film, RenderStats { seconds: start.elapsed().as_secs_f64(), ..stats })
+                }
+                None => stopped_before_a_pass(scene, start),
+            }
+        }
+        IntegratorKind::Sppm => sppm::render(scene, progress),
     }
+}
+
+/// The black film of a render stopped before its first pass.
+pub fn stopped_before_a_pass(scene: &Scene, start: Instant) -> (Film, RenderStats) {
+    let film = Film::new(scene.settings.width as usize, scene.settings.height as usize);
+    (film, RenderStats { seconds: start.elapsed().as_secs_f64(), samples_per_pixel: 0, dropped: 0 })
 }
 
 /// Renders with a given integrator (e.g. a `Path` with one sampling strategy, for tests).
@@ -118,6 +136,22 @@ pub fn render_with(
     (film, stats)
 }
 
+/// Camera sample `index` of pixel (x, y): its ray, and the sampler its path goes on drawing from.
+pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Ray, Sampler) {
+    let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
+    let pixel = (y * width + x) as u64;
+    let mut sampler = Sampler::new(scene.settings.seed, pixel, u64::from(index));
+    let jitter = sampler.next_2d();
+    // A pinhole camera needs no lens sample.
+    let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
+    let ray = scene.camera.ray(
+        (x as f32 + jitter.x) / width as f32,
+        (y as f32 + jitter.y) / height as f32,
+        lens,
+    );
+    (ray, sampler)
+}
+
 /// Renders the sample indices `samples` of every pixel into `pass` (overwritten), rows in
 /// parallel, each row in tasks of at most `TASK_SAMPLES` samples: several pixels' samples
 /// together (so that integrators tracing paths in lanes have enough of them), or a part of one
@@ -129,8 +163,7 @@ fn render_pass(
     samples: Range<u32>,
     pass: &mut Film,
 ) -> bool {
-    let settings = &scene.settings;
-    let (width, height) = (pass.width, pass.height);
+    let width = pass.width;
     let count = (samples.end - samples.start) as usize;
     let pixels_per_task = (TASK_SAMPLES / count).clamp(1, width);
     let samples_per_task = count.min(TASK_SAMPLES);
@@ -155,23 +188,7 @@ fn render_pass(
                     let per_pixel = indices.len();
                     // The task's camera samples, pixel by pixel, each pixel's in index order.
                     let mut camera_samples = pixels.clone().flat_map(|x| {
-                        indices.clone().map(move |index| {
-                            let pixel = (y * width + x) as u64;
-                            let mut sampler = Sampler::new(settings.seed, pixel, u64::from(index));
-                            let jitter = sampler.next_2d();
-                            // A pinhole camera needs no lens sample.
-                            let lens = if scene.camera.aperture > 0.0 {
-                                sampler.next_2d()
-                            } else {
-                                glam::Vec2::ZERO
-                            };
-                            let ray = scene.camera.ray(
-                                (x as f32 + jitter.x) / width as f32,
-                                (y as f32 + jitter.y) / height as f32,
-                                lens,
-                            );
-                            (ray, sampler)
-                        })
+                        indices.clone().map(move |index| camera_sample(scene, x, y, index))
                     });
                     let radiance = &mut radiance[..pixels.len() * per_pixel];
                     integrator.radiance_of_all(scene, &mut camera_samples, radiance);

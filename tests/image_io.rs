@@ -24,7 +24,13 @@ fn test_image() -> Image {
 }
 
 fn info() -> RenderInfo {
-    RenderInfo { samples_per_pixel: 64, integrator: "path".into(), seed: 7, seconds: 1.25 }
+    RenderInfo {
+        samples_per_pixel: 64,
+        integrator: "path".into(),
+        seed: 7,
+        seconds: 1.25,
+        parameters: vec![("max_depth", "32".into())],
+    }
 }
 
 #[test]

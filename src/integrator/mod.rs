@@ -2,9 +2,12 @@
 
 mod direct;
 mod path;
+mod photon;
+pub mod sppm;
 
 pub use direct::Direct;
 pub use path::{Path, Strategy};
+pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 
 use glam::Vec3;
 
