@@ -141,13 +141,10 @@ fn iterate(
                 for index in first..(first + PHOTON_TASK).min(emission.total()) {
                     let max_depth = scene.settings.max_depth;
                     trace_photon(scene, emission, max_depth, u64::from(iteration), index, |d| {
-                        for &pixel in grid.candidates(d.hit.point) {
+                        for pixel in grid.holding(d.hit.point) {
                             let Some(vp) = &points[pixel as usize].1 else { continue };
-                            let radius = pixels[pixel as usize].radius;
-                            if vp.hit.point.distance_squared(d.hit.point) < radius * radius {
-                                let phi = vp.beta * vp.bsdf.eval(vp.wo, d.wi) * d.power;
-                                deposits.push((pixel, phi));
-                            }
+                            let phi = vp.beta * vp.bsdf.eval(vp.wo, d.wi) * d.power;
+                            deposits.push((pixel, phi));
                         }
                     });
                 }

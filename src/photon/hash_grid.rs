@@ -10,9 +10,17 @@ use rayon::prelude::*;
 pub struct HashGrid {
     origin: Vec3,
     cell_size: f32,
-    /// Bucket `b` lists `entries[starts[b]..starts[b + 1]]`, ascending.
+    /// Bucket `b` lists `entries[starts[b]..starts[b + 1]]`, in the spheres' order.
     starts: Vec<u32>,
-    entries: Vec<u32>,
+    /// Each sphere where its buckets list it, whole: a lookup reads one run of memory.
+    entries: Vec<Entry>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    id: u32,
+    centre: Vec3,
+    radius_squared: f32,
 }
 
 impl HashGrid {
@@ -25,15 +33,18 @@ impl HashGrid {
         let cell_size = (2.0 * max_radius).max(f32::MIN_POSITIVE);
         let buckets = (2 * spheres.len()).next_power_of_two();
         let mut grid = HashGrid { origin, cell_size, starts: Vec::new(), entries: Vec::new() };
-        // (bucket, id) of every overlapped cell, in the spheres' order whatever the threads.
+        // (bucket, sphere) of every overlapped cell, in the spheres' order whatever the threads.
         let mut pairs: Vec<(u32, u32)> = spheres
             .par_iter()
-            .flat_map_iter(|&(id, centre, radius)| {
+            .enumerate()
+            .flat_map_iter(|(sphere, &(_, centre, radius))| {
                 let (lo, hi) = (grid.cell(centre - radius), grid.cell(centre + radius));
                 let grid = &grid;
                 (lo.z..=hi.z).flat_map(move |z| {
                     (lo.y..=hi.y).flat_map(move |y| {
-                        (lo.x..=hi.x).map(move |x| (grid.bucket(IVec3::new(x, y, z), buckets), id))
+                        (lo.x..=hi.x).map(move |x| {
+                            (grid.bucket(IVec3::new(x, y, z), buckets), sphere as u32)
+                        })
                     })
                 })
             })
@@ -49,19 +60,29 @@ impl HashGrid {
             starts[b + 1] += starts[b];
         }
         grid.starts = starts;
-        grid.entries = pairs.into_iter().map(|(_, id)| id).collect();
+        grid.entries = pairs
+            .into_iter()
+            .map(|(_, sphere)| {
+                let (id, centre, radius) = spheres[sphere as usize];
+                Entry { id, centre, radius_squared: radius * radius }
+            })
+            .collect();
         grid
     }
 
-    /// The ids of spheres that may hold `point`: every sphere that does, and others that share
-    /// its bucket (the caller tests the distance).
-    pub fn candidates(&self, point: Vec3) -> &[u32] {
+    /// The ids of the spheres that hold `point` (strictly within their radius).
+    pub fn holding(&self, point: Vec3) -> impl Iterator<Item = u32> + '_ {
         let buckets = self.starts.len() - 1;
-        if buckets == 0 || !(point - self.origin).cmpge(Vec3::ZERO).all() {
-            return &[];
-        }
-        let b = self.bucket(self.cell(point), buckets) as usize;
-        &self.entries[self.starts[b] as usize..self.starts[b + 1] as usize]
+        let listed = if buckets == 0 || !(point - self.origin).cmpge(Vec3::ZERO).all() {
+            &[][..]
+        } else {
+            let b = self.bucket(self.cell(point), buckets) as usize;
+            &self.entries[self.starts[b] as usize..self.starts[b + 1] as usize]
+        };
+        listed
+            .iter()
+            .filter(move |e| e.centre.distance_squared(point) < e.radius_squared)
+            .map(|e| e.id)
     }
 
     /// The integer coordinates of the cell holding `point` (clamped to what i32 holds).
@@ -102,12 +123,7 @@ mod tests {
                 let point = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 2.2 - 1.1;
                 let holds = |&(_, c, r): &(u32, Vec3, f32)| c.distance_squared(point) < r * r;
                 let brute: Vec<u32> = spheres.iter().filter(|s| holds(s)).map(|s| s.0).collect();
-                let mut found: Vec<u32> = grid
-                    .candidates(point)
-                    .iter()
-                    .filter(|&&id| holds(&spheres[(id as usize - 1) / 3]))
-                    .copied()
-                    .collect();
+                let mut found: Vec<u32> = grid.holding(point).collect();
                 found.sort();
                 assert_eq!(found, brute, "{n} spheres, point {point}");
                 hits += brute.len();
