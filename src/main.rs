@@ -302,6 +302,9 @@ fn render(
     if stats.dropped > 0 {
         tell!("warning: {} samples were NaN or infinite and were dropped", stats.dropped);
     }
+    if let Some(warning) = raydiance::tonemap::darkness_warning(&film.image()) {
+        tell!("{warning}");
+    }
     // A time budget ends a render too; only a signal makes it "interrupted".
     if INTERRUPTED.load(Ordering::SeqCst) && stats.samples_per_pixel < settings.samples {
         STOPPED.store(true, Ordering::SeqCst);

@@ -168,10 +168,44 @@ pub fn quantise(display: &[Vec3]) -> Vec<[u8; 3]> {
         .collect()
 }
 
+/// Luminance of linear sRGB/Rec. 709 primaries (ITU-R BT.709 weights).
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+/// A warning when `image` would show black or nearly so with the default operator (PNG output):
+/// 99 % of its pixels below 4 % of white once tone-mapped, with how dark and what to try.
+pub fn darkness_warning(image: &Image) -> Option<String> {
+    // (10/255)^2.2: the default operator shows this luminance as 10 of 255.
+    const DARK: f32 = 8.0e-4;
+    let mut luminances: Vec<f32> =
+        image.pixels.iter().map(|&c| luminance(c)).filter(|l| l.is_finite()).collect();
+    let brightest = luminances.iter().copied().fold(0.0, f32::max);
+    if brightest <= 0.0 {
+        return Some(
+            "warning: the image is black: every pixel is 0. Objects without a `material` are \
+             black (its parameters default to 0); is every light blocked, or facing away; is the \
+             camera inside an object?"
+                .to_string(),
+        );
+    }
+    let rank = luminances.len() * 99 / 100;
+    let (_, &mut percentile, _) = luminances.select_nth_unstable_by(rank, f32::total_cmp);
+    (percentile < DARK).then(|| {
+        format!(
+            "warning: the image is almost black: 99% of its pixels have luminance below \
+             {percentile:.2e} (the brightest {brightest:.2e}), under 4% of white once tone-mapped. \
+             If the lights are too weak for the scene's size (a light_source's power falls off as \
+             1/r²: at distance 10 it needs 100 times the power that lights a surface at distance \
+             1), raise their power; or brighten the image: `raydiance tonemap OUT.exr -o OUT.png \
+             --exposure 6`"
+        )
+    })
+}
+
 /// Reinhard's global operator: L = 0.18 / Lavg * Lw with Lavg the log-average luminance,
 /// Ld = L (1 + L / Lwhite^2) / (1 + L), colour scaled by Ld / Lw, then clamped.
 fn reinhard(pixels: &[Vec3], white: Option<f32>) -> Vec<Vec3> {
-    let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
     let n = pixels.len().max(1) as f64;
     let log_sum: f64 = pixels.iter().map(|&c| f64::from(1e-6 + luminance(c)).ln()).sum();
     let log_average = (log_sum / n).exp() as f32;

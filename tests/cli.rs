@@ -276,3 +276,44 @@ fn debug_and_warning_print_to_stderr_and_the_check_succeeds() {
     assert!(text.contains("N is 3\n"), "{text}");
     assert!(text.contains("messages.scn:3:1: warning: look here"), "{text}");
 }
+
+/// A scene that cannot emit light, and images that come out black or nearly so, are warned
+/// about with what to try; a well-lit render says nothing of the kind.
+#[test]
+fn dark_scenes_and_black_images_are_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let camera = "settings { resolution 16, 16  samples 2 }\n\
+                  camera { location <0, 0, -40>  look_at <0, 0, 0>  angle 5 }\n";
+    let ball = "sphere { <0, 0, 0>, 1  material { diffuse rgb 0.8 } }\n";
+    let write = |name: &str, text: String| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let unlit = write("unlit.scn", format!("{camera}{ball}"));
+    let weak =
+        write("weak.scn", format!("{camera}{ball}light_source {{ <0, 0, -60> power rgb 1 }}"));
+    let lit =
+        write("lit.scn", format!("{camera}{ball}light_source {{ <0, 0, -60> power rgb 4000 }}"));
+    let out = dir.path().join("out.exr");
+    let out = out.to_str().unwrap();
+
+    let check = raydiance(&["check", &unlit]);
+    assert!(check.status.success());
+    let summary = String::from_utf8_lossy(&check.stdout);
+    assert!(summary.contains("warning: the scene emits no light"), "{summary}");
+    let render = raydiance(&["render", &unlit, "-o", out]);
+    assert!(render.status.success());
+    assert!(stderr(&render).contains("warning: the image is black: every pixel is 0"));
+
+    // 1 W/sr at 59 units: radiance 0.8/π/59² ≈ 7e-5 on the ball, 3 of 255 once tone-mapped.
+    let render = raydiance(&["render", &weak, "-o", out]);
+    assert!(render.status.success());
+    let text = stderr(&render);
+    assert!(!text.contains("emits no light"), "{text}");
+    assert!(text.contains("warning: the image is almost black") && text.contains("1/r²"), "{text}");
+
+    let render = raydiance(&["render", &lit, "-o", out]);
+    assert!(render.status.success());
+    assert!(!stderr(&render).contains("warning"), "{}", stderr(&render));
+}

@@ -285,6 +285,21 @@ fn expansion_bombs_are_refused_before_they_expand() {
     assert_scene_refused(dir.path(), "chain.scn", &text, "nested 65 deep");
 }
 
+/// A loop that never ends, making a union of a hundred spheres on each turn, is stopped by the
+/// count of objects made (at 2^22, some half a gigabyte) long before its loop turns run out.
+#[test]
+fn a_loop_making_objects_is_stopped_by_their_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let spheres: String = (0..100).map(|k| format!("sphere {{ <I, {k}, 0>, 1 }} ")).collect();
+    let text = format!(
+        "{SMALL_SCENE}#declare I = 0;\n#while (1) union {{ {spheres}}} #declare I = I + 1; #end\n"
+    );
+    let path = dir.path().join("loop.scn");
+    std::fs::write(&path, text).unwrap();
+    let refused = limited(&["check", path.to_str().unwrap()], 120);
+    assert_refused(&refused, &format!("more than {} objects", raydiance::lang::MAX_OBJECTS_MADE));
+}
+
 /// 31 files, each including the next twice, would read 2^31 files.
 #[test]
 fn an_include_bomb_is_refused_by_its_count() {

@@ -121,3 +121,58 @@ fn bad_scenes_give_located_errors() {
         insta::assert_snapshot!(text);
     });
 }
+
+/// POV-Ray's spellings get answers in POV-Ray's terms: the error points at the POV-Ray word,
+/// names it, and says what raydiance writes instead.
+#[test]
+fn povray_habits_name_the_povray_word_and_ours() {
+    let cases = [
+        ("pigment", "`pigment`", "diffuse rgb"),
+        ("finish", "`finish`", "specular rgb"),
+        ("texture", "`texture`", "material {"),
+        ("normal", "`normal`", "not supported"),
+        ("interior", "`interior`", "transmission rgb 1  ior 1.5"),
+        ("light_color", "`color`", "power rgb"),
+        ("diffuse_color", "`color`", "`rgb <r, g, b>` alone"),
+        ("diffuse_colour", "`colour`", "`rgb <r, g, b>` alone"),
+        ("background", "`background`", "settings { background rgb"),
+        ("switch", "`#switch`", "#elseif"),
+        ("area_light", "`area_light`", "emission rgb"),
+        ("camera_right", "`right`", "resolution"),
+        ("hollow", "`hollow`", "not supported"),
+        ("lathe", "`lathe`", "not supported"),
+    ];
+    for (name, povray, ours) in cases {
+        let path = format!("tests/bad_scenes/povray_{name}.scn");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let error = raydiance::load(Path::new(&path), &Default::default()).unwrap_err();
+        let message = error.to_string();
+        assert!(message.contains(povray) && message.contains(ours), "{path}:\n{message}");
+        // The caret is under the POV-Ray word.
+        let (line, col) =
+            message.split(": error").next().unwrap().rsplit_once(':').map_or(
+                (0, 0),
+                |(rest, col)| {
+                    (rest.rsplit(':').next().unwrap().parse().unwrap(), col.parse().unwrap())
+                },
+            );
+        let word = povray.trim_matches('`').trim_start_matches('#');
+        let at = &text.lines().nth(line - 1).unwrap()[col - 1..];
+        assert!(at.trim_start_matches('#').starts_with(word), "{path}: points at `{at}`");
+    }
+}
+
+/// `#version` and `global_settings` are read, with a warning each that they change nothing.
+#[test]
+fn povray_version_and_global_settings_are_accepted_with_warnings() {
+    let text = "#version 3.7;\nglobal_settings { assumed_gamma 1.0  radiosity { count 100 } }\n\
+                camera { location <0, 1, -4>  look_at <0, 0, 0> }\n\
+                light_source { <0, 5, 0>  power rgb 10 }\n";
+    let graph = raydiance::lang::parse_scene(Path::new("v.scn"), text).unwrap();
+    assert_eq!(graph.warnings.len(), 2, "{:?}", graph.warnings);
+    assert!(graph.warnings[0].starts_with("v.scn:1:1: warning: `#version` has no effect"));
+    assert!(graph.warnings[1].starts_with("v.scn:2:1: warning: POV-Ray's `global_settings`"));
+    let without = &text[text.find("camera").unwrap()..];
+    let without = raydiance::lang::parse_scene(Path::new("v.scn"), without);
+    assert!(without.is_ok_and(|g| g.warnings.is_empty()));
+}

@@ -46,6 +46,16 @@ fn gallery_bunnies() {
 }
 
 #[test]
+fn gallery_rough() {
+    insta::assert_snapshot!(check("rough"));
+}
+
+#[test]
+fn cornell_rough() {
+    insta::assert_snapshot!(check("cornell-rough"));
+}
+
+#[test]
 fn gallery_csg() {
     insta::assert_snapshot!(check("gallery-csg"));
 }

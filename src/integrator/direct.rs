@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::{Integrator, direct_from_all_lights};
 use crate::geometry::{Hit, Ray, offset_origin};
-use crate::material::{Bsdf, TransportMode};
+use crate::material::{Bsdf, LobeFlags, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -31,7 +31,8 @@ pub(super) fn direct_from_background(
     if background == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let Some(sample) = bsdf.sample_non_delta(wo, sampler.next_2d()) else {
+    let u_lobe = sampler.next_1d_if(bsdf.flags().contains(LobeFlags::GLOSSY));
+    let Some(sample) = bsdf.sample_non_delta(wo, u_lobe, sampler.next_2d()) else {
         return Vec3::ZERO;
     };
     let ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);

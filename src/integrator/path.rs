@@ -59,9 +59,9 @@ impl Integrator for Path {
                 break;
             }
             let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
-            let light =
-                if bsdf.flags().is_non_delta() { self.choose_light(scene, sampler) } else { None };
-            let u_lobe = sampler.next_1d_if(bsdf.chooses_lobe());
+            let flags = bsdf.flags();
+            let light = if flags.is_non_delta() { self.choose_light(scene, sampler) } else { None };
+            let u_lobe = sampler.next_1d_if(flags.chooses_lobe());
             let u = sampler.next_2d();
             let shadowed = light.and_then(|(light, probability, u_light)| {
                 let (shadow, li) =
@@ -257,10 +257,11 @@ struct Vertices {
     /// The primitive hit (`u32::MAX` where there is no vertex).
     primitives: [u32; LANES],
     /// The BSDF's diffuse reflectance there; lanes whose BSDF is Lambertian alone (sampled in
-    /// lanes), and lanes whose non-delta lobes are Lambertian alone (evaluated in lanes).
+    /// lanes), and lanes with a light whose non-delta lobes are Lambertian alone (evaluated in
+    /// lanes).
     diffuse: Vec3x4,
     lambertian: BVec4A,
-    diffuse_where_non_delta: BVec4A,
+    diffuse_where_non_delta: [bool; LANES],
     /// For next-event estimation: the light chosen (`None`: none), the probability of that
     /// choice, the point of the unit square that samples it, and the probability of the
     /// diffuse lobe.
@@ -279,7 +280,7 @@ impl Vertices {
             primitives: [u32::MAX; LANES],
             diffuse: Vec3x4::ZERO,
             lambertian: BVec4A::FALSE,
-            diffuse_where_non_delta: BVec4A::FALSE,
+            diffuse_where_non_delta: [false; LANES],
             lights: [None; LANES],
             light_probability: Vec4::ONE,
             u_light: Vec2x4::ZERO,
@@ -347,24 +348,23 @@ impl Path {
         }
         let sampler = &mut path.sampler;
         let bsdf = material.bsdf(hits.shading_normal.lane(lane), TransportMode::Radiance);
-        let light =
-            if bsdf.flags().is_non_delta() { self.choose_light(scene, sampler) } else { None };
-        vertices.u_lobe[lane] = sampler.next_1d_if(bsdf.chooses_lobe());
+        let flags = bsdf.flags();
+        let light = if flags.is_non_delta() { self.choose_light(scene, sampler) } else { None };
+        vertices.u_lobe[lane] = sampler.next_1d_if(flags.chooses_lobe());
         vertices.u_direction.set_lane(lane, sampler.next_2d());
         vertices.found.set_lane(lane, true);
         vertices.primitives[lane] = primitive;
         vertices.diffuse.set_lane(lane, material.diffuse);
-        let diffuse_where_non_delta = bsdf.is_diffuse_where_non_delta();
         if let Some((light, probability, u)) = light {
             vertices.lights[lane] = Some(light);
             vertices.light_probability.set_lane(lane, probability);
             vertices.u_light.set_lane(lane, u);
-            if diffuse_where_non_delta {
+            if flags.is_diffuse_where_non_delta() {
                 vertices.p_diffuse.set_lane(lane, bsdf.diffuse_probability(wo));
+                vertices.diffuse_where_non_delta[lane] = true;
             }
         }
-        vertices.lambertian.set_lane(lane, bsdf.is_lambertian());
-        vertices.diffuse_where_non_delta.set_lane(lane, diffuse_where_non_delta);
+        vertices.lambertian.set_lane(lane, flags.is_lambertian());
     }
 
     /// The weight of emission found by a BSDF-sampled ray.
@@ -412,7 +412,7 @@ impl Path {
     ) -> Shadowed {
         let (hits, lights) = (&found.hits, vertices.lights);
         let in_lanes = std::array::from_fn(|lane| {
-            lights[lane].filter(|_| vertices.diffuse_where_non_delta.lane(lane))
+            lights[lane].filter(|_| vertices.diffuse_where_non_delta[lane])
         });
         let sampled = sample_lanes(scene, hits, vertices.primitives, in_lanes, vertices.u_light);
         // Lanes without a shadow ray keep whatever ray: `found` leaves them untested.
@@ -447,9 +447,8 @@ impl Path {
         for lane in (0..LANES).filter(|&lane| !handled.lane(lane)) {
             let Some(light) = lights[lane] else { continue };
             let Some(hit) = found.hit(lane) else { continue };
-            let bsdf = scene
-                .material(hit.primitive, hit.point)
-                .bsdf(hit.shading_normal, TransportMode::Radiance);
+            let material = scene.material(hit.primitive, hit.point);
+            let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
             let light = (light, vertices.light_probability.lane(lane));
             let u = vertices.u_light.lane(lane);
             if let Some((shadow, radiance)) =

@@ -17,7 +17,7 @@ use super::direct::direct_from_background;
 use super::{PHOTON_TASK, direct_from_all_lights};
 use crate::film::Film;
 use crate::geometry::{Hit, Ray, offset_origin};
-use crate::material::{Bsdf, TransportMode};
+use crate::material::{Material, TransportMode};
 use crate::photon::{Emission, HashGrid, trace_photon};
 use crate::render::{Progress, RenderStats, camera_sample};
 use crate::scene::Scene;
@@ -29,12 +29,21 @@ const ALPHA: f32 = 2.0 / 3.0;
 /// memory the deposits take).
 const TASKS_PER_WAVE: usize = 16;
 
-/// Where a camera path stopped on a non-delta lobe, and the throughput it brought there.
+/// Where a camera path stopped on a non-delta lobe, the material there, and the throughput it
+/// brought there.
 struct VisiblePoint {
     hit: Hit,
     wo: Vec3,
-    bsdf: Bsdf,
+    material: Material,
     beta: Vec3,
+}
+
+impl VisiblePoint {
+    /// Light a photon arriving from `wi` with `power` sends along the camera path.
+    fn flux(&self, wi: Vec3, power: Vec3) -> Vec3 {
+        let bsdf = self.material.bsdf(self.hit.shading_normal, TransportMode::Radiance);
+        self.beta * bsdf.eval(self.wo, wi) * power
+    }
 }
 
 /// A pixel's camera path of one iteration: emission and direct light it found, and its visible
@@ -143,8 +152,7 @@ fn iterate(
                     trace_photon(scene, emission, max_depth, u64::from(iteration), index, |d| {
                         for pixel in grid.holding(d.hit.point) {
                             let Some(vp) = &points[pixel as usize].1 else { continue };
-                            let phi = vp.beta * vp.bsdf.eval(vp.wo, d.wi) * d.power;
-                            deposits.push((pixel, phi));
+                            deposits.push((pixel, vp.flux(d.wi, d.power)));
                         }
                     });
                 }
@@ -204,7 +212,7 @@ fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPat
                 beta /= p;
                 radiance += beta * direct_from_all_lights(scene, &hit, wo, &bsdf, &mut sampler);
                 radiance += beta * direct_from_background(scene, &hit, wo, &bsdf, &mut sampler);
-                return (radiance, Some(VisiblePoint { hit, wo, bsdf, beta }));
+                return (radiance, Some(VisiblePoint { hit, wo, material, beta }));
             }
             beta /= 1.0 - p;
         }

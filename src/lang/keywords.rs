@@ -80,7 +80,7 @@ use KeywordKind::{Constant as C, Function as F, Syntax as S};
 pub const KEYWORDS: &[Keyword] = keywords![
     "settings" => S, "resolution" => S, "samples" => S, "integrator" => S, "max_depth" => S,
     "seed" => F(Function::Seed), "background" => S, "photons" => S, "photon_k" => S,
-    "photon_radius" => S,
+    "photon_radius" => S, "global_settings" => S,
     "camera" => S, "origin" => S, "left" => S, "up" => S, "forward" => S, "location" => S,
     "look_at" => S, "angle" => S, "aperture" => S, "focal_distance" => S,
     "light_source" => S, "power" => S, "colour" => S, "color" => S,
@@ -89,7 +89,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "intersection" => S, "difference" => S, "merge" => S, "object" => S, "material" => S,
     "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
     "diffuse" => S, "specular" => S, "transmission" => S, "emission" => S, "ior" => S,
-    "fresnel" => S, "rgb" => S,
+    "fresnel" => S, "roughness" => S, "rgb" => S,
     "checker" => S, "stripes" => S, "gradient" => S, "noise" => S, "marble" => S, "wood" => S,
     "image_map" => S, "mix" => S, "axis" => S, "octaves" => S, "turbulence" => S,
     "color_map" => S, "colour_map" => S, "array" => S,

@@ -3,14 +3,17 @@
 //! scopes and macros. Knows nothing of rendering.
 
 mod eval;
+mod hints;
 pub mod keywords;
 mod parser;
+mod povray;
 pub mod syntax;
 mod tree;
 mod value;
 
 pub use eval::{
     MAX_INCLUDE_DEPTH, MAX_INCLUDED_BYTES, MAX_INCLUDES, MAX_LOOP_TURNS, MAX_MACRO_DEPTH,
+    MAX_OBJECTS_MADE,
 };
 pub use parser::MAX_NESTING;
 

@@ -7,7 +7,7 @@ use pest::Parser;
 use pest::error::{ErrorVariant, InputLocation};
 use pest::iterators::Pairs;
 
-use super::keywords;
+use super::{hints, keywords, povray};
 use crate::diagnostic::{SceneError, SourceFile, Span};
 
 #[derive(pest_derive::Parser)]
@@ -39,38 +39,18 @@ fn check_comments_and_strings(file: &Arc<SourceFile>) -> Result<(), SceneError> 
     let text = file.text.as_bytes();
     let mut i = 0;
     while i < text.len() {
-        match text[i] {
-            b'/' if text.get(i + 1) == Some(&b'/') => {
-                while i < text.len() && text[i] != b'\n' {
-                    i += 1;
-                }
+        match hints::skip_comment_or_string(text, i) {
+            Some(Ok(end)) => i = end,
+            Some(Err(())) => {
+                let what = if text[i] == b'"' {
+                    "unterminated string"
+                } else {
+                    "unterminated block comment (no `*/`)"
+                };
+                return Err(SceneError::at(&span_at(file, i), what));
             }
-            b'/' if text.get(i + 1) == Some(&b'*') => {
-                let end = file.text[i + 2..].find("*/").ok_or_else(|| {
-                    SceneError::at(&span_at(file, i), "unterminated block comment (no `*/`)")
-                })?;
-                i += end + 3;
-            }
-            b'"' => {
-                let start = i;
-                i += 1;
-                loop {
-                    match text.get(i) {
-                        Some(b'"') => break,
-                        Some(b'\\') if text.get(i + 1).is_some_and(|&c| c != b'\n') => i += 2,
-                        Some(b'\n') | None => {
-                            return Err(SceneError::at(
-                                &span_at(file, start),
-                                "unterminated string",
-                            ));
-                        }
-                        Some(_) => i += 1,
-                    }
-                }
-            }
-            _ => {}
+            None => i += 1,
         }
-        i += 1;
     }
     Ok(())
 }
@@ -91,15 +71,21 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
     if let Some(error) = malformed_directive(file, offset) {
         return error;
     }
-    // A misspelt keyword is often only noticed at the token after it (it reads as a name):
-    // point at the word itself when it is close to a keyword.
-    let before = file.text[..offset].trim_end();
-    let word_start = before
-        .char_indices()
-        .rev()
-        .find(|&(_, c)| !(c.is_alphanumeric() || c == '_'))
-        .map_or(0, |(i, c)| i + c.len_utf8());
-    let previous = &before[word_start..];
+    let found = token_at(&file.text[offset..]);
+    // A misspelt keyword or a POV-Ray word is often only noticed at the token after it (it
+    // reads as a name): look at the word before too.
+    let (word_start, previous) = hints::word_before(&file.text, offset);
+    let blocks = hints::open_blocks(&file.text, offset);
+    let inside = blocks.last().map(|b| b.word);
+    // The word before is a POV-Ray word, not a user's name, when a block follows it or when it
+    // is reserved (`color`).
+    let previous_is_word = found == "{" || keywords::lookup(previous).is_some();
+    let words = [(offset, found), (word_start, if previous_is_word { previous } else { "" })];
+    for (at, word) in words {
+        if let Some(message) = povray::message(word, inside) {
+            return SceneError::at(&span_at(file, at), message);
+        }
+    }
     if previous.starts_with(|c: char| c.is_alphabetic() || c == '_')
         && keywords::lookup(previous).is_none()
     {
@@ -108,8 +94,10 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
             return SceneError::at(&span_at(file, word_start), message);
         }
     }
+    if let Some(error) = unclosed_block(file, offset, found, previous, &blocks) {
+        return error;
+    }
     let span = span_at(file, offset);
-    let found = token_at(&file.text[offset..]);
     let expected: Vec<&'static str> = match &error.variant {
         ErrorVariant::ParsingError { positives, .. } => {
             let mut names: Vec<&str> = positives.iter().map(|r| describe(*r)).collect();
@@ -126,17 +114,52 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
         [one] => format!("expected {one}, found {found_text}"),
         [init @ .., last] => format!("expected {} or {last}, found {found_text}", init.join(", ")),
     };
-    if let Some(guess) = closest(found, keywords::words()) {
+    let misspelt = keywords::lookup(found).is_none().then(|| closest(found, keywords::words()));
+    if let Some(guess) = misspelt.flatten() {
         message.push_str(&format!("; did you mean `{guess}`?"));
+    } else if expected.contains(&"an operator") && found == "}" {
+        // A complete value, then the end of the block: a construct short of its arguments.
+        match inside.and_then(hints::form) {
+            Some(form) => {
+                message = format!("an argument is missing before `}}`: it is written `{form}`")
+            }
+            None => message.push_str(" (is an argument missing?)"),
+        }
     } else if expected.contains(&"an operator")
         && found.starts_with(|c: char| c.is_alphanumeric() || "<(-.".contains(c))
     {
         message.push_str(" (is a `,` missing?)");
-    } else if expected.contains(&"an operator") && found == "}" {
-        // A complete value, then the end of the block: an object short of its arguments.
-        message.push_str(" (is an argument missing?)");
     }
     SceneError::at(&span, message)
+}
+
+/// The words that begin a statement of their own, which cannot stand inside another's block.
+const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
+
+/// A parse error that is a `{` left open: the file ends inside a block, or a statement stands
+/// inside another's block. Reported with where the block opened.
+fn unclosed_block(
+    file: &Arc<SourceFile>,
+    offset: usize,
+    found: &str,
+    previous: &str,
+    blocks: &[hints::OpenBlock],
+) -> Option<SceneError> {
+    let block = blocks.last()?;
+    let (line, col) = file.position(block.offset);
+    let opened = match block.word {
+        "" => format!("the `{{` at line {line}, column {col}"),
+        word => format!("the `{{` of `{word}` at line {line}, column {col}"),
+    };
+    if found.is_empty() {
+        let message = format!("the file ends inside a block: {opened} is not closed");
+        return Some(SceneError::at(&span_at(file, offset), message));
+    }
+    let statement = [found, previous].into_iter().find(|w| STATEMENTS.contains(w))?;
+    let message =
+        format!("`{statement}` cannot stand in a block: is the `}}` of {opened} missing?");
+    let at = if statement == found { offset } else { hints::word_before(&file.text, offset).0 };
+    Some(SceneError::at(&span_at(file, at), message))
 }
 
 /// The directives, each with its parse rule and the form it takes, for messages.
@@ -174,6 +197,9 @@ fn malformed_directive(file: &Arc<SourceFile>, offset: usize) -> Option<SceneErr
             })
         }
         None => {
+            if let Some(message) = povray::message(&word, None) {
+                return Some(SceneError::at(&span, message));
+            }
             let mut message = format!("unknown directive `{word}`");
             let names = DIRECTIVES.iter().map(|d| d.0.trim_start_matches('#'));
             if let Some(guess) = closest(word.trim_start_matches('#'), names) {

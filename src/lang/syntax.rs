@@ -48,6 +48,11 @@ pub enum Item {
         text: Expr,
         span: Span,
     },
+    /// POV-Ray's `#version` or `global_settings`: accepted, with a warning.
+    Ignored {
+        what: Ignored,
+        span: Span,
+    },
     /// A macro called where an item stands.
     Call(Call),
     Settings {
@@ -104,6 +109,8 @@ impl Item {
             Item::For { .. } => "`#for`",
             Item::Macro(_) => "`#macro`",
             Item::Message { .. } => "a message",
+            Item::Ignored { what: Ignored::Version, .. } => "`#version`",
+            Item::Ignored { what: Ignored::GlobalSettings, .. } => "`global_settings`",
             Item::Call(_) => "a macro call",
             Item::Settings { .. } => "`settings`",
             Item::Setting(_) => "a setting",
@@ -134,6 +141,7 @@ impl Item {
             | Item::While { span, .. }
             | Item::For { span, .. }
             | Item::Message { span, .. }
+            | Item::Ignored { span, .. }
             | Item::Settings { span, .. }
             | Item::Camera { span, .. }
             | Item::Light { span, .. }
@@ -152,6 +160,29 @@ impl Item {
             Item::TextureParam(p) => &p.span,
             Item::MapEntry { position, .. } => &position.span,
             Item::Value(e) => &e.span,
+        }
+    }
+}
+
+/// What POV-Ray has and raydiance reads without effect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ignored {
+    Version,
+    GlobalSettings,
+}
+
+impl Ignored {
+    /// The warning given where it stands.
+    pub fn warning(self) -> &'static str {
+        match self {
+            Ignored::Version => {
+                "`#version` has no effect: raydiance reads one version of its language"
+            }
+            Ignored::GlobalSettings => {
+                "POV-Ray's `global_settings` has no effect here: raydiance's settings are \
+                 `settings { resolution ..., samples ..., integrator ..., max_depth ..., seed ..., \
+                 background ... }`"
+            }
         }
     }
 }
@@ -337,6 +368,7 @@ pub enum MaterialParamKind {
     Emission(Colour),
     Ior(Expr),
     Fresnel,
+    Roughness(Expr),
 }
 
 /// `rgb <r, g, b>`, `rgb s`, or an expression, where a colour is expected.

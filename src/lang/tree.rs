@@ -8,6 +8,7 @@ use pest::iterators::Pair;
 
 use super::keywords::{self, KeywordKind};
 use super::parser::{self, MAX_NESTING, Rule};
+use super::povray;
 use super::syntax::*;
 use crate::diagnostic::{SceneError, SourceFile, Span};
 
@@ -248,6 +249,8 @@ impl Builder {
                 };
                 Item::Message { kind, text: self.expr(inner.next().expect("the text"))?, span }
             }
+            Rule::version => Item::Ignored { what: Ignored::Version, span },
+            Rule::global_settings => Item::Ignored { what: Ignored::GlobalSettings, span },
             Rule::macro_call => {
                 let call = self.call(pair)?;
                 match call {
@@ -292,7 +295,13 @@ impl Builder {
             }
             Rule::light_item => {
                 let mut inner = pair.into_inner();
-                let key = self.span(&inner.next().expect("the key"));
+                let key_pair = inner.next().expect("the key");
+                if key_pair.as_rule() != Rule::kw_power {
+                    let message = povray::message(key_pair.as_str(), Some("light_source"))
+                        .expect("`color` and `colour` have advice");
+                    return Err(self.error(&key_pair, message));
+                }
+                let key = self.span(&key_pair);
                 Item::LightPower { key, colour: self.colour(inner.next().expect("the colour"))? }
             }
             Rule::object => Item::Object(self.object(pair)?),
@@ -523,6 +532,7 @@ impl Builder {
         let kind = match key_rule {
             Rule::kw_fresnel => MaterialParamKind::Fresnel,
             Rule::kw_ior => MaterialParamKind::Ior(self.expr(value())?),
+            Rule::kw_roughness => MaterialParamKind::Roughness(self.expr(value())?),
             Rule::kw_diffuse => MaterialParamKind::Diffuse(self.texture_arg(value())?),
             Rule::kw_specular => MaterialParamKind::Specular(self.colour(value())?),
             Rule::kw_transmission => MaterialParamKind::Transmission(self.colour(value())?),

@@ -16,6 +16,12 @@ pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
     0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
 }
 
+/// Whether light arriving at cosine `cos_i` onto a boundary of relative index `eta` reflects
+/// totally (Snell: sin^2 of the refracted angle would reach 1).
+pub fn reflects_totally(cos_i: f32, eta: f32) -> bool {
+    (1.0 - cos_i * cos_i).max(0.0) / (eta * eta) >= 1.0
+}
+
 /// The direction refracted from `wo` through a boundary with normal `n` on wo's side and
 /// relative index `eta` = eta_t / eta_i (Snell's law); `None` under total internal reflection.
 pub fn refract(wo: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {

@@ -1,10 +1,12 @@
 //! Materials of the course's model — Lambertian `diffuse` (kd), mirror `specular` (ks),
-//! refractive `transmission` (kt) with `ior`, `emission` — and the BSDF each makes at a hit
-//! (`Material::bsdf`): `eval`, `sample`, `pdf`, and lane versions of its Lambertian lobe.
+//! refractive `transmission` (kt) with `ior`, `emission`, and `roughness` that makes the mirror
+//! and refraction GGX microfacet lobes — and the BSDF each makes at a hit (`Material::bsdf`):
+//! `eval`, `sample`, `pdf`, and lane versions of its Lambertian lobe.
 
 mod bsdf;
 mod fresnel;
 mod lanes;
+mod microfacet;
 
 pub use bsdf::{Bsdf, BsdfSample, LobeFlags, TransportMode};
 pub use fresnel::{fresnel_dielectric, refract};
@@ -23,6 +25,8 @@ pub struct Material {
     pub emission: Vec3,
     /// Split `specular + transmission` between reflection and refraction by Fresnel's equations.
     pub fresnel: bool,
+    /// GGX alpha of the `specular` and `transmission` lobes; 0: perfect mirror and refraction.
+    pub roughness: f32,
 }
 
 /// The language's defaults: black, reflecting nothing, `ior 1` (POV-Ray's default pigment is
@@ -36,6 +40,7 @@ impl Default for Material {
             ior: 1.0,
             emission: Vec3::ZERO,
             fresnel: false,
+            roughness: 0.0,
         }
     }
 }
@@ -54,6 +59,7 @@ impl From<&MaterialDesc> for Material {
             ior: d.ior,
             emission: d.emission,
             fresnel: d.fresnel,
+            roughness: d.roughness,
         }
     }
 }

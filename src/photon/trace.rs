@@ -45,9 +45,8 @@ pub fn trace_photon(
     for bounces in 0.. {
         let Some(hit) = scene.intersect(&ray) else { break };
         let wo = -Vec3::from(ray.dir);
-        let bsdf = scene
-            .material(hit.primitive, hit.point)
-            .bsdf(hit.shading_normal, TransportMode::Importance);
+        let material = scene.material(hit.primitive, hit.point);
+        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Importance);
         if bounces > 0 && bsdf.flags().is_non_delta() {
             deposit(&Deposit { hit, wi: wo, power });
         }

@@ -111,8 +111,21 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             lights.push(Light::Area { shape, emission, area, primitive: i as u32 });
         }
     }
-    let mut warnings = camera_warnings;
+    let mut warnings = graph.warnings.clone();
+    warnings.extend(camera_warnings);
     warnings.extend(flat.warnings);
+    let emits = !lights.is_empty()
+        || settings.background.max_element() > 0.0
+        || flat.materials.iter().any(Material::is_emissive);
+    if !emits {
+        warnings.push(
+            "warning: the scene emits no light (no light_source, no material with `emission`, \
+             a black background): every pixel will be black. Add `light_source { <x, y, z> \
+             power rgb <r, g, b> }`, give an object `material { emission rgb <r, g, b> }`, or \
+             set `settings { background rgb <r, g, b> }`"
+                .to_string(),
+        );
+    }
     // Rays traced in lanes meet few simple shapes at less cost than the BVH's.
     let few_holds_bounded =
         primitives[..bounded_count].iter().map(|p| FewShapes::size(&p.shape)).sum::<usize>()
@@ -404,6 +417,12 @@ impl Flattener {
             if d.ior != 1.0 && !refracts && !d.fresnel {
                 self.warnings.push(format!(
                     "{:?}: warning: `ior` has no effect without `transmission` or `fresnel`",
+                    d.span
+                ));
+            }
+            if d.roughness > 0.0 && !refracts && d.specular.max_element() <= 0.0 {
+                self.warnings.push(format!(
+                    "{:?}: warning: `roughness` has no effect without `specular` or `transmission`",
                     d.span
                 ));
             }

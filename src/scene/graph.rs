@@ -16,6 +16,8 @@ pub struct SceneGraph {
     pub camera: CameraDesc,
     pub lights: Vec<PointLightDesc>,
     pub objects: Vec<ObjectNode>,
+    /// What the language found worth saying that is not an error (POV-Ray's `#version`).
+    pub warnings: Vec<String>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -151,6 +153,8 @@ pub struct MaterialDesc {
     pub ior: f32,
     pub emission: Vec3,
     pub fresnel: bool,
+    /// GGX alpha of the `specular` and `transmission` lobes, in [0, 1]; 0: perfect lobes.
+    pub roughness: f32,
     pub span: Span,
 }
 
@@ -165,6 +169,7 @@ impl MaterialDesc {
             ior: 1.0,
             emission: Vec3::ZERO,
             fresnel: false,
+            roughness: 0.0,
             span,
         }
     }

@@ -17,8 +17,7 @@ const MIN_SIDE: usize = 256;
 /// (a change too faint for the finest tiles) is outlined in its colour.
 pub fn write(path: &Path, comparison: &Comparison, new: &Estimate) -> Result<(), ImageError> {
     let scores = comparison.pixel_scores();
-    let luminance: Vec<f32> =
-        new.mean.iter().map(|m| m.dot(Vec3::new(0.2126, 0.7152, 0.0722))).collect();
+    let luminance: Vec<f32> = new.mean.iter().map(|&m| crate::tonemap::luminance(m)).collect();
     let brightest = luminance.iter().copied().fold(0.0, f32::max).max(1e-30);
     let hue = |score: f32| match score > 0.0 {
         true => Vec3::new(1.0, 0.15, 0.1),

@@ -79,6 +79,18 @@ impl Evaluator {
         single(f, &expr.span)
     }
 
+    /// A material's `roughness`: GGX alpha, in [0, 1] (section 12).
+    pub(super) fn roughness(&mut self, expr: &Expr) -> Result<f32, SceneError> {
+        let alpha = self.float(expr)?;
+        if !(0.0..=1.0).contains(&alpha) {
+            return Err(SceneError::at(
+                &expr.span,
+                format!("roughness {alpha} must be between 0 and 1 (GGX alpha)"),
+            ));
+        }
+        single(alpha, &expr.span)
+    }
+
     pub(super) fn integer(&mut self, expr: &Expr, min: u64, max: u64) -> Result<u64, SceneError> {
         let f = self.float(expr)?;
         if f.fract() != 0.0 || f < min as f64 || f > max as f64 {

@@ -78,6 +78,7 @@ impl Evaluator {
         match &param.kind {
             MaterialParamKind::Fresnel => material.fresnel = true,
             MaterialParamKind::Ior(e) => material.ior = self.positive(e, "ior")?,
+            MaterialParamKind::Roughness(e) => material.roughness = self.roughness(e)?,
             MaterialParamKind::Diffuse(arg) => material.diffuse = self.texture_arg(arg)?,
             MaterialParamKind::Specular(c) => material.specular = self.colour(c)?,
             MaterialParamKind::Transmission(c) => material.transmission = self.colour(c)?,

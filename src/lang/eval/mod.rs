@@ -48,8 +48,18 @@ pub const MAX_CSG_DEPTH: u32 = 64;
 /// Macro calls may nest this deep (a macro calling itself counts each call).
 pub const MAX_MACRO_DEPTH: usize = 256;
 
+/// Objects the interpreter makes in one scene (each object written, every time it is evaluated;
+/// a mesh is one): a loop making unions of objects is stopped at about half a gigabyte, before
+/// the build counts primitives. `object { Name }` counts one, however much `Name` holds.
+pub const MAX_OBJECTS_MADE: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 1 << 22 };
+
 /// Turns of all `#while` and `#for` loops of one scene together.
-pub const MAX_LOOP_TURNS: u64 = 10_000_000;
+pub const MAX_LOOP_TURNS: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 10_000_000 };
+
+/// The fuzz targets run each input under a sanitizer, many times slower: there the budgets of
+/// loops and objects are smaller, so that a loop that never ends is refused in a fraction of a
+/// second rather than read as a hang. The checks themselves are the same.
+const FUZZING_BUDGET: u64 = 100_000;
 
 /// POV-Ray's tolerance for `=`, `!=`, `<=`, `>=`.
 pub const EPSILON: f64 = 1e-10;
@@ -83,6 +93,10 @@ pub struct Evaluator {
     included_bytes: u64,
     /// Texture nodes made or copied so far.
     texture_nodes: u64,
+    /// Objects made so far.
+    objects_made: u64,
+    /// Warnings given while evaluating (`#warning` prints its own at once).
+    warnings: Vec<String>,
     /// The state of each `seed(n)` stream.
     streams: Vec<u32>,
     /// Levels of CSG operations of the declared objects that CSG operands have instanced, by
@@ -154,6 +168,7 @@ impl Evaluator {
             camera,
             lights: self.lights,
             objects: self.objects,
+            warnings: self.warnings,
         })
     }
 
@@ -218,6 +233,10 @@ impl Evaluator {
                     MessageKind::Warning => eprintln!("{span:?}: warning: {text}"),
                     MessageKind::Error => return Err(SceneError::at(span, text.to_string())),
                 }
+                Ok(())
+            }
+            Item::Ignored { what, span } => {
+                self.warnings.push(format!("{:?}: warning: {}", self.here(span), what.warning()));
                 Ok(())
             }
             Item::Call(call) => self.call_macro(call, body),

@@ -4,7 +4,9 @@ use std::sync::Arc;
 
 use glam::{Mat3, Vec3};
 
-use super::{Body, Evaluator, MAX_CSG_DEPTH, MAX_OBJECT_DEPTH, as_vector, resolve};
+use super::{
+    Body, Evaluator, MAX_CSG_DEPTH, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE, as_vector, resolve,
+};
 use crate::diagnostic::SceneError;
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
 use crate::lang::value::Value;
@@ -136,6 +138,15 @@ impl Evaluator {
             ShapeNode::Instance(target) => target.depth + 1,
             _ => 1,
         };
+        self.objects_made += 1;
+        if self.objects_made > MAX_OBJECTS_MADE {
+            return Err(SceneError::at(
+                &object.span,
+                format!(
+                    "the scene has made more than {MAX_OBJECTS_MADE} objects (does a loop end?)"
+                ),
+            ));
+        }
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.exec(&object.items, &mut Body::Object(&mut node))?;
         if node.depth > MAX_OBJECT_DEPTH {

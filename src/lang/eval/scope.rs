@@ -5,9 +5,9 @@ use std::collections::HashMap;
 
 use super::Evaluator;
 use crate::diagnostic::SceneError;
-use crate::lang::parser;
 use crate::lang::syntax::Ident;
 use crate::lang::value::Value;
+use crate::lang::{parser, povray};
 
 #[derive(Default)]
 pub(super) struct Scope {
@@ -105,6 +105,9 @@ impl Evaluator {
 
     /// An unknown name, where a `what` (identifier, macro) was expected.
     pub(super) fn unknown_as(&self, ident: &Ident, what: &str) -> SceneError {
+        if let Some(message) = povray::message(&ident.name, None) {
+            return SceneError::at(&ident.span, message);
+        }
         let mut message = format!("unknown {what} `{}`", ident.name);
         let names = self.scopes.iter().flat_map(|s| s.names.keys().map(String::as_str));
         if let Some(guess) = parser::closest(&ident.name, names) {

@@ -1,0 +1,101 @@
+//! POV-Ray's words that mean something else here or nothing at all, each with how to write it in
+//! raydiance: a user who knows POV-Ray gets an answer in its terms rather than a parser's.
+//! (`docs/coming-from-povray.md` says the same at length.)
+
+/// `color` or `colour` in a `light_source`.
+const LIGHT_COLOUR: &str = "a POV-Ray light's colour lights every distance alike; here a light \
+     has `power rgb <r, g, b>`: its radiant intensity (W/sr), which falls off as 1/r² (at \
+     distance d a surface receives power/d²)";
+
+/// `color`/`colour` before a colour, outside a light.
+const COLOUR: &str = "POV-Ray's way to begin a colour; here a colour is written `rgb <r, g, b>` \
+     alone, e.g. `diffuse rgb <0.8, 0.2, 0.2>`";
+
+/// What to write here instead of POV-Ray's `word`, when `word` is one of POV-Ray's that
+/// raydiance does not have. `inside` is the construct whose block the word stands in.
+pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
+    Some(match word {
+        "color" | "colour" if inside == Some("light_source") => LIGHT_COLOUR,
+        "color" | "colour" => COLOUR,
+        "pigment" => {
+            "POV-Ray's `pigment` is here the material's diffuse reflectance: \
+             `material { diffuse rgb <r, g, b> }`, or a texture node in its place \
+             (`diffuse checker { rgb 0, rgb 1 }`)"
+        }
+        "finish" => {
+            "POV-Ray's `finish` is here the material itself: `material { diffuse rgb ... \
+             specular rgb ...  roughness 0.2 }` (`specular` is mirror reflectance, `roughness` \
+             blurs it, `fresnel` makes it depend on the angle); there is no `phong` or \
+             `ambient`: highlights are reflections of the lights"
+        }
+        "texture" => {
+            "POV-Ray's `texture` is here `material { ... }`: `diffuse` takes a colour or a \
+             texture node (`checker`, `stripes`, `gradient`, `noise`, `marble`, `wood`, \
+             `image_map`, `mix`)"
+        }
+        "normal" => {
+            "POV-Ray's `normal` (bump mapping) is not supported: surfaces are shaded with their \
+             geometric normals"
+        }
+        "interior" => {
+            "POV-Ray's `interior { ior ... }` is here a material parameter: \
+             `material { transmission rgb 1  ior 1.5 }`"
+        }
+        "phong" | "ambient" | "reflection" | "brilliance" | "metallic" => {
+            "that is an item of POV-Ray's `finish`; here a material has `diffuse`, `specular` \
+             (mirror reflectance), `transmission`, `ior`, `fresnel`, `roughness` and \
+             `emission`, and light comes only from lights, emitters and the background"
+        }
+        "sky_sphere" => {
+            "POV-Ray's `sky_sphere` is here a constant colour: `settings { background rgb ... }` \
+             (it lights the scene)"
+        }
+        "background" if inside.is_none() => {
+            "POV-Ray's `background { color ... }` is here a setting: \
+             `settings { background rgb <r, g, b> }` (it lights the scene)"
+        }
+        "area_light" | "spotlight" | "fade_distance" | "fade_power" | "parallel" => {
+            "raydiance's light_source is a point light only; an area light is any object whose \
+             material has `emission rgb <...>`"
+        }
+        "radiosity" => "global illumination is `settings { integrator path }`, the default",
+        "photons" => "photon mapping is `settings { integrator photon }` (or `sppm`)",
+        "right" | "sky" | "direction" | "perspective" => {
+            "raydiance's camera is a perspective camera given by `location`, `look_at`, `angle` \
+             (horizontal, degrees) and `up`; the image's aspect ratio comes from `resolution`"
+        }
+        "blob" | "lathe" | "sor" | "prism" | "superellipsoid" | "text" | "height_field"
+        | "isosurface" | "julia_fractal" | "polygon" | "bicubic_patch" | "mesh2"
+        | "smooth_triangle" | "parametric" | "ovus" | "lemon" => {
+            "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
+             quad, disk, cylinder, cone, torus, mesh (.ply, .obj) and CSG"
+        }
+        "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse" => {
+            "this POV-Ray object modifier is not supported (an object here takes a material and \
+             transforms)"
+        }
+        "#switch" | "#case" | "#range" | "#break" => {
+            "POV-Ray's `#switch` is not supported; write `#if (...) ... #elseif (...) ... #else \
+             ... #end`"
+        }
+        _ => return None,
+    })
+}
+
+/// The message for POV-Ray's `word`, if it is one of them.
+pub fn message(word: &str, inside: Option<&str>) -> Option<String> {
+    advice(word, inside).map(|advice| format!("`{word}`: {advice}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_light_colour_is_explained_as_power() {
+        assert_eq!(advice("color", Some("light_source")), Some(LIGHT_COLOUR));
+        assert_eq!(advice("colour", Some("material")), Some(COLOUR));
+        assert!(advice("background", Some("settings")).is_none(), "it is ours there");
+        assert!(advice("sphere", None).is_none());
+    }
+}
