@@ -19,6 +19,7 @@ pub mod lang;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod photon;
 mod pipeline;
 pub mod region;
 pub mod render;

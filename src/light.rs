@@ -1,4 +1,5 @@
-//! Lights: point lights and emissive primitives (area lights), and sampling them from a point.
+//! Lights: point lights and emissive primitives (area lights), each holding what it emits from;
+//! sampled towards a point (next-event estimation) and for emission (photon tracing).
 
 use std::f32::consts::PI;
 
@@ -9,14 +10,16 @@ use crate::geometry::{
     planar_coordinates, planar_error, sphere_error,
 };
 use crate::material::to_world;
+use crate::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::scene::Scene;
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum Light {
     /// `power` acts as radiant intensity: irradiance power / r^2 (the seed's formula).
     Point { position: Vec3, power: Vec3 },
-    /// An emissive primitive (index into `Scene::primitives`) and its surface area.
-    Area { primitive: u32, area: f32 },
+    /// An emissive primitive: its shape, the radiance it emits towards its normal, its surface
+    /// area, and its index in `Scene::primitives` (which names hits on it).
+    Area { shape: Shape, emission: Vec3, area: f32, primitive: u32 },
 }
 
 /// Incident light at a point from one sampled light position, if nothing is in the way.
@@ -46,22 +49,24 @@ impl Light {
 
     /// Emitted power (mean over RGB), for choosing lights in proportion to it: 4 pi I for a
     /// point light, pi A Le for a one-sided diffuse emitter.
-    pub fn power(&self, scene: &Scene) -> f32 {
+    pub fn power(&self) -> f32 {
+        self.power_rgb().element_sum() / 3.0
+    }
+
+    /// Emitted power per channel: 4 pi I for a point light, pi A Le for a one-sided diffuse
+    /// emitter (Le cos integrated over the hemisphere is pi Le).
+    pub fn power_rgb(&self) -> Vec3 {
         match self {
-            Light::Point { power, .. } => 4.0 * PI * power.element_sum() / 3.0,
-            Light::Area { primitive, area } => {
-                let prim = &scene.primitives[*primitive as usize];
-                let emission = scene.materials[prim.material as usize].emission;
-                PI * area * emission.element_sum() / 3.0
-            }
+            Light::Point { power, .. } => 4.0 * PI * *power,
+            Light::Area { emission, area, .. } => PI * *area * *emission,
         }
     }
 
     /// Samples light arriving at `hit` from this light, unless something is in the way (see
     /// `LightSample::shadow`); `None` if it arrives from behind the emitter or carries nothing.
-    pub fn sample(&self, scene: &Scene, hit: &Hit, u: Vec2) -> Option<LightSample> {
-        let (target, wi, li, pdf, is_delta) = match *self {
-            Light::Point { position, power } => {
+    pub fn sample(&self, hit: &Hit, u: Vec2) -> Option<LightSample> {
+        let (target, wi, li, pdf, is_delta) = match self {
+            &Light::Point { position, power } => {
                 let to_light = position - hit.point;
                 let distance_squared = to_light.length_squared();
                 let wi = to_light / distance_squared.sqrt();
@@ -69,15 +74,13 @@ impl Light {
             }
             // Every emitter shape but the torus is convex or emits outwards only: it never
             // lights itself (and a sample from its own surface would be degenerate).
-            Light::Area { primitive, .. }
-                if primitive == hit.primitive
-                    && !matches!(scene.primitives[primitive as usize].shape, Shape::Torus(_)) =>
+            Light::Area { primitive, shape, .. }
+                if *primitive == hit.primitive && !matches!(shape, Shape::Torus(_)) =>
             {
                 return None;
             }
-            Light::Area { primitive, area } => {
-                let prim = &scene.primitives[primitive as usize];
-                let (point, normal, error, wi, pdf) = match prim.shape {
+            &Light::Area { ref shape, emission, area, .. } => {
+                let (point, normal, error, wi, pdf) = match *shape {
                     Shape::Sphere { center, radius } if center.distance(hit.point) > radius => {
                         let (point, normal, error, pdf) =
                             sample_sphere_cone(center, radius, hit.point, u);
@@ -93,7 +96,7 @@ impl Light {
                         (s.point, s.normal, s.error, wi, pdf)
                     }
                 };
-                let le = scene.materials[prim.material as usize].emitted(normal, -wi);
+                let le = emitted(emission, normal, -wi);
                 if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
                     return None;
                 }
@@ -107,11 +110,10 @@ impl Light {
 
     /// The solid-angle density with which `sample` from `from` returns the direction towards
     /// `on_light`, a hit on this (area) light.
-    pub fn pdf(&self, scene: &Scene, from: Vec3, on_light: &Hit) -> f32 {
-        let Light::Area { primitive, area } = *self else {
+    pub fn pdf(&self, from: Vec3, on_light: &Hit) -> f32 {
+        let Light::Area { ref shape, area, .. } = *self else {
             return 0.0;
         };
-        let shape = &scene.primitives[primitive as usize].shape;
         match *shape {
             Shape::Sphere { center, radius } if center.distance(from) > radius => {
                 1.0 / cone_solid_angle(center, radius, from)
@@ -123,6 +125,49 @@ impl Light {
             }
         }
     }
+}
+
+/// A photon's start: where it leaves its light, in which direction, and the power it carries.
+#[derive(Debug, Clone, Copy)]
+pub struct EmissionSample {
+    pub ray: Ray,
+    /// The light's power divided by the number of photons it emits: Le cos / (pdf_A pdf_w)
+    /// over them, which for these emitters is the same for every photon.
+    pub power: Vec3,
+}
+
+impl Light {
+    /// One of `photons` photons from this light: a point light's uniform over the sphere
+    /// (4 pi I / n each), an area light's from a point uniform by area, cosine-weighted over
+    /// the hemisphere its emitting side faces (Le cos / (1/A cos/pi) = pi A Le, / n each). So
+    /// `photons` photons carry exactly `power_rgb`. `None` where the shape has no sample.
+    pub fn sample_emission(
+        &self,
+        photons: u32,
+        u_point: Vec2,
+        u_direction: Vec2,
+    ) -> Option<EmissionSample> {
+        let share = 1.0 / photons as f32;
+        match self {
+            &Light::Point { position, power } => {
+                let ray = Ray::new(position, uniform_sphere(u_direction));
+                Some(EmissionSample { ray, power: 4.0 * PI * power * share })
+            }
+            Light::Area { shape, emission, area, .. } => {
+                let s = shape.sample_area(u_point)?;
+                let dir = to_world(s.normal, cosine_hemisphere(u_direction));
+                // Leave just off the surface, on the side that emits.
+                let ray = Ray::new(s.point + s.normal * s.error, dir);
+                Some(EmissionSample { ray, power: PI * *area * *emission * share })
+            }
+        }
+    }
+}
+
+/// Radiance an emitter sends towards `wo` from a point with normal `n`: `Material::emitted`'s
+/// one-sided rule, towards the normal.
+fn emitted(emission: Vec3, n: Vec3, wo: Vec3) -> Vec3 {
+    if n.dot(wo) > 0.0 { emission } else { Vec3::ZERO }
 }
 
 /// Samples of four lanes' lights, from `sample_lanes`.
@@ -162,9 +207,9 @@ pub struct LaneLight {
 
 impl Light {
     /// Its form for `sample_lanes`, if it is a point light or a planar area light.
-    pub fn in_lanes(&self, scene: &Scene) -> Option<LaneLight> {
-        let (primitive, area) = match *self {
-            Light::Point { position, power } => {
+    pub fn in_lanes(&self) -> Option<LaneLight> {
+        let (primitive, shape, emission, area) = match self {
+            &Light::Point { position, power } => {
                 return Some(LaneLight {
                     planar: None,
                     origin: position,
@@ -176,17 +221,18 @@ impl Light {
                     error: 0.0,
                 });
             }
-            Light::Area { primitive, area } => (primitive, area),
+            Light::Area { primitive, shape, emission, area } => {
+                (*primitive, shape, *emission, *area)
+            }
         };
-        let prim = &scene.primitives[primitive as usize];
-        let Shape::Planar { kind, origin, edge1, edge2, normal } = prim.shape else { return None };
+        let Shape::Planar { kind, origin, edge1, edge2, normal } = *shape else { return None };
         Some(LaneLight {
             planar: Some((primitive, kind)),
             origin,
             edge1,
             edge2,
             normal,
-            emission: scene.materials[prim.material as usize].emission,
+            emission,
             area,
             error: planar_error(origin, edge1, edge2),
         })

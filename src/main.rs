@@ -35,7 +35,8 @@ enum Command {
         /// (tone-mapped with clamp-gamma) [default: SCENE.png in the current folder, as POV-Ray]
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Samples per pixel, 1 to 1000000 [default: the scene's `settings`, else 16]
+        /// Samples per pixel (`sppm`: iterations), 1 to 1000000 [default: the scene's
+        /// `settings`, else 16]
         #[arg(long)]
         samples: Option<u32>,
         /// Image width in pixels, 1 to 65536 [default: the scene's `settings`, else 256]
@@ -51,9 +52,10 @@ enum Command {
         /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
         #[arg(long)]
         threads: Option<usize>,
-        /// `direct` (the course's Lab 4: direct light, mirrors and glass followed) or `path`
-        /// (path tracing of the full rendering equation) [default: the scene's `settings`, else
-        /// path]
+        /// `direct` (the course's Lab 4: direct light, mirrors and glass followed), `path`
+        /// (path tracing of the full rendering equation), `photon` (Jensen's photon mapping) or
+        /// `sppm` (stochastic progressive photon mapping) [default: the scene's `settings`,
+        /// else path]
         #[arg(long, value_parser = parse_integrator)]
         integrator: Option<IntegratorKind>,
         /// Longest path in bounces, 0 to 1024 [default: the scene's `settings`, else 32]
@@ -172,11 +174,9 @@ enum Command {
 }
 
 fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
-    match s {
-        "direct" => Ok(IntegratorKind::Direct),
-        "path" => Ok(IntegratorKind::Path),
-        _ => Err(format!("unknown integrator `{s}` (expected `direct` or `path`)")),
-    }
+    IntegratorKind::named(s).ok_or_else(|| {
+        format!("unknown integrator `{s}` (expected `direct`, `path`, `photon` or `sppm`)")
+    })
 }
 
 /// `println!` and `eprintln!` panic when their stream is closed (`raydiance ... | head`); these
@@ -445,6 +445,7 @@ fn render(
             taken: stats.samples_per_pixel,
             seed: settings.seed,
             integrator: settings.integrator.name().to_string(),
+            max_depth: settings.max_depth,
             digest: digest.to_string(),
             frame: job.frame,
             seconds: stats.seconds,

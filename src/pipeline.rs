@@ -53,7 +53,7 @@ impl RenderRequest {
             integrator: self.integrator.unwrap_or(settings.integrator),
             max_depth: self.max_depth.unwrap_or(settings.max_depth),
             seed: self.seed.unwrap_or(settings.seed),
-            background: settings.background,
+            ..settings.clone()
         })
     }
 }
@@ -197,6 +197,7 @@ pub fn write_render(
         integrator: settings.integrator.name().to_string(),
         seed: settings.seed,
         seconds: stats.seconds,
+        parameters: settings.parameters(),
     };
     write_image(path, format, &film.image(), &info)
 }

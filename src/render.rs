@@ -12,7 +12,8 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::film::Film;
-use crate::integrator::{Direct, Integrator, Path, Strategy};
+use crate::geometry::Ray;
+use crate::integrator::{Direct, Integrator, Path, PhotonMapping, Strategy, sppm};
 use crate::region::Region;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -78,12 +79,37 @@ pub fn render_region(
     progress: &dyn Progress,
 ) -> (Film, RenderStats) {
     let max_depth = scene.settings.max_depth;
+    let s = &scene.settings;
+    // The photon integrators render whole images only: `render` refuses their shares and crops
+    // (`IntegratorKind::splits_into_shares`).
+    let whole = *region == Region::whole(s.width, s.height, s.samples);
     match scene.settings.integrator {
         IntegratorKind::Direct => render_with_in(scene, &Direct { max_depth }, region, progress),
         IntegratorKind::Path => {
             render_with_in(scene, &Path { max_depth, strategy: Strategy::Mis }, region, progress)
         }
+        IntegratorKind::Photon => {
+            assert!(whole, "photon mapping renders whole images");
+            let start = Instant::now();
+            match PhotonMapping::new(scene, progress) {
+                Some(integrator) => {
+                    let (film, stats) = render_with(scene, &integrator, progress);
+                    (film, RenderStats { seconds: start.elapsed().as_secs_f64(), ..stats })
+                }
+                None => stopped_before_a_pass(scene, start),
+            }
+        }
+        IntegratorKind::Sppm => {
+            assert!(whole, "sppm renders whole images");
+            sppm::render(scene, progress)
+        }
     }
+}
+
+/// The black film of a render stopped before its first pass.
+pub fn stopped_before_a_pass(scene: &Scene, start: Instant) -> (Film, RenderStats) {
+    let film = Film::new(scene.settings.width as usize, scene.settings.height as usize);
+    (film, RenderStats { seconds: start.elapsed().as_secs_f64(), samples_per_pixel: 0, dropped: 0 })
 }
 
 /// Renders with a given integrator (e.g. a `Path` with one sampling strategy, for tests).
@@ -140,6 +166,23 @@ fn render_with_in(
     (film, stats)
 }
 
+/// Camera sample `index` of pixel (x, y) of the image: its ray, and the sampler its path goes on
+/// drawing from.
+pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Ray, Sampler) {
+    let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
+    let pixel = (y * width + x) as u64;
+    let mut sampler = Sampler::new(scene.settings.seed, pixel, u64::from(index));
+    let jitter = sampler.next_2d();
+    // A pinhole camera needs no lens sample.
+    let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
+    let ray = scene.camera.ray(
+        (x as f32 + jitter.x) / width as f32,
+        (y as f32 + jitter.y) / height as f32,
+        lens,
+    );
+    (ray, sampler)
+}
+
 /// Renders the samples `offsets` of each pixel's share (its sample indices
 /// `Region::samples_of(pixel)`, from the first) into `pass` (overwritten), rows in parallel, each
 /// row in tasks of at most `TASK_SAMPLES` samples: several pixels' samples together (so that
@@ -153,8 +196,6 @@ fn render_pass(
     offsets: Range<u32>,
     pass: &mut Film,
 ) -> bool {
-    let settings = &scene.settings;
-    let (image_width, image_height) = (settings.width as usize, settings.height as usize);
     let (x0, y0) = (region.crop.x0 as usize, region.crop.y0 as usize);
     let width = pass.width;
     let count = (offsets.end - offsets.start) as usize;
@@ -191,23 +232,7 @@ fn render_pass(
                     // The task's camera samples, pixel by pixel, each pixel's in index order.
                     let mut camera_samples = task.iter().flat_map(|(column, indices)| {
                         let x = x0 + column;
-                        indices.clone().map(move |index| {
-                            let pixel = (y * image_width + x) as u64;
-                            let mut sampler = Sampler::new(settings.seed, pixel, u64::from(index));
-                            let jitter = sampler.next_2d();
-                            // A pinhole camera needs no lens sample.
-                            let lens = if scene.camera.aperture > 0.0 {
-                                sampler.next_2d()
-                            } else {
-                                glam::Vec2::ZERO
-                            };
-                            let ray = scene.camera.ray(
-                                (x as f32 + jitter.x) / image_width as f32,
-                                (y as f32 + jitter.y) / image_height as f32,
-                                lens,
-                            );
-                            (ray, sampler)
-                        })
+                        indices.clone().map(move |index| camera_sample(scene, x, y, index))
                     });
                     let taken: usize = task.iter().map(|(_, indices)| indices.len()).sum();
                     let radiance = &mut radiance[..taken];

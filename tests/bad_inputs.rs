@@ -77,6 +77,7 @@ fn bad_exr_files(dir: &Path) -> Vec<PathBuf> {
         integrator: "path".into(),
         seed: 0,
         seconds: 0.0,
+        parameters: Vec::new(),
     };
     raydiance::image::exr::write(&valid, &image, &info).unwrap();
     let bytes = std::fs::read(&valid).unwrap();

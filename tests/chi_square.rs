@@ -335,19 +335,17 @@ fn light_sampling(scene_text: &str, point: Vec3, normal: Vec3) {
     // The light under test: the tube of a cylinder (not its caps), else the only one.
     let index = (0..scene.lights.len())
         .find(|&i| match scene.lights[i] {
-            Light::Area { primitive, .. } => {
-                matches!(scene.primitives[primitive as usize].shape, Shape::Quadric { .. })
-            }
+            Light::Area { ref shape, .. } => matches!(shape, Shape::Quadric { .. }),
             Light::Point { .. } => false,
         })
         .unwrap_or(0);
     let light = &scene.lights[index];
     chi_square(
         &format!("{scene_text} from {point}"),
-        |s| light.sample(&scene, &shading, s.next_2d()).map(|l| l.wi),
+        |s| light.sample(&shading, s.next_2d()).map(|l| l.wi),
         |wi| match scene.intersect(&Ray::new(point, wi)) {
             Some(hit) if scene.primitives[hit.primitive as usize].light == Some(index as u32) => {
-                light.pdf(&scene, point, &hit)
+                light.pdf(point, &hit)
             }
             _ => 0.0,
         },

@@ -114,7 +114,7 @@ fn bad_command_line_values_are_errors_naming_the_value() {
         (vec!["--samples", "0"], "--samples 0 is out of range"),
         (vec!["--width", "100000"], "--width 100000 is out of range"),
         (vec!["--threads", "0"], "--threads 0 is out of range (1 to 1024)"),
-        (vec!["--integrator", "photon"], "unknown integrator `photon`"),
+        (vec!["--integrator", "photons"], "unknown integrator `photons`"),
         (vec!["--time", "-3"], "--time -3 must be a positive number"),
         (
             vec!["--time", "1e19"],

@@ -24,7 +24,13 @@ fn test_image() -> Image {
 }
 
 fn info() -> RenderInfo {
-    RenderInfo { samples_per_pixel: 64, integrator: "path".into(), seed: 7, seconds: 1.25 }
+    RenderInfo {
+        samples_per_pixel: 64,
+        integrator: "path".into(),
+        seed: 7,
+        seconds: 1.25,
+        parameters: vec![("max_depth", "32".into())],
+    }
 }
 
 #[test]
@@ -59,6 +65,7 @@ fn openexr_tools_read_our_files_and_their_metadata() {
         "raydiance:integrator (type string): \"path\"",
         "raydiance:seed (type string): \"7\"",
         "raydiance:render_seconds (type double): 1.25",
+        "raydiance:max_depth (type string): \"32\"",
         "R, 32-bit floating-point",
         "lineOrder (type lineOrder): increasing y",
         "dataWindow (type box2i): (0 0) - (6 4)",

@@ -55,9 +55,9 @@ fn lights_sampled_in_lanes_agree_with_one_at_a_time() {
             }
             let lanes = lanes.expect("a light sampled in lanes makes lanes");
             assert!(lanes.handled.test(lane));
-            let alone = scene.lights[light].sample(&scene, &hit, u);
+            let alone = scene.lights[light].sample(&hit, u);
             assert_eq!(lanes.found.test(lane), alone.is_some(), "light {light} from {hit:?}");
-            let in_lanes = scene.lights[light].in_lanes(&scene).unwrap();
+            let in_lanes = scene.lights[light].in_lanes().unwrap();
             own += usize::from(in_lanes.planar.is_some_and(|(p, _)| p == hit.primitive));
             points += usize::from(in_lanes.planar.is_none());
             let Some(alone) = alone else { continue };

@@ -50,6 +50,7 @@ fn render_part(scene: &Scene, region: Region, dir: &std::path::Path, name: &str)
         taken: stats.samples_per_pixel,
         seed: s.seed,
         integrator: s.integrator.name().to_string(),
+        max_depth: s.max_depth,
         digest: "same".to_string(),
         frame: Default::default(),
         seconds: stats.seconds,

@@ -33,6 +33,12 @@ pub fn write(path: &Path, image: &Image, info: &RenderInfo) -> std::result::Resu
         AttributeValue::Text(Text::from(info.seed.to_string().as_str())),
     );
     other.insert(Text::from("raydiance:render_seconds"), AttributeValue::F64(info.seconds));
+    for (name, value) in &info.parameters {
+        other.insert(
+            Text::from(format!("raydiance:{name}").as_str()),
+            AttributeValue::Text(Text::from(value.as_str())),
+        );
+    }
     write_atomic(path, |writer| {
         exr_image.write().to_buffered(writer).map_err(|e| ImageError::format(path, e.to_string()))
     })

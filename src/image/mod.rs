@@ -42,6 +42,8 @@ pub struct RenderInfo {
     pub integrator: String,
     pub seed: u64,
     pub seconds: f64,
+    /// The integrator's parameters, as `raydiance:NAME` text attributes.
+    pub parameters: Vec<(&'static str, String)>,
 }
 
 #[derive(Debug, thiserror::Error)]

@@ -2,9 +2,12 @@
 
 mod direct;
 mod path;
+mod photon;
+pub mod sppm;
 
 pub use direct::Direct;
 pub use path::{Path, Strategy};
+pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 
 use glam::Vec3;
 
@@ -43,7 +46,7 @@ fn direct_from_all_lights(
     let mut radiance = Vec3::ZERO;
     for light in &scene.lights {
         let u = sampler.next_2d();
-        let Some(sample) = light.sample(scene, hit, u) else { continue };
+        let Some(sample) = light.sample(hit, u) else { continue };
         if !scene.occluded(&sample.shadow.ray, sample.shadow.t_max) {
             let f = bsdf.eval(wo, sample.wi);
             radiance += f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf;

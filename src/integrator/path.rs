@@ -380,7 +380,7 @@ impl Path {
             Strategy::LightSampling => 0.0,
             Strategy::Mis => {
                 let light_pdf = scene.light_probability(light as usize)
-                    * scene.lights[light as usize].pdf(scene, from, hit);
+                    * scene.lights[light as usize].pdf(from, hit);
                 power_heuristic(bsdf_pdf, light_pdf)
             }
         }
@@ -474,7 +474,7 @@ impl Path {
         (light, probability): (usize, f32),
         u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
-        let sample = scene.lights[light].sample(scene, hit, u)?;
+        let sample = scene.lights[light].sample(hit, u)?;
         let f = bsdf.eval(wo, sample.wi);
         if f == Vec3::ZERO {
             return None;

@@ -271,6 +271,9 @@ fn describe(rule: Rule) -> &'static str {
         Rule::max_depth => "`max_depth`",
         Rule::seed => "`seed`",
         Rule::background => "`background`",
+        Rule::photons => "`photons`",
+        Rule::photon_k => "`photon_k`",
+        Rule::photon_radius => "`photon_radius`",
         Rule::camera => "`camera`",
         Rule::camera_item | Rule::camera_key => {
             "a camera parameter (`origin`, `left`, `up`, `forward`, `location`, `look_at`, `angle`, `aperture`, `focal_distance`)"

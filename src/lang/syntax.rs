@@ -258,6 +258,9 @@ pub enum SettingKind {
     MaxDepth(Expr),
     Seed(Expr),
     Background(Colour),
+    Photons(Expr),
+    PhotonK(Expr),
+    PhotonRadius(Expr),
 }
 
 #[derive(Debug, Clone)]

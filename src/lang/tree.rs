@@ -269,7 +269,10 @@ impl Builder {
             | Rule::integrator
             | Rule::max_depth
             | Rule::seed
-            | Rule::background => Item::Setting(self.setting(pair)?),
+            | Rule::background
+            | Rule::photons
+            | Rule::photon_k
+            | Rule::photon_radius => Item::Setting(self.setting(pair)?),
             Rule::camera => {
                 self.enter(&pair)?;
                 let items = self.items(pair.into_inner().skip(1))?;
@@ -430,6 +433,9 @@ impl Builder {
             Rule::max_depth => SettingKind::MaxDepth(self.expr(next())?),
             Rule::seed => SettingKind::Seed(self.expr(next())?),
             Rule::background => SettingKind::Background(self.colour(next())?),
+            Rule::photons => SettingKind::Photons(self.expr(next())?),
+            Rule::photon_k => SettingKind::PhotonK(self.expr(next())?),
+            Rule::photon_radius => SettingKind::PhotonRadius(self.expr(next())?),
             rule => unreachable!("no setting {rule:?}"),
         };
         Ok(Setting { kind, span })

@@ -104,9 +104,11 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         .collect();
     for (i, prim) in primitives.iter_mut().enumerate() {
         let area = prim.shape.area();
-        if let Some(area) = area.filter(|_| flat.materials[prim.material as usize].is_emissive()) {
+        let material = &flat.materials[prim.material as usize];
+        if let Some(area) = area.filter(|_| material.is_emissive()) {
             prim.light = Some(lights.len() as u32);
-            lights.push(Light::Area { primitive: i as u32, area });
+            let (shape, emission) = (prim.shape.clone(), material.emission);
+            lights.push(Light::Area { shape, emission, area, primitive: i as u32 });
         }
     }
     let mut warnings = graph.warnings.clone();
@@ -172,13 +174,13 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         light_cdf: Vec::new(),
         warnings,
     };
-    scene.lights_in_lanes = scene.lights.iter().map(|light| light.in_lanes(&scene)).collect();
+    scene.lights_in_lanes = scene.lights.iter().map(Light::in_lanes).collect();
     // Lights with no power are never chosen (their probability would be zero).
     scene.light_cdf = scene
         .lights
         .iter()
         .scan(0.0, |acc, light| {
-            *acc += light.power(&scene).max(0.0);
+            *acc += light.power().max(0.0);
             Some(*acc)
         })
         .collect();

@@ -24,6 +24,10 @@ pub struct SceneGraph {
 pub enum IntegratorKind {
     Direct,
     Path,
+    /// Jensen's two-pass photon mapping (section 13).
+    Photon,
+    /// Stochastic progressive photon mapping (Hachisuka and Jensen 2009).
+    Sppm,
 }
 
 impl IntegratorKind {
@@ -31,6 +35,8 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Direct => "direct",
             IntegratorKind::Path => "path",
+            IntegratorKind::Photon => "photon",
+            IntegratorKind::Sppm => "sppm",
         }
     }
 
@@ -42,7 +48,21 @@ impl IntegratorKind {
     pub fn splits_into_shares(self) -> bool {
         match self {
             IntegratorKind::Direct | IntegratorKind::Path => true,
+            IntegratorKind::Photon | IntegratorKind::Sppm => false,
         }
+    }
+
+    /// Every integrator, for parsing names and listing them in messages.
+    pub const ALL: [IntegratorKind; 4] = [
+        IntegratorKind::Direct,
+        IntegratorKind::Path,
+        IntegratorKind::Photon,
+        IntegratorKind::Sppm,
+    ];
+
+    /// The integrator called `name`, if any.
+    pub fn named(name: &str) -> Option<IntegratorKind> {
+        IntegratorKind::ALL.into_iter().find(|kind| kind.name() == name)
     }
 }
 
@@ -56,6 +76,38 @@ pub struct Settings {
     pub max_depth: u32,
     pub seed: u64,
     pub background: Vec3,
+    /// Photons per pass (`photon`) or iteration (`sppm`); `None`: the integrator's default.
+    pub photons: Option<u32>,
+    /// `photon`: photons in each density estimate.
+    pub photon_k: u32,
+    /// `sppm`: the initial gather radius, in scene units.
+    pub photon_radius: f32,
+}
+
+impl Settings {
+    /// The integrator's parameters beyond samples and seed, by name, for the image's header.
+    pub fn parameters(&self) -> Vec<(&'static str, String)> {
+        let depth = ("max_depth", self.max_depth.to_string());
+        let photons = ("photons", self.photons().to_string());
+        match self.integrator {
+            IntegratorKind::Direct | IntegratorKind::Path => vec![depth],
+            IntegratorKind::Photon => {
+                vec![depth, photons, ("photon_k", self.photon_k.to_string())]
+            }
+            IntegratorKind::Sppm => {
+                vec![depth, photons, ("photon_radius", self.photon_radius.to_string())]
+            }
+        }
+    }
+
+    /// Photons per pass or iteration: as set, else 1,000,000 for `photon` and 200,000 for
+    /// `sppm` (section 13).
+    pub fn photons(&self) -> u32 {
+        self.photons.unwrap_or(match self.integrator {
+            IntegratorKind::Sppm => 200_000,
+            IntegratorKind::Direct | IntegratorKind::Path | IntegratorKind::Photon => 1_000_000,
+        })
+    }
 }
 
 impl Default for Settings {
@@ -68,6 +120,9 @@ impl Default for Settings {
             max_depth: 32,
             seed: 0,
             background: Vec3::ZERO,
+            photons: None,
+            photon_k: 100,
+            photon_radius: 0.05,
         }
     }
 }

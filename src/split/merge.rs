@@ -63,6 +63,7 @@ pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, String> {
         integrator: first.integrator.clone(),
         seed: first.seed,
         seconds: parts.iter().map(|p| p.seconds).sum(),
+        parameters: vec![("max_depth", first.max_depth.to_string())],
     };
     Ok(Merged {
         image: Image { width, height, pixels },

@@ -39,6 +39,8 @@ pub struct PartHeader {
     pub taken: u32,
     pub seed: u64,
     pub integrator: String,
+    /// The longest path (the one integrator parameter of the integrators that split).
+    pub max_depth: u32,
     /// Digest of the scene's text, its includes, the settings and the frame.
     pub digest: String,
     pub frame: Frame,
@@ -102,6 +104,7 @@ pub fn write(path: &Path, film: &Film, header: &PartHeader) -> Result<(), ImageE
     let int = |n: u32| AttributeValue::I32(i32::try_from(n).unwrap_or(i32::MAX));
     other.insert(key("samples_per_pixel"), int(header.taken));
     other.insert(key("integrator"), text(&header.integrator));
+    other.insert(key("max_depth"), int(header.max_depth));
     other.insert(key("seed"), text(header.seed));
     other.insert(key("render_seconds"), AttributeValue::F64(header.seconds));
     other.insert(key("part"), text(region.share));
@@ -202,6 +205,7 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
         taken: int_of("samples_per_pixel")?,
         seed: text_of("seed")?.parse().map_err(|_| missing("seed"))?,
         integrator: text_of("integrator")?,
+        max_depth: int_of("max_depth")?,
         digest: text_of("digest")?,
         frame: Frame { number: int_of("frame")?, clock: float_of("clock")? },
         seconds: float_of("render_seconds")?,

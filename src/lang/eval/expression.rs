@@ -102,6 +102,26 @@ impl Evaluator {
         Ok(f as u64)
     }
 
+    /// A whole number from `min` to `max` for the setting `name`.
+    pub(super) fn setting_integer(
+        &mut self,
+        expr: &Expr,
+        name: &str,
+        min: u64,
+        max: u64,
+    ) -> Result<u64, SceneError> {
+        let f = self.float(expr)?;
+        if f.fract() != 0.0 || f < min as f64 || f > max as f64 {
+            return Err(SceneError::at(
+                &expr.span,
+                format!(
+                    "`{name}` {f} is out of range: it must be a whole number from {min} to {max}"
+                ),
+            ));
+        }
+        Ok(f as u64)
+    }
+
     /// A string where `what` needs one (a file name, a message).
     pub(super) fn string(&mut self, expr: &Expr, what: &str) -> Result<String, SceneError> {
         match self.value(expr)? {

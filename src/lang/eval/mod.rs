@@ -66,6 +66,9 @@ const FUZZING_BUDGET: u64 = 100_000;
 /// POV-Ray's tolerance for `=`, `!=`, `<=`, `>=`.
 pub const EPSILON: f64 = 1e-10;
 
+/// The most photons `photon_k` may gather in one density estimate.
+pub const MAX_PHOTON_K: u64 = 10_000;
+
 /// Stack kept free before evaluating deeper, and the size of each extra segment: deep macro
 /// recursion grows the stack on the heap instead of overflowing a small thread stack.
 const RED_ZONE: usize = 128 * 1024;
@@ -358,18 +361,28 @@ impl Evaluator {
             SettingKind::Seed(e) => settings.seed = self.integer(e, 0, u32::MAX.into())?,
             SettingKind::Background(c) => settings.background = self.colour(c)?,
             SettingKind::Integrator(name) => {
-                settings.integrator = match name.name.as_str() {
-                    "direct" => IntegratorKind::Direct,
-                    "path" => IntegratorKind::Path,
-                    other => {
-                        let mut message =
-                            format!("unknown integrator `{other}` (expected `direct` or `path`)");
-                        if let Some(g) = parser::closest(other, ["direct", "path"].into_iter()) {
-                            message.push_str(&format!("; did you mean `{g}`?"));
-                        }
-                        return Err(SceneError::at(&name.span, message));
+                let Some(kind) = IntegratorKind::named(&name.name) else {
+                    let mut message = format!(
+                        "unknown integrator `{}` (expected `direct`, `path`, `photon` or `sppm`)",
+                        name.name
+                    );
+                    let names = IntegratorKind::ALL.map(IntegratorKind::name);
+                    if let Some(g) = parser::closest(&name.name, names.into_iter()) {
+                        message.push_str(&format!("; did you mean `{g}`?"));
                     }
-                }
+                    return Err(SceneError::at(&name.span, message));
+                };
+                settings.integrator = kind;
+            }
+            SettingKind::Photons(e) => {
+                let limit = u64::from(crate::photon::MAX_PHOTONS);
+                settings.photons = Some(self.setting_integer(e, "photons", 1, limit)? as u32);
+            }
+            SettingKind::PhotonK(e) => {
+                settings.photon_k = self.setting_integer(e, "photon_k", 1, MAX_PHOTON_K)? as u32;
+            }
+            SettingKind::PhotonRadius(e) => {
+                settings.photon_radius = self.positive(e, "`photon_radius`")?;
             }
         }
         Ok(())

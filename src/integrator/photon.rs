@@ -1,0 +1,104 @@
+//! Jensen's two-pass photon mapping (section 13's `photon`): a pass of photons from the lights,
+//! kept where they land after at least one bounce, in a k-d tree; then camera rays as `direct`
+//! traces them, with indirect light at each vertex with a non-delta lobe estimated from the
+//! `photon_k` nearest photons.
+//!
+//! Kernel: uniform over the disc of the k-th nearest photon's distance r_k,
+//! L_indirect(x, wo) = sum_p f(x, wo, wi_p) Phi_p / (pi r_k^2) (Jensen 2001, eq. 7.6), where the
+//! photons' powers Phi_p already share each light's power among the photons it emitted.
+
+use std::collections::BinaryHeap;
+use std::f32::consts::PI;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::Integrator;
+use super::direct::whitted;
+use crate::geometry::{Hit, Ray};
+use crate::material::Bsdf;
+use crate::photon::{Emission, Photon, PhotonMap, trace_photon};
+use crate::render::Progress;
+use crate::sampling::Sampler;
+use crate::scene::Scene;
+
+/// Photons traced by one task between two looks at `Progress::should_abandon`.
+pub const PHOTON_TASK: u32 = 4096;
+
+pub struct PhotonMapping {
+    pub max_depth: u32,
+    /// Photons in each density estimate.
+    pub k: usize,
+    pub map: PhotonMap,
+}
+
+impl PhotonMapping {
+    /// Traces the scene's photon pass (pass 0, `photons` photons) and builds its map; `None`
+    /// if `progress` asks to stop first.
+    pub fn new(scene: &Scene, progress: &dyn Progress) -> Option<Self> {
+        let settings = &scene.settings;
+        let emission = Emission::new(&scene.lights, settings.photons());
+        let photons = trace_pass(scene, &emission, 0, progress)?;
+        Some(PhotonMapping {
+            max_depth: settings.max_depth,
+            k: settings.photon_k as usize,
+            map: PhotonMap::build(photons),
+        })
+    }
+
+    /// Light from other surfaces scattered towards `wo` at `hit`, from the nearest photons.
+    fn indirect(&self, hit: &Hit, wo: Vec3, bsdf: &Bsdf) -> Vec3 {
+        let mut found = BinaryHeap::with_capacity(self.k + 1);
+        self.map.nearest(hit.point, self.k, &mut found);
+        let Some(radius_squared) = found.peek().map(|n| n.distance_squared) else {
+            return Vec3::ZERO;
+        };
+        if radius_squared <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let flux: Vec3 = found
+            .iter()
+            .map(|n| {
+                let photon = self.map.photon(n.index);
+                bsdf.eval(wo, photon.wi()) * photon.power
+            })
+            .sum();
+        flux / (PI * radius_squared)
+    }
+}
+
+impl Integrator for PhotonMapping {
+    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
+        let indirect = |hit: &Hit, wo: Vec3, bsdf: &Bsdf| self.indirect(hit, wo, bsdf);
+        whitted(scene, ray, sampler, self.max_depth, Some(&indirect))
+    }
+}
+
+/// The photons of pass `pass` where they land after one bounce or more, in photon order
+/// whatever the thread count; `None` if `progress` asks to stop first.
+pub fn trace_pass(
+    scene: &Scene,
+    emission: &Emission,
+    pass: u64,
+    progress: &dyn Progress,
+) -> Option<Vec<Photon>> {
+    let total = emission.total();
+    let tasks: Vec<Option<Vec<Photon>>> = (0..total.div_ceil(PHOTON_TASK))
+        .into_par_iter()
+        .map(|task| {
+            if progress.should_abandon() {
+                return None;
+            }
+            let mut stored = Vec::new();
+            let first = task * PHOTON_TASK;
+            for index in first..(first + PHOTON_TASK).min(total) {
+                trace_photon(scene, emission, scene.settings.max_depth, pass, index, |d| {
+                    stored.push(Photon::new(d.hit.point, d.wi, d.power));
+                });
+            }
+            Some(stored)
+        })
+        .collect();
+    let tasks: Option<Vec<Vec<Photon>>> = tasks.into_iter().collect();
+    Some(tasks?.concat())
+}

@@ -1,0 +1,227 @@
+//! Stochastic progressive photon mapping (Hachisuka and Jensen 2009; section 13's `sppm`).
+//! Each iteration j traces one camera path per pixel through delta lobes to its visible point,
+//! adding emission on the way and next-event estimation there; then `photons` photons of pass j,
+//! whose deposits after one bounce or more within a pixel's radius add to its flux. Per pixel,
+//! with M photons found this iteration and alpha = 2/3 (pbrt-v4's SPPMIntegrator, 13.5):
+//!   N' = N + alpha M,   R' = R sqrt(N' / (N + M)),   tau' = (tau + Phi) (R' / R)^2,
+//! and after n iterations L = (sum of direct) / n + tau / (n pi R^2) (each pass's photons carry
+//! the lights' whole power, so n passes divide by n).
+
+use std::f32::consts::PI;
+use std::time::Instant;
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+use super::direct::direct_from_background;
+use super::{PHOTON_TASK, direct_from_all_lights};
+use crate::film::Film;
+use crate::geometry::{Hit, Ray, offset_origin};
+use crate::material::{Material, TransportMode};
+use crate::photon::{Emission, HashGrid, trace_photon};
+use crate::render::{Progress, RenderStats, camera_sample};
+use crate::scene::Scene;
+
+/// alpha: the fraction of each iteration's photons a pixel keeps as its radius shrinks.
+const ALPHA: f32 = 2.0 / 3.0;
+
+/// Photon tasks traced together before their deposits are added up in photon order (bounds the
+/// memory the deposits take).
+const TASKS_PER_WAVE: usize = 16;
+
+/// Where a camera path stopped on a non-delta lobe, the material there, and the throughput it
+/// brought there.
+struct VisiblePoint {
+    hit: Hit,
+    wo: Vec3,
+    material: Material,
+    beta: Vec3,
+}
+
+impl VisiblePoint {
+    /// Light a photon arriving from `wi` with `power` sends along the camera path.
+    fn flux(&self, wi: Vec3, power: Vec3) -> Vec3 {
+        let bsdf = self.material.bsdf(self.hit.shading_normal, TransportMode::Radiance);
+        self.beta * bsdf.eval(self.wo, wi) * power
+    }
+}
+
+/// A pixel's camera path of one iteration: emission and direct light it found, and its visible
+/// point if it reached one.
+type CameraPath = (Vec3, Option<VisiblePoint>);
+
+/// A pixel's progressive state.
+#[derive(Clone, Copy)]
+struct PixelState {
+    radius: f32,
+    /// N: photons kept so far.
+    photons: f32,
+    /// tau: flux gathered within the current radius.
+    flux: DVec3,
+    /// The sum over iterations of emission seen and direct light.
+    direct: DVec3,
+}
+
+pub fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
+    let start = Instant::now();
+    let settings = &scene.settings;
+    let (width, height) = (settings.width as usize, settings.height as usize);
+    let emission = Emission::new(&scene.lights, settings.photons());
+    let initial = PixelState {
+        radius: settings.photon_radius,
+        photons: 0.0,
+        flux: DVec3::ZERO,
+        direct: DVec3::ZERO,
+    };
+    let mut pixels = vec![initial; width * height];
+    let mut iterations = 0;
+    while iterations < settings.samples {
+        let iteration_start = Instant::now();
+        if !iterate(scene, &emission, iterations, &mut pixels, progress) {
+            break;
+        }
+        iterations += 1;
+        let seconds = iteration_start.elapsed().as_secs_f64();
+        if iterations < settings.samples && progress.pass_limit(seconds) == Some(0) {
+            break;
+        }
+    }
+    let mut film = Film::new(width, height);
+    let n = f64::from(iterations.max(1));
+    for (i, pixel) in pixels.iter().enumerate() {
+        let area = f64::from(PI) * f64::from(pixel.radius).powi(2);
+        let radiance = pixel.direct / n + pixel.flux / (n * area);
+        // The film holds the estimate as n equal samples (progressive estimates have no
+        // per-sample variance).
+        film.sum[i] = radiance * f64::from(iterations);
+        film.sum_squares[i] = radiance * radiance * f64::from(iterations);
+    }
+    film.samples = iterations;
+    let stats = RenderStats {
+        seconds: start.elapsed().as_secs_f64(),
+        samples_per_pixel: iterations,
+        dropped: 0,
+    };
+    (film, stats)
+}
+
+/// One iteration into `pixels`; false (and `pixels` untouched) if `progress` asked to stop.
+fn iterate(
+    scene: &Scene,
+    emission: &Emission,
+    iteration: u32,
+    pixels: &mut [PixelState],
+    progress: &dyn Progress,
+) -> bool {
+    let width = scene.settings.width as usize;
+    let rows: Vec<Option<Vec<CameraPath>>> = (0..scene.settings.height as usize)
+        .into_par_iter()
+        .map(|y| {
+            if progress.should_abandon() {
+                return None;
+            }
+            let row = (0..width).map(|x| visible_point(scene, x, y, iteration)).collect();
+            progress.advance(width as u64);
+            Some(row)
+        })
+        .collect();
+    let Some(rows) = rows.into_iter().collect::<Option<Vec<_>>>() else { return false };
+    let points: Vec<CameraPath> = rows.into_iter().flatten().collect();
+    let spheres: Vec<(u32, Vec3, f32)> = points
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (_, vp))| Some((i as u32, vp.as_ref()?.hit.point, pixels[i].radius)))
+        .collect();
+    let grid = HashGrid::build(&spheres);
+
+    // Phi and M of each pixel, summed in photon order.
+    let mut flux = vec![Vec3::ZERO; pixels.len()];
+    let mut found = vec![0u32; pixels.len()];
+    let tasks: Vec<u32> = (0..emission.total().div_ceil(PHOTON_TASK)).collect();
+    for wave in tasks.chunks(TASKS_PER_WAVE) {
+        let deposits: Vec<Option<Vec<(u32, Vec3)>>> = wave
+            .par_iter()
+            .map(|&task| {
+                if progress.should_abandon() {
+                    return None;
+                }
+                let mut deposits = Vec::new();
+                let first = task * PHOTON_TASK;
+                for index in first..(first + PHOTON_TASK).min(emission.total()) {
+                    let max_depth = scene.settings.max_depth;
+                    trace_photon(scene, emission, max_depth, u64::from(iteration), index, |d| {
+                        for pixel in grid.holding(d.hit.point) {
+                            let Some(vp) = &points[pixel as usize].1 else { continue };
+                            deposits.push((pixel, vp.flux(d.wi, d.power)));
+                        }
+                    });
+                }
+                Some(deposits)
+            })
+            .collect();
+        for deposits in deposits {
+            let Some(deposits) = deposits else { return false };
+            for (pixel, phi) in deposits {
+                flux[pixel as usize] += phi;
+                found[pixel as usize] += 1;
+            }
+        }
+    }
+
+    pixels.par_iter_mut().zip(points.par_iter()).zip(flux.par_iter().zip(&found)).for_each(
+        |((pixel, (direct, _)), (&phi, &m))| {
+            pixel.direct += direct.as_dvec3();
+            if m > 0 {
+                let m = m as f32;
+                let photons = pixel.photons + ALPHA * m;
+                let radius = pixel.radius * (photons / (pixel.photons + m)).sqrt();
+                let shrink = f64::from(radius / pixel.radius).powi(2);
+                pixel.flux = (pixel.flux + phi.as_dvec3()) * shrink;
+                pixel.photons = photons;
+                pixel.radius = radius;
+            }
+        },
+    );
+    true
+}
+
+/// Iteration `iteration`'s camera path of pixel (x, y): the emission it saw and the direct light
+/// at its visible point (weighted by the path's throughput), and the visible point if any.
+fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPath {
+    let (mut ray, mut sampler) = camera_sample(scene, x, y, iteration);
+    let mut radiance = Vec3::ZERO;
+    let mut beta = Vec3::ONE;
+    for bounces in 0.. {
+        let Some(hit) = scene.intersect(&ray) else {
+            radiance += beta * scene.background();
+            break;
+        };
+        let wo = -Vec3::from(ray.dir);
+        let material = scene.material(hit.primitive, hit.point);
+        radiance += beta * material.emitted(hit.normal, wo);
+        if bounces == scene.settings.max_depth {
+            break;
+        }
+        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
+        let flags = bsdf.flags();
+        if flags.is_non_delta() {
+            // With delta lobes too, the path stops here with the non-delta lobes' probability
+            // p and goes on through a delta lobe otherwise, each divided by its probability.
+            let p = if flags.is_delta() { bsdf.diffuse_probability(wo) } else { 1.0 };
+            if sampler.next_1d_if(flags.is_delta()) < p {
+                beta /= p;
+                radiance += beta * direct_from_all_lights(scene, &hit, wo, &bsdf, &mut sampler);
+                radiance += beta * direct_from_background(scene, &hit, wo, &bsdf, &mut sampler);
+                return (radiance, Some(VisiblePoint { hit, wo, material, beta }));
+            }
+            beta /= 1.0 - p;
+        }
+        if !flags.is_delta() {
+            break;
+        }
+        let Some(sample) = bsdf.sample_delta(wo, sampler.next_1d()) else { break };
+        beta *= sample.weight;
+        ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
+    }
+    (radiance, None)
+}

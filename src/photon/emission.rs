@@ -1,0 +1,61 @@
+//! How the photons of a pass are shared out among the lights: in proportion to power, at least
+//! one for every light that has power, so that a light's photons carry exactly its power.
+
+use crate::light::Light;
+
+/// The most photons a pass (`photon`) or iteration (`sppm`) may emit: 20 million, about 0.6 GB
+/// of stored photons (28 bytes each, a few stored per photon emitted) for `photon`.
+pub const MAX_PHOTONS: u32 = 20_000_000;
+
+/// Photons `0..total` of a pass by light: light `l` emits photons `first[l]..first[l + 1]`.
+#[derive(Debug, Clone)]
+pub struct Emission {
+    first: Vec<u32>,
+}
+
+impl Emission {
+    /// `photons` photons (or one per light with power, if that is more), light `l` taking
+    /// 1 + floor(m C_l / C) - floor(m C_(l-1) / C) of them, where C_l sums the powers of the
+    /// lights up to l and m is the photons left after the first of each: the counts add up to
+    /// the total and follow the powers within one photon.
+    pub fn new(lights: &[Light], photons: u32) -> Self {
+        let powers: Vec<f64> = lights.iter().map(|l| f64::from(l.power().max(0.0))).collect();
+        let total: f64 = powers.iter().sum();
+        let powered = powers.iter().filter(|&&p| p > 0.0).count() as u32;
+        let shared = f64::from(photons.saturating_sub(powered));
+        let last_powered = powers.iter().rposition(|&p| p > 0.0);
+        let mut first = vec![0];
+        let (mut below, mut emitted, mut before) = (0.0, 0u32, 0.0);
+        for (l, power) in powers.into_iter().enumerate() {
+            if power > 0.0 {
+                below += power;
+                // The last light takes what is left: rounding must not lose a photon.
+                let upto = if Some(l) == last_powered {
+                    shared
+                } else {
+                    (shared * below / total).floor().min(shared)
+                };
+                emitted += 1 + (upto - before) as u32;
+                before = upto;
+            }
+            first.push(emitted);
+        }
+        Emission { first }
+    }
+
+    /// Photons emitted in one pass, by all lights.
+    pub fn total(&self) -> u32 {
+        *self.first.last().expect("one entry more than lights")
+    }
+
+    /// The light that emits photon `index` (< `total`), and how many photons it emits.
+    pub fn light_of(&self, index: u32) -> (usize, u32) {
+        let light = self.first.partition_point(|&f| f <= index) - 1;
+        (light, self.first[light + 1] - self.first[light])
+    }
+
+    /// Photons light `light` emits per pass.
+    pub fn photons_of(&self, light: usize) -> u32 {
+        self.first[light + 1] - self.first[light]
+    }
+}

@@ -1,0 +1,68 @@
+//! Photon tracing: photon `index` of pass `pass` leaves its light (`Emission`) and scatters
+//! through the scene by BSDF sampling in importance mode, with Russian roulette on its
+//! throughput, depositing where it lands on a surface with a non-delta lobe after at least one
+//! bounce. Its random numbers are a pure function of (seed, pass, index).
+
+use glam::Vec3;
+
+use super::Emission;
+use crate::geometry::{Hit, Ray, offset_origin};
+use crate::material::TransportMode;
+use crate::sampling::Sampler;
+use crate::scene::Scene;
+
+/// Photon streams draw from `Sampler`s keyed by this plus the pass in place of a pixel: above
+/// every pixel index (images have at most 2^32 pixels), so no photon shares a camera sample's
+/// numbers.
+const PHOTON_STREAMS: u64 = 1 << 40;
+
+/// Where a photon landed after one bounce or more: the hit, the direction back towards where
+/// it came from, and its power there.
+#[derive(Debug, Clone, Copy)]
+pub struct Deposit {
+    pub hit: Hit,
+    pub wi: Vec3,
+    pub power: Vec3,
+}
+
+/// Traces photon `index` of pass `pass`, calling `deposit` at every surface with a non-delta
+/// lobe it reaches after one bounce or more, for at most `max_depth` bounces.
+pub fn trace_photon(
+    scene: &Scene,
+    emission: &Emission,
+    max_depth: u32,
+    pass: u64,
+    index: u32,
+    mut deposit: impl FnMut(&Deposit),
+) {
+    let (light, photons) = emission.light_of(index);
+    let mut sampler = Sampler::new(scene.settings.seed, PHOTON_STREAMS + pass, u64::from(index));
+    let (u_point, u_direction) = (sampler.next_2d(), sampler.next_2d());
+    let Some(start) = scene.lights[light].sample_emission(photons, u_point, u_direction) else {
+        return;
+    };
+    let (mut ray, mut power) = (start.ray, start.power);
+    for bounces in 0.. {
+        let Some(hit) = scene.intersect(&ray) else { break };
+        let wo = -Vec3::from(ray.dir);
+        let material = scene.material(hit.primitive, hit.point);
+        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Importance);
+        if bounces > 0 && bsdf.flags().is_non_delta() {
+            deposit(&Deposit { hit, wi: wo, power });
+        }
+        if bounces == max_depth {
+            break;
+        }
+        let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
+        let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
+        let scattered = power * sample.weight;
+        // Russian roulette: go on with probability max(scattered) / max(power), divided by it,
+        // so that a photon's power stays about what it left with (pbrt-v4's SPPM).
+        let survive = (scattered.max_element() / power.max_element()).min(1.0);
+        if survive.is_nan() || survive <= 0.0 || sampler.next_1d() >= survive {
+            break;
+        }
+        power = scattered / survive;
+        ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
+    }
+}

@@ -1,0 +1,116 @@
+//! Photon emission: every light's photons carry exactly its power, and the pass's photons are
+//! shared out among the lights in proportion to power.
+
+mod common;
+
+use std::f32::consts::PI;
+
+use glam::Vec3;
+use raydiance::light::Light;
+use raydiance::photon::Emission;
+use raydiance::sampling::Sampler;
+
+/// Two point lights, a quad, a sphere and a disk emitting, one emitter with no power.
+const LIGHTS: &str = r#"
+light_source { <0, 0.5, 0>  power rgb <1, 2, 3> }
+light_source { <0.3, -0.2, 0.1>  power rgb 0.25 }
+quad { <-0.25, 0.99, -0.25>, <0.5, 0, 0>, <0, 0, 0.5>  material { emission rgb <4, 3, 2> } }
+sphere { <0.5, -0.5, 0>, 0.1  material { emission rgb 6 } }
+disk { <-0.5, -0.9, 0>, <0, 1, 0>, 0.2  material { emission rgb <0, 1, 5> } }
+sphere { <0, -0.5, 0.5>, 0.2  material { diffuse rgb 0.5 } }
+"#;
+
+/// The lights' power computed here from the text's numbers: 4 pi p for a point light, pi A Le
+/// for a one-sided diffuse emitter of area A.
+fn expected_power() -> Vec3 {
+    let points = 4.0 * PI * (Vec3::new(1.0, 2.0, 3.0) + Vec3::splat(0.25));
+    let quad = PI * 0.25 * Vec3::new(4.0, 3.0, 2.0);
+    let sphere = PI * (4.0 * PI * 0.01) * Vec3::splat(6.0);
+    let disk = PI * (PI * 0.04) * Vec3::new(0.0, 1.0, 5.0);
+    points + quad + sphere + disk
+}
+
+#[test]
+fn photons_carry_exactly_the_lights_power() {
+    let scene = common::scene(&format!("{}{LIGHTS}", common::LAB_BOX));
+    assert_eq!(scene.lights.len(), 5);
+    for photons in [1, 5, 7, 1000, 123_457] {
+        let emission = Emission::new(&scene.lights, photons);
+        assert_eq!(emission.total(), photons.max(5), "every light emits at least one photon");
+        let mut total = Vec3::ZERO;
+        for (l, light) in scene.lights.iter().enumerate() {
+            let mut sum = glam::DVec3::ZERO;
+            for index in 0..emission.total() {
+                let (light_of, count) = emission.light_of(index);
+                if light_of != l {
+                    continue;
+                }
+                assert_eq!(count, emission.photons_of(l));
+                let mut s = Sampler::new(3, 9, u64::from(index));
+                let photon = light.sample_emission(count, s.next_2d(), s.next_2d()).unwrap();
+                sum += photon.power.as_dvec3();
+            }
+            let sum = sum.as_vec3();
+            assert!(
+                (sum - light.power_rgb()).abs().max_element()
+                    <= 1e-5 * light.power_rgb().max_element(),
+                "light {l} with {photons} photons: {sum} against {}",
+                light.power_rgb()
+            );
+            total += sum;
+            // In proportion to power: within one photon of the share, beyond the first.
+            let share = f64::from(photons.saturating_sub(5)) * f64::from(light.power())
+                / scene.lights.iter().map(|l| f64::from(l.power())).sum::<f64>();
+            let count = f64::from(emission.photons_of(l));
+            assert!(
+                (count - 1.0 - share).abs() <= 1.0,
+                "light {l}: {count} photons, share {share}"
+            );
+        }
+        let expected = expected_power();
+        assert!(
+            (total - expected).abs().max_element() < 1e-4 * expected.max_element(),
+            "{total} against {expected}"
+        );
+    }
+}
+
+/// Area lights' photons leave points on the surface, from the emitting side, cosine-weighted
+/// about its normal (the mean cosine is 2/3); point lights' are uniform (mean direction 0).
+#[test]
+fn photons_leave_the_emitting_side_cosine_weighted() {
+    let scene = common::scene(&format!("{}{LIGHTS}", common::LAB_BOX));
+    let sphere_centre = Vec3::new(0.5, -0.5, 0.0);
+    for light in &scene.lights {
+        let n = 20_000;
+        let (mut mean_cos, mut mean_dir) = (0.0f64, Vec3::ZERO);
+        for i in 0..n {
+            let mut s = Sampler::new(1, 2, i);
+            let photon = light.sample_emission(1, s.next_2d(), s.next_2d()).unwrap();
+            let (origin, dir) = (Vec3::from(photon.ray.origin), Vec3::from(photon.ray.dir));
+            mean_dir += dir / n as f32;
+            let normal = match light {
+                Light::Point { position, .. } => {
+                    assert_eq!(origin, *position);
+                    continue;
+                }
+                // The quad faces edge1 x edge2 = x cross z = -y; the disk its normal +y.
+                Light::Area { .. } if (origin.y - 0.99).abs() < 1e-4 => Vec3::NEG_Y,
+                Light::Area { .. } if (origin.y + 0.9).abs() < 1e-4 => Vec3::Y,
+                Light::Area { .. } => {
+                    assert!((origin.distance(sphere_centre) - 0.1).abs() < 1e-4, "{origin}");
+                    (origin - sphere_centre).normalize()
+                }
+            };
+            let cos = normal.dot(dir);
+            assert!(cos >= 0.0, "photon {i} leaves the back of its light: {origin} {dir}");
+            mean_cos += f64::from(cos) / f64::from(n as u32);
+        }
+        match light {
+            Light::Point { .. } => assert!(mean_dir.length() < 0.02, "{mean_dir}"),
+            Light::Area { .. } => {
+                assert!((mean_cos - 2.0 / 3.0).abs() < 0.01, "mean cosine {mean_cos}")
+            }
+        }
+    }
+}
