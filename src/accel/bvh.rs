@@ -292,15 +292,32 @@ impl Bvh {
                 None => {
                     let node = &nodes[link.0 as usize];
                     let (enter, mask) = node.entries(&ray, t_max);
-                    // The children met go on the stack farthest first; the nearest is popped next.
-                    let base = stack.len();
-                    for i in hits(mask) {
-                        if node.children[i] != Link::NONE {
-                            warm(nodes, node.children[i], &preload);
-                            stack.push((node.children[i], enter[i]));
+                    let enter = enter.to_array();
+                    if mask.is_power_of_two() {
+                        // One child met (most visits on a mesh): on to it, as if it were pushed
+                        // and popped.
+                        let i = mask.trailing_zeros() as usize;
+                        if node.children[i] != Link::NONE && enter[i] < t_max {
+                            link = node.children[i];
+                            continue;
+                        }
+                    } else {
+                        // The children met go on the stack farthest first, in the order of a
+                        // stable sort (entry distances are never NaN or -0); the nearest is
+                        // popped next.
+                        let base = stack.len();
+                        for i in hits(mask) {
+                            if node.children[i] != Link::NONE {
+                                warm(nodes, node.children[i], &preload);
+                                let mut at = stack.len();
+                                stack.push((node.children[i], enter[i]));
+                                while at > base && stack[at - 1].1 < enter[i] {
+                                    stack.swap(at - 1, at);
+                                    at -= 1;
+                                }
+                            }
                         }
                     }
-                    stack[base..].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
                 }
             }
             loop {
@@ -352,6 +369,13 @@ impl Bvh {
                 None => {
                     let node = &nodes[link.0 as usize];
                     let (_, mask) = node.entries(&ray, t_max);
+                    // One child met: on to it, as if it were pushed and popped.
+                    if mask.is_power_of_two()
+                        && node.children[mask.trailing_zeros() as usize] != Link::NONE
+                    {
+                        link = node.children[mask.trailing_zeros() as usize];
+                        continue;
+                    }
                     for i in hits(mask) {
                         if node.children[i] != Link::NONE {
                             warm(nodes, node.children[i], &preload);
