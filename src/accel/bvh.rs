@@ -27,8 +27,9 @@ const MAX_DEPTH: usize = SAH_MAX_DEPTH + 32;
 /// binary level down, so the stack grows by at most three per binary level.
 const STACK_SIZE: usize = 3 * MAX_DEPTH + 1;
 
-/// A link to a child: a node's index, or a leaf's primitives (flag bit, count - 1 in four bits,
-/// first primitive in the rest), or no child.
+/// A link to a child: a node's index, or a leaf's groups of primitives (flag bit, count - 1 in
+/// four bits, first group in the rest), or no child. A group is one primitive, or `width` of
+/// them tested at once (see `Bvh::build`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
 #[repr(transparent)]
 struct Link(u32);
@@ -36,7 +37,7 @@ struct Link(u32);
 impl Link {
     const NONE: Link = Link(u32::MAX);
     const LEAF: u32 = 1 << 31;
-    /// Leaves hold at most 16 primitives, the first below 2^27.
+    /// Leaves hold at most 16 groups, the first below 2^27.
     const FIRST_BITS: u32 = 27;
 
     fn leaf(first: usize, count: usize) -> Link {
@@ -44,7 +45,7 @@ impl Link {
         Link(Self::LEAF | ((count as u32 - 1) << Self::FIRST_BITS) | first as u32)
     }
 
-    /// The primitives of a leaf, or `None` for a node. (Not for `NONE`, which callers skip.)
+    /// The groups of a leaf, or `None` for a node. (Not for `NONE`, which callers skip.)
     #[inline]
     fn primitives(self) -> Option<Range<usize>> {
         (self.0 & Self::LEAF != 0).then(|| {
@@ -54,7 +55,8 @@ impl Link {
     }
 }
 
-/// Most primitives one hierarchy can hold (the leaf links' limit).
+/// Most primitives one hierarchy can hold (the leaf links' limit: groups are no more than
+/// primitives).
 pub const MAX_PRIMITIVES: usize = 1 << Link::FIRST_BITS;
 
 /// 64 bytes, one cache line: up to four children, their boxes quantized to 8 bits per plane on
@@ -222,9 +224,11 @@ impl BuildNode {
 }
 
 impl Bvh {
-    /// Builds over the given boxes (at most `MAX_PRIMITIVES`). Returns the hierarchy and the
-    /// order in which the primitives must be stored: leaf ranges index that order.
-    pub fn build(bounds: &[Aabb]) -> (Bvh, Vec<u32>) {
+    /// Builds over the given boxes (at most `MAX_PRIMITIVES`) for primitives tested `width` at
+    /// a time. Returns the hierarchy and the order in which the primitives must be stored, in
+    /// groups of `width` slots, a leaf's last group padded with `None`: leaf ranges index the
+    /// groups.
+    pub fn build(bounds: &[Aabb], width: usize) -> (Bvh, Vec<Option<u32>>) {
         assert!(bounds.len() <= MAX_PRIMITIVES, "callers check the primitive count");
         let mut items: Vec<Item> = bounds
             .iter()
@@ -232,6 +236,7 @@ impl Bvh {
             .map(|(i, b)| Item { bounds: *b, centroid: b.centroid(), index: i as u32 })
             .collect();
         let mut nodes = Vec::with_capacity(items.len() / MAX_LEAF + 1);
+        let mut order = Vec::with_capacity(items.len());
         let (root, bounds) = if items.is_empty() {
             (Link::NONE, Aabb::EMPTY)
         } else {
@@ -242,11 +247,11 @@ impl Bvh {
                 let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
                 BuildNode::Leaf { bounds, first: 0, count: items.len() }
             } else {
-                build_node(&mut items, 0, 0)
+                build_node(&mut items, 0, 0, width)
             };
-            (link_of(&root, &mut nodes), root.bounds())
+            let mut flat = Flattened { nodes: &mut nodes, items: &items, order: &mut order, width };
+            (flat.link_of(&root), root.bounds())
         };
-        let order = items.iter().map(|it| it.index).collect();
         (Bvh { nodes: HugeArray::new(nodes), root, bounds }, order)
     }
 
@@ -254,9 +259,10 @@ impl Bvh {
         self.bounds
     }
 
-    /// Closest-hit traversal. `hit(i, t_max)` tests primitive `i` and returns its distance if it
-    /// is hit before `t_max`; the closest such distance is returned. `preload(range)` is told
-    /// of the primitives of a leaf the ray will visit, to start loading them (see `prefetch`).
+    /// Closest-hit traversal. `hit(i, t_max)` tests group `i` and returns the distance of its
+    /// closest primitive hit before `t_max`, if any; the closest such distance is returned.
+    /// `preload(range)` is told of the groups of a leaf the ray will visit, to start loading
+    /// them (see `prefetch`).
     #[inline]
     pub fn closest(
         &self,
@@ -286,15 +292,32 @@ impl Bvh {
                 None => {
                     let node = &nodes[link.0 as usize];
                     let (enter, mask) = node.entries(&ray, t_max);
-                    // The children met go on the stack farthest first; the nearest is popped next.
-                    let base = stack.len();
-                    for i in hits(mask) {
-                        if node.children[i] != Link::NONE {
-                            warm(nodes, node.children[i], &preload);
-                            stack.push((node.children[i], enter[i]));
+                    let enter = enter.to_array();
+                    if mask.is_power_of_two() {
+                        // One child met (most visits on a mesh): on to it, as if it were pushed
+                        // and popped.
+                        let i = mask.trailing_zeros() as usize;
+                        if node.children[i] != Link::NONE && enter[i] < t_max {
+                            link = node.children[i];
+                            continue;
+                        }
+                    } else {
+                        // The children met go on the stack farthest first, in the order of a
+                        // stable sort (entry distances are never NaN or -0); the nearest is
+                        // popped next.
+                        let base = stack.len();
+                        for i in hits(mask) {
+                            if node.children[i] != Link::NONE {
+                                warm(nodes, node.children[i], &preload);
+                                let mut at = stack.len();
+                                stack.push((node.children[i], enter[i]));
+                                while at > base && stack[at - 1].1 < enter[i] {
+                                    stack.swap(at - 1, at);
+                                    at -= 1;
+                                }
+                            }
                         }
                     }
-                    stack[base..].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
                 }
             }
             loop {
@@ -320,7 +343,7 @@ impl Bvh {
         }
     }
 
-    /// Any-hit traversal for shadow rays: stops at the first primitive for which `hit` is true.
+    /// Any-hit traversal for shadow rays: stops at the first group for which `hit` is true.
     /// `preload` as for `closest`.
     #[inline]
     pub fn any(
@@ -346,6 +369,13 @@ impl Bvh {
                 None => {
                     let node = &nodes[link.0 as usize];
                     let (_, mask) = node.entries(&ray, t_max);
+                    // One child met: on to it, as if it were pushed and popped.
+                    if mask.is_power_of_two()
+                        && node.children[mask.trailing_zeros() as usize] != Link::NONE
+                    {
+                        link = node.children[mask.trailing_zeros() as usize];
+                        continue;
+                    }
                     for i in hits(mask) {
                         if node.children[i] != Link::NONE {
                             warm(nodes, node.children[i], &preload);
@@ -384,37 +414,58 @@ fn hits(mut mask: u32) -> impl Iterator<Item = usize> {
     })
 }
 
-/// Flattens a subtree into `nodes` depth first and returns its link. A node takes up to four
-/// children by opening the binary hierarchy's largest interior children.
-fn link_of(node: &BuildNode, nodes: &mut Vec<Node>) -> Link {
-    let (bounds, children) = match node {
-        BuildNode::Leaf { first, count, .. } => return Link::leaf(*first, *count),
-        BuildNode::Interior { bounds, children } => (bounds, children),
-    };
-    let mut wide: ArrayVec<&BuildNode, 4> = children.iter().collect();
-    while wide.len() < 4 {
-        let largest = (0..wide.len())
-            .filter(|&i| matches!(wide[i], BuildNode::Interior { .. }))
-            .max_by(|&i, &j| {
-                wide[i].bounds().surface_area().total_cmp(&wide[j].bounds().surface_area())
-            });
-        let Some(i) = largest else { break };
-        if let BuildNode::Interior { children, .. } = wide[i] {
-            wide[i] = &children[0];
-            wide.insert(i + 1, &children[1]);
-        }
-    }
-    let at = nodes.len();
-    nodes.push(Node::new(*bounds, &[]));
-    let links: ArrayVec<(Aabb, Link), 4> =
-        wide.iter().map(|child| (child.bounds(), link_of(child, nodes))).collect();
-    nodes[at] = Node::new(*bounds, &links);
-    Link(at as u32)
+/// The flat hierarchy as it is written.
+struct Flattened<'a> {
+    nodes: &'a mut Vec<Node>,
+    /// In the build's order: each leaf a range of them.
+    items: &'a [Item],
+    order: &'a mut Vec<Option<u32>>,
+    width: usize,
 }
 
-fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
+impl Flattened<'_> {
+    /// Flattens a subtree depth first and returns its link. A node takes up to four children
+    /// by opening the binary hierarchy's largest interior children. A leaf's primitives go to
+    /// `order` in groups of `width`.
+    fn link_of(&mut self, node: &BuildNode) -> Link {
+        let (bounds, children) = match node {
+            BuildNode::Leaf { first, count, .. } => {
+                let group = self.order.len() / self.width;
+                let items = &self.items[*first..first + count];
+                self.order.extend(items.iter().map(|it| Some(it.index)));
+                let groups = count.div_ceil(self.width);
+                self.order.resize(self.width * (group + groups), None);
+                return Link::leaf(group, groups);
+            }
+            BuildNode::Interior { bounds, children } => (bounds, children),
+        };
+        let mut wide: ArrayVec<&BuildNode, 4> = children.iter().collect();
+        while wide.len() < 4 {
+            let largest = (0..wide.len())
+                .filter(|&i| matches!(wide[i], BuildNode::Interior { .. }))
+                .max_by(|&i, &j| {
+                    wide[i].bounds().surface_area().total_cmp(&wide[j].bounds().surface_area())
+                });
+            let Some(i) = largest else { break };
+            if let BuildNode::Interior { children, .. } = wide[i] {
+                wide[i] = &children[0];
+                wide.insert(i + 1, &children[1]);
+            }
+        }
+        let at = self.nodes.len();
+        self.nodes.push(Node::new(*bounds, &[]));
+        let links: ArrayVec<(Aabb, Link), 4> =
+            wide.iter().map(|child| (child.bounds(), self.link_of(child))).collect();
+        self.nodes[at] = Node::new(*bounds, &links);
+        Link(at as u32)
+    }
+}
+
+/// Subtrees of up to `width` primitives are leaves: their group's test costs what one
+/// primitive's does, and a split would add a node's test to it.
+fn build_node(items: &mut [Item], first: usize, depth: usize, width: usize) -> BuildNode {
     let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
-    if items.len() <= 1 {
+    if items.len() <= width {
         return BuildNode::Leaf { bounds, first, count: items.len() };
     }
     let sah = if depth < SAH_MAX_DEPTH { split_sah(items, bounds) } else { None };
@@ -429,11 +480,14 @@ fn build_node(items: &mut [Item], first: usize, depth: usize) -> BuildNode {
     let (left, right) = items.split_at_mut(mid);
     let (a, b) = if left.len() + right.len() >= PARALLEL_MIN {
         rayon::join(
-            || build_node(left, first, depth + 1),
-            || build_node(right, first + mid, depth + 1),
+            || build_node(left, first, depth + 1, width),
+            || build_node(right, first + mid, depth + 1, width),
         )
     } else {
-        (build_node(left, first, depth + 1), build_node(right, first + mid, depth + 1))
+        (
+            build_node(left, first, depth + 1, width),
+            build_node(right, first + mid, depth + 1, width),
+        )
     };
     BuildNode::Interior { bounds, children: Box::new([a, b]) }
 }
@@ -535,39 +589,51 @@ mod tests {
             .collect()
     }
 
+    /// Primitives one at a time, and in groups of four (with padding in their leaves' last
+    /// groups) as meshes store them.
     #[test]
     fn closest_hit_equals_brute_force() {
         let shapes = random_shapes(3000);
         let bounds: Vec<Aabb> = shapes.iter().map(|s| s.bounds().unwrap()).collect();
-        let (bvh, order) = Bvh::build(&bounds);
-        let mut sorted: Vec<u32> = order.clone();
-        sorted.sort_unstable();
-        assert_eq!(sorted, (0..shapes.len() as u32).collect::<Vec<_>>(), "a permutation");
-        let ordered: Vec<&Shape> = order.iter().map(|&i| &shapes[i as usize]).collect();
-        let mut sampler = Sampler::new(9, 9, 9);
-        let mut hits = 0;
-        for _ in 0..2000 {
-            let origin = uniform_sphere(sampler.next_2d()) * 1.5 * sampler.next_1d();
-            let ray = Ray::new(origin, uniform_sphere(sampler.next_2d()));
-            let brute = shapes
-                .iter()
-                .filter_map(|s| s.intersect(&ray, f32::INFINITY))
-                .map(|h| h.t)
-                .fold(f32::INFINITY, f32::min);
-            let mut found = None;
-            let test = |i: usize, t_max| {
-                let hit = ordered[i].intersect(&ray, t_max)?;
-                found = Some(i);
-                Some(hit.t)
-            };
-            let t = bvh.closest(&ray, f32::INFINITY, test, |_| {});
-            assert_eq!(t, brute);
-            let occludes = |i: usize| ordered[i].intersect(&ray, f32::INFINITY).is_some();
-            let any = bvh.any(&ray, f32::INFINITY, occludes, |_| {});
-            assert_eq!(any, brute.is_finite());
-            hits += usize::from(found.is_some());
+        for width in [1, 4] {
+            let (bvh, order) = Bvh::build(&bounds, width);
+            assert_eq!(order.len() % width, 0);
+            let mut sorted: Vec<u32> = order.iter().flatten().copied().collect();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (0..shapes.len() as u32).collect::<Vec<_>>(), "a permutation");
+            let ordered: Vec<Option<&Shape>> =
+                order.iter().map(|i| i.map(|i| &shapes[i as usize])).collect();
+            let group = |i: usize| ordered[width * i..width * (i + 1)].iter().flatten();
+            let mut sampler = Sampler::new(9, 9, 9);
+            let mut hits = 0;
+            for _ in 0..2000 {
+                let origin = uniform_sphere(sampler.next_2d()) * 1.5 * sampler.next_1d();
+                let ray = Ray::new(origin, uniform_sphere(sampler.next_2d()));
+                let brute = shapes
+                    .iter()
+                    .filter_map(|s| s.intersect(&ray, f32::INFINITY))
+                    .map(|h| h.t)
+                    .fold(f32::INFINITY, f32::min);
+                let mut found = None;
+                let test = |i: usize, t_max: f32| {
+                    let mut t = None;
+                    for shape in group(i) {
+                        if let Some(hit) = shape.intersect(&ray, t.unwrap_or(t_max)) {
+                            (found, t) = (Some(i), Some(hit.t));
+                        }
+                    }
+                    t
+                };
+                let t = bvh.closest(&ray, f32::INFINITY, test, |_| {});
+                assert_eq!(t, brute);
+                let occludes =
+                    |i: usize| group(i).any(|s| s.intersect(&ray, f32::INFINITY).is_some());
+                let any = bvh.any(&ray, f32::INFINITY, occludes, |_| {});
+                assert_eq!(any, brute.is_finite());
+                hits += usize::from(found.is_some());
+            }
+            assert!(hits > 500, "the test rays hit something ({hits})");
         }
-        assert!(hits > 500, "the test rays hit something ({hits})");
     }
 
     /// Boxes shrinking geometrically towards a point make SAH peel off one at a time: a comb as
@@ -581,7 +647,7 @@ mod tests {
                 Aabb { min: center - size, max: center + size }
             })
             .collect();
-        let (bvh, _) = Bvh::build(&bounds);
+        let (bvh, _) = Bvh::build(&bounds, 1);
         fn depth(bvh: &Bvh, link: Link) -> usize {
             match link.primitives() {
                 Some(_) => 0,
@@ -630,12 +696,12 @@ mod tests {
     #[test]
     fn empty_and_single_leaf_hierarchies() {
         let ray = Ray::new(Vec3::new(0.5, 0.5, -1.0), Vec3::Z);
-        let (empty, _) = Bvh::build(&[]);
+        let (empty, _) = Bvh::build(&[], 1);
         assert_eq!(empty.closest(&ray, 7.0, |_, _| panic!("nothing to test"), |_| {}), 7.0);
         assert!(!empty.any(&ray, 7.0, |_| panic!("nothing to test"), |_| {}));
 
         let unit = Aabb { min: Vec3::ZERO, max: Vec3::ONE };
-        let (leaf, order) = Bvh::build(&[unit, unit]);
+        let (leaf, order) = Bvh::build(&[unit, unit], 1);
         assert!(leaf.nodes.is_empty() && leaf.root.primitives().is_some());
         assert_eq!(order.len(), 2);
         let mut tested = Vec::new();
@@ -658,7 +724,7 @@ mod tests {
     #[test]
     fn coincident_centroids_still_build_small_leaves() {
         let bounds = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 1000];
-        let (bvh, order) = Bvh::build(&bounds);
+        let (bvh, order) = Bvh::build(&bounds, 1);
         assert_eq!(order.len(), 1000);
         let leaves = leaf_ranges(&bvh);
         assert!(leaves.iter().all(|r| r.len() <= 4 * MAX_LEAF));
@@ -690,8 +756,8 @@ mod tests {
     fn quantized_boxes_hold_their_subtrees() {
         let shapes = random_shapes(5000);
         let bounds: Vec<Aabb> = shapes.iter().map(|s| s.bounds().unwrap()).collect();
-        let (bvh, order) = Bvh::build(&bounds);
-        let ordered: Vec<Aabb> = order.iter().map(|&i| bounds[i as usize]).collect();
+        let (bvh, order) = Bvh::build(&bounds, 1);
+        let ordered: Vec<Aabb> = order.iter().flatten().map(|&i| bounds[i as usize]).collect();
         fn check(bvh: &Bvh, link: Link, ordered: &[Aabb]) -> Aabb {
             match link.primitives() {
                 Some(primitives) => {

@@ -88,10 +88,10 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             bounds.len()
         )));
     }
-    let (bvh, order) = Bvh::build(&bounds);
+    let (bvh, order) = Bvh::build(&bounds, 1);
     let mut slots: Vec<Option<Primitive>> = bounded.drain(..).map(Some).collect();
     let mut primitives: Vec<Primitive> =
-        order.iter().filter_map(|&i| slots[i as usize].take()).collect();
+        order.iter().flatten().filter_map(|&i| slots[i as usize].take()).collect();
     let bounded_count = primitives.len();
     primitives.extend(planes.iter().cloned());
     let others_start = primitives.len();
