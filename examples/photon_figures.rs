@@ -24,8 +24,8 @@ fn main() {
     let start = Instant::now();
     let map = PhotonMap::build(stored);
     let building = start.elapsed().as_secs_f64();
-    // Each stored photon, and the split axis its node keeps.
-    let bytes = std::mem::size_of::<Photon>() + 1;
+    // Each stored photon, and the position and index the tree keeps of it in its leaves.
+    let bytes = std::mem::size_of::<Photon>() + std::mem::size_of::<([f32; 3], u32)>();
     println!(
         "{} photons emitted in {tracing:.2} s: {:.2} M photons/s; {count} stored ({:.2} per \
          photon emitted), {bytes} bytes each ({:.0} MB); k-d tree of {} photons built in \
