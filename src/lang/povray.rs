@@ -59,7 +59,10 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
              material has `emission rgb <...>`"
         }
         "radiosity" => "global illumination is `settings { integrator path }`, the default",
-        "photons" => "photon mapping is `settings { integrator photon }` (or `sppm`)",
+        "photons" if inside != Some("settings") => {
+            "photon mapping is `settings { integrator photon }` (or `sppm`), with `photons N` \
+             among the settings"
+        }
         "right" | "sky" | "direction" | "perspective" => {
             "raydiance's camera is a perspective camera given by `location`, `look_at`, `angle` \
              (horizontal, degrees) and `up`; the image's aspect ratio comes from `resolution`"
@@ -96,6 +99,8 @@ mod tests {
         assert_eq!(advice("color", Some("light_source")), Some(LIGHT_COLOUR));
         assert_eq!(advice("colour", Some("material")), Some(COLOUR));
         assert!(advice("background", Some("settings")).is_none(), "it is ours there");
+        assert!(advice("photons", Some("settings")).is_none(), "it is ours there");
+        assert!(advice("photons", Some("sphere")).is_some());
         assert!(advice("sphere", None).is_none());
     }
 }
