@@ -7,7 +7,6 @@
 //! L_indirect(x, wo) = sum_p f(x, wo, wi_p) Phi_p / (pi r_k^2) (Jensen 2001, eq. 7.6), where the
 //! photons' powers Phi_p already share each light's power among the photons it emitted.
 
-use std::collections::BinaryHeap;
 use std::f32::consts::PI;
 
 use glam::Vec3;
@@ -48,9 +47,8 @@ impl PhotonMapping {
 
     /// Light from other surfaces scattered towards `wo` at `hit`, from the nearest photons.
     fn indirect(&self, hit: &Hit, wo: Vec3, bsdf: &Bsdf) -> Vec3 {
-        let mut found = BinaryHeap::with_capacity(self.k + 1);
-        self.map.nearest(hit.point, self.k, &mut found);
-        let Some(radius_squared) = found.peek().map(|n| n.distance_squared) else {
+        let found = self.map.nearest(hit.point, self.k);
+        let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
             return Vec3::ZERO;
         };
         if radius_squared <= 0.0 {

@@ -3,8 +3,6 @@
 //! (`kiddo` answered k = 100 queries 2.7 times faster than the tree of one photon per node it
 //! replaced, on caustic-point.scn's photons: see the note of issue 21.)
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
 use std::num::NonZero;
 
 use glam::Vec3;
@@ -29,21 +27,6 @@ pub struct Neighbour {
     pub index: u32,
 }
 
-impl Eq for Neighbour {}
-
-impl Ord for Neighbour {
-    /// The farther first out of a max-heap; ties by index, so results never depend on chance.
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.distance_squared.total_cmp(&other.distance_squared).then(self.index.cmp(&other.index))
-    }
-}
-
-impl PartialOrd for Neighbour {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
 impl PhotonMap {
     /// Builds the tree over `photons` (on the calling thread: the same tree on any thread count).
     pub fn build(photons: Vec<Photon>) -> Self {
@@ -64,16 +47,13 @@ impl PhotonMap {
         &self.photons[index as usize]
     }
 
-    /// The `k` photons nearest `point` (fewer if the map holds fewer), into `found` as a
-    /// max-heap: the farthest at its top.
-    pub fn nearest(&self, point: Vec3, k: usize, found: &mut BinaryHeap<Neighbour>) {
-        found.clear();
+    /// The `k` photons nearest `point` (fewer if the map holds fewer), nearest first.
+    pub fn nearest(&self, point: Vec3, k: usize) -> Vec<Neighbour> {
         let Some(k) = NonZero::new(k).filter(|_| !self.is_empty()) else {
-            return;
+            return Vec::new();
         };
-        for n in self.tree.nearest_n::<SquaredEuclidean>(&point.to_array(), k) {
-            found.push(Neighbour { distance_squared: n.distance, index: n.item });
-        }
+        let found = self.tree.nearest_n::<SquaredEuclidean>(&point.to_array(), k);
+        found.iter().map(|n| Neighbour { distance_squared: n.distance, index: n.item }).collect()
     }
 }
 
@@ -105,11 +85,11 @@ mod tests {
         for (n, k) in [(0, 5), (1, 3), (7, 10), (1000, 1), (5000, 50), (40_000, 100)] {
             let map = PhotonMap::build(random_photons(n, u64::from(n)));
             assert_eq!(map.len(), n as usize);
-            let mut found = BinaryHeap::new();
             for q in 0..50 {
                 let mut s = Sampler::new(99, 3, q);
                 let point = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 2.4 - 1.2;
-                map.nearest(point, k, &mut found);
+                let found = map.nearest(point, k);
+                assert!(found.windows(2).all(|w| w[0].distance_squared <= w[1].distance_squared));
                 // The tree's distances, recomputed as brute force computes them.
                 let mut tree: Vec<_> = found
                     .iter()
@@ -137,13 +117,10 @@ mod tests {
         let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
         let single = one.install(|| PhotonMap::build(photons.clone()));
         let many = PhotonMap::build(photons);
-        let (mut a, mut b) = (BinaryHeap::new(), BinaryHeap::new());
         for q in 0..200 {
             let mut s = Sampler::new(4, 1, q);
             let point = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 2.0 - 1.0;
-            single.nearest(point, 50, &mut a);
-            many.nearest(point, 50, &mut b);
-            assert_eq!(a.clone().into_sorted_vec(), b.clone().into_sorted_vec());
+            assert_eq!(single.nearest(point, 50), many.nearest(point, 50));
         }
     }
 }
