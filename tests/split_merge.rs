@@ -13,15 +13,6 @@ use raydiance::scene::Scene;
 use raydiance::split::merge::merge;
 use raydiance::split::part_file::{self, PartHeader};
 
-/// The lab's box without its camera.
-const WALLS: &str = r#"
-plane { <1, 0, 0>, 1   material { diffuse rgb <0.8, 0.1, 0.1> } }
-plane { <-1, 0, 0>, 1  material { diffuse rgb <0.1, 0.8, 0.1> } }
-plane { <0, 1, 0>, 1   material { diffuse rgb 0.8 } }
-plane { <0, -1, 0>, 1  material { diffuse rgb 0.8 } }
-plane { <0, 0, -1>, 1  material { diffuse rgb 0.8 } }
-"#;
-
 /// A small scene with glass, a mirror, an area light and depth of field: every integrator
 /// dimension and a lens sample per camera sample.
 fn scene(integrator: &str, samples: u32) -> Scene {
@@ -33,7 +24,7 @@ fn scene(integrator: &str, samples: u32) -> Scene {
         quad {{ <-0.3, 0.99, -0.3>, <0.6, 0, 0>, <0, 0, 0.6>  material {{ emission rgb 8 }} }}
         sphere {{ <-0.4, -0.6, 0>, 0.35  material {{ transmission rgb 1  ior 1.5  fresnel }} }}
         sphere {{ <0.45, -0.6, 0.2>, 0.35  material {{ specular rgb 0.9 }} }}",
-        WALLS
+        common::LAB_WALLS
     ))
 }
 

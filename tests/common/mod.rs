@@ -9,15 +9,25 @@ use raydiance::image::Image;
 use raydiance::render::{Silent, render};
 use raydiance::scene::{Scene, build};
 
-/// The lab box of the seed's scene without lights or spheres, for tests to add to.
-pub const LAB_BOX: &str = r#"
-camera { origin <0, 0, -3.5>  left <-1, 0, 0>  up <0, 1, 0>  forward <0, 0, 3> }
+/// The walls of the seed's lab box, for tests that set their own camera.
+macro_rules! lab_walls {
+    () => {
+        r#"
 plane { <1, 0, 0>, 1   material { diffuse rgb <0.8, 0.1, 0.1> } }
 plane { <-1, 0, 0>, 1  material { diffuse rgb <0.1, 0.8, 0.1> } }
 plane { <0, 1, 0>, 1   material { diffuse rgb 0.8 } }
 plane { <0, -1, 0>, 1  material { diffuse rgb 0.8 } }
 plane { <0, 0, -1>, 1  material { diffuse rgb 0.8 } }
-"#;
+"#
+    };
+}
+pub const LAB_WALLS: &str = lab_walls!();
+
+/// The lab box of the seed's scene without lights or spheres, for tests to add to.
+pub const LAB_BOX: &str = concat!(
+    "\ncamera { origin <0, 0, -3.5>  left <-1, 0, 0>  up <0, 1, 0>  forward <0, 0, 3> }",
+    lab_walls!()
+);
 
 /// Builds a scene from `.scn` text (as if read from `tests/inline.scn`).
 pub fn scene(text: &str) -> Scene {
