@@ -81,7 +81,7 @@ pub fn render_region(
     let max_depth = scene.settings.max_depth;
     let s = &scene.settings;
     // The photon integrators render whole images only: `render` refuses their shares and crops
-    // (`IntegratorKind::splits_into_shares`).
+    // (`IntegratorKind::samples_are_independent`).
     let whole = *region == Region::whole(s.width, s.height, s.samples);
     match scene.settings.integrator {
         IntegratorKind::Direct => render_with_in(scene, &Direct { max_depth }, region, progress),

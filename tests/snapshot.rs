@@ -204,3 +204,14 @@ fn a_corrupt_snapshot_is_an_error_that_names_it() {
     );
     assert!(!snapshots.join("ball.new.exr").exists(), "nothing rendered against a bad snapshot");
 }
+
+/// A scene whose integrator shares photons among all samples has no per-pixel variance to test:
+/// `snapshot` says so and passes it, writing nothing, so `raydiance snapshot scenes/` can pass.
+#[test]
+fn photon_scenes_are_reported_as_not_snapshotted() {
+    let scene = Path::new("scenes/caustic-point.scn");
+    let outcome = raydiance::snapshot::check(scene, &Default::default()).unwrap();
+    assert_eq!(outcome.verdict, raydiance::snapshot::Verdict::Unsupported { integrator: "sppm" });
+    assert!(outcome.summary().contains("not snapshotted"), "{}", outcome.summary());
+    assert!(!Path::new("scenes/__snapshots__/caustic-point.new.exr").exists());
+}

@@ -61,6 +61,11 @@ pub enum Verdict {
     },
     /// There was no snapshot; the new render was written as `.new`.
     New,
+    /// Not rendered: the scene's integrator's pixel samples are not independent (photons shared
+    /// by every pixel's samples), so a render has no per-pixel variance to test with.
+    Unsupported {
+        integrator: &'static str,
+    },
 }
 
 /// The result of checking one scene against its snapshot.
@@ -75,10 +80,6 @@ pub struct Outcome {
 }
 
 impl Outcome {
-    pub fn matches(&self) -> bool {
-        self.verdict == Verdict::Matches
-    }
-
     /// One line. A match prints no figure that varies with the noise, so `insta` can hold it.
     pub fn summary(&self) -> String {
         let scene = self.scene.display();
@@ -100,6 +101,10 @@ impl Outcome {
                     files.diff.display(),
                 )
             }
+            Verdict::Unsupported { integrator } => format!(
+                "{scene}: not snapshotted: integrator {integrator} shares its photons among all \
+                 samples, so a render has no per-pixel variance to compare"
+            ),
             Verdict::New => format!(
                 "{scene}: no snapshot; wrote {} (accept it with `raydiance snapshot --accept`)",
                 files.new.display()
@@ -118,6 +123,17 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
         false => None,
     };
     let graph = load_graph(scene_path).map_err(|e| e.to_string())?;
+    let integrator = graph.settings.integrator;
+    if !integrator.samples_are_independent() {
+        let verdict = Verdict::Unsupported { integrator: integrator.name() };
+        return Ok(Outcome {
+            scene: scene_path.to_path_buf(),
+            width: 0,
+            height: 0,
+            tiles: 0,
+            verdict,
+        });
+    }
     let (width, height) = match (options.size, &reference) {
         (Some(size), _) => size,
         (None, Some(r)) => (r.width as u32, r.height as u32),
