@@ -5,10 +5,11 @@ mod common;
 
 use std::f32::consts::PI;
 
-use common::{LAB_BOX, max_abs_difference, render_image, scene};
+use common::{LAB_BOX, OneAtATime, max_abs_difference, render_image, scene};
 use glam::Vec3;
 use raydiance::geometry::Ray;
 use raydiance::integrator::{Direct, Integrator};
+use raydiance::render::{Silent, render_with};
 use raydiance::sampling::Sampler;
 
 fn radiance_along(scene: &raydiance::scene::Scene, origin: Vec3, target: Vec3) -> Vec3 {
@@ -81,4 +82,54 @@ fn two_lights_render_as_the_sum_of_each_alone() {
     let largest = both.pixels.iter().map(|p| p.max_element()).fold(0.0, f32::max);
     assert!(largest > 0.05, "the lights light the scene");
     assert!(max_abs_difference(&both, &sum) < 1e-5 * largest);
+}
+
+/// Lights of every kind (point lights, planar area lights, a sphere light sampled one vertex
+/// at a time, a sky) over every kind of lobe (Lambertian, textured, plastic's diffuse with a
+/// mirror coat, rough metal, a mirror, glass), so that lanes of a bounce mix what is done in
+/// lanes with what is done one vertex at a time. The box is open above and to the right: the
+/// sky is seen and lights.
+const EVERY_LIGHT_AND_LOBE: &str =
+    "settings { resolution 24, 20  samples 4  integrator direct  max_depth 6  background rgb 0.2 }
+    camera { origin <0, 0, -3.5>  left <-1, 0, 0>  up <0, 1, 0>  forward <0, 0, 3> }
+    plane { <1, 0, 0>, 1   material { diffuse rgb <0.8, 0.1, 0.1> } }
+    plane { <0, 0, -1>, 1  material { diffuse rgb 0.8 } }
+    light_source { <0, 0.5, 0>  power rgb 1 }
+    light_source { <0.6, 0.8, -0.5>  power rgb <0.2, 0.3, 0.1> }
+    quad { <-0.25, 0.99, -0.25>, <0.5, 0, 0>, <0, 0, 0.5>  material { emission rgb 4 } }
+    disk { <0.7, 0.2, 0.9>, <-1, 0, -1>, 0.2  material { emission rgb <1, 2, 3> } }
+    sphere { <-0.7, 0.7, 0.6>, 0.1  material { emission rgb 6 } }
+    sphere { <-0.5, -0.7, 0.25>, 0.3  material { specular rgb 0.9 } }
+    sphere { <0.5, -0.7, -0.25>, 0.3  material { transmission rgb 1  ior 1.5  fresnel } }
+    sphere { <0, -0.2, 0.4>, 0.25  material { diffuse rgb 0.5  specular rgb 0.3 } }
+    sphere { <0.55, 0.2, 0.5>, 0.2  material { specular rgb <0.9, 0.6, 0.3>  roughness 0.3 } }
+    plane { <0, 1, 0>, 1  material { diffuse checker { rgb 0.8, rgb 0.2  scale 0.25 } } }";
+
+/// `direct` traces four paths at a time (`radiance_of_all`); each must get exactly what it gets
+/// alone (`radiance`, through `whitted`), in the scene of every light and lobe at every depth and
+/// in every shipped scene.
+#[test]
+fn four_paths_at_a_time_match_the_scalar_direct_integrator() {
+    let check = |scene: &raydiance::scene::Scene, name: &str| {
+        let direct = Direct { max_depth: scene.settings.max_depth };
+        let four = render_with(scene, &direct, &Silent).0.image();
+        let one = render_with(scene, &OneAtATime(&direct), &Silent).0.image();
+        let differing = four.pixels.iter().zip(&one.pixels).filter(|(a, b)| a != b).count();
+        assert_eq!(differing, 0, "{name}: {differing} pixels differ");
+        assert!(four.pixels.iter().any(|p| p.max_element() > 0.0), "{name} is black");
+    };
+    let mut every = scene(EVERY_LIGHT_AND_LOBE);
+    for depth in [0, 1, 2, 6] {
+        every.settings.max_depth = depth;
+        check(&every, &format!("every light and lobe, max_depth {depth}"));
+    }
+    let scenes = common::shipped_scenes();
+    assert!(scenes.len() >= 8, "{scenes:?}");
+    for file in scenes {
+        let mut scene = common::scene_file(file.to_str().unwrap());
+        scene.settings.width = 20;
+        scene.settings.height = 16;
+        scene.settings.samples = 4;
+        check(&scene, &file.display().to_string());
+    }
 }

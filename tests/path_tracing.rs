@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{LAB_BOX, scene};
+use common::{LAB_BOX, OneAtATime, scene};
 use glam::{Vec2, Vec3};
 use raydiance::film::Film;
 use raydiance::integrator::{Direct, Integrator, Path, Strategy};
@@ -291,34 +291,11 @@ fn the_background_lights_direct_as_it_lights_path() {
     assert!((centre - expected).abs().max_element() < 1e-5, "{centre} vs kd L = {expected}");
 }
 
-/// The path integrator one path at a time (`Integrator::radiance`, the scalar reference), not
-/// through its four-lane `radiance_of_all`.
-struct OneAtATime<'a>(&'a Path);
-
-impl Integrator for OneAtATime<'_> {
-    fn radiance(
-        &self,
-        scene: &Scene,
-        ray: raydiance::geometry::Ray,
-        sampler: &mut Sampler,
-    ) -> Vec3 {
-        self.0.radiance(scene, ray, sampler)
-    }
-}
-
 /// The four-path integrator gives every shipped scene exactly the image of the scalar one, with
 /// each estimator. (`mesh-heavy` takes part when its generated mesh is there.)
 #[test]
 fn four_paths_at_a_time_match_the_scalar_path_integrator_on_every_shipped_scene() {
-    let mut scenes: Vec<_> = std::fs::read_dir("scenes")
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "scn"))
-        .filter(|p| {
-            !p.ends_with("mesh-heavy.scn") || std::path::Path::new("scenes/data/bumpy.ply").exists()
-        })
-        .collect();
-    scenes.sort();
+    let scenes = common::shipped_scenes();
     assert!(scenes.len() >= 8, "{scenes:?}");
     for file in scenes {
         let mut scene = common::scene_file(file.to_str().unwrap());

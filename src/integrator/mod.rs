@@ -9,9 +9,10 @@ pub use direct::Direct;
 pub use path::{Path, Strategy};
 pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 
-use glam::Vec3;
+use glam::{BVec4A, Vec3, Vec4};
 
-use crate::geometry::{Hit, Ray};
+use crate::accel::RayLanes;
+use crate::geometry::{Hit, Ray, Vec3x4};
 use crate::material::Bsdf;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -53,4 +54,16 @@ fn direct_from_all_lights(
         }
     }
     radiance
+}
+
+/// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).
+const IDLE: Ray = Ray { origin: glam::Vec3A::ZERO, dir: glam::Vec3A::Z };
+
+/// Shadow rays of next-event estimation, in the lanes of `found`, and the radiance each brings if
+/// it is unoccluded.
+struct Shadowed {
+    found: BVec4A,
+    rays: RayLanes,
+    t_max: Vec4,
+    radiance: Vec3x4,
 }

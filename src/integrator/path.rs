@@ -4,7 +4,7 @@
 
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
-use super::Integrator;
+use super::{IDLE, Integrator, Shadowed};
 use crate::accel::{Nearest, RayLanes};
 use crate::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
 use crate::light::{ShadowRay, sample_lanes};
@@ -157,9 +157,6 @@ impl Integrator for Path {
     }
 }
 
-/// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).
-const IDLE: Ray = Ray { origin: glam::Vec3A::ZERO, dir: glam::Vec3A::Z };
-
 /// Paths traced side by side, one per lane: what every bounce updates, coordinate by
 /// coordinate, and per lane what only the path's own choices read.
 struct PathLanes {
@@ -298,15 +295,6 @@ struct Emission {
     found: BVec4A,
     radiance: Vec3x4,
     weight: Vec4,
-}
-
-/// Shadow rays of next-event estimation, in the lanes of `found`, and the radiance each
-/// brings if it is unoccluded.
-struct Shadowed {
-    found: BVec4A,
-    rays: RayLanes,
-    t_max: Vec4,
-    radiance: Vec3x4,
 }
 
 impl Path {

@@ -119,3 +119,30 @@ pub fn pixel_coverage(
     });
     hits.count() as f32 / (n * n) as f32
 }
+
+/// An integrator one path at a time (`Integrator::radiance`, the scalar reference), not through
+/// its own `radiance_of_all` (which may trace paths in lanes).
+pub struct OneAtATime<'a, I>(pub &'a I);
+
+impl<I: raydiance::integrator::Integrator> raydiance::integrator::Integrator for OneAtATime<'_, I> {
+    fn radiance(
+        &self,
+        scene: &Scene,
+        ray: raydiance::geometry::Ray,
+        sampler: &mut raydiance::sampling::Sampler,
+    ) -> Vec3 {
+        self.0.radiance(scene, ray, sampler)
+    }
+}
+
+/// The shipped scenes (`mesh-heavy` when its generated mesh is there), sorted.
+pub fn shipped_scenes() -> Vec<std::path::PathBuf> {
+    let mut scenes: Vec<_> = std::fs::read_dir("scenes")
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "scn"))
+        .filter(|p| !p.ends_with("mesh-heavy.scn") || Path::new("scenes/data/bumpy.ply").exists())
+        .collect();
+    scenes.sort();
+    scenes
+}
