@@ -119,30 +119,35 @@ impl Direct {
         found: &Nearest,
         vertices: &mut Vertices,
     ) {
-        let Some(hit) = found.hit(lane) else {
+        let Some(primitive) = found.names[lane] else {
             vertices.emitted.set_lane(lane, scene.background());
             return;
         };
-        let wo = -lanes.rays.dir.lane(lane);
-        let material = scene.material(hit.primitive, hit.point);
-        vertices.emitted.set_lane(lane, material.emitted(hit.normal, wo));
+        // The hit's fields are read from their lanes; a whole `Hit` is made only where the rare
+        // cases need one (see `Path::arrive`).
+        let (hits, wo) = (&found.hits, -lanes.rays.dir.lane(lane));
+        let hit = || hits.lane(lane, primitive, found.t.lane(lane));
+        let material = scene.material(primitive, hits.point.lane(lane));
+        vertices.emitted.set_lane(lane, material.emitted(hits.normal.lane(lane), wo));
         let Some(path) = lanes.paths[lane].as_mut() else { return };
         if path.bounces == self.max_depth {
             return;
         }
         let sampler = &mut path.sampler;
-        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
+        let bsdf = material.bsdf(hits.shading_normal.lane(lane), TransportMode::Radiance);
         let flags = bsdf.flags();
         if flags.is_non_delta() {
             for u in &mut vertices.u_lights {
                 u.set_lane(lane, sampler.next_2d());
             }
-            let background = direct_from_background(scene, &hit, wo, &bsdf, sampler);
+            if scene.background() != Vec3::ZERO {
+                let background = direct_from_background(scene, &hit(), wo, &bsdf, sampler);
+                vertices.from_background.set_lane(lane, background);
+            }
             vertices.non_delta.set_lane(lane, true);
-            vertices.primitives[lane] = hit.primitive;
+            vertices.primitives[lane] = primitive;
             vertices.diffuse.set_lane(lane, material.diffuse);
             vertices.diffuse_where_non_delta[lane] = flags.is_diffuse_where_non_delta();
-            vertices.from_background.set_lane(lane, background);
         }
         if !flags.is_delta() {
             return;
@@ -151,7 +156,7 @@ impl Direct {
         path.bounces += 1;
         vertices.goes_on[lane] = true;
         vertices.delta_weight.set_lane(lane, sample.weight);
-        vertices.next_rays.set_lane(lane, &Ray::new(offset_origin(&hit, sample.wi), sample.wi));
+        vertices.next_rays.set_lane(lane, &Ray::new(offset_origin(&hit(), sample.wi), sample.wi));
     }
 }
 
