@@ -244,6 +244,8 @@ impl Light {
 /// each lane gets exactly what `sample` returns. `lights` holds each lane's light (`None`:
 /// nothing to sample) and `u` its point of the unit square, `primitives` the primitive each
 /// lane's hit is on. `None` if no lane's light is of these kinds.
+// Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
+#[inline(always)]
 pub fn sample_lanes(
     scene: &Scene,
     hits: &HitLanes,

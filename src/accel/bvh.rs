@@ -263,7 +263,8 @@ impl Bvh {
     /// closest primitive hit before `t_max`, if any; the closest such distance is returned.
     /// `preload(range)` is told of the groups of a leaf the ray will visit, to start loading
     /// them (see `prefetch`).
-    #[inline]
+    // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
+    #[inline(always)]
     pub fn closest(
         &self,
         ray: &Ray,
@@ -345,7 +346,8 @@ impl Bvh {
 
     /// Any-hit traversal for shadow rays: stops at the first group for which `hit` is true.
     /// `preload` as for `closest`.
-    #[inline]
+    // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
+    #[inline(always)]
     pub fn any(
         &self,
         ray: &Ray,

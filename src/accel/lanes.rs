@@ -149,7 +149,8 @@ impl FewShapes {
 
     /// Per lane, the nearest shape the ray meets in (0, t_max), with its hit record made in
     /// lanes: once per shape that is nearest in some lane.
-    #[inline]
+    // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
+    #[inline(always)]
     pub fn closest(&self, rays: &RayLanes, t_max: Vec4) -> Nearest {
         let mut t_nearest = t_max;
         // Positions in the list as floats (exact below 2^24), so one select updates them.
@@ -188,7 +189,8 @@ impl FewShapes {
     }
 
     /// Per lane, whether any shape meets the ray in (0, t_max).
-    #[inline]
+    // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
+    #[inline(always)]
     pub fn any(&self, rays: &RayLanes, t_max: Vec4) -> BVec4A {
         let mut occluded = BVec4A::FALSE;
         for shape in &self.shapes {
@@ -228,7 +230,8 @@ impl Simple {
 
     /// The distances to the shape along the four rays (NaN or out of range where there is no
     /// hit), and for planar shapes the coordinates along their edges.
-    #[inline]
+    // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
+    #[inline(always)]
     fn distances(&self, rays: &RayLanes) -> (Vec4, Option<[Vec4; 2]>) {
         let (o, d) = (rays.origin, rays.dir);
         match self {
