@@ -5,7 +5,7 @@
 
 use glam::{BVec4A, Vec3, Vec4};
 
-use super::{IDLE, Integrator, Shadowed, direct_from_all_lights};
+use super::{IDLE, Integrator, Shadowed, direct_from_all_lights, direct_from_light};
 use crate::accel::{Nearest, RayLanes};
 use crate::geometry::{Hit, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
 use crate::light::sample_lanes;
@@ -279,15 +279,17 @@ fn direct_from_all_lights_lanes(
         let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
         for lane in (0..LANES).filter(|&lane| non_delta(lane) && !handled.lane(lane)) {
             let Some(hit) = found.hit(lane) else { continue };
-            let Some(sample) = scene.lights[light].sample(&hit, u.lane(lane)) else { continue };
             let material = scene.material(hit.primitive, hit.point);
             let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
-            let f = bsdf.eval(wo.lane(lane), sample.wi);
-            let li = f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf;
+            let (light, u) = (&scene.lights[light], u.lane(lane));
+            let Some((shadow, reflected)) = direct_from_light(light, &hit, wo.lane(lane), &bsdf, u)
+            else {
+                continue;
+            };
             shadowed.found.set_lane(lane, true);
-            shadowed.rays.set_lane(lane, &sample.shadow.ray);
-            shadowed.t_max.set_lane(lane, sample.shadow.t_max);
-            shadowed.radiance.set_lane(lane, li);
+            shadowed.rays.set_lane(lane, &shadow.ray);
+            shadowed.t_max.set_lane(lane, shadow.t_max);
+            shadowed.radiance.set_lane(lane, reflected);
         }
         if shadowed.found.any() {
             let t_max = Vec4::select(shadowed.found, shadowed.t_max, Vec4::ZERO);

@@ -9,10 +9,11 @@ pub use direct::Direct;
 pub use path::{Path, Strategy};
 pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use crate::accel::RayLanes;
 use crate::geometry::{Hit, Ray, Vec3x4};
+use crate::light::{Light, ShadowRay};
 use crate::material::Bsdf;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -36,7 +37,7 @@ pub trait Integrator: Sync {
 }
 
 /// Light scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, one sample from
-/// every light (point lights exactly: the seed's p / r^2 f |n . wi|).
+/// every light.
 fn direct_from_all_lights(
     scene: &Scene,
     hit: &Hit,
@@ -47,13 +48,29 @@ fn direct_from_all_lights(
     let mut radiance = Vec3::ZERO;
     for light in &scene.lights {
         let u = sampler.next_2d();
-        let Some(sample) = light.sample(hit, u) else { continue };
-        if !scene.occluded(&sample.shadow.ray, sample.shadow.t_max) {
-            let f = bsdf.eval(wo, sample.wi);
-            radiance += f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf;
+        let Some((shadow, reflected)) = direct_from_light(light, hit, wo, bsdf, u) else {
+            continue;
+        };
+        if !scene.occluded(&shadow.ray, shadow.t_max) {
+            radiance += reflected;
         }
     }
     radiance
+}
+
+/// Light from `light` scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, from
+/// its sample at `u`, if the shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point
+/// light exactly the seed's p / r^2 f |n . wi|).
+fn direct_from_light(
+    light: &Light,
+    hit: &Hit,
+    wo: Vec3,
+    bsdf: &Bsdf,
+    u: Vec2,
+) -> Option<(ShadowRay, Vec3)> {
+    let sample = light.sample(hit, u)?;
+    let f = bsdf.eval(wo, sample.wi);
+    Some((sample.shadow, f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf))
 }
 
 /// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).
