@@ -123,13 +123,7 @@ fn four_paths_at_a_time_match_the_scalar_direct_integrator() {
         every.settings.max_depth = depth;
         check(&every, &format!("every light and lobe, max_depth {depth}"));
     }
-    let scenes = common::shipped_scenes();
-    assert!(scenes.len() >= 8, "{scenes:?}");
-    for file in scenes {
-        let mut scene = common::scene_file(file.to_str().unwrap());
-        scene.settings.width = 20;
-        scene.settings.height = 16;
-        scene.settings.samples = 4;
-        check(&scene, &file.display().to_string());
+    for (name, scene) in common::small_shipped_scenes() {
+        check(&scene, &name);
     }
 }

@@ -5,7 +5,10 @@
 
 use glam::{BVec4A, Vec3, Vec4};
 
-use super::{IDLE, Integrator, Shadowed, direct_from_all_lights, direct_from_light};
+use super::{
+    IDLE, Integrator, LanePath, LanePaths, Shadowed, direct_from_all_lights, direct_from_light,
+    fill_lanes,
+};
 use crate::accel::{Nearest, RayLanes};
 use crate::geometry::{Hit, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
 use crate::light::sample_lanes;
@@ -62,18 +65,7 @@ impl Integrator for Direct {
         let mut samples = samples.enumerate();
         let mut lanes = WhittedLanes::new();
         let mut vertices = Vertices::new(scene.lights.len());
-        loop {
-            for lane in 0..LANES {
-                if lanes.paths[lane].is_none()
-                    && let Some((slot, (ray, sampler))) = samples.next()
-                {
-                    lanes.start(lane, slot, &ray, sampler);
-                }
-            }
-            let active = lanes.paths.each_ref().map(Option::is_some);
-            if !active.contains(&true) {
-                break;
-            }
+        while let Some(active) = fill_lanes(&mut lanes, &mut samples) {
             let found = scene.intersect_lanes(&lanes.rays, active);
             let wo = -lanes.rays.dir;
             vertices.clear();
@@ -162,21 +154,13 @@ impl Direct {
 
 /// `whitted`'s paths traced side by side, one per lane.
 struct WhittedLanes {
-    paths: [Option<WhittedState>; LANES],
+    paths: [Option<LanePath>; LANES],
     /// Each path's next ray.
     rays: RayLanes,
     /// Radiance gathered so far.
     radiance: Vec3x4,
     /// Throughput: the product of the delta lobes' weights so far.
     beta: Vec3x4,
-}
-
-/// What only a path's own choices read.
-struct WhittedState {
-    /// Which camera sample it is: where its radiance goes.
-    slot: usize,
-    sampler: Sampler,
-    bounces: u32,
 }
 
 impl WhittedLanes {
@@ -188,10 +172,15 @@ impl WhittedLanes {
             beta: Vec3x4::ZERO,
         }
     }
+}
 
-    /// Starts the path of camera sample `slot` in `lane`.
+impl LanePaths for WhittedLanes {
+    fn is_free(&self, lane: usize) -> bool {
+        self.paths[lane].is_none()
+    }
+
     fn start(&mut self, lane: usize, slot: usize, ray: &Ray, sampler: Sampler) {
-        self.paths[lane] = Some(WhittedState { slot, sampler, bounces: 0 });
+        self.paths[lane] = Some(LanePath { slot, sampler, bounces: 0 });
         self.rays.set_lane(lane, ray);
         self.radiance.set_lane(lane, Vec3::ZERO);
         self.beta.set_lane(lane, Vec3::ONE);

@@ -12,7 +12,7 @@ pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use crate::accel::RayLanes;
-use crate::geometry::{Hit, Ray, Vec3x4};
+use crate::geometry::{Hit, LANES, Ray, Vec3x4};
 use crate::light::{Light, ShadowRay};
 use crate::material::Bsdf;
 use crate::sampling::Sampler;
@@ -71,6 +71,39 @@ fn direct_from_light(
     let sample = light.sample(hit, u)?;
     let f = bsdf.eval(wo, sample.wi);
     Some((sample.shadow, f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf))
+}
+
+/// What only a path traced in a lane reads: its own choices.
+struct LanePath {
+    /// Which camera sample it is: where its radiance goes.
+    slot: usize,
+    sampler: Sampler,
+    bounces: u32,
+}
+
+/// Paths traced side by side, one per lane, as the integrators' `radiance_of_all` trace them.
+trait LanePaths {
+    /// Whether `lane` has no path (never had one, or its path ended).
+    fn is_free(&self, lane: usize) -> bool;
+    /// Starts the path of camera sample `slot` in `lane`.
+    fn start(&mut self, lane: usize, slot: usize, ray: &Ray, sampler: Sampler);
+}
+
+/// Gives each free lane the next camera sample (numbered by `samples`); the lanes with a path
+/// after that, or `None` when none has one: every sample is traced.
+fn fill_lanes(
+    lanes: &mut impl LanePaths,
+    samples: &mut impl Iterator<Item = (usize, (Ray, Sampler))>,
+) -> Option<[bool; LANES]> {
+    for lane in 0..LANES {
+        if lanes.is_free(lane)
+            && let Some((slot, (ray, sampler))) = samples.next()
+        {
+            lanes.start(lane, slot, &ray, sampler);
+        }
+    }
+    let active = std::array::from_fn(|lane| !lanes.is_free(lane));
+    active.contains(&true).then_some(active)
 }
 
 /// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).

@@ -4,7 +4,7 @@
 
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
-use super::{IDLE, Integrator, Shadowed};
+use super::{IDLE, Integrator, LanePath, LanePaths, Shadowed, fill_lanes};
 use crate::accel::{Nearest, RayLanes};
 use crate::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
 use crate::light::{ShadowRay, sample_lanes};
@@ -111,18 +111,7 @@ impl Integrator for Path {
     ) {
         let mut samples = samples.enumerate();
         let mut lanes = PathLanes::new();
-        loop {
-            for lane in 0..LANES {
-                if lanes.paths[lane].is_none()
-                    && let Some((slot, (ray, sampler))) = samples.next()
-                {
-                    lanes.start(lane, slot, &ray, sampler);
-                }
-            }
-            let active = lanes.paths.each_ref().map(Option::is_some);
-            if !active.contains(&true) {
-                break;
-            }
+        while let Some(active) = fill_lanes(&mut lanes, &mut samples) {
             let found = scene.intersect_lanes(&lanes.rays, active);
             let mut vertices = Vertices::new();
             let mut emission = Emission::default();
@@ -160,7 +149,7 @@ impl Integrator for Path {
 /// Paths traced side by side, one per lane: what every bounce updates, coordinate by
 /// coordinate, and per lane what only the path's own choices read.
 struct PathLanes {
-    paths: [Option<PathState>; LANES],
+    paths: [Option<LanePath>; LANES],
     /// Each path's next ray.
     rays: RayLanes,
     /// Radiance gathered so far.
@@ -178,14 +167,6 @@ struct PathLanes {
     previous_pdf: Vec4,
 }
 
-/// What only a path's own choices read.
-struct PathState {
-    /// Which camera sample it is: where its radiance goes.
-    slot: usize,
-    sampler: Sampler,
-    bounces: u32,
-}
-
 impl PathLanes {
     fn new() -> Self {
         PathLanes {
@@ -198,16 +179,6 @@ impl PathLanes {
             previous_point: Vec3x4::ZERO,
             previous_pdf: Vec4::ZERO,
         }
-    }
-
-    /// Starts the path of camera sample `slot` in `lane`.
-    fn start(&mut self, lane: usize, slot: usize, ray: &Ray, sampler: Sampler) {
-        self.paths[lane] = Some(PathState { slot, sampler, bounces: 0 });
-        self.rays.set_lane(lane, ray);
-        self.radiance.set_lane(lane, Vec3::ZERO);
-        self.beta.set_lane(lane, Vec3::ONE);
-        self.eta_scale.set_lane(lane, 1.0);
-        self.from_non_delta.set_lane(lane, false);
     }
 
     /// Takes each path on along its BSDF sample, or ends it (no sample, or Russian roulette);
@@ -242,6 +213,21 @@ impl PathLanes {
         }
         self.beta = Vec3x4::select(divide, self.beta / survive, self.beta);
         done
+    }
+}
+
+impl LanePaths for PathLanes {
+    fn is_free(&self, lane: usize) -> bool {
+        self.paths[lane].is_none()
+    }
+
+    fn start(&mut self, lane: usize, slot: usize, ray: &Ray, sampler: Sampler) {
+        self.paths[lane] = Some(LanePath { slot, sampler, bounces: 0 });
+        self.rays.set_lane(lane, ray);
+        self.radiance.set_lane(lane, Vec3::ZERO);
+        self.beta.set_lane(lane, Vec3::ONE);
+        self.eta_scale.set_lane(lane, 1.0);
+        self.from_non_delta.set_lane(lane, false);
     }
 }
 

@@ -135,14 +135,23 @@ impl<I: raydiance::integrator::Integrator> raydiance::integrator::Integrator for
     }
 }
 
-/// The shipped scenes (`mesh-heavy` when its generated mesh is there), sorted.
-pub fn shipped_scenes() -> Vec<std::path::PathBuf> {
-    let mut scenes: Vec<_> = std::fs::read_dir("scenes")
+/// The shipped scenes (`mesh-heavy` when its generated mesh is there), sorted by file name, each
+/// at 20 x 16 pixels and 4 samples per pixel, with its file's name.
+pub fn small_shipped_scenes() -> Vec<(String, Scene)> {
+    let mut files: Vec<_> = std::fs::read_dir("scenes")
         .unwrap()
         .map(|entry| entry.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "scn"))
         .filter(|p| !p.ends_with("mesh-heavy.scn") || Path::new("scenes/data/bumpy.ply").exists())
         .collect();
-    scenes.sort();
-    scenes
+    files.sort();
+    assert!(files.len() >= 8, "{files:?}");
+    let small = |file: &std::path::PathBuf| {
+        let mut scene = scene_file(file.to_str().unwrap());
+        scene.settings.width = 20;
+        scene.settings.height = 16;
+        scene.settings.samples = 4;
+        (file.display().to_string(), scene)
+    };
+    files.iter().map(small).collect()
 }
