@@ -9,7 +9,7 @@ use crate::geometry::{
     Hit, HitLanes, LANES, Lane, PlanarKind, Ray, Shape, Vec2x4, Vec3x4, offset_origin,
     planar_coordinates, planar_error, sphere_error,
 };
-use crate::material::to_world;
+use crate::material::Frame;
 use crate::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::scene::Scene;
 
@@ -155,7 +155,7 @@ impl Light {
             }
             Light::Area { shape, emission, area, .. } => {
                 let s = shape.sample_area(u_point)?;
-                let dir = to_world(s.normal, cosine_hemisphere(u_direction));
+                let dir = Frame::from_normal(s.normal).to_world(cosine_hemisphere(u_direction));
                 // Leave just off the surface, on the side that emits.
                 let ray = Ray::new(s.point + s.normal * s.error, dir);
                 Some(EmissionSample { ray, power: PI * *area * *emission * share })
@@ -335,10 +335,11 @@ fn sample_sphere_cone(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> (Vec3, 
     let sin2_theta = (1.0 - cos_theta * cos_theta).max(0.0);
     let phi = 2.0 * PI * u.y;
     let sin_theta = sin2_theta.sqrt();
-    let wi = to_world(
-        axis / distance,
-        Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta),
-    );
+    let wi = Frame::from_normal(axis / distance).to_world(Vec3::new(
+        sin_theta * phi.cos(),
+        sin_theta * phi.sin(),
+        cos_theta,
+    ));
     // Nearest intersection of from + t wi with the sphere; at the silhouette the root is 0.
     let t =
         distance * cos_theta - (radius * radius - distance * distance * sin2_theta).max(0.0).sqrt();

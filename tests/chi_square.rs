@@ -6,10 +6,10 @@ mod common;
 
 use std::f32::consts::PI;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use raydiance::geometry::{Hit, Ray, Shape};
 use raydiance::light::Light;
-use raydiance::material::{Material, TransportMode, refract};
+use raydiance::material::{LobeFlags, Material, TransportMode, refract};
 use raydiance::sampling::{Sampler, cosine_hemisphere};
 
 const COS_BINS: usize = 16;
@@ -180,13 +180,59 @@ fn bsdf_sampling_matches_bsdf_pdf() {
             chi_square(
                 name,
                 |s| {
-                    let sample = bsdf.sample(wo, s.next_1d(), s.next_2d())?;
-                    (!sample.delta).then_some(sample.wi)
+                    let sample = bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL)?;
+                    (!sample.is_delta()).then_some(sample.wi)
                 },
-                |wi| bsdf.pdf(wo, wi),
+                |wi| bsdf.pdf(wo, wi, LobeFlags::ALL),
             );
         }
     }
+}
+
+/// A caller's mask of lobes (pbrt's sample flags): sampling under it draws only the lobes it
+/// asks for, each sample's flags say which lobe it came from, and its directions follow
+/// `pdf` under the same mask.
+#[test]
+fn masked_sampling_draws_the_lobes_asked_for_and_matches_the_masked_pdf() {
+    let n = Vec3::new(0.3, -0.2, 0.9).normalize();
+    let wo = Vec3::new(-0.5, 0.4, 0.6).normalize();
+    let glossy = Material { roughness: 0.4, ..material(0.5, 0.4, 0.0, false) };
+    for (m, mask, name) in [
+        (material(0.5, 0.3, 0.0, false), LobeFlags::NON_DELTA, "diffuse of diffuse + mirror"),
+        (material(0.3, 0.0, 0.6, true), LobeFlags::NON_DELTA, "diffuse of diffuse + glass"),
+        (glossy.clone(), LobeFlags::DIFFUSE, "diffuse of diffuse + rough metal"),
+        (glossy.clone(), LobeFlags::GLOSSY, "glossy of diffuse + rough metal"),
+        (glossy, LobeFlags::NON_DELTA, "both of diffuse + rough metal"),
+    ] {
+        let bsdf = m.bsdf(n, TransportMode::Radiance);
+        for wo in [wo, -wo] {
+            chi_square(
+                name,
+                |s| {
+                    let sample = bsdf.sample(wo, s.next_1d(), s.next_2d(), mask)?;
+                    assert!(
+                        sample.flags.is_in(mask),
+                        "{name}: {:?} outside the mask",
+                        sample.flags
+                    );
+                    assert!(bsdf.flags().contains(sample.flags), "{name}: {:?}", sample.flags);
+                    Some(sample.wi)
+                },
+                |wi| bsdf.pdf(wo, wi, mask),
+            );
+        }
+    }
+    // Delta lobes alone: the mirror's one direction, always, with the whole of its weight.
+    let bsdf = material(0.5, 0.3, 0.0, false).bsdf(n, TransportMode::Radiance);
+    for u in [0.0, 0.3, 0.99] {
+        let sample = bsdf.sample(wo, u, Vec2::ZERO, LobeFlags::DELTA).expect("a mirror sample");
+        assert_eq!(sample.flags, LobeFlags::DELTA | LobeFlags::REFLECTION);
+        assert!((sample.wi - (2.0 * n.dot(wo) * n - wo)).length() < 1e-5);
+        assert!((sample.weight - Vec3::splat(0.3)).abs().max_element() < 1e-6);
+        assert_eq!(sample.pdf, 1.0);
+    }
+    let diffuse = material(0.8, 0.0, 0.0, false).bsdf(n, TransportMode::Radiance);
+    assert!(diffuse.sample(wo, 0.5, Vec2::splat(0.5), LobeFlags::DELTA).is_none());
 }
 
 /// Zoom of the bins around a lobe of GGX alpha: rings near the axis fine enough to resolve it.
@@ -228,13 +274,15 @@ fn rough_lobes_match_their_pdf(
     let reflected_probes = (0..probes)
         .filter(|&i| {
             let mut s = Sampler::new(5, i, 0);
-            bsdf.sample(wo, s.next_1d(), s.next_2d()).is_some_and(|s| reflected(s.wi))
+            bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL)
+                .is_some_and(|s| reflected(s.wi))
         })
         .count();
     let transmitted_probes = (0..probes)
         .filter(|&i| {
             let mut s = Sampler::new(5, i, 0);
-            bsdf.sample(wo, s.next_1d(), s.next_2d()).is_some_and(|s| !reflected(s.wi))
+            bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL)
+                .is_some_and(|s| !reflected(s.wi))
         })
         .count();
     let sparse = |count: usize| count * 10 < probes as usize;
@@ -252,8 +300,8 @@ fn rough_lobes_match_their_pdf(
             resolved,
             &format!("{what}, {side}"),
             |s| {
-                let sample = bsdf.sample(wo, s.next_1d(), s.next_2d())?;
-                assert!(!sample.delta, "{what}: a rough lobe is not delta");
+                let sample = bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL)?;
+                assert!(!sample.is_delta(), "{what}: a rough lobe is not delta");
                 on_side(sample.wi).then_some(sample.wi)
             },
             |wi| if on_side(wi) { pdf(wi) } else { 0.0 },
@@ -283,7 +331,9 @@ fn rough_sampling_matches_pdf(
             let wo = theta.cos() * n + theta.sin() * t;
             for wo in [wo, -wo] {
                 let what = format!("{name}, alpha {alpha}, theta {theta}, wo {wo}");
-                rough_lobes_match_their_pdf(&what, &bsdf, n, wo, alpha, |wi| bsdf.pdf(wo, wi));
+                rough_lobes_match_their_pdf(&what, &bsdf, n, wo, alpha, |wi| {
+                    bsdf.pdf(wo, wi, LobeFlags::ALL)
+                });
             }
         }
     }
@@ -322,7 +372,9 @@ fn rough_sampling_test_detects_a_wrong_pdf() {
         let (bsdf, wrong) =
             (sampled.bsdf(n, TransportMode::Radiance), wrong.bsdf(n, TransportMode::Radiance));
         let result = std::panic::catch_unwind(|| {
-            rough_lobes_match_their_pdf("mutated", &bsdf, n, wo, 0.5, |wi| wrong.pdf(wo, wi))
+            rough_lobes_match_their_pdf("mutated", &bsdf, n, wo, 0.5, |wi| {
+                wrong.pdf(wo, wi, LobeFlags::ALL)
+            })
         });
         assert!(result.is_err(), "{sampled:?} passed against {wrong:?}");
     }

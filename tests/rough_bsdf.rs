@@ -7,7 +7,7 @@
 use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3};
-use raydiance::material::{Bsdf, Material, TransportMode, fresnel_dielectric};
+use raydiance::material::{Bsdf, LobeFlags, Material, TransportMode, fresnel_dielectric};
 use raydiance::sampling::Sampler;
 
 const IOR: f32 = 1.5;
@@ -121,7 +121,9 @@ fn sampled_albedo(bsdf: &Bsdf, n: Vec3, wo: Vec3) -> (f64, f64, f64) {
     let (mut reflect, mut transmit, mut squares) = (0.0, 0.0, 0.0);
     for i in 0..count {
         let mut s = Sampler::new(3, i, 0);
-        let Some(sample) = bsdf.sample(wo, s.next_1d(), s.next_2d()) else { continue };
+        let Some(sample) = bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL) else {
+            continue;
+        };
         let w = f64::from(sample.weight.x);
         if sample.wi.dot(n) * wo.dot(n) > 0.0 {
             reflect += w
@@ -241,7 +243,7 @@ fn expected(bsdf: &Bsdf, wo: Vec3, g: impl Fn(Vec3) -> f32) -> Vec3 {
     let mut sum = Vec3::ZERO;
     for i in 0..count {
         let mut s = Sampler::new(4, i, 0);
-        if let Some(sample) = bsdf.sample(wo, s.next_1d(), s.next_2d()) {
+        if let Some(sample) = bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL) {
             sum += sample.weight * g(sample.wi);
         }
     }

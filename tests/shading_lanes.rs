@@ -7,7 +7,9 @@ use common::{LAB_BOX, scene};
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 use raydiance::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4};
 use raydiance::light::sample_lanes;
-use raydiance::material::{Material, TransportMode, eval_diffuse_lanes, sample_lambertian_lanes};
+use raydiance::material::{
+    LobeFlags, Material, TransportMode, eval_diffuse_lanes, sample_lambertian_lanes,
+};
 use raydiance::sampling::{Sampler, uniform_sphere};
 
 #[test]
@@ -95,7 +97,7 @@ fn diffuse(sampler: &mut Sampler) -> Material {
 fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
     let mut sampler = Sampler::new(1, 2, 3);
     let key = |s: Option<raydiance::material::BsdfSample>| {
-        s.map(|s| (s.wi, s.weight, s.pdf, s.delta, s.eta))
+        s.map(|s| (s.wi, s.weight, s.pdf, s.is_delta(), s.eta))
     };
     for round in 0..5000 {
         let n = normals(&mut sampler);
@@ -117,7 +119,8 @@ fn lambertian_samples_in_lanes_agree_with_one_at_a_time() {
         );
         for lane in 0..LANES {
             let bsdf = materials[lane].bsdf(n[lane], TransportMode::Radiance);
-            let alone = bsdf.sample(wo[lane], 0.0, u[lane]).filter(|_| present[lane]);
+            let alone =
+                bsdf.sample(wo[lane], 0.0, u[lane], LobeFlags::ALL).filter(|_| present[lane]);
             let in_lanes = lanes.found.test(lane).then(|| {
                 let (wi, weight) = (lanes.wi.lane(lane), lanes.weight.lane(lane));
                 (wi, weight, lanes.pdf[lane], lanes.delta.test(lane), lanes.eta[lane])
@@ -158,7 +161,7 @@ fn diffuse_lobes_evaluated_in_lanes_agree_with_eval_and_pdf() {
         );
         for (lane, bsdf) in bsdfs.iter().enumerate() {
             assert_eq!(f.lane(lane), bsdf.eval(wo[lane], wi[lane]));
-            assert_eq!(pdf[lane], bsdf.pdf(wo[lane], wi[lane]));
+            assert_eq!(pdf[lane], bsdf.pdf(wo[lane], wi[lane], LobeFlags::ALL));
         }
     }
 }

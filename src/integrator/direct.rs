@@ -12,7 +12,7 @@ use super::{
 use crate::accel::{Nearest, RayLanes};
 use crate::geometry::{Hit, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
 use crate::light::sample_lanes;
-use crate::material::{Bsdf, LobeFlags, TransportMode, eval_diffuse_lanes};
+use crate::material::{Bsdf, LobeFlags, NO_DIRECTION, TransportMode, eval_diffuse_lanes};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -37,7 +37,7 @@ pub(super) fn direct_from_background(
         return Vec3::ZERO;
     }
     let u_lobe = sampler.next_1d_if(bsdf.flags().contains(LobeFlags::GLOSSY));
-    let Some(sample) = bsdf.sample_non_delta(wo, u_lobe, sampler.next_2d()) else {
+    let Some(sample) = bsdf.sample(wo, u_lobe, sampler.next_2d(), LobeFlags::NON_DELTA) else {
         return Vec3::ZERO;
     };
     let ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
@@ -144,7 +144,10 @@ impl Direct {
         if !flags.is_delta() {
             return;
         }
-        let Some(sample) = bsdf.sample_delta(wo, sampler.next_1d()) else { return };
+        let Some(sample) = bsdf.sample(wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA)
+        else {
+            return;
+        };
         path.bounces += 1;
         vertices.goes_on[lane] = true;
         vertices.delta_weight.set_lane(lane, sample.weight);
@@ -331,7 +334,8 @@ pub(super) fn whitted(
         if !flags.is_delta() {
             break;
         }
-        let Some(sample) = bsdf.sample_delta(wo, sampler.next_1d()) else {
+        let Some(sample) = bsdf.sample(wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA)
+        else {
             break;
         };
         beta *= sample.weight;

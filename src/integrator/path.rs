@@ -9,7 +9,7 @@ use crate::accel::{Nearest, RayLanes};
 use crate::geometry::{Hit, HitLanes, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
 use crate::light::{ShadowRay, sample_lanes};
 use crate::material::{
-    Bsdf, BsdfSampleLanes, TransportMode, eval_diffuse_lanes, sample_lambertian_lanes,
+    Bsdf, BsdfSampleLanes, LobeFlags, TransportMode, eval_diffuse_lanes, sample_lambertian_lanes,
 };
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -68,11 +68,11 @@ impl Integrator for Path {
                     self.next_event(scene, &hit, wo, &bsdf, (light, probability), u_light)?;
                 Some((shadow, beta * li))
             });
-            let sample = bsdf.sample(wo, u_lobe, u);
+            let sample = bsdf.sample(wo, u_lobe, u, LobeFlags::ALL);
             let continues = sample.is_some_and(|sample| {
                 beta *= sample.weight;
                 eta_scale *= sample.eta * sample.eta;
-                previous = (!sample.delta).then_some((hit.point, sample.pdf));
+                previous = (!sample.is_delta()).then_some((hit.point, sample.pdf));
                 ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
                 let roulette = bounces + 1 >= ROULETTE_AFTER;
                 let survive = (beta * eta_scale).max_element().min(1.0);
@@ -457,7 +457,7 @@ impl Path {
         let weight = if sample.is_delta || self.strategy == Strategy::LightSampling {
             1.0
         } else {
-            power_heuristic(light_pdf, bsdf.pdf(wo, sample.wi))
+            power_heuristic(light_pdf, bsdf.pdf(wo, sample.wi, LobeFlags::ALL))
         };
         let radiance = f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf;
         Some((sample.shadow, radiance))
@@ -479,7 +479,7 @@ fn sample_bsdf_lanes(
         let material = scene.material(vertices.primitives[lane], found.hits.point.lane(lane));
         let bsdf = material.bsdf(n.lane(lane), TransportMode::Radiance);
         let (u_lobe, u) = (vertices.u_lobe[lane], vertices.u_direction.lane(lane));
-        let sample = bsdf.sample(wo.lane(lane), u_lobe, u);
+        let sample = bsdf.sample(wo.lane(lane), u_lobe, u, LobeFlags::ALL);
         samples.set_lane(lane, sample);
     }
     samples

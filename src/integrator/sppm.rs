@@ -17,7 +17,7 @@ use super::direct::direct_from_background;
 use super::{PHOTON_TASK, direct_from_all_lights};
 use crate::film::Film;
 use crate::geometry::{Hit, Ray, offset_origin};
-use crate::material::{Material, TransportMode};
+use crate::material::{LobeFlags, Material, NO_DIRECTION, TransportMode};
 use crate::photon::{Emission, HashGrid, trace_photon};
 use crate::render::{Progress, RenderStats, camera_sample};
 use crate::scene::Scene;
@@ -219,7 +219,10 @@ fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPat
         if !flags.is_delta() {
             break;
         }
-        let Some(sample) = bsdf.sample_delta(wo, sampler.next_1d()) else { break };
+        let Some(sample) = bsdf.sample(wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA)
+        else {
+            break;
+        };
         beta *= sample.weight;
         ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
     }

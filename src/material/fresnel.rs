@@ -1,6 +1,45 @@
-//! Fresnel reflectance and Snell refraction for smooth dielectrics.
+//! Fresnel reflectance and Snell refraction for smooth dielectrics, and how a boundary shares
+//! what arrives between reflection and transmission.
 
 use glam::Vec3;
+
+/// How a boundary divides what arrives between reflection and transmission.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Split {
+    /// Fresnel's equations: `total` times F reflected, times 1 - F transmitted.
+    Fresnel { total: Vec3 },
+    /// The course's fixed reflectance `reflect` (ks) and transmittance `transmit` (kt), whatever
+    /// the angle; beyond the critical angle everything reflects.
+    Fixed { reflect: Vec3, transmit: Vec3 },
+}
+
+impl Split {
+    /// Reflectance and transmittance for light arriving at cosine `cos_i` (>= 0) onto a boundary
+    /// of relative index `eta` = eta_t / eta_i; transmittance 0 where it reflects totally.
+    #[inline]
+    pub fn at(&self, cos_i: f32, eta: f32) -> (Vec3, Vec3) {
+        match *self {
+            Split::Fresnel { total } => {
+                let f = fresnel_dielectric(cos_i, eta);
+                (f * total, (1.0 - f) * total)
+            }
+            Split::Fixed { reflect, transmit } if reflects_totally(cos_i, eta) => {
+                (reflect + transmit, Vec3::ZERO)
+            }
+            Split::Fixed { reflect, transmit } => (reflect, transmit),
+        }
+    }
+
+    /// The energy shared, reflected and transmitted together (mean over RGB): what the lobe is
+    /// chosen by.
+    #[inline]
+    pub fn total(&self) -> Vec3 {
+        match *self {
+            Split::Fresnel { total } => total,
+            Split::Fixed { reflect, transmit } => reflect + transmit,
+        }
+    }
+}
 
 /// Unpolarised Fresnel reflectance for light arriving at cosine `cos_i` (>= 0) onto a boundary
 /// of relative index `eta` = eta_t / eta_i; 1 under total internal reflection (pbrt-v4, 9.3).

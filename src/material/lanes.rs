@@ -9,7 +9,8 @@ use super::BsdfSample;
 use crate::geometry::{Lane, Vec2x4, Vec3x4};
 use crate::sampling::cosine_hemisphere_lanes;
 
-/// `to_world` in four lanes, with `Vec3::any_orthonormal_pair`'s operations in its order.
+/// `Frame::from_normal(n).to_world(local)` in four lanes, with `Vec3::any_orthonormal_pair`'s
+/// operations in its order.
 fn to_world_lanes(n: Vec3x4, local: Vec3x4) -> Vec3x4 {
     let sign = Vec4::ONE.copysign(n.z);
     let a = -1.0 / (sign + n.z);
@@ -39,7 +40,7 @@ impl BsdfSampleLanes {
             self.wi.set_lane(lane, sample.wi);
             self.weight.set_lane(lane, sample.weight);
             self.pdf.set_lane(lane, sample.pdf);
-            self.delta.set_lane(lane, sample.delta);
+            self.delta.set_lane(lane, sample.is_delta());
             self.eta.set_lane(lane, sample.eta);
         }
     }
@@ -55,13 +56,15 @@ pub fn sample_lambertian_lanes(
     wo: Vec3x4,
     u: Vec2x4,
 ) -> BsdfSampleLanes {
-    let facing = Vec3x4::select(n.dot(wo).cmplt(Vec4::ZERO), -n, n);
-    let local = cosine_hemisphere_lanes(u);
+    // The lobe turns to wo's side: local z turned over below the normal (`frame::on_side`).
+    let side = Vec4::select(n.dot(wo).cmplt(Vec4::ZERO), Vec4::NEG_ONE, Vec4::ONE);
+    let mut local = cosine_hemisphere_lanes(u);
     // The lobe's probability is 1: pdf = 1 cos / pi, and the weight kd / 1 is kd.
     let pdf = local.z * FRAC_1_PI;
+    local.z = side * local.z;
     BsdfSampleLanes {
         found: lambertian & pdf.cmpgt(Vec4::ZERO),
-        wi: to_world_lanes(facing, local),
+        wi: to_world_lanes(n, local),
         weight: diffuse,
         pdf,
         delta: BVec4A::FALSE,
@@ -69,7 +72,7 @@ pub fn sample_lambertian_lanes(
     }
 }
 
-/// The diffuse lobe's `eval` (kd / pi) and `pdf` (p_diffuse |cos| / pi) in four lanes, both
+/// The diffuse lobe's `eval` (kd / pi) and `pdf` (p_diffuse (|cos| / pi)) in four lanes, both
 /// zero where `wo` and `wi` lie on different sides.
 pub fn eval_diffuse_lanes(
     n: Vec3x4,
@@ -80,6 +83,6 @@ pub fn eval_diffuse_lanes(
 ) -> (Vec3x4, Vec4) {
     let same_side = (n.dot(wo) * n.dot(wi)).cmpgt(Vec4::ZERO);
     let f = Vec3x4::select(same_side, diffuse * Vec4::splat(FRAC_1_PI), Vec3x4::ZERO);
-    let pdf = Vec4::select(same_side, p_diffuse * n.dot(wi).abs() * FRAC_1_PI, Vec4::ZERO);
+    let pdf = Vec4::select(same_side, p_diffuse * (n.dot(wi).abs() * FRAC_1_PI), Vec4::ZERO);
     (f, pdf)
 }

@@ -1,15 +1,21 @@
 //! Materials of the course's model — Lambertian `diffuse` (kd), mirror `specular` (ks),
 //! refractive `transmission` (kt) with `ior`, `emission`, and `roughness` that makes the mirror
 //! and refraction GGX microfacet lobes — and the BSDF each makes at a hit (`Material::bsdf`):
-//! `eval`, `sample`, `pdf`, and lane versions of its Lambertian lobe.
+//! its lobes (`lobe/`, one file each) in a shading frame, `eval`, `sample`, `pdf` under a mask
+//! of lobes, and lane versions of the Lambertian lobe.
 
 mod bsdf;
+mod flags;
+mod frame;
 mod fresnel;
 mod lanes;
+pub mod lobe;
 mod microfacet;
 
-pub use bsdf::{Bsdf, BsdfSample, LobeFlags, TransportMode};
-pub use fresnel::{fresnel_dielectric, refract};
+pub use bsdf::{Bsdf, BsdfSample, NO_DIRECTION, TransportMode};
+pub use flags::LobeFlags;
+pub use frame::Frame;
+pub use fresnel::{Split, fresnel_dielectric, refract};
 pub use lanes::{BsdfSampleLanes, eval_diffuse_lanes, sample_lambertian_lanes};
 
 use glam::Vec3;
@@ -73,10 +79,4 @@ impl Material {
     pub fn emitted(&self, n: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wo) > 0.0 { self.emission } else { Vec3::ZERO }
     }
-}
-
-/// Maps a direction from a frame with +z along `n` to the world (Duff et al. 2017).
-pub fn to_world(n: Vec3, local: Vec3) -> Vec3 {
-    let (t, b) = n.any_orthonormal_pair();
-    local.x * t + local.y * b + local.z * n
 }

@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::Emission;
 use crate::geometry::{Hit, Ray, offset_origin};
-use crate::material::TransportMode;
+use crate::material::{LobeFlags, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -54,7 +54,7 @@ pub fn trace_photon(
             break;
         }
         let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-        let Some(sample) = bsdf.sample(wo, u_lobe, u) else { break };
+        let Some(sample) = bsdf.sample(wo, u_lobe, u, LobeFlags::ALL) else { break };
         let scattered = power * sample.weight;
         // Russian roulette: go on with probability max(scattered) / max(power), divided by it,
         // so that a photon's power stays about what it left with (pbrt-v4's SPPM).

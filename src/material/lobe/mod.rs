@@ -1,0 +1,137 @@
+//! The lobes a BSDF is made of, one file each. A lobe works in the shading frame's coordinates
+//! (+z along the shading normal) and is the same seen from either side: it turns itself to the
+//! side of `wo`.
+
+mod ggx_conductor;
+mod ggx_dielectric;
+mod lambertian;
+mod mirror;
+mod smooth_dielectric;
+
+pub use ggx_conductor::GgxConductor;
+pub use ggx_dielectric::GgxDielectric;
+pub use lambertian::Lambertian;
+pub use mirror::Mirror;
+pub use smooth_dielectric::SmoothDielectric;
+
+use glam::{Vec2, Vec3};
+
+use super::{LobeFlags, TransportMode};
+
+/// A direction drawn from one lobe, in the shading frame. `weight` is f |cos| / pdf of the
+/// lobe's own sampling (its choice between reflection and refraction included); `pdf` is in
+/// solid angle, or for a delta lobe the probability of that choice.
+#[derive(Debug, Clone, Copy)]
+pub struct LobeSample {
+    pub wi: Vec3,
+    pub weight: Vec3,
+    pub pdf: f32,
+    /// The part of the lobe sampled: reflection or transmission, and its kind.
+    pub flags: LobeFlags,
+    /// eta_t / eta_i of the boundary crossed by a refracted `wi`; 1 for reflection.
+    pub eta: f32,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub enum Lobe {
+    Lambertian(Lambertian),
+    Mirror(Mirror),
+    SmoothDielectric(SmoothDielectric),
+    GgxConductor(GgxConductor),
+    GgxDielectric(GgxDielectric),
+}
+
+impl Lobe {
+    #[inline]
+    pub fn flags(&self) -> LobeFlags {
+        match self {
+            Lobe::Lambertian(_) => Lambertian::FLAGS,
+            Lobe::Mirror(_) => Mirror::FLAGS,
+            Lobe::SmoothDielectric(_) => SmoothDielectric::FLAGS,
+            Lobe::GgxConductor(_) => GgxConductor::FLAGS,
+            Lobe::GgxDielectric(_) => GgxDielectric::FLAGS,
+        }
+    }
+
+    /// The share of light from `wo` it scatters (mean over RGB), by which a BSDF chooses among
+    /// its lobes (the course's per-bounce Russian roulette over kd, ks, kt).
+    #[inline]
+    pub fn albedo(&self, wo: Vec3) -> f32 {
+        match self {
+            Lobe::Lambertian(lobe) => lobe.albedo(),
+            Lobe::Mirror(lobe) => lobe.albedo(),
+            Lobe::SmoothDielectric(lobe) => lobe.albedo(wo),
+            Lobe::GgxConductor(lobe) => lobe.albedo(),
+            Lobe::GgxDielectric(lobe) => lobe.albedo(),
+        }
+    }
+
+    /// f(wo, wi); zero for delta lobes.
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Vec3 {
+        match self {
+            Lobe::Lambertian(lobe) => lobe.eval(wo, wi),
+            Lobe::Mirror(_) | Lobe::SmoothDielectric(_) => Vec3::ZERO,
+            Lobe::GgxConductor(lobe) => lobe.eval(wo, wi),
+            Lobe::GgxDielectric(lobe) => lobe.eval(wo, wi, mode),
+        }
+    }
+
+    /// Solid-angle density with which `sample` returns `wi`; zero for delta lobes.
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Lobe::Lambertian(lobe) => lobe.pdf(wo, wi),
+            Lobe::Mirror(_) | Lobe::SmoothDielectric(_) => 0.0,
+            Lobe::GgxConductor(lobe) => lobe.pdf(wo, wi),
+            Lobe::GgxDielectric(lobe) => lobe.pdf(wo, wi),
+        }
+    }
+
+    /// A direction from the lobe: `u` draws it, `u_split` chooses between reflection and
+    /// refraction where the lobe has both.
+    #[inline]
+    pub fn sample(
+        &self,
+        wo: Vec3,
+        u_split: f32,
+        u: Vec2,
+        mode: TransportMode,
+    ) -> Option<LobeSample> {
+        match self {
+            Lobe::Lambertian(lobe) => lobe.sample(wo, u),
+            Lobe::Mirror(lobe) => Some(lobe.sample(wo)),
+            Lobe::SmoothDielectric(lobe) => lobe.sample(wo, u_split, mode),
+            Lobe::GgxConductor(lobe) => lobe.sample(wo, u),
+            Lobe::GgxDielectric(lobe) => lobe.sample(wo, u_split, u, mode),
+        }
+    }
+}
+
+/// +1 where `wo` (local) is on the normal's side, -1 below: the side a two-sided lobe turns to.
+#[inline]
+fn side_of(wo: Vec3) -> f32 {
+    if wo.z < 0.0 { -1.0 } else { 1.0 }
+}
+
+/// The mirror direction of `wo` about the +z normal.
+#[inline]
+fn reflect(wo: Vec3) -> Vec3 {
+    Vec3::new(-wo.x, -wo.y, wo.z)
+}
+
+/// Mean over RGB.
+#[inline]
+pub(super) fn mean(c: Vec3) -> f32 {
+    (c.x + c.y + c.z) / 3.0
+}
+
+/// The probabilities of reflection and transmission from their mean shares.
+#[inline]
+fn shares((reflect, transmit): (Vec3, Vec3)) -> (f32, f32) {
+    let (r, t) = (mean(reflect), mean(transmit));
+    if r + t <= 0.0 {
+        return (0.0, 0.0);
+    }
+    (r / (r + t), t / (r + t))
+}
