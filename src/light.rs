@@ -3,15 +3,11 @@
 
 use std::f32::consts::PI;
 
-use glam::{BVec4A, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3};
 
-use crate::geometry::{
-    Hit, HitLanes, LANES, Lane, PlanarKind, Ray, Shape, Vec2x4, Vec3x4, offset_origin,
-    planar_coordinates, planar_error, sphere_error,
-};
+use crate::geometry::{Hit, Ray, Shape, offset_origin, sphere_error};
 use crate::material::Frame;
 use crate::sampling::{cosine_hemisphere, uniform_sphere};
-use crate::scene::Scene;
 
 #[derive(Debug, Clone)]
 pub enum Light {
@@ -168,151 +164,6 @@ impl Light {
 /// one-sided rule, towards the normal.
 fn emitted(emission: Vec3, n: Vec3, wo: Vec3) -> Vec3 {
     if n.dot(wo) > 0.0 { emission } else { Vec3::ZERO }
-}
-
-/// Samples of four lanes' lights, from `sample_lanes`.
-#[derive(Debug, Clone, Copy)]
-pub struct LightSampleLanes {
-    /// Lanes whose light is a point light or a planar area light: the others are left to
-    /// `Light::sample`.
-    pub handled: BVec4A,
-    /// Lanes with a sample (where `Light::sample` returns one); the fields below hold it.
-    pub found: BVec4A,
-    /// Lanes whose light is a point light (a delta distribution, beyond MIS).
-    pub is_delta: BVec4A,
-    pub wi: Vec3x4,
-    pub li: Vec3x4,
-    pub pdf: Vec4,
-    pub shadow_origin: Vec3x4,
-    pub shadow_dir: Vec3x4,
-    pub shadow_t_max: Vec4,
-}
-
-/// A light as `sample_lanes` reads it, gathered once per scene: a planar area light, or a
-/// point light as one of no extent (its position as `origin`, edges and normal zero, its
-/// intensity as `emission`).
-#[derive(Debug, Clone, Copy)]
-pub struct LaneLight {
-    /// The emitter's primitive and shape; `None` for a point light.
-    pub planar: Option<(u32, PlanarKind)>,
-    pub origin: Vec3,
-    pub edge1: Vec3,
-    pub edge2: Vec3,
-    pub normal: Vec3,
-    pub emission: Vec3,
-    pub area: f32,
-    /// The error bound of points on it (`planar_error`).
-    pub error: f32,
-}
-
-impl Light {
-    /// Its form for `sample_lanes`, if it is a point light or a planar area light.
-    pub fn in_lanes(&self) -> Option<LaneLight> {
-        let (primitive, shape, emission, area) = match self {
-            &Light::Point { position, power } => {
-                return Some(LaneLight {
-                    planar: None,
-                    origin: position,
-                    edge1: Vec3::ZERO,
-                    edge2: Vec3::ZERO,
-                    normal: Vec3::ZERO,
-                    emission: power,
-                    area: 1.0,
-                    error: 0.0,
-                });
-            }
-            Light::Area { primitive, shape, emission, area } => {
-                (*primitive, shape, *emission, *area)
-            }
-        };
-        let Shape::Planar { kind, origin, edge1, edge2, normal } = *shape else { return None };
-        Some(LaneLight {
-            planar: Some((primitive, kind)),
-            origin,
-            edge1,
-            edge2,
-            normal,
-            emission,
-            area,
-            error: planar_error(origin, edge1, edge2),
-        })
-    }
-}
-
-/// `Light::sample` for four lanes at once, where a lane's light is a point light or a planar
-/// area light (quad, disk, triangle): the same operations in the same order, side by side, so
-/// each lane gets exactly what `sample` returns. `lights` holds each lane's light (`None`:
-/// nothing to sample) and `u` its point of the unit square, `primitives` the primitive each
-/// lane's hit is on. `None` if no lane's light is of these kinds.
-// Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
-#[inline(always)]
-pub fn sample_lanes(
-    scene: &Scene,
-    hits: &HitLanes,
-    primitives: [u32; LANES],
-    lights: [Option<usize>; LANES],
-    u: Vec2x4,
-) -> Option<LightSampleLanes> {
-    let lanes = lights.map(|l| scene.lights_in_lanes[l?].as_ref());
-    let first = *lanes.iter().flatten().next()?;
-    // Lanes mostly share a light (always, in a scene of one): its values are spread, not gathered.
-    let shared = lanes.iter().flatten().all(|light| std::ptr::eq(*light, first));
-    let vectors = |value: fn(&LaneLight) -> Vec3| {
-        if shared {
-            Vec3x4::splat(value(first))
-        } else {
-            Vec3x4::from_lanes(lanes.map(|l| l.map_or(Vec3::ZERO, value)))
-        }
-    };
-    let (origin, edge1, edge2) =
-        (vectors(|l| l.origin), vectors(|l| l.edge1), vectors(|l| l.edge2));
-    let (normal, emission) = (vectors(|l| l.normal), vectors(|l| l.emission));
-    let scalars =
-        |value: fn(&LaneLight) -> f32| Vec4::from_array(lanes.map(|l| l.map_or(1.0, value)));
-    let (area, error) = (scalars(|l| l.area), scalars(|l| l.error));
-    // Coordinates along the edges: a quad's are u itself (`planar_coordinates`); point
-    // lights' lanes keep u, unread.
-    let mut st = u;
-    for (lane, light) in lanes.iter().enumerate() {
-        if let Some(LaneLight { planar: Some((_, kind)), .. }) = light
-            && !matches!(kind, PlanarKind::Quad)
-        {
-            st.set_lane(lane, planar_coordinates(*kind, u.lane(lane)));
-        }
-    }
-    let (s, t) = (st.x, st.y);
-    let handled = BVec4A::from_array(lanes.map(|l| l.is_some()));
-    let is_point = BVec4A::from_array(lanes.map(|l| l.is_some_and(|l| l.planar.is_none())));
-    let own = BVec4A::from_array(std::array::from_fn(|lane| {
-        lanes[lane].is_some_and(|l| l.planar.is_some_and(|(p, _)| p == primitives[lane]))
-    }));
-
-    let point = Vec3x4::select(is_point, origin, origin + s * edge1 + t * edge2);
-    let to_light = point - hits.point;
-    let distance_squared = to_light.length_squared();
-    let wi = to_light / distance_squared.sqrt();
-    // A point light's intensity / r^2; an area light's emission (`Material::emitted`:
-    // one-sided, towards the normal) with the area density in solid angle, r^2 / (A cos).
-    let emitted = Vec3x4::select(normal.dot(-wi).cmpgt(Vec4::ZERO), emission, Vec3x4::ZERO);
-    let li = Vec3x4::select(is_point, emission / distance_squared, emitted);
-    let pdf = Vec4::select(is_point, Vec4::ONE, distance_squared / (area * normal.dot(wi).abs()));
-    let area_found = !own & !li.is_zero() & pdf.cmpgt(Vec4::ZERO) & pdf.cmplt(Vec4::INFINITY);
-    // `shadow_ray` towards the light, or the point just off its surface.
-    let target = Vec3x4::select(is_point, point, point + normal * error);
-    let shadow_origin = hits.offset_origin(wi);
-    let to_target = target - shadow_origin;
-    let distance = to_target.length_squared().sqrt();
-    Some(LightSampleLanes {
-        handled,
-        found: handled & (is_point | area_found),
-        is_delta: is_point,
-        wi,
-        li,
-        pdf,
-        shadow_origin,
-        shadow_dir: to_target / distance,
-        shadow_t_max: distance * (1.0 - 1e-4),
-    })
 }
 
 /// Solid angle of the cone of directions from `from` that meet the sphere:

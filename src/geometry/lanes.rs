@@ -4,7 +4,7 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use glam::{BVec4A, Vec2, Vec3, Vec4};
+use glam::{BVec4A, Vec3, Vec4};
 
 use super::Hit;
 
@@ -63,35 +63,6 @@ impl Lane<Vec3> for Vec3x4 {
         self.x.set_lane(lane, v.x);
         self.y.set_lane(lane, v.y);
         self.z.set_lane(lane, v.z);
-    }
-}
-
-/// Two coordinates of four vectors, one per lane: points of the unit square, for warps.
-#[derive(Debug, Clone, Copy)]
-pub struct Vec2x4 {
-    pub x: Vec4,
-    pub y: Vec4,
-}
-
-impl Vec2x4 {
-    pub const ZERO: Self = Vec2x4 { x: Vec4::ZERO, y: Vec4::ZERO };
-
-    #[inline]
-    pub fn from_lanes(v: [Vec2; LANES]) -> Self {
-        Vec2x4 { x: Vec4::from_array(v.map(|v| v.x)), y: Vec4::from_array(v.map(|v| v.y)) }
-    }
-}
-
-impl Lane<Vec2> for Vec2x4 {
-    #[inline]
-    fn lane(&self, lane: usize) -> Vec2 {
-        Vec2::new(self.x.lane(lane), self.y.lane(lane))
-    }
-
-    #[inline]
-    fn set_lane(&mut self, lane: usize, v: Vec2) {
-        self.x.set_lane(lane, v.x);
-        self.y.set_lane(lane, v.y);
     }
 }
 
@@ -288,13 +259,6 @@ mod tests {
             assert_eq!(mask.bitmask(), 0b0101 ^ (1 << lane));
             for i in 0..LANES {
                 assert_eq!(mask.lane(i), (i % 2 == 0) != (i == lane), "lane {i}");
-            }
-
-            let mut v2 = Vec2x4::from_lanes([Vec2::ONE; LANES]);
-            v2.set_lane(lane, Vec2::new(5.0, 6.0));
-            for i in 0..LANES {
-                let expected = if i == lane { Vec2::new(5.0, 6.0) } else { Vec2::ONE };
-                assert_eq!(v2.lane(i), expected);
             }
 
             let mut v3 = Vec3x4::from_lanes([Vec3::ONE; LANES]);

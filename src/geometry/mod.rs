@@ -11,7 +11,7 @@ mod triangle_mesh;
 
 pub use aabb::Aabb;
 pub use csg::{Csg, CsgNode, CsgOp};
-pub use lanes::{HitLanes, LANES, Lane, Vec2x4, Vec3x4};
+pub use lanes::{HitLanes, LANES, Lane, Vec3x4};
 pub use ray::{Hit, Ray, offset_origin};
 pub(crate) use shape::REL_ERROR;
 pub use shape::{

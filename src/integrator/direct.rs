@@ -3,16 +3,12 @@
 //! the background), delta lobes (perfect mirrors and refraction) followed Whitted-style; no
 //! indirect light otherwise.
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::Vec3;
 
-use super::{
-    IDLE, Integrator, LanePath, LanePaths, Shadowed, direct_from_all_lights, direct_from_light,
-    fill_lanes,
-};
-use crate::accel::{Nearest, RayLanes};
-use crate::geometry::{Hit, LANES, Lane, Ray, Vec2x4, Vec3x4, offset_origin};
-use crate::light::sample_lanes;
-use crate::material::{Bsdf, LobeFlags, NO_DIRECTION, TransportMode, eval_diffuse_lanes};
+use super::{Integrator, Lanes, ShadowLanes, direct_from_light};
+use crate::geometry::{Hit, LANES, Ray, offset_origin};
+use crate::light::ShadowRay;
+use crate::material::{Bsdf, LobeFlags, NO_DIRECTION, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -45,17 +41,15 @@ pub(super) fn direct_from_background(
 }
 
 impl Integrator for Direct {
-    /// The reference estimator: one path at a time (`whitted`). `radiance_of_all` must give
-    /// each path exactly this radiance.
+    /// One path at a time (`whitted`).
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
         whitted(scene, ray, sampler, self.max_depth, None)
     }
 
-    /// Traces `LANES` paths at a time, bounce by bounce, as `Path::radiance_of_all` does: their
-    /// rays meet the scene together, and so do the shadow rays towards each light in turn,
-    /// with point and planar lights sampled and Lambertian lobes evaluated side by side. Each
-    /// path draws its sample values in the order `whitted` draws them and adds up the same
-    /// terms in the same order, so it gets the same radiance, bit for bit.
+    /// Traces `LANES` paths at a time, bounce by bounce: their rays meet the scene together,
+    /// and so do the shadow rays towards each light in turn. Each path's vertex is `arrive`,
+    /// `light_samples` and `leave`, as in `whitted`, with the lights' contributions added in
+    /// the same order, so it gets the same radiance, bit for bit.
     fn radiance_of_all(
         &self,
         scene: &Scene,
@@ -63,233 +57,151 @@ impl Integrator for Direct {
         radiance: &mut [Vec3],
     ) {
         let mut samples = samples.enumerate();
-        let mut lanes = WhittedLanes::new();
-        let mut vertices = Vertices::new(scene.lights.len());
-        while let Some(active) = fill_lanes(&mut lanes, &mut samples) {
-            let found = scene.intersect_lanes(&lanes.rays, active);
-            let wo = -lanes.rays.dir;
-            vertices.clear();
-            for lane in (0..LANES).filter(|&lane| active[lane]) {
-                self.arrive(scene, &mut lanes, lane, &found, &mut vertices);
+        let mut lanes: Lanes<WhittedLane> = Lanes::new();
+        let start =
+            |ray| WhittedLane { path: WhittedPath::new(ray), vertex: None, lights: Vec::new() };
+        while let Some(active) = lanes.fill(&mut samples, start) {
+            let found = scene.intersect_lanes(&lanes.rays(|lane| lane.path.ray), active);
+            for (lane, path) in lanes.paths_mut() {
+                let state = &mut path.state;
+                state.vertex = arrive(scene, &mut state.path, found.hit(lane), self.max_depth);
+                state.lights.clear();
+                if let Some(vertex) = state.vertex.as_ref().filter(|v| v.is_lit()) {
+                    state.lights.extend(light_samples(scene, vertex, &mut path.sampler));
+                }
             }
-            let arrived = BVec4A::from_array(active);
-            lanes.radiance = Vec3x4::select(
-                arrived,
-                lanes.radiance + lanes.beta * vertices.emitted,
-                lanes.radiance,
-            );
-            let lit = direct_from_all_lights_lanes(scene, &vertices, &found, wo);
-            let non_delta = vertices.non_delta;
-            lanes.radiance =
-                Vec3x4::select(non_delta, lanes.radiance + lanes.beta * lit, lanes.radiance);
-            lanes.radiance = Vec3x4::select(
-                non_delta,
-                lanes.radiance + lanes.beta * vertices.from_background,
-                lanes.radiance,
-            );
-            lanes.beta = lanes.beta * vertices.delta_weight;
-            lanes.rays = vertices.next_rays;
-            for lane in (0..LANES).filter(|&lane| active[lane] && !vertices.goes_on[lane]) {
-                if let Some(path) = lanes.paths[lane].take() {
-                    radiance[path.slot] = lanes.radiance.lane(lane);
+            let mut lit = [Vec3::ZERO; LANES];
+            for light in 0..scene.lights.len() {
+                let mut shadows = ShadowLanes::new();
+                for (lane, path) in lanes.paths_mut() {
+                    if let Some(Some(shadowed)) = path.state.lights.get(light) {
+                        shadows.set_lane(lane, *shadowed);
+                    }
+                }
+                for lane in shadows.open(scene) {
+                    lit[lane] += shadows.radiance[lane];
+                }
+            }
+            for (lane, lit) in lit.into_iter().enumerate() {
+                let Some(path) = lanes.path_mut(lane) else { continue };
+                let state = &mut path.state;
+                let continues = state.vertex.take().is_some_and(|vertex| {
+                    leave(scene, &mut state.path, &vertex, lit, &mut path.sampler, None)
+                });
+                if !continues && let Some(path) = lanes.take(lane) {
+                    radiance[path.slot] = path.state.path.radiance;
                 }
             }
         }
     }
 }
 
-impl Direct {
-    /// The path in `lane` arrives where its ray meets the scene (`found`), or leaves it: it
-    /// finds the emission there, draws its sample values for the vertex in `whitted`'s order,
-    /// gathers light from the background and follows a delta lobe one path at a time (both
-    /// rare), and leaves in `vertices` what next-event estimation in lanes reads.
-    fn arrive(
-        &self,
-        scene: &Scene,
-        lanes: &mut WhittedLanes,
-        lane: usize,
-        found: &Nearest,
-        vertices: &mut Vertices,
-    ) {
-        let Some(primitive) = found.names[lane] else {
-            vertices.emitted.set_lane(lane, scene.background());
-            return;
-        };
-        // The hit's fields are read from their lanes; a whole `Hit` is made only where the rare
-        // cases need one (see `Path::arrive`).
-        let (hits, wo) = (&found.hits, -lanes.rays.dir.lane(lane));
-        let hit = || hits.lane(lane, primitive, found.t.lane(lane));
-        let material = scene.material(primitive, hits.point.lane(lane));
-        vertices.emitted.set_lane(lane, material.emitted(hits.normal.lane(lane), wo));
-        let Some(path) = lanes.paths[lane].as_mut() else { return };
-        if path.bounces == self.max_depth {
-            return;
-        }
-        let sampler = &mut path.sampler;
-        let bsdf = material.bsdf(hits.shading_normal.lane(lane), TransportMode::Radiance);
-        let flags = bsdf.flags();
-        if flags.is_non_delta() {
-            for u in &mut vertices.u_lights {
-                u.set_lane(lane, sampler.next_2d());
-            }
-            if scene.background() != Vec3::ZERO {
-                let background = direct_from_background(scene, &hit(), wo, &bsdf, sampler);
-                vertices.from_background.set_lane(lane, background);
-            }
-            vertices.non_delta.set_lane(lane, true);
-            vertices.primitives[lane] = primitive;
-            vertices.diffuse.set_lane(lane, material.diffuse);
-            vertices.diffuse_where_non_delta[lane] = flags.is_diffuse_where_non_delta();
-        }
-        if !flags.is_delta() {
-            return;
-        }
-        let Some(sample) = bsdf.sample(wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA)
-        else {
-            return;
-        };
-        path.bounces += 1;
-        vertices.goes_on[lane] = true;
-        vertices.delta_weight.set_lane(lane, sample.weight);
-        vertices.next_rays.set_lane(lane, &Ray::new(offset_origin(&hit(), sample.wi), sample.wi));
-    }
+/// A path of `whitted` traced in a lane: its state, its vertex this bounce, and there the
+/// sample of each light, in order (`None`: none).
+struct WhittedLane {
+    path: WhittedPath,
+    vertex: Option<Vertex>,
+    lights: Vec<Option<(ShadowRay, Vec3)>>,
 }
 
-/// `whitted`'s paths traced side by side, one per lane.
-struct WhittedLanes {
-    paths: [Option<LanePath>; LANES],
-    /// Each path's next ray.
-    rays: RayLanes,
+/// A path of `whitted` between bounces.
+pub(super) struct WhittedPath {
+    /// Its next ray.
+    ray: Ray,
     /// Radiance gathered so far.
-    radiance: Vec3x4,
+    radiance: Vec3,
     /// Throughput: the product of the delta lobes' weights so far.
-    beta: Vec3x4,
+    beta: Vec3,
+    bounces: u32,
 }
 
-impl WhittedLanes {
-    fn new() -> Self {
-        WhittedLanes {
-            paths: Default::default(),
-            rays: RayLanes::new(&[IDLE; LANES]),
-            radiance: Vec3x4::ZERO,
-            beta: Vec3x4::ZERO,
-        }
+impl WhittedPath {
+    fn new(ray: Ray) -> Self {
+        WhittedPath { ray, radiance: Vec3::ZERO, beta: Vec3::ONE, bounces: 0 }
     }
 }
 
-impl LanePaths for WhittedLanes {
-    fn is_free(&self, lane: usize) -> bool {
-        self.paths[lane].is_none()
-    }
+/// Where a path of `whitted` scatters.
+pub(super) struct Vertex {
+    hit: Hit,
+    wo: Vec3,
+    bsdf: Bsdf,
+}
 
-    fn start(&mut self, lane: usize, slot: usize, ray: &Ray, sampler: Sampler) {
-        self.paths[lane] = Some(LanePath { slot, sampler, bounces: 0 });
-        self.rays.set_lane(lane, ray);
-        self.radiance.set_lane(lane, Vec3::ZERO);
-        self.beta.set_lane(lane, Vec3::ONE);
+impl Vertex {
+    /// Whether it has lobes with a density, which light samples light.
+    fn is_lit(&self) -> bool {
+        self.bsdf.flags().is_non_delta()
     }
 }
 
-/// What the paths found where they arrived this bounce, in lanes: what `whitted` adds there
-/// and where it goes on.
-struct Vertices {
-    /// Emission seen (or the background, where the ray left the scene).
-    emitted: Vec3x4,
-    /// Lanes whose vertex has lobes with a density (next-event estimation there), their
-    /// primitives, diffuse reflectance, whether those lobes are Lambertian alone, and the
-    /// light from the background they reflect.
-    non_delta: BVec4A,
-    primitives: [u32; LANES],
-    diffuse: Vec3x4,
-    diffuse_where_non_delta: [bool; LANES],
-    from_background: Vec3x4,
-    /// Per light, each lane's point of the unit square that samples it.
-    u_lights: Vec<Vec2x4>,
-    /// Paths that follow a delta lobe, its weight (1 elsewhere) and their next rays.
-    goes_on: [bool; LANES],
-    delta_weight: Vec3x4,
-    next_rays: RayLanes,
-}
-
-impl Vertices {
-    fn new(lights: usize) -> Self {
-        Vertices {
-            emitted: Vec3x4::ZERO,
-            non_delta: BVec4A::FALSE,
-            primitives: [u32::MAX; LANES],
-            diffuse: Vec3x4::ZERO,
-            diffuse_where_non_delta: [false; LANES],
-            from_background: Vec3x4::ZERO,
-            u_lights: vec![Vec2x4::ZERO; lights],
-            goes_on: [false; LANES],
-            delta_weight: Vec3x4::splat(Vec3::ONE),
-            next_rays: RayLanes::new(&[IDLE; LANES]),
-        }
-    }
-
-    /// Ready for the next bounce (the lights' sample values are all drawn anew).
-    fn clear(&mut self) {
-        let u_lights = std::mem::take(&mut self.u_lights);
-        *self = Vertices { u_lights, ..Vertices::new(0) };
-    }
-}
-
-/// `direct_from_all_lights` at the lanes' vertices with lobes of a density: one sample of every
-/// light, in order, their shadow rays traced together. Point and planar lights seen from
-/// Lambertian lobes are sampled in lanes; other lights, and every light from other lobes, one
-/// vertex at a time.
-fn direct_from_all_lights_lanes(
+/// The path arrives where its ray meets the scene (`hit`), or leaves it, and adds the emission
+/// seen there (the background where it leaves); the vertex where it scatters, unless it ends.
+fn arrive(
     scene: &Scene,
-    vertices: &Vertices,
-    found: &Nearest,
-    wo: Vec3x4,
-) -> Vec3x4 {
-    let (hits, n) = (&found.hits, found.hits.shading_normal);
-    let mut radiance = Vec3x4::ZERO;
-    for (light, &u) in vertices.u_lights.iter().enumerate() {
-        let non_delta = |lane: usize| vertices.non_delta.lane(lane);
-        let in_lanes = std::array::from_fn(|lane| {
-            (non_delta(lane) && vertices.diffuse_where_non_delta[lane]).then_some(light)
-        });
-        let mut shadowed = Shadowed {
-            found: BVec4A::FALSE,
-            rays: RayLanes::new(&[IDLE; LANES]),
-            t_max: Vec4::ZERO,
-            radiance: Vec3x4::ZERO,
-        };
-        let sampled = sample_lanes(scene, hits, vertices.primitives, in_lanes, u);
-        if let Some(sampled) = sampled.as_ref().filter(|s| s.found.any()) {
-            let no_pdf = Vec4::ZERO; // only f is read
-            let (f, _) = eval_diffuse_lanes(n, wo, sampled.wi, vertices.diffuse, no_pdf);
-            shadowed = Shadowed {
-                found: sampled.found & !f.is_zero(),
-                rays: RayLanes { origin: sampled.shadow_origin, dir: sampled.shadow_dir },
-                t_max: sampled.shadow_t_max,
-                radiance: f * sampled.li * n.dot(sampled.wi).abs() / sampled.pdf,
-            };
-        }
-        let handled = sampled.map_or(BVec4A::FALSE, |s| s.handled);
-        for lane in (0..LANES).filter(|&lane| non_delta(lane) && !handled.lane(lane)) {
-            let Some(hit) = found.hit(lane) else { continue };
-            let material = scene.material(hit.primitive, hit.point);
-            let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
-            let (light, u) = (&scene.lights[light], u.lane(lane));
-            let Some((shadow, reflected)) = direct_from_light(light, &hit, wo.lane(lane), &bsdf, u)
-            else {
-                continue;
-            };
-            shadowed.found.set_lane(lane, true);
-            shadowed.rays.set_lane(lane, &shadow.ray);
-            shadowed.t_max.set_lane(lane, shadow.t_max);
-            shadowed.radiance.set_lane(lane, reflected);
-        }
-        if shadowed.found.any() {
-            let t_max = Vec4::select(shadowed.found, shadowed.t_max, Vec4::ZERO);
-            let open = shadowed.found & !scene.occluded_lanes(&shadowed.rays, t_max);
-            radiance = Vec3x4::select(open, radiance + shadowed.radiance, radiance);
+    path: &mut WhittedPath,
+    hit: Option<Hit>,
+    max_depth: u32,
+) -> Option<Vertex> {
+    let Some(hit) = hit else {
+        path.radiance += path.beta * scene.background();
+        return None;
+    };
+    let wo = -Vec3::from(path.ray.dir);
+    let material = scene.material(hit.primitive, hit.point);
+    path.radiance += path.beta * material.emitted(hit.normal, wo);
+    if path.bounces == max_depth {
+        return None;
+    }
+    let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
+    Some(Vertex { hit, wo, bsdf })
+}
+
+/// A sample of every light at a lit vertex, in order: its shadow ray and the light it reflects
+/// towards wo if unoccluded (`direct_from_light`).
+fn light_samples<'a>(
+    scene: &'a Scene,
+    vertex: &'a Vertex,
+    sampler: &'a mut Sampler,
+) -> impl Iterator<Item = Option<(ShadowRay, Vec3)>> + 'a {
+    scene.lights.iter().map(move |light| {
+        let u = sampler.next_2d();
+        direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, u)
+    })
+}
+
+/// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),
+/// the background's light and any `indirect` light; it follows a delta lobe if there is one.
+/// Whether it goes on.
+fn leave(
+    scene: &Scene,
+    path: &mut WhittedPath,
+    vertex: &Vertex,
+    lit: Vec3,
+    sampler: &mut Sampler,
+    indirect: Option<&Indirect>,
+) -> bool {
+    let Vertex { hit, wo, bsdf } = vertex;
+    let flags = bsdf.flags();
+    if flags.is_non_delta() {
+        path.radiance += path.beta * lit;
+        path.radiance += path.beta * direct_from_background(scene, hit, *wo, bsdf, sampler);
+        if let Some(indirect) = indirect {
+            path.radiance += path.beta * indirect(hit, *wo, bsdf);
         }
     }
-    radiance
+    // With both mirror and refraction one of them is followed, chosen at random with its
+    // weight divided by its probability: one ray, no branching, no bias.
+    if !flags.is_delta() {
+        return false;
+    }
+    let Some(sample) = bsdf.sample(*wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA) else {
+        return false;
+    };
+    path.beta *= sample.weight;
+    path.ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
+    path.bounces += 1;
+    true
 }
 
 /// Light from other surfaces scattered towards `wo` by `bsdf` at a hit, from some estimator
@@ -301,45 +213,26 @@ pub(super) type Indirect<'a> = dyn Fn(&Hit, Vec3, &Bsdf) -> Vec3 + 'a;
 /// those vertices, delta lobes followed, for at most `max_depth` bounces.
 pub(super) fn whitted(
     scene: &Scene,
-    mut ray: Ray,
+    ray: Ray,
     sampler: &mut Sampler,
     max_depth: u32,
     indirect: Option<&Indirect>,
 ) -> Vec3 {
-    let mut radiance = Vec3::ZERO;
-    // Path throughput: the product of specular weights so far.
-    let mut beta = Vec3::ONE;
-    for bounces in 0.. {
-        let Some(hit) = scene.intersect(&ray) else {
-            radiance += beta * scene.background();
-            break;
-        };
-        let wo = -Vec3::from(ray.dir);
-        let material = scene.material(hit.primitive, hit.point);
-        radiance += beta * material.emitted(hit.normal, wo);
-        if bounces == max_depth {
-            break;
-        }
-        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
-        let flags = bsdf.flags();
-        if flags.is_non_delta() {
-            radiance += beta * direct_from_all_lights(scene, &hit, wo, &bsdf, sampler);
-            radiance += beta * direct_from_background(scene, &hit, wo, &bsdf, sampler);
-            if let Some(indirect) = indirect {
-                radiance += beta * indirect(&hit, wo, &bsdf);
+    let mut path = WhittedPath::new(ray);
+    loop {
+        let hit = scene.intersect(&path.ray);
+        let Some(vertex) = arrive(scene, &mut path, hit, max_depth) else { break };
+        let mut lit = Vec3::ZERO;
+        if vertex.is_lit() {
+            for (shadow, reflected) in light_samples(scene, &vertex, sampler).flatten() {
+                if !scene.occluded(&shadow.ray, shadow.t_max) {
+                    lit += reflected;
+                }
             }
         }
-        // With both mirror and refraction one of them is followed, chosen at random with
-        // its weight divided by its probability: one ray, no branching, no bias.
-        if !flags.is_delta() {
+        if !leave(scene, &mut path, &vertex, lit, sampler, indirect) {
             break;
         }
-        let Some(sample) = bsdf.sample(wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA)
-        else {
-            break;
-        };
-        beta *= sample.weight;
-        ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
     }
-    radiance
+    path.radiance
 }

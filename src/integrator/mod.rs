@@ -9,10 +9,10 @@ pub use direct::Direct;
 pub use path::{Path, Strategy};
 pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 
-use glam::{BVec4A, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 use crate::accel::RayLanes;
-use crate::geometry::{Hit, LANES, Ray, Vec3x4};
+use crate::geometry::{Hit, LANES, Ray};
 use crate::light::{Light, ShadowRay};
 use crate::material::Bsdf;
 use crate::sampling::Sampler;
@@ -73,47 +73,100 @@ fn direct_from_light(
     Some((sample.shadow, f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf))
 }
 
-/// What only a path traced in a lane reads: its own choices.
-struct LanePath {
-    /// Which camera sample it is: where its radiance goes.
+/// A path traced in a lane: which camera sample it is (where its radiance goes), its own
+/// sample values, and the integrator's state of it.
+struct LanePath<S> {
     slot: usize,
     sampler: Sampler,
-    bounces: u32,
+    state: S,
 }
 
-/// Paths traced side by side, one per lane, as the integrators' `radiance_of_all` trace them.
-trait LanePaths {
-    /// Whether `lane` has no path (never had one, or its path ended).
-    fn is_free(&self, lane: usize) -> bool;
-    /// Starts the path of camera sample `slot` in `lane`.
-    fn start(&mut self, lane: usize, slot: usize, ray: &Ray, sampler: Sampler);
+/// Paths traced side by side, one per lane: the rays of a bounce meet the scene together, and
+/// each path's bounce is computed alone, by the same code as one path at a time (pbrt-v4's
+/// wavefront way: ray queries batched, kernels written once).
+struct Lanes<S> {
+    paths: [Option<LanePath<S>>; LANES],
 }
 
-/// Gives each free lane the next camera sample (numbered by `samples`); the lanes with a path
-/// after that, or `None` when none has one: every sample is traced.
-fn fill_lanes(
-    lanes: &mut impl LanePaths,
-    samples: &mut impl Iterator<Item = (usize, (Ray, Sampler))>,
-) -> Option<[bool; LANES]> {
-    for lane in 0..LANES {
-        if lanes.is_free(lane)
-            && let Some((slot, (ray, sampler))) = samples.next()
-        {
-            lanes.start(lane, slot, &ray, sampler);
-        }
+impl<S> Lanes<S> {
+    fn new() -> Self {
+        Lanes { paths: std::array::from_fn(|_| None) }
     }
-    let active = std::array::from_fn(|lane| !lanes.is_free(lane));
-    active.contains(&true).then_some(active)
+
+    /// Gives each free lane the next camera sample (numbered by `samples`), its state made by
+    /// `start` from the camera ray; the lanes with a path after that, or `None` when none has
+    /// one: every sample is traced.
+    fn fill(
+        &mut self,
+        samples: &mut impl Iterator<Item = (usize, (Ray, Sampler))>,
+        start: impl Fn(Ray) -> S,
+    ) -> Option<[bool; LANES]> {
+        for path in self.paths.iter_mut().filter(|path| path.is_none()) {
+            let Some((slot, (ray, sampler))) = samples.next() else { break };
+            *path = Some(LanePath { slot, sampler, state: start(ray) });
+        }
+        let active = self.paths.each_ref().map(Option::is_some);
+        active.contains(&true).then_some(active)
+    }
+
+    /// The paths' next rays, coordinate by coordinate (`IDLE` in free lanes).
+    fn rays(&self, ray: impl Fn(&S) -> Ray) -> RayLanes {
+        RayLanes::new(
+            &self.paths.each_ref().map(|path| path.as_ref().map_or(IDLE, |p| ray(&p.state))),
+        )
+    }
+
+    fn paths_mut(&mut self) -> impl Iterator<Item = (usize, &mut LanePath<S>)> {
+        self.paths.iter_mut().enumerate().filter_map(|(lane, path)| Some((lane, path.as_mut()?)))
+    }
+
+    fn path_mut(&mut self, lane: usize) -> Option<&mut LanePath<S>> {
+        self.paths[lane].as_mut()
+    }
+
+    /// Ends the path in `lane`, freeing the lane.
+    fn take(&mut self, lane: usize) -> Option<LanePath<S>> {
+        self.paths[lane].take()
+    }
 }
 
 /// The ray of a lane with no path (never tested: its lane is inactive or its `t_max` is 0).
 const IDLE: Ray = Ray { origin: glam::Vec3A::ZERO, dir: glam::Vec3A::Z };
 
-/// Shadow rays of next-event estimation, in the lanes of `found`, and the radiance each brings if
-/// it is unoccluded.
-struct Shadowed {
-    found: BVec4A,
-    rays: RayLanes,
-    t_max: Vec4,
-    radiance: Vec3x4,
+/// Shadow rays of next-event estimation, one per lane at most, tested together, and the
+/// radiance each brings if it is unoccluded.
+struct ShadowLanes {
+    found: [bool; LANES],
+    rays: [Ray; LANES],
+    t_max: [f32; LANES],
+    radiance: [Vec3; LANES],
+}
+
+impl ShadowLanes {
+    fn new() -> Self {
+        ShadowLanes {
+            found: [false; LANES],
+            rays: [IDLE; LANES],
+            t_max: [0.0; LANES],
+            radiance: [Vec3::ZERO; LANES],
+        }
+    }
+
+    fn set_lane(&mut self, lane: usize, (shadow, radiance): (ShadowRay, Vec3)) {
+        self.found[lane] = true;
+        self.rays[lane] = shadow.ray;
+        self.t_max[lane] = shadow.t_max;
+        self.radiance[lane] = radiance;
+    }
+
+    /// The lanes whose shadow ray is unoccluded.
+    fn open(&self, scene: &Scene) -> impl Iterator<Item = usize> + use<> {
+        let mut open = [false; LANES];
+        if self.found.contains(&true) {
+            let t_max = Vec4::from_array(self.t_max);
+            let occluded = scene.occluded_lanes(&RayLanes::new(&self.rays), t_max);
+            open = std::array::from_fn(|lane| self.found[lane] && !occluded.test(lane));
+        }
+        (0..LANES).filter(move |&lane| open[lane])
+    }
 }

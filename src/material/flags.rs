@@ -57,19 +57,6 @@ impl LobeFlags {
         self.contains(LobeFlags::DELTA)
     }
 
-    /// Whether it is a diffuse lobe alone, which `sample_lambertian_lanes` samples.
-    #[inline]
-    pub fn is_lambertian(self) -> bool {
-        self == LobeFlags::DIFFUSE | LobeFlags::REFLECTION
-    }
-
-    /// Whether its lobes with a density are Lambertian alone (`eval_diffuse_lanes` evaluates
-    /// them), whatever its delta lobes.
-    #[inline]
-    pub fn is_diffuse_where_non_delta(self) -> bool {
-        self.contains(LobeFlags::DIFFUSE) && !self.contains(LobeFlags::GLOSSY)
-    }
-
     /// Whether `Bsdf::sample` over every lobe reads its `u_lobe`: there are lobes besides a
     /// diffuse one (a choice between lobes, or within one: reflection or refraction).
     #[inline]

@@ -2,13 +2,12 @@
 //! refractive `transmission` (kt) with `ior`, `emission`, and `roughness` that makes the mirror
 //! and refraction GGX microfacet lobes — and the BSDF each makes at a hit (`Material::bsdf`):
 //! its lobes (`lobe/`, one file each) in a shading frame, `eval`, `sample`, `pdf` under a mask
-//! of lobes, and lane versions of the Lambertian lobe.
+//! of lobes.
 
 mod bsdf;
 mod flags;
 mod frame;
 mod fresnel;
-mod lanes;
 pub mod lobe;
 mod microfacet;
 
@@ -16,7 +15,6 @@ pub use bsdf::{Bsdf, BsdfSample, NO_DIRECTION, TransportMode};
 pub use flags::LobeFlags;
 pub use frame::Frame;
 pub use fresnel::{Split, fresnel_dielectric, refract};
-pub use lanes::{BsdfSampleLanes, eval_diffuse_lanes, sample_lambertian_lanes};
 
 use glam::Vec3;
 

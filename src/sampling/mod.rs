@@ -4,6 +4,4 @@ mod sampler;
 mod warp;
 
 pub use sampler::Sampler;
-pub use warp::{
-    concentric_disk, cosine_hemisphere, cosine_hemisphere_lanes, uniform_sphere, uniform_triangle,
-};
+pub use warp::{concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle};

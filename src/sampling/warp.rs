@@ -1,11 +1,8 @@
 //! Warps from the unit square (pbrt-v4, section A.5).
 
 use std::f32::consts::{FRAC_PI_4, PI};
-use std::ops::{Add, Mul, Sub};
 
-use glam::{Vec2, Vec3, Vec4};
-
-use crate::geometry::{Vec2x4, Vec3x4};
+use glam::{Vec2, Vec3};
 
 /// Shirley–Chiu concentric map onto the unit disk (area-preserving up to a constant).
 pub fn concentric_disk(u: Vec2) -> Vec2 {
@@ -28,11 +25,7 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
 /// sin and cos of `x` in [-pi/4, pi/4], to within a few ulps: the minimax polynomials of
 /// Cephes' `sinf` and `cosf` (Moshier 1989).
 #[inline]
-fn sin_cos_within_quarter<F>(x: F) -> (F, F)
-where
-    F: Copy + Add<Output = F> + Mul<Output = F> + Add<f32, Output = F> + Mul<f32, Output = F>,
-    f32: Sub<F, Output = F> + Mul<F, Output = F> + Add<F, Output = F>,
-{
+fn sin_cos_within_quarter(x: f32) -> (f32, f32) {
     let z = x * x;
     let sin = x + x * z * (-1.666_665_5e-1 + z * (8.332_161e-3 + z * -1.951_529_6e-4));
     let cos = 1.0 - 0.5 * z + z * z * (4.166_664_6e-2 + z * (-1.388_731_6e-3 + z * 2.443_315_7e-5));
@@ -51,21 +44,6 @@ pub fn uniform_sphere(u: Vec2) -> Vec3 {
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
     let d = concentric_disk(u);
     Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
-}
-
-/// `cosine_hemisphere` of four points at once, one per lane: the same operations in the same
-/// order, both branches of `concentric_disk` computed and one kept per lane.
-pub fn cosine_hemisphere_lanes(u: Vec2x4) -> Vec3x4 {
-    let o = [u.x, u.y].map(|u| 2.0 * u - Vec4::ONE);
-    let x_major = o[0].abs().cmpgt(o[1].abs());
-    // The larger coordinate is the radius, the ratio of the other to it the angle.
-    let radius = Vec4::select(x_major, o[0], o[1]);
-    let other = Vec4::select(x_major, o[1], o[0]);
-    let (sin, cos) = sin_cos_within_quarter(FRAC_PI_4 * (other / radius));
-    let centre = o[0].cmpeq(Vec4::ZERO) & o[1].cmpeq(Vec4::ZERO);
-    let x = Vec4::select(centre, Vec4::ZERO, radius * Vec4::select(x_major, cos, sin));
-    let y = Vec4::select(centre, Vec4::ZERO, radius * Vec4::select(x_major, sin, cos));
-    Vec3x4 { x, y, z: (1.0 - (x * x + y * y)).max(Vec4::ZERO).sqrt() }
 }
 
 /// Barycentric coordinates (b1, b2) uniform over a triangle: the point is

@@ -170,11 +170,9 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         textures: flat.textures,
         frames: flat.frames,
         lights,
-        lights_in_lanes: Vec::new(),
         light_cdf: Vec::new(),
         warnings,
     };
-    scene.lights_in_lanes = scene.lights.iter().map(Light::in_lanes).collect();
     // Lights with no power are never chosen (their probability would be zero).
     scene.light_cdf = scene
         .lights

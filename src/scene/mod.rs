@@ -13,7 +13,7 @@ use glam::{Affine3A, BVec4A, Vec3, Vec4};
 use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
 use crate::geometry::{Csg, Hit, Intersection, LANES, Lane, Ray, Shape};
-use crate::light::{LaneLight, Light};
+use crate::light::Light;
 use crate::material::Material;
 use crate::texture::Texture;
 use graph::Settings;
@@ -61,8 +61,6 @@ pub struct Scene {
     /// World to object space of each object, for textures.
     frames: Vec<Affine3A>,
     pub lights: Vec<Light>,
-    /// Per light, its form for `light::sample_lanes` if it has one.
-    pub lights_in_lanes: Vec<Option<LaneLight>>,
     /// Cumulative distribution for choosing a light in proportion to its power.
     light_cdf: Vec<f32>,
     /// Things the user should know that are not errors (e.g. the camera's aspect ratio).
