@@ -3,6 +3,7 @@
 mod aabb;
 mod csg;
 mod lanes;
+mod quadratic;
 mod ray;
 mod shape;
 mod solid;

@@ -5,6 +5,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
 use super::csg::Csg;
+use super::quadratic::{quadratic_roots, quadratic_roots_with};
 use super::solid::{Cone, Cuboid};
 use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
@@ -411,16 +412,8 @@ pub(super) fn sphere_roots(center: Vec3, radius: f32, ray: &Ray) -> Option<(f32,
     // r^2 - |oc - b d|^2 instead of b^2 - (|oc|^2 - r^2): no cancellation for distant spheres
     // (Ray Tracing Gems, ch. 7).
     let perp = oc - b * dir;
-    let disc = radius * radius - perp.length_squared();
-    if disc < 0.0 {
-        return None;
-    }
-    let root = disc.sqrt();
-    // q = -b - sign(b) root gives the far-from-cancellation root; c / q the other (c = |oc|^2 - r^2).
-    let q = if b > 0.0 { -b - root } else { -b + root };
-    let c = oc.length_squared() - radius * radius;
-    let (a, b) = (q, c / q);
-    Some(if a < b { (a, b) } else { (b, a) })
+    let discriminant = radius * radius - perp.length_squared();
+    quadratic_roots_with(1.0, b, oc.length_squared() - radius * radius, discriminant)
 }
 
 /// Möller–Trumbore's coordinates (s, t) along edge1 and edge2 of where the ray meets the
@@ -467,28 +460,25 @@ pub(super) fn planar_distance(
 }
 
 /// Distance along `o + t d` (canonical space, `d` not normalised, so t is the world distance).
-fn quadric_distance(kind: QuadricKind, o: Vec3A, d: Vec3A, t_max: f32) -> Option<f32> {
-    let (a, b, c) = match kind {
-        QuadricKind::Ellipsoid => (d.dot(d), o.dot(d), o.dot(o) - 1.0),
-        QuadricKind::Tube => {
-            (d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - 1.0)
-        }
-    };
-    let disc = b * b - a * c;
-    if a == 0.0 || disc < 0.0 {
-        return None;
-    }
-    let root = disc.sqrt();
-    let q = if b > 0.0 { -b - root } else { -b + root };
-    let (t0, t1) = {
-        let (x, y) = (q / a, c / q);
-        if x < y { (x, y) } else { (y, x) }
-    };
+pub(super) fn quadric_distance(kind: QuadricKind, o: Vec3A, d: Vec3A, t_max: f32) -> Option<f32> {
+    let (a, half_b, c) = quadric_coefficients(kind, o, d);
+    let (t0, t1) = quadratic_roots(a, half_b, c)?;
     let accept = |t: f32| {
         let in_range = t > 0.0 && t < t_max;
         in_range && (kind == QuadricKind::Ellipsoid || (0.0..=1.0).contains(&(o.z + t * d.z)))
     };
     [t0, t1].into_iter().find(|&t| accept(t))
+}
+
+/// The quadratic `a t^2 + 2 half_b t + c` (as `(a, half_b, c)`) that is 0 where `o + t d`
+/// meets the canonical quadric (the tube's whole infinite cylinder).
+pub(super) fn quadric_coefficients(kind: QuadricKind, o: Vec3A, d: Vec3A) -> (f32, f32, f32) {
+    match kind {
+        QuadricKind::Ellipsoid => (d.dot(d), o.dot(d), o.dot(o) - 1.0),
+        QuadricKind::Tube => {
+            (d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - 1.0)
+        }
+    }
 }
 
 #[cfg(test)]

@@ -5,9 +5,10 @@
 use arrayvec::ArrayVec;
 use glam::{Affine3A, DMat3, DVec3, Vec2, Vec3, Vec3A};
 
+use super::quadratic::quadratic_roots;
 use super::shape::{
-    Intersection, PlanarKind, QuadricFrame, Shape, SurfaceSample, planar_coordinates,
-    planar_distance, planar_error, planar_unbounded,
+    Intersection, PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, planar_coordinates,
+    planar_distance, planar_error, planar_unbounded, quadric_coefficients, quadric_distance,
 };
 use super::{Aabb, Hit, Ray};
 
@@ -201,24 +202,21 @@ impl Cone {
         (*m * (p.as_dvec3() - self.origin), *m * v.as_dvec3())
     }
 
-    /// `side_roots` in f64.
-    fn side_roots_f64(&self, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
+    /// The side's intersections along `o + t d` (own space) as (t0, t1) in order: any real
+    /// roots of its whole double cone, whether or not they are on the side (`on_side`).
+    fn side_roots(&self, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
         let (r0, k) = (f64::from(self.radii[0]), f64::from(self.slope()));
         let r = r0 + k * o.z;
-        let a = d.x * d.x + d.y * d.y - k * k * d.z * d.z;
-        let b = o.x * d.x + o.y * d.y - k * d.z * r;
-        let c = o.x * o.x + o.y * o.y - r * r;
-        let disc = b * b - a * c;
-        if a == 0.0 || disc < 0.0 {
-            return None;
-        }
-        let root = disc.sqrt();
-        let q = if b > 0.0 { -b - root } else { -b + root };
-        let (x, y) = (q / a, c / q);
-        Some(if x < y { (x, y) } else { (y, x) })
+        quadratic_roots(
+            d.x * d.x + d.y * d.y - k * k * d.z * d.z,
+            o.x * d.x + o.y * d.y - k * d.z * r,
+            o.x * o.x + o.y * o.y - r * r,
+        )
     }
 
-    fn on_side_f64(&self, o: DVec3, d: DVec3, t: f64) -> bool {
+    /// Whether a side root at `t` is on the cone's side (z in [0, 1], and on the nappe of
+    /// non-negative radius).
+    fn on_side(&self, o: DVec3, d: DVec3, t: f64) -> bool {
         let z = o.z + t * d.z;
         (0.0..=1.0).contains(&z) && f64::from(self.radii[0]) + f64::from(self.slope()) * z >= 0.0
     }
@@ -232,54 +230,18 @@ impl Cone {
         self.radii[1] - self.radii[0]
     }
 
-    /// The side's intersections along `o + t d` (canonical space), as (t0, t1) in order: any
-    /// real roots, whether or not their z is in [0, 1].
-    #[inline]
-    fn side_roots(&self, o: Vec3A, d: Vec3A) -> Option<(f32, f32)> {
-        let k = self.slope();
-        let (a, b, c) = if k == 0.0 {
-            // The cylinder's `quadric_distance`, by its operations in its order.
-            (d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - 1.0)
-        } else {
-            let r = self.radii[0] + k * o.z;
-            (
-                d.x * d.x + d.y * d.y - k * k * d.z * d.z,
-                o.x * d.x + o.y * d.y - k * d.z * r,
-                o.x * o.x + o.y * o.y - r * r,
-            )
-        };
-        let disc = b * b - a * c;
-        if a == 0.0 || disc < 0.0 {
-            return None;
-        }
-        let root = disc.sqrt();
-        let q = if b > 0.0 { -b - root } else { -b + root };
-        let (x, y) = (q / a, c / q);
-        Some(if x < y { (x, y) } else { (y, x) })
-    }
-
-    /// Whether a side root at `t` is on the cone's side (z in [0, 1], and on the nappe of
-    /// non-negative radius).
-    #[inline]
-    fn on_side(&self, o: Vec3A, d: Vec3A, t: f32) -> bool {
-        let z = o.z + t * d.z;
-        (0.0..=1.0).contains(&z) && (self.slope() == 0.0 || self.radii[0] + self.slope() * z >= 0.0)
-    }
-
     #[inline]
     fn intersection(&self, ray: &Ray, mut t_max: f32) -> Option<Intersection> {
         let mut closest = None;
         let side = if self.slope() == 0.0 {
+            // As the cylinder's tube always has.
             let (o, d) = self.frame.ray_to_object(ray);
-            self.side_roots(o, d).and_then(|(t0, t1)| {
-                let accept = |t: f32| t > 0.0 && t < t_max && self.on_side(o, d, t);
-                [t0, t1].into_iter().find(|&t| accept(t))
-            })
+            quadric_distance(QuadricKind::Tube, o, d, t_max)
         } else {
             let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
-            self.side_roots_f64(o, d).and_then(|(t0, t1)| {
+            self.side_roots(o, d).and_then(|(t0, t1)| {
                 let accept = |t: f64| {
-                    t > 0.0 && (t as f32) < t_max && t as f32 > 0.0 && self.on_side_f64(o, d, t)
+                    t > 0.0 && (t as f32) < t_max && t as f32 > 0.0 && self.on_side(o, d, t)
                 };
                 [t0, t1].into_iter().find(|&t| accept(t)).map(|t| t as f32)
             })
@@ -338,8 +300,8 @@ impl Cone {
     fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
         let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
         let mut found = ArrayVec::<(f64, u32), 4>::new();
-        if let Some((t0, t1)) = self.side_roots_f64(o, d) {
-            let on_side = |&t: &f64| self.on_side_f64(o, d, t);
+        if let Some((t0, t1)) = self.side_roots(o, d) {
+            let on_side = |&t: &f64| self.on_side(o, d, t);
             found.extend([t0, t1].into_iter().filter(on_side).map(|t| (t, SIDE)));
         }
         if d.z != 0.0 {
@@ -516,18 +478,19 @@ impl Shape {
                     None => Crossings::outside(),
                 }
             }
-            Shape::Quadric { kind: super::QuadricKind::Ellipsoid, frame } => {
+            Shape::Quadric { kind: QuadricKind::Ellipsoid, frame } => {
                 let (o, d) = frame.ray_to_object(ray);
-                let (a, b, c) = (d.dot(d), o.dot(d), o.dot(o) - 1.0);
-                let disc = b * b - a * c;
-                if disc < 0.0 || a == 0.0 {
-                    return Crossings::outside();
+                let (a, half_b, c) = quadric_coefficients(QuadricKind::Ellipsoid, o, d);
+                match quadratic_roots(a, half_b, c) {
+                    Some((t0, t1)) => Crossings::convex(
+                        t0,
+                        t1,
+                        t_max,
+                        || Intersection::at(t0),
+                        || Intersection::at(t1),
+                    ),
+                    None => Crossings::outside(),
                 }
-                let root = disc.sqrt();
-                let q = if b > 0.0 { -b - root } else { -b + root };
-                let (x, y) = (q / a, c / q);
-                let (t0, t1) = if x < y { (x, y) } else { (y, x) };
-                Crossings::convex(t0, t1, t_max, || Intersection::at(t0), || Intersection::at(t1))
             }
             Shape::Box(cuboid) => cuboid.crossings(ray, t_max),
             Shape::Cone(cone) if !cone.open => cone.crossings(ray, t_max),
@@ -546,7 +509,7 @@ impl Shape {
         match self {
             Shape::Plane { normal, offset } => normal.dot(p) + offset < 0.0,
             Shape::Sphere { center, radius } => p.distance_squared(*center) < radius * radius,
-            Shape::Quadric { kind: super::QuadricKind::Ellipsoid, frame } => {
+            Shape::Quadric { kind: QuadricKind::Ellipsoid, frame } => {
                 frame.to_object.transform_point3(p).length_squared() < 1.0
             }
             Shape::Box(cuboid) => cuboid.contains(p),
