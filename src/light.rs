@@ -6,7 +6,7 @@ use std::f32::consts::PI;
 use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 use crate::geometry::{
-    Hit, HitLanes, LANES, Lane, PlanarKind, Ray, Shape, Vec2x4, Vec3x4, offset_origin,
+    Hit, HitLanes, LANES, Lane, Planar, PlanarKind, Ray, Shape, Vec2x4, Vec3x4, offset_origin,
     planar_coordinates, planar_error, sphere_error,
 };
 use crate::material::to_world;
@@ -225,7 +225,9 @@ impl Light {
                 (*primitive, shape, *emission, *area)
             }
         };
-        let Shape::Planar { kind, origin, edge1, edge2, normal } = *shape else { return None };
+        let Shape::Planar(Planar { kind, origin, edge1, edge2, normal }) = *shape else {
+            return None;
+        };
         Some(LaneLight {
             planar: Some((primitive, kind)),
             origin,
