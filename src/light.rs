@@ -5,8 +5,7 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use crate::geometry::{Hit, Ray, Shape, offset_origin, sphere_error};
-use crate::material::Frame;
+use crate::geometry::{DirectionSample, Frame, Hit, Ray, Shape, offset_origin};
 use crate::sampling::{cosine_hemisphere, uniform_sphere};
 
 #[derive(Debug, Clone)]
@@ -76,22 +75,8 @@ impl Light {
                 return None;
             }
             &Light::Area { ref shape, emission, area, .. } => {
-                let (point, normal, error, wi, pdf) = match *shape {
-                    Shape::Sphere { center, radius } if center.distance(hit.point) > radius => {
-                        let (point, normal, error, pdf) =
-                            sample_sphere_cone(center, radius, hit.point, u);
-                        (point, normal, error, (point - hit.point).normalize(), pdf)
-                    }
-                    ref shape => {
-                        let s = shape.sample_area(u)?;
-                        let to_light = s.point - hit.point;
-                        let distance_squared = to_light.length_squared();
-                        let wi = to_light / distance_squared.sqrt();
-                        // Area density 1/A in solid angle: r^2 / (A cos).
-                        let pdf = distance_squared / (area * s.normal.dot(wi).abs());
-                        (s.point, s.normal, s.error, wi, pdf)
-                    }
-                };
+                let DirectionSample { point, normal, error, wi, pdf } =
+                    shape.sample_from(hit.point, area, u)?;
                 let le = emitted(emission, normal, -wi);
                 if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
                     return None;
@@ -110,16 +95,7 @@ impl Light {
         let Light::Area { ref shape, area, .. } = *self else {
             return 0.0;
         };
-        match *shape {
-            Shape::Sphere { center, radius } if center.distance(from) > radius => {
-                1.0 / cone_solid_angle(center, radius, from)
-            }
-            _ => {
-                let to_light = on_light.point - from;
-                let cos_light = on_light.normal.dot(to_light.normalize()).abs();
-                to_light.length_squared() / (area * cos_light)
-            }
-        }
+        shape.pdf_from(from, area, on_light.point, on_light.normal)
     }
 }
 
@@ -164,39 +140,6 @@ impl Light {
 /// one-sided rule, towards the normal.
 fn emitted(emission: Vec3, n: Vec3, wo: Vec3) -> Vec3 {
     if n.dot(wo) > 0.0 { emission } else { Vec3::ZERO }
-}
-
-/// Solid angle of the cone of directions from `from` that meet the sphere:
-/// 2 pi (1 - cos theta_max), with 1 - cos written as sin^2 / (1 + cos) for small cones.
-fn cone_solid_angle(center: Vec3, radius: f32, from: Vec3) -> f32 {
-    let sin2_max = radius * radius / center.distance_squared(from);
-    let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
-    2.0 * PI * sin2_max / (1.0 + cos_max)
-}
-
-/// A direction uniform in the cone the sphere subtends (pbrt-v4, 6.2.4), and the point it meets.
-/// Returns point, outward normal, error bound and solid-angle pdf.
-fn sample_sphere_cone(center: Vec3, radius: f32, from: Vec3, u: Vec2) -> (Vec3, Vec3, f32, f32) {
-    let axis = center - from;
-    let distance = axis.length();
-    let sin2_max = radius * radius / (distance * distance);
-    let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
-    let one_minus_cos_max = sin2_max / (1.0 + cos_max);
-    let cos_theta = 1.0 - u.x * one_minus_cos_max;
-    let sin2_theta = (1.0 - cos_theta * cos_theta).max(0.0);
-    let phi = 2.0 * PI * u.y;
-    let sin_theta = sin2_theta.sqrt();
-    let wi = Frame::from_normal(axis / distance).to_world(Vec3::new(
-        sin_theta * phi.cos(),
-        sin_theta * phi.sin(),
-        cos_theta,
-    ));
-    // Nearest intersection of from + t wi with the sphere; at the silhouette the root is 0.
-    let t =
-        distance * cos_theta - (radius * radius - distance * distance * sin2_theta).max(0.0).sqrt();
-    let normal = (from + t * wi - center).normalize();
-    let point = center + radius * normal;
-    (point, normal, sphere_error(center, radius), 1.0 / (2.0 * PI * one_minus_cos_max))
 }
 
 /// The segment from `hit` to `target`.

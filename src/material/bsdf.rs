@@ -7,11 +7,11 @@
 use arrayvec::ArrayVec;
 use glam::{Vec2, Vec3};
 
-use super::frame::Frame;
 use super::fresnel::Split;
 use super::lobe::{GgxConductor, GgxDielectric, Lambertian, Lobe, Mirror, SmoothDielectric};
 use super::microfacet::Ggx;
 use super::{LobeFlags, Material};
+use crate::geometry::Frame;
 
 /// What a path carries: radiance (camera paths) or importance (photons, light paths). They
 /// differ only in the 1/eta^2 that refraction applies to radiance (pbrt-v4, 9.5.2).

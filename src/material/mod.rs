@@ -6,14 +6,12 @@
 
 mod bsdf;
 mod flags;
-mod frame;
 mod fresnel;
 pub mod lobe;
 mod microfacet;
 
 pub use bsdf::{Bsdf, BsdfSample, NO_DIRECTION, TransportMode};
 pub use flags::LobeFlags;
-pub use frame::Frame;
 pub use fresnel::{Split, fresnel_dielectric, refract};
 
 use glam::Vec3;

@@ -4,8 +4,8 @@
 use glam::{Vec2, Vec3};
 
 use super::{LobeSample, mean, side_of};
+use crate::geometry::on_side;
 use crate::material::LobeFlags;
-use crate::material::frame::on_side;
 use crate::material::microfacet::Ggx;
 
 #[derive(Debug, Clone, Copy)]

@@ -5,7 +5,7 @@
 use glam::{Vec2, Vec3};
 
 use super::{LobeSample, mean, shares, side_of};
-use crate::material::frame::on_side;
+use crate::geometry::on_side;
 use crate::material::fresnel::{Split, refract};
 use crate::material::microfacet::Ggx;
 use crate::material::{LobeFlags, TransportMode};

@@ -5,8 +5,8 @@ use std::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
 use super::{LobeSample, mean, side_of};
+use crate::geometry::on_side;
 use crate::material::LobeFlags;
-use crate::material::frame::on_side;
 use crate::sampling::cosine_hemisphere;
 
 #[derive(Debug, Clone, Copy)]

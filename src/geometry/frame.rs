@@ -1,5 +1,6 @@
-//! The shading frame at a hit: an orthonormal basis with +z along the shading normal, built once
-//! where the BSDF is made; lobes work in its coordinates.
+//! An orthonormal frame with +z along a unit vector: the shading frame at a hit, built once
+//! where the BSDF is made (lobes work in its coordinates), and the frames of directions sampled
+//! around an axis.
 
 use glam::Vec3;
 
