@@ -104,28 +104,28 @@ struct WhittedLane {
     lights: Vec<Option<(ShadowRay, Vec3)>>,
 }
 
-/// A path of `whitted` between bounces.
+/// A path of `whitted` (or of sppm's camera pass) between bounces.
 pub(super) struct WhittedPath {
     /// Its next ray.
-    ray: Ray,
+    pub ray: Ray,
     /// Radiance gathered so far.
-    radiance: Vec3,
+    pub radiance: Vec3,
     /// Throughput: the product of the delta lobes' weights so far.
-    beta: Vec3,
+    pub beta: Vec3,
     bounces: u32,
 }
 
 impl WhittedPath {
-    fn new(ray: Ray) -> Self {
+    pub fn new(ray: Ray) -> Self {
         WhittedPath { ray, radiance: Vec3::ZERO, beta: Vec3::ONE, bounces: 0 }
     }
 }
 
 /// Where a path of `whitted` scatters.
 pub(super) struct Vertex {
-    hit: Hit,
-    wo: Vec3,
-    bsdf: Bsdf,
+    pub hit: Hit,
+    pub wo: Vec3,
+    pub bsdf: Bsdf,
 }
 
 impl Vertex {
@@ -137,7 +137,7 @@ impl Vertex {
 
 /// The path arrives where its ray meets the scene (`hit`), or leaves it, and adds the emission
 /// seen there (the background where it leaves); the vertex where it scatters, unless it ends.
-fn arrive(
+pub(super) fn arrive(
     scene: &Scene,
     path: &mut WhittedPath,
     hit: Option<Hit>,
@@ -182,17 +182,22 @@ fn leave(
     indirect: Option<&Indirect>,
 ) -> bool {
     let Vertex { hit, wo, bsdf } = vertex;
-    let flags = bsdf.flags();
-    if flags.is_non_delta() {
+    if bsdf.flags().is_non_delta() {
         path.radiance += path.beta * lit;
         path.radiance += path.beta * direct_from_background(scene, hit, *wo, bsdf, sampler);
         if let Some(indirect) = indirect {
             path.radiance += path.beta * indirect(hit, *wo, bsdf);
         }
     }
-    // With both mirror and refraction one of them is followed, chosen at random with its
-    // weight divided by its probability: one ray, no branching, no bias.
-    if !flags.is_delta() {
+    follow_delta(path, vertex, sampler)
+}
+
+/// The path goes on through the vertex's delta lobes, if it has some: with both mirror and
+/// refraction one of them is followed, chosen at random with its weight divided by its
+/// probability (one ray, no branching, no bias). Whether it goes on.
+pub(super) fn follow_delta(path: &mut WhittedPath, vertex: &Vertex, sampler: &mut Sampler) -> bool {
+    let Vertex { hit, wo, bsdf } = vertex;
+    if !bsdf.flags().is_delta() {
         return false;
     }
     let Some(sample) = bsdf.sample(*wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA) else {
@@ -202,6 +207,18 @@ fn leave(
     path.ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
     path.bounces += 1;
     true
+}
+
+/// Light from every light reflected towards wo at a lit vertex, each sample's shadow ray
+/// traced at once: what the lanes of `Direct` find together, one path at a time.
+pub(super) fn lit_one_at_a_time(scene: &Scene, vertex: &Vertex, sampler: &mut Sampler) -> Vec3 {
+    let mut lit = Vec3::ZERO;
+    for (shadow, reflected) in light_samples(scene, vertex, sampler).flatten() {
+        if !scene.occluded(&shadow.ray, shadow.t_max) {
+            lit += reflected;
+        }
+    }
+    lit
 }
 
 /// Light from other surfaces scattered towards `wo` by `bsdf` at a hit, from some estimator
@@ -222,14 +239,8 @@ pub(super) fn whitted(
     loop {
         let hit = scene.intersect(&path.ray);
         let Some(vertex) = arrive(scene, &mut path, hit, max_depth) else { break };
-        let mut lit = Vec3::ZERO;
-        if vertex.is_lit() {
-            for (shadow, reflected) in light_samples(scene, &vertex, sampler).flatten() {
-                if !scene.occluded(&shadow.ray, shadow.t_max) {
-                    lit += reflected;
-                }
-            }
-        }
+        let lit =
+            if vertex.is_lit() { lit_one_at_a_time(scene, &vertex, sampler) } else { Vec3::ZERO };
         if !leave(scene, &mut path, &vertex, lit, sampler, indirect) {
             break;
         }

@@ -36,28 +36,6 @@ pub trait Integrator: Sync {
     }
 }
 
-/// Light scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, one sample from
-/// every light.
-fn direct_from_all_lights(
-    scene: &Scene,
-    hit: &Hit,
-    wo: Vec3,
-    bsdf: &Bsdf,
-    sampler: &mut Sampler,
-) -> Vec3 {
-    let mut radiance = Vec3::ZERO;
-    for light in &scene.lights {
-        let u = sampler.next_2d();
-        let Some((shadow, reflected)) = direct_from_light(light, hit, wo, bsdf, u) else {
-            continue;
-        };
-        if !scene.occluded(&shadow.ray, shadow.t_max) {
-            radiance += reflected;
-        }
-    }
-    radiance
-}
-
 /// Light from `light` scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, from
 /// its sample at `u`, if the shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point
 /// light exactly the seed's p / r^2 f |n . wi|).

@@ -13,11 +13,11 @@ use std::time::Instant;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::direct::direct_from_background;
-use super::{PHOTON_TASK, direct_from_all_lights};
+use super::PHOTON_TASK;
+use super::direct::{
+    Vertex, WhittedPath, arrive, direct_from_background, follow_delta, lit_one_at_a_time,
+};
 use crate::film::Film;
-use crate::geometry::{Hit, Ray, offset_origin};
-use crate::material::{LobeFlags, Material, NO_DIRECTION, TransportMode};
 use crate::photon::{Emission, HashGrid, trace_photon};
 use crate::render::{Progress, RenderStats, camera_sample};
 use crate::scene::Scene;
@@ -29,20 +29,17 @@ const ALPHA: f32 = 2.0 / 3.0;
 /// memory the deposits take).
 const TASKS_PER_WAVE: usize = 16;
 
-/// Where a camera path stopped on a non-delta lobe, the material there, and the throughput it
+/// Where a camera path stopped on a non-delta lobe, the BSDF there, and the throughput it
 /// brought there.
 struct VisiblePoint {
-    hit: Hit,
-    wo: Vec3,
-    material: Material,
+    vertex: Vertex,
     beta: Vec3,
 }
 
 impl VisiblePoint {
     /// Light a photon arriving from `wi` with `power` sends along the camera path.
     fn flux(&self, wi: Vec3, power: Vec3) -> Vec3 {
-        let bsdf = self.material.bsdf(self.hit.shading_normal, TransportMode::Radiance);
-        self.beta * bsdf.eval(self.wo, wi) * power
+        self.beta * self.vertex.bsdf.eval(self.vertex.wo, wi) * power
     }
 }
 
@@ -130,7 +127,9 @@ fn iterate(
     let spheres: Vec<(u32, Vec3, f32)> = points
         .iter()
         .enumerate()
-        .filter_map(|(i, (_, vp))| Some((i as u32, vp.as_ref()?.hit.point, pixels[i].radius)))
+        .filter_map(|(i, (_, vp))| {
+            Some((i as u32, vp.as_ref()?.vertex.hit.point, pixels[i].radius))
+        })
         .collect();
     let grid = HashGrid::build(&spheres);
 
@@ -188,43 +187,30 @@ fn iterate(
 /// Iteration `iteration`'s camera path of pixel (x, y): the emission it saw and the direct light
 /// at its visible point (weighted by the path's throughput), and the visible point if any.
 fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPath {
-    let (mut ray, mut sampler) = camera_sample(scene, x, y, iteration);
-    let mut radiance = Vec3::ZERO;
-    let mut beta = Vec3::ONE;
-    for bounces in 0.. {
-        let Some(hit) = scene.intersect(&ray) else {
-            radiance += beta * scene.background();
-            break;
-        };
-        let wo = -Vec3::from(ray.dir);
-        let material = scene.material(hit.primitive, hit.point);
-        radiance += beta * material.emitted(hit.normal, wo);
-        if bounces == scene.settings.max_depth {
-            break;
-        }
-        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
-        let flags = bsdf.flags();
+    let (ray, mut sampler) = camera_sample(scene, x, y, iteration);
+    let mut path = WhittedPath::new(ray);
+    loop {
+        let hit = scene.intersect(&path.ray);
+        let Some(vertex) = arrive(scene, &mut path, hit, scene.settings.max_depth) else { break };
+        let flags = vertex.bsdf.flags();
         if flags.is_non_delta() {
             // With delta lobes too, the path stops here with the non-delta lobes' probability
             // p and goes on through a delta lobe otherwise, each divided by its probability.
-            let p = if flags.is_delta() { bsdf.diffuse_probability(wo) } else { 1.0 };
+            let p = if flags.is_delta() { vertex.bsdf.diffuse_probability(vertex.wo) } else { 1.0 };
             if sampler.next_1d_if(flags.is_delta()) < p {
-                beta /= p;
-                radiance += beta * direct_from_all_lights(scene, &hit, wo, &bsdf, &mut sampler);
-                radiance += beta * direct_from_background(scene, &hit, wo, &bsdf, &mut sampler);
-                return (radiance, Some(VisiblePoint { hit, wo, material, beta }));
+                path.beta /= p;
+                let lit = lit_one_at_a_time(scene, &vertex, &mut sampler);
+                path.radiance += path.beta * lit;
+                let Vertex { hit, wo, bsdf } = &vertex;
+                path.radiance +=
+                    path.beta * direct_from_background(scene, hit, *wo, bsdf, &mut sampler);
+                return (path.radiance, Some(VisiblePoint { vertex, beta: path.beta }));
             }
-            beta /= 1.0 - p;
+            path.beta /= 1.0 - p;
         }
-        if !flags.is_delta() {
+        if !follow_delta(&mut path, &vertex, &mut sampler) {
             break;
         }
-        let Some(sample) = bsdf.sample(wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA)
-        else {
-            break;
-        };
-        beta *= sample.weight;
-        ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
     }
-    (radiance, None)
+    (path.radiance, None)
 }
