@@ -4,6 +4,7 @@
 //! --`render`--> `Film` --> image files --> `tonemap`.
 #![forbid(unsafe_code)]
 
+pub mod aabb;
 pub mod accel;
 pub mod animation;
 pub mod bench;
@@ -12,6 +13,7 @@ pub mod diagnostic;
 pub mod digest;
 pub mod film;
 pub mod geometry;
+pub mod graph;
 pub mod image;
 pub mod input;
 pub mod integrator;
@@ -21,6 +23,8 @@ pub mod material;
 pub mod mesh;
 pub mod photon;
 mod pipeline;
+pub mod progress;
+pub mod ray;
 pub mod region;
 pub mod render;
 pub mod sampling;

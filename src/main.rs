@@ -10,9 +10,9 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use raydiance::animation;
+use raydiance::graph::IntegratorKind;
+use raydiance::progress::Progress;
 use raydiance::region::{Crop, Region};
-use raydiance::render::Progress;
-use raydiance::scene::graph::IntegratorKind;
 use raydiance::split::part_file::{self, PartHeader};
 use raydiance::split::plan::{self, Choices, Job, PartChoice};
 use raydiance::tonemap::{Operator, ToneMap};
@@ -419,7 +419,7 @@ fn render(
         }
         region.check(settings.width, settings.height).map_err(|e| format!("error: {e}"))?;
     }
-    let film_settings = raydiance::scene::graph::Settings {
+    let film_settings = raydiance::graph::Settings {
         width: region.crop.width(),
         height: region.crop.height(),
         ..settings.clone()

@@ -8,9 +8,9 @@ use crate::animation::Frame;
 use crate::diagnostic::SceneError;
 use crate::digest::Digest;
 use crate::film::Film;
+use crate::graph::{IntegratorKind, SceneGraph, Settings};
 use crate::image::{self, Image, ImageError, RenderInfo};
-use crate::render::RenderStats;
-use crate::scene::graph::{IntegratorKind, SceneGraph, Settings};
+use crate::progress::RenderStats;
 use crate::scene::{self, Scene};
 use crate::tonemap::{self, ToneMap};
 

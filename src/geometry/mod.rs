@@ -1,18 +1,17 @@
-//! Rays, hits and the shapes they hit.
+//! The shapes rays hit. Rays, hits and boxes live below the acceleration structures (`ray`,
+//! `aabb`), which the meshes here build on, and are re-exported here with the shapes they meet.
 
-mod aabb;
 mod csg;
 mod lanes;
-mod ray;
 mod shape;
 mod solid;
 mod torus;
 mod triangle_mesh;
 
-pub use aabb::Aabb;
+pub use crate::aabb::Aabb;
+pub use crate::ray::{Hit, Ray, offset_origin};
 pub use csg::{Csg, CsgNode, CsgOp};
 pub use lanes::{HitLanes, LANES, Lane, Vec2x4, Vec3x4};
-pub use ray::{Hit, Ray, offset_origin};
 pub(crate) use shape::REL_ERROR;
 pub use shape::{
     Intersection, PlanarKind, QuadricFrame, QuadricKind, Shape, SurfaceSample, planar_coordinates,

@@ -14,7 +14,7 @@ pub use lanes::{BsdfSampleLanes, eval_diffuse_lanes, sample_lambertian_lanes};
 
 use glam::Vec3;
 
-use crate::scene::graph::{MaterialDesc, Pattern};
+use crate::graph::{MaterialDesc, Pattern};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {

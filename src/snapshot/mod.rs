@@ -15,7 +15,8 @@ pub use estimate::Estimate;
 pub use file::{read, write};
 
 use crate::pipeline::{RenderRequest, build, load_graph};
-use crate::render::{Silent, render};
+use crate::progress::Silent;
+use crate::render::render;
 
 /// Samples per pixel of a snapshot render unless `--samples` says otherwise.
 pub const DEFAULT_SAMPLES: u32 = 64;
