@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::pipeline::{RenderRequest, load};
+use crate::pipeline::{LoadError, RenderRequest, load};
 use crate::progress::Silent;
 use crate::render::render;
 
@@ -21,6 +21,15 @@ pub const DEFAULT_SCENES: [&str; 7] = [
     "scenes/cornell-rough.scn",
 ];
 
+/// Why a benchmark did not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    #[error("error: --samples `{0}` is not a whole number")]
+    Samples(String),
+    #[error(transparent)]
+    Load(#[from] LoadError),
+}
+
 /// Renders each scene at 256x256 with each sample count (`"16,64"`) `repeats` times after one
 /// warm-up, and prints build time, median seconds and samples per second.
 pub fn run(
@@ -28,12 +37,10 @@ pub fn run(
     samples: &str,
     repeats: usize,
     out: &mut dyn Write,
-) -> Result<(), String> {
+) -> Result<(), BenchError> {
     let counts: Vec<u32> = samples
         .split(',')
-        .map(|s| {
-            s.trim().parse().map_err(|_| format!("error: --samples `{s}` is not a whole number"))
-        })
+        .map(|s| s.trim().parse().map_err(|_| BenchError::Samples(s.to_string())))
         .collect::<Result<_, _>>()?;
     let default: Vec<PathBuf> = DEFAULT_SCENES.iter().map(PathBuf::from).collect();
     let scenes = if scenes.is_empty() { &default } else { scenes };
@@ -47,7 +54,7 @@ pub fn run(
     Ok(())
 }
 
-fn bench_one(path: &Path, spp: u32, repeats: usize, out: &mut dyn Write) -> Result<(), String> {
+fn bench_one(path: &Path, spp: u32, repeats: usize, out: &mut dyn Write) -> Result<(), BenchError> {
     let request = RenderRequest {
         samples: Some(spp),
         width: Some(256),
@@ -55,7 +62,7 @@ fn bench_one(path: &Path, spp: u32, repeats: usize, out: &mut dyn Write) -> Resu
         ..Default::default()
     };
     let start = Instant::now();
-    let scene = load(path, &request).map_err(|e| e.to_string())?;
+    let scene = load(path, &request)?;
     let load_seconds = start.elapsed().as_secs_f64();
     render(&scene, &Silent);
     let mut seconds: Vec<f64> = (0..repeats).map(|_| render(&scene, &Silent).1.seconds).collect();

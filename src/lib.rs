@@ -35,6 +35,7 @@ pub mod texture;
 pub mod tonemap;
 
 pub use pipeline::{
-    LoadError, MAX_RESOLUTION, MAX_SAMPLES, OutputFormat, RenderRequest, check, check_film_memory,
-    load, load_with_digest, tonemap_file, write_image, write_render,
+    FilmTooLarge, LoadError, MAX_DEPTH, MAX_RESOLUTION, MAX_SAMPLES, MergeReport, OutputFormat,
+    RenderRequest, RequestError, ToneMapFileError, check, check_film_memory, load,
+    load_with_digest, merge_files, tonemap_file, write_image, write_render,
 };

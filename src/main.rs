@@ -253,7 +253,7 @@ fn main() -> ExitCode {
             let choices = Choices { part, parts, crop, frames, frame, clock };
             let plan = match plan::plan(&choices, &output, |name| std::env::var(name).ok()) {
                 Ok(plan) => plan,
-                Err(message) => return fail(message),
+                Err(error) => return fail(error.to_string()),
             };
             if let Some(task) = &plan.task {
                 tell!("{task}");
@@ -262,11 +262,20 @@ fn main() -> ExitCode {
             with_threads(threads, || render_all(&scene, &plan.jobs, &request, &options))
         }
         Command::Merge { parts, output, allow_partial, ppm_res } => {
-            merge(&parts, &output, allow_partial, ppm_res)
+            raydiance::merge_files(&parts, &output, allow_partial, ppm_res)
+                .map(|merged| {
+                    for line in &merged.missing {
+                        tell!("warning: {line}");
+                    }
+                    say!("{}", merged.summary);
+                })
+                .map_err(|e| e.to_string())
         }
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
             let tone_map = ToneMap { op, v, gamma, exposure, white };
-            raydiance::tonemap_file(&input, &output, &tone_map).map(|summary| say!("{summary}"))
+            raydiance::tonemap_file(&input, &output, &tone_map)
+                .map(|summary| say!("{summary}"))
+                .map_err(|e| e.to_string())
         }
         Command::Check { scene } => {
             raydiance::check(&scene).map(|summary| say!("{summary}")).map_err(|e| e.to_string())
@@ -424,7 +433,7 @@ fn render(
         height: region.crop.height(),
         ..settings.clone()
     };
-    raydiance::check_film_memory(&film_settings, options.max_bytes)?;
+    raydiance::check_film_memory(&film_settings, options.max_bytes).map_err(|e| e.to_string())?;
     for warning in &scene.warnings {
         tell!("{warning}");
     }
@@ -491,51 +500,11 @@ fn render(
     Ok(())
 }
 
-/// `raydiance merge`: checks the parts together, adds them, writes the image.
-fn merge(
-    parts: &[PathBuf],
-    output: &Path,
-    allow_partial: bool,
-    ppm_res: u32,
-) -> Result<(), String> {
-    let start = Instant::now();
-    let format =
-        raydiance::OutputFormat::for_path(output, ppm_res).map_err(|e| format!("error: {e}"))?;
-    if let Ok(out) = std::fs::canonicalize(output) {
-        if let Some(part) = parts.iter().find(|p| std::fs::canonicalize(p).is_ok_and(|p| p == out))
-        {
-            return Err(format!(
-                "error: {}: is one of the parts; merging would replace it",
-                part.display()
-            ));
-        }
-    }
-    let merged = raydiance::split::merge::merge(parts, allow_partial)?;
-    raydiance::write_image(output, &format, &merged.image, &merged.info)
-        .map_err(|e| format!("error: {e}"))?;
-    for line in &merged.missing {
-        tell!("warning: {line}");
-    }
-    let (least, most) = merged.samples;
-    let spp = if least == most { least.to_string() } else { format!("{least} to {most}") };
-    say!(
-        "{}: {}x{}, {spp} spp, {}, merged from {} parts in {:.3} s ({:.3} s of rendering)",
-        output.display(),
-        merged.image.width,
-        merged.image.height,
-        merged.info.integrator,
-        merged.parts,
-        start.elapsed().as_secs_f64(),
-        merged.info.seconds,
-    );
-    Ok(())
-}
-
 /// `raydiance snapshot`: checks every scene, printing a line for each that does not match and
 /// one summary line; an error in one scene does not stop the others.
 fn check_snapshots(paths: &[PathBuf], options: &snapshot::Options) -> Result<(), String> {
     let start = Instant::now();
-    let scenes = snapshot::scenes(paths)?;
+    let scenes = snapshot::scenes(paths).map_err(|e| e.to_string())?;
     let bar = ProgressBar::new(scenes.len() as u64);
     let style =
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} {msg}");
@@ -577,7 +546,7 @@ fn check_snapshots(paths: &[PathBuf], options: &snapshot::Options) -> Result<(),
 
 /// `raydiance snapshot --accept`: promotes the `.new` snapshots.
 fn accept_snapshots(paths: &[PathBuf]) -> Result<(), String> {
-    let accepted = snapshot::accept(paths)?;
+    let accepted = snapshot::accept(paths).map_err(|e| e.to_string())?;
     for path in &accepted {
         say!("accepted {}", path.display());
     }

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::scheduler;
+use super::scheduler::{self, SchedulerError};
 use crate::animation::{DEFAULT_CLOCK, Frame, Frames};
 use crate::region::{Crop, Share};
 
@@ -59,32 +59,48 @@ pub struct Plan {
     pub task: Option<String>,
 }
 
+/// Choices that do not go together, or a frame or task that is not there.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    #[error(
+        "error: --parts N goes with --part auto (the count of a Kubernetes Indexed Job's shares)"
+    )]
+    PartsWithoutAuto,
+    #[error("error: --frame F picks one of --frames F0..F1: give both")]
+    FrameWithoutFrames,
+    #[error("error: --clock C0..C1 goes with --frames F0..F1")]
+    ClockWithoutFrames,
+    /// A frame outside `--frames`, or a share the scheduler's task makes no sense of.
+    #[error("error: {0}")]
+    Frame(String),
+    #[error(transparent)]
+    Scheduler(#[from] SchedulerError),
+}
+
 /// Plans the renders; `var` looks up the environment (for `--part auto`).
 pub fn plan(
     choices: &Choices,
     output: &Path,
     var: impl Fn(&str) -> Option<String>,
-) -> Result<Plan, String> {
+) -> Result<Plan, PlanError> {
     if choices.parts.is_some() && choices.part != Some(PartChoice::Auto) {
-        return Err("error: --parts N goes with --part auto (the count of a Kubernetes \
-                    Indexed Job's shares)"
-            .to_string());
+        return Err(PlanError::PartsWithoutAuto);
     }
     let frames = match (choices.frames, choices.frame, choices.clock) {
         (Some((first, last)), _, clock) => {
             Some(Frames { first, last, clock: clock.unwrap_or(DEFAULT_CLOCK) })
         }
         (None, Some(_), _) => {
-            return Err("error: --frame F picks one of --frames F0..F1: give both".to_string());
+            return Err(PlanError::FrameWithoutFrames);
         }
         (None, None, Some(_)) => {
-            return Err("error: --clock C0..C1 goes with --frames F0..F1".to_string());
+            return Err(PlanError::ClockWithoutFrames);
         }
         (None, None, None) => None,
     };
     let numbers: Vec<u32> = match (&frames, choices.frame) {
         (Some(frames), Some(number)) => {
-            frames.frame(number).map_err(|e| format!("error: {e}"))?;
+            frames.frame(number).map_err(PlanError::Frame)?;
             vec![number]
         }
         (Some(frames), None) => (frames.first..=frames.last).collect(),
@@ -98,7 +114,7 @@ pub fn plan(
             let task = scheduler::task(var, choices.parts, count)?;
             let per_frame = task.count / count;
             let number = numbers[(task.index / per_frame) as usize];
-            let share = Share::new(task.index % per_frame, per_frame)?;
+            let share = Share::new(task.index % per_frame, per_frame).map_err(PlanError::Frame)?;
             let what = if per_frame == 1 {
                 "the whole image".to_string()
             } else {
@@ -123,7 +139,7 @@ pub fn plan(
             Ok(Job { frame, share, crop: choices.crop, output })
         })
         .collect::<Result<Vec<_>, String>>()
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(PlanError::Frame)?;
     Ok(Plan { jobs, task })
 }
 
@@ -187,7 +203,7 @@ mod tests {
     #[test]
     fn choices_that_do_not_go_together_are_refused() {
         let refuse = |choices: Choices, says: &str| {
-            let error = plan(&choices, Path::new("o.exr"), no_scheduler).unwrap_err();
+            let error = plan(&choices, Path::new("o.exr"), no_scheduler).unwrap_err().to_string();
             assert!(error.contains(says), "{error}");
         };
         refuse(Choices { frame: Some(1), ..Choices::default() }, "give both");
