@@ -17,6 +17,7 @@ pub mod graph;
 pub mod image;
 pub mod input;
 pub mod integrator;
+pub mod job;
 pub mod lang;
 pub mod light;
 pub mod material;
@@ -32,10 +33,11 @@ pub mod scene;
 pub mod snapshot;
 pub mod split;
 pub mod texture;
+pub mod threads;
 pub mod tonemap;
 
 pub use pipeline::{
     FilmTooLarge, LoadError, MAX_DEPTH, MAX_RESOLUTION, MAX_SAMPLES, MergeReport, OutputFormat,
-    RenderRequest, RequestError, ToneMapFileError, check, check_film_memory, load,
-    load_with_digest, merge_files, tonemap_file, write_image, write_render,
+    RenderRequest, RequestError, ToneMapFileError, check, load, load_with_digest, merge_files,
+    tonemap_file, write_image, write_render,
 };
