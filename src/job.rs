@@ -10,7 +10,7 @@ use crate::graph::{IntegratorKind, Settings};
 use crate::image::{self, ImageError};
 use crate::pipeline::{FilmTooLarge, LoadError, OutputFormat, RenderRequest, check_film_memory};
 use crate::progress::Progress;
-use crate::region::{Crop, Region, Share};
+use crate::region::{Crop, Region, RegionError, Share};
 use crate::split::part_file::{self, PartHeader};
 use crate::split::plan::{self, Choices, Job, Plan, PlanError};
 use crate::{load_with_digest, render, tonemap, write_render};
@@ -57,7 +57,7 @@ pub enum RenderJobError {
     )]
     SamplesShared(IntegratorKind),
     #[error("error: {0}")]
-    Region(String),
+    Region(RegionError),
     #[error(transparent)]
     FilmTooLarge(#[from] FilmTooLarge),
     #[error("error: cannot handle signals: {0}")]

@@ -19,7 +19,7 @@ use glam::DVec3;
 use crate::animation::Frame;
 use crate::film::Film;
 use crate::image::{ImageError, write_atomic};
-use crate::region::{Crop, Region, Share};
+use crate::region::{Crop, Region, RegionError, Share};
 
 /// The channel of per-pixel sample counts.
 const SAMPLES: &str = "samples";
@@ -49,7 +49,7 @@ pub enum PartProblem {
     #[error("its header has no valid raydiance:{0}")]
     Missing(&'static str),
     #[error("its header is inconsistent: {0}")]
-    Inconsistent(String),
+    Inconsistent(RegionError),
     #[error(
         "its data and display windows do not match raydiance:crop {crop} and \
          raydiance:image_size {size}"

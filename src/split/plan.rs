@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use super::scheduler::{self, SchedulerError};
-use crate::animation::{DEFAULT_CLOCK, Frame, Frames};
-use crate::region::{Crop, Share};
+use crate::animation::{DEFAULT_CLOCK, Frame, FrameError, Frames};
+use crate::region::{Crop, RegionError, Share};
 
 /// `--part`: a share, or the scheduler's task.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,9 +70,11 @@ pub enum PlanError {
     FrameWithoutFrames,
     #[error("error: --clock C0..C1 goes with --frames F0..F1")]
     ClockWithoutFrames,
-    /// A frame outside `--frames`, or a share the scheduler's task makes no sense of.
     #[error("error: {0}")]
-    Frame(String),
+    Frame(#[from] FrameError),
+    /// The share of a scheduler's task.
+    #[error("error: {0}")]
+    Share(#[from] RegionError),
     #[error(transparent)]
     Scheduler(#[from] SchedulerError),
 }
@@ -100,7 +102,7 @@ pub fn plan(
     };
     let numbers: Vec<u32> = match (&frames, choices.frame) {
         (Some(frames), Some(number)) => {
-            frames.frame(number).map_err(PlanError::Frame)?;
+            frames.frame(number)?;
             vec![number]
         }
         (Some(frames), None) => (frames.first..=frames.last).collect(),
@@ -114,7 +116,7 @@ pub fn plan(
             let task = scheduler::task(var, choices.parts, count)?;
             let per_frame = task.count / count;
             let number = numbers[(task.index / per_frame) as usize];
-            let share = Share::new(task.index % per_frame, per_frame).map_err(PlanError::Frame)?;
+            let share = Share::new(task.index % per_frame, per_frame)?;
             let what = if per_frame == 1 {
                 "the whole image".to_string()
             } else {
@@ -138,8 +140,7 @@ pub fn plan(
             };
             Ok(Job { frame, share, crop: choices.crop, output })
         })
-        .collect::<Result<Vec<_>, String>>()
-        .map_err(PlanError::Frame)?;
+        .collect::<Result<Vec<_>, FrameError>>()?;
     Ok(Plan { jobs, task })
 }
 
