@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use raydiance::integrator::trace_pass;
 use raydiance::photon::{Emission, Photon, PhotonMap};
-use raydiance::render::Silent;
+use raydiance::progress::Silent;
 
 fn main() {
     let photons: u32 = std::env::args().nth(1).map_or(10_000_000, |a| a.parse().expect("a count"));

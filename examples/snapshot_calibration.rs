@@ -6,7 +6,8 @@
 
 use std::path::Path;
 
-use raydiance::render::{Silent, render};
+use raydiance::progress::Silent;
+use raydiance::render::render;
 use raydiance::snapshot::{self, Estimate, compare};
 
 const SCENES: [&str; 7] = [

@@ -28,18 +28,24 @@ pub struct Frames {
 /// `clock` from 0 at the first frame to 1 at the last, as POV-Ray's default.
 pub const DEFAULT_CLOCK: (f64, f64) = (0.0, 1.0);
 
+/// A frame outside `--frames`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("--frame {number} is not one of --frames {first}..{last}")]
+pub struct FrameError {
+    pub number: u32,
+    pub first: u32,
+    pub last: u32,
+}
+
 impl Frames {
     pub fn count(&self) -> u32 {
         self.last - self.first + 1
     }
 
     /// Frame `number`, which must be one of these.
-    pub fn frame(&self, number: u32) -> Result<Frame, String> {
+    pub fn frame(&self, number: u32) -> Result<Frame, FrameError> {
         if !(self.first..=self.last).contains(&number) {
-            return Err(format!(
-                "--frame {number} is not one of --frames {}..{}",
-                self.first, self.last
-            ));
+            return Err(FrameError { number, first: self.first, last: self.last });
         }
         let (c0, c1) = self.clock;
         let clock = if self.last == self.first {
@@ -126,7 +132,7 @@ mod tests {
         assert_eq!(frames.frame(10).unwrap().clock, 0.0);
         assert_eq!(frames.frame(12).unwrap().clock, 0.5);
         assert_eq!(frames.frame(14).unwrap(), Frame { number: 14, clock: 1.0 });
-        assert!(frames.frame(15).unwrap_err().contains("not one of --frames 10..14"));
+        assert!(frames.frame(15).unwrap_err().to_string().contains("not one of --frames 10..14"));
         let one = Frames { first: 3, last: 3, clock: (2.0, 5.0) };
         assert_eq!(one.frame(3).unwrap().clock, 2.0);
         let backwards = Frames { first: 0, last: 2, clock: (1.0, -1.0) };

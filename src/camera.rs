@@ -4,8 +4,8 @@ use glam::{Vec2, Vec3};
 
 use crate::diagnostic::SceneError;
 use crate::geometry::Ray;
+use crate::graph::{CameraDesc, CameraForm};
 use crate::sampling::concentric_disk;
-use crate::scene::graph::{CameraDesc, CameraForm};
 
 /// Rays leave `origin` through `origin + forward + a * left + b * up`, a, b in [-1, 1]:
 /// a = 1 is the image's left edge (column 0), b = 1 its top edge (row 0).

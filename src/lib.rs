@@ -4,6 +4,7 @@
 //! --`render`--> `Film` --> image files --> `tonemap`.
 #![forbid(unsafe_code)]
 
+pub mod aabb;
 pub mod accel;
 pub mod animation;
 pub mod bench;
@@ -12,15 +13,19 @@ pub mod diagnostic;
 pub mod digest;
 pub mod film;
 pub mod geometry;
+pub mod graph;
 pub mod image;
 pub mod input;
 pub mod integrator;
+pub mod job;
 pub mod lang;
 pub mod light;
 pub mod material;
 pub mod mesh;
 pub mod photon;
 mod pipeline;
+pub mod progress;
+pub mod ray;
 pub mod region;
 pub mod render;
 pub mod sampling;
@@ -28,9 +33,11 @@ pub mod scene;
 pub mod snapshot;
 pub mod split;
 pub mod texture;
+pub mod threads;
 pub mod tonemap;
 
 pub use pipeline::{
-    LoadError, MAX_RESOLUTION, MAX_SAMPLES, OutputFormat, RenderRequest, check, check_film_memory,
-    load, load_with_digest, tonemap_file, write_image, write_render,
+    FilmTooLarge, LoadError, MAX_DEPTH, MAX_RESOLUTION, MAX_SAMPLES, MergeReport, OutputFormat,
+    RenderRequest, RequestError, ToneMapFileError, check, load, load_with_digest, merge_files,
+    tonemap_file, write_image, write_render,
 };

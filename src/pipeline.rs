@@ -1,18 +1,19 @@
 //! The stages joined for the command line: load a scene with overrides, write a render, check a
 //! scene, tone-map a file.
 
-use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use crate::animation::Frame;
 use crate::diagnostic::SceneError;
 use crate::digest::Digest;
-use crate::film::Film;
+use crate::film::{BYTES_PER_PIXEL, Film};
+use crate::graph::{IntegratorKind, SceneGraph, Settings};
 use crate::image::{self, Image, ImageError, RenderInfo};
-use crate::render::RenderStats;
-use crate::scene::graph::{IntegratorKind, SceneGraph, Settings};
+use crate::progress::RenderStats;
 use crate::scene::{self, Scene};
-use crate::tonemap::{self, ToneMap};
+use crate::split::merge::{self, MergeError};
+use crate::tonemap::{self, ToneMap, ToneMapError};
 
 /// Command-line values that override a scene's `settings`.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -30,21 +31,32 @@ pub struct RenderRequest {
 /// Largest image side and sample count accepted from the command line, as from `settings`.
 pub const MAX_RESOLUTION: u32 = 65536;
 pub const MAX_SAMPLES: u32 = 1_000_000;
+/// Longest path accepted from the command line, in bounces.
+pub const MAX_DEPTH: u32 = 1024;
+
+/// A command-line value out of its range.
+#[derive(Debug, thiserror::Error)]
+pub enum RequestError {
+    #[error("error: --{name} {value} is out of range (1 to {max})")]
+    OutOfRange { name: &'static str, value: u32, max: u32 },
+    #[error("error: --max-depth {0} is out of range (0 to {max})", max = MAX_DEPTH)]
+    MaxDepth(u32),
+}
 
 impl RenderRequest {
     /// The scene's settings with these overrides applied; values out of range are errors.
-    pub fn apply(&self, settings: &Settings) -> Result<Settings, String> {
-        let check = |name: &str, value: Option<u32>, max: u32| match value {
-            Some(v) if v == 0 || v > max => {
-                Err(format!("error: --{name} {v} is out of range (1 to {max})"))
+    pub fn apply(&self, settings: &Settings) -> Result<Settings, RequestError> {
+        let check = |name: &'static str, value: Option<u32>, max: u32| match value {
+            Some(value) if value == 0 || value > max => {
+                Err(RequestError::OutOfRange { name, value, max })
             }
             _ => Ok(()),
         };
         check("samples", self.samples, MAX_SAMPLES)?;
         check("width", self.width, MAX_RESOLUTION)?;
         check("height", self.height, MAX_RESOLUTION)?;
-        if let Some(depth) = self.max_depth.filter(|&d| d > 1024) {
-            return Err(format!("error: --max-depth {depth} is out of range (0 to 1024)"));
+        if let Some(depth) = self.max_depth.filter(|&d| d > MAX_DEPTH) {
+            return Err(RequestError::MaxDepth(depth));
         }
         Ok(Settings {
             width: self.width.unwrap_or(settings.width),
@@ -59,19 +71,12 @@ impl RenderRequest {
 }
 
 /// Why loading failed: the scene's text, or a command-line value.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum LoadError {
-    Scene(SceneError),
-    Request(String),
-}
-
-impl fmt::Display for LoadError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            LoadError::Scene(e) => write!(f, "{e}"),
-            LoadError::Request(e) => write!(f, "{e}"),
-        }
-    }
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Request(#[from] RequestError),
 }
 
 /// Parses the scene file, applies the overrides and builds the render-ready scene.
@@ -85,27 +90,26 @@ pub fn load_with_digest(
     path: &Path,
     request: &RenderRequest,
 ) -> Result<(Scene, Digest), LoadError> {
-    let (mut graph, sources) =
-        crate::lang::load_scene_at(path, request.frame).map_err(LoadError::Scene)?;
-    graph.settings = request.apply(&graph.settings).map_err(LoadError::Request)?;
+    let (mut graph, sources) = crate::lang::load_scene_at(path, request.frame)?;
+    graph.settings = request.apply(&graph.settings)?;
     let frame = request.frame;
     let digest = sources
         .with(format!("{:?}", graph.settings).as_bytes())
         .with(&frame.number.to_le_bytes())
         .with(&frame.clock.to_le_bytes());
-    let scene = scene::build(&graph).map_err(LoadError::Scene)?;
+    let scene = scene::build(&graph)?;
     Ok((scene, digest))
 }
 
 /// Parses and evaluates the scene file.
 pub fn load_graph(path: &Path) -> Result<SceneGraph, LoadError> {
-    crate::lang::load_scene(path).map_err(LoadError::Scene)
+    crate::lang::load_scene(path).map_err(LoadError::from)
 }
 
 /// Applies the overrides to the graph's settings and builds the render-ready scene.
 pub fn build(mut graph: SceneGraph, request: &RenderRequest) -> Result<Scene, LoadError> {
-    graph.settings = request.apply(&graph.settings).map_err(LoadError::Request)?;
-    scene::build(&graph).map_err(LoadError::Scene)
+    graph.settings = request.apply(&graph.settings)?;
+    scene::build(&graph).map_err(LoadError::from)
 }
 
 /// `raydiance check`: a short summary of a valid scene, or its first error.
@@ -131,25 +135,36 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
     Ok(summary)
 }
 
+/// A film larger than `render --max-memory` allows.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "error: a {width}x{height} film needs {needed:.1} GiB ({per_pixel} bytes a pixel while \
+     rendering), more than --max-memory {allowed:.1} GiB allows: render it in tiles with `--crop \
+     X0,X1,Y0,Y1` and join them with `raydiance merge`, lower the resolution, or raise \
+     --max-memory if the machine has the memory",
+    needed = gib(*needed_bytes),
+    allowed = gib(*max_bytes),
+    per_pixel = BYTES_PER_PIXEL
+)]
+pub struct FilmTooLarge {
+    pub width: u32,
+    pub height: u32,
+    pub needed_bytes: u64,
+    pub max_bytes: u64,
+}
+
+fn gib(bytes: u64) -> f64 {
+    bytes as f64 / f64::from(1u32 << 30)
+}
+
 /// Refuses, before any work, a film larger than `max_bytes` (`render --max-memory`).
-pub fn check_film_memory(settings: &Settings, max_bytes: u64) -> Result<(), String> {
+pub fn check_film_memory(settings: &Settings, max_bytes: u64) -> Result<(), FilmTooLarge> {
     let pixels = u64::from(settings.width) * u64::from(settings.height);
-    let needed = pixels * crate::film::BYTES_PER_PIXEL;
-    if needed <= max_bytes {
+    let needed_bytes = pixels * BYTES_PER_PIXEL;
+    if needed_bytes <= max_bytes {
         return Ok(());
     }
-    let gib = |bytes: u64| bytes as f64 / f64::from(1u32 << 30);
-    Err(format!(
-        "error: a {}x{} film needs {:.1} GiB ({} bytes a pixel while rendering), more than \
-         --max-memory {:.1} GiB allows: render it in tiles with `--crop X0,X1,Y0,Y1` and join \
-         them with `raydiance merge`, lower the resolution, or raise --max-memory if the machine \
-         has the memory",
-        settings.width,
-        settings.height,
-        gib(needed),
-        crate::film::BYTES_PER_PIXEL,
-        gib(max_bytes)
-    ))
+    Err(FilmTooLarge { width: settings.width, height: settings.height, needed_bytes, max_bytes })
 }
 
 /// What `render` writes, chosen by the output's extension.
@@ -219,37 +234,45 @@ pub fn write_image(
     }
 }
 
+/// Why `raydiance tonemap` wrote nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum ToneMapFileError {
+    #[error("error: {0}")]
+    Parameters(#[from] ToneMapError),
+    #[error("error: {}: unknown output type (expected .ppm or .png)", .0.display())]
+    OutputType(PathBuf),
+    #[error("error: {}: is the input; tone mapping would replace it", .0.display())]
+    OutputIsInput(PathBuf),
+    #[error("error: {0}")]
+    Image(#[from] ImageError),
+}
+
 /// `raydiance tonemap`: reads an HDR file, writes LDR `.ppm` (`#MAX=1`) or `.png`; returns
 /// the summary line.
-pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<String, String> {
-    params.validate().map_err(|e| format!("error: {e}"))?;
+pub fn tonemap_file(
+    input: &Path,
+    output: &Path,
+    params: &ToneMap,
+) -> Result<String, ToneMapFileError> {
+    params.validate()?;
     let ldr_ppm = match image::extension(output).as_deref() {
         Some("ppm") => true,
         Some("png") => false,
-        _ => {
-            return Err(format!(
-                "error: {}: unknown output type (expected .ppm or .png)",
-                output.display()
-            ));
-        }
+        _ => return Err(ToneMapFileError::OutputType(output.to_path_buf())),
     };
-    image::check_writable(output).map_err(|e| format!("error: {e}"))?;
+    image::check_writable(output)?;
     if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(output)) {
         if a == b {
-            return Err(format!(
-                "error: {}: is the input; tone mapping would replace it",
-                output.display()
-            ));
+            return Err(ToneMapFileError::OutputIsInput(output.to_path_buf()));
         }
     }
-    let hdr = image::read_hdr(input).map_err(|e| format!("error: {e}"))?;
+    let hdr = image::read_hdr(input)?;
     let pixels = tonemap::quantise(&tonemap::tonemap(&hdr, params));
-    let written = if ldr_ppm {
-        image::ppm::write_ldr(output, hdr.width, hdr.height, &pixels)
+    if ldr_ppm {
+        image::ppm::write_ldr(output, hdr.width, hdr.height, &pixels)?;
     } else {
-        image::png::write(output, hdr.width, hdr.height, &pixels)
-    };
-    written.map_err(|e| format!("error: {e}"))?;
+        image::png::write(output, hdr.width, hdr.height, &pixels)?;
+    }
     let mut summary = format!(
         "{}: {}x{}, {} ({}), largest input value {}",
         output.display(),
@@ -264,4 +287,45 @@ pub fn tonemap_file(input: &Path, output: &Path, params: &ToneMap) -> Result<Str
         n => summary.push_str(&format!("; {n} pixels not finite, clamped (+inf to the largest)")),
     }
     Ok(summary)
+}
+
+/// What `raydiance merge` says when it has written the image.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergeReport {
+    /// What was missing (with `allow_partial`), one line each.
+    pub missing: Vec<String>,
+    /// What was written, on one line.
+    pub summary: String,
+}
+
+/// `raydiance merge`: checks the parts together, adds them, writes the image.
+pub fn merge_files(
+    parts: &[PathBuf],
+    output: &Path,
+    allow_partial: bool,
+    ppm_res: u32,
+) -> Result<MergeReport, MergeError> {
+    let start = Instant::now();
+    let format = OutputFormat::for_path(output, ppm_res)?;
+    if let Ok(out) = std::fs::canonicalize(output) {
+        if let Some(part) = parts.iter().find(|p| std::fs::canonicalize(p).is_ok_and(|p| p == out))
+        {
+            return Err(MergeError::OutputIsAPart(part.clone()));
+        }
+    }
+    let merged = merge::merge(parts, allow_partial)?;
+    write_image(output, &format, &merged.image, &merged.info)?;
+    let (least, most) = merged.samples;
+    let spp = if least == most { least.to_string() } else { format!("{least} to {most}") };
+    let summary = format!(
+        "{}: {}x{}, {spp} spp, {}, merged from {} parts in {:.3} s ({:.3} s of rendering)",
+        output.display(),
+        merged.image.width,
+        merged.image.height,
+        merged.info.integrator,
+        merged.parts,
+        start.elapsed().as_secs_f64(),
+        merged.info.seconds,
+    );
+    Ok(MergeReport { missing: merged.missing, summary })
 }

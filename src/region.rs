@@ -19,18 +19,37 @@ pub struct Share {
     pub count: u32,
 }
 
+/// A share or crop that names no work.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum RegionError {
+    #[error("share {index}/0: the count must be at least 1")]
+    NoShares { index: u32 },
+    #[error("share {index}/{count}: the index counts from 0, so it must be less than {count}")]
+    ShareIndex { index: u32, count: u32 },
+    #[error("--crop {0}: empty (X0 < X1 and Y0 < Y1 are needed)")]
+    EmptyCrop(Crop),
+    #[error("--crop {crop}: outside the {width}x{height} image")]
+    CropOutside { crop: Crop, width: u32, height: u32 },
+    #[error(
+        "--part {}: more shares than the {total} samples of the {}x{} pixels at {} per pixel",
+        region.share,
+        region.crop.width(),
+        region.crop.height(),
+        region.samples
+    )]
+    MoreSharesThanSamples { region: Region, total: u64 },
+}
+
 impl Share {
     /// The whole sample set.
     pub const WHOLE: Share = Share { index: 0, count: 1 };
 
-    pub fn new(index: u32, count: u32) -> Result<Share, String> {
+    pub fn new(index: u32, count: u32) -> Result<Share, RegionError> {
         if count == 0 {
-            return Err(format!("share {index}/{count}: the count must be at least 1"));
+            return Err(RegionError::NoShares { index });
         }
         if index >= count {
-            return Err(format!(
-                "share {index}/{count}: the index counts from 0, so it must be less than {count}"
-            ));
+            return Err(RegionError::ShareIndex { index, count });
         }
         Ok(Share { index, count })
     }
@@ -55,7 +74,7 @@ impl FromStr for Share {
     fn from_str(s: &str) -> Result<Share, String> {
         let parse = |t: &str| t.trim().parse::<u32>().ok();
         match s.split_once('/').and_then(|(i, n)| Some((parse(i)?, parse(n)?))) {
-            Some((index, count)) => Share::new(index, count),
+            Some((index, count)) => Share::new(index, count).map_err(|e| e.to_string()),
             None => Err(format!("`{s}` is not a share I/N (e.g. 3/16: the 4th of 16)")),
         }
     }
@@ -88,12 +107,12 @@ impl Crop {
     }
 
     /// Checks that the crop is a non-empty rectangle inside a `width` x `height` image.
-    pub fn check(&self, width: u32, height: u32) -> Result<(), String> {
+    pub fn check(&self, width: u32, height: u32) -> Result<(), RegionError> {
         if self.x0 >= self.x1 || self.y0 >= self.y1 {
-            return Err(format!("--crop {self}: empty (X0 < X1 and Y0 < Y1 are needed)"));
+            return Err(RegionError::EmptyCrop(*self));
         }
         if self.x1 > width || self.y1 > height {
-            return Err(format!("--crop {self}: outside the {width}x{height} image"));
+            return Err(RegionError::CropOutside { crop: *self, width, height });
         }
         Ok(())
     }
@@ -139,18 +158,11 @@ impl Region {
     }
 
     /// Checks the crop against the image and that the share takes at least one sample.
-    pub fn check(&self, width: u32, height: u32) -> Result<(), String> {
+    pub fn check(&self, width: u32, height: u32) -> Result<(), RegionError> {
         self.crop.check(width, height)?;
         let total = self.total();
         if u64::from(self.share.count) > total {
-            return Err(format!(
-                "--part {}: more shares than the {total} samples of the {}x{} pixels at {} per \
-                 pixel",
-                self.share,
-                self.crop.width(),
-                self.crop.height(),
-                self.samples
-            ));
+            return Err(RegionError::MoreSharesThanSamples { region: *self, total });
         }
         Ok(())
     }
@@ -263,11 +275,13 @@ mod tests {
         assert_eq!("0, 4,1,3".parse::<Crop>(), Ok(Crop { x0: 0, x1: 4, y0: 1, y1: 3 }));
         assert!("0,4,1".parse::<Crop>().is_err());
         let crop: Crop = "2,2,0,1".parse().unwrap();
-        assert!(crop.check(4, 4).unwrap_err().contains("empty"));
+        assert!(crop.check(4, 4).unwrap_err().to_string().contains("empty"));
         let crop: Crop = "0,5,0,1".parse().unwrap();
-        assert!(crop.check(4, 4).unwrap_err().contains("outside the 4x4 image"));
+        assert!(crop.check(4, 4).unwrap_err().to_string().contains("outside the 4x4 image"));
         let region =
             Region { crop: Crop::whole(2, 1), share: Share::new(0, 5).unwrap(), samples: 2 };
-        assert!(region.check(2, 1).unwrap_err().contains("more shares than the 4 samples"));
+        assert!(
+            region.check(2, 1).unwrap_err().to_string().contains("more shares than the 4 samples")
+        );
     }
 }

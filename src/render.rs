@@ -12,55 +12,15 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::film::Film;
-use crate::geometry::Ray;
+use crate::graph::IntegratorKind;
 use crate::integrator::{Direct, Integrator, Path, PhotonMapping, Strategy, sppm};
+use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
-use crate::sampling::Sampler;
-use crate::scene::Scene;
-use crate::scene::graph::IntegratorKind;
-
-/// Receives progress from a render running on other threads; only the command line draws.
-pub trait Progress: Sync {
-    /// `samples` more pixel samples are done.
-    fn advance(&self, samples: u64);
-    /// Asked between passes, with the seconds one sample per pixel took in the last pass: the
-    /// most samples per pixel the next pass may take (0 ends the render with the passes done
-    /// so far), or `None` for no bound.
-    fn pass_limit(&self, _seconds_per_sample: f64) -> Option<u32> {
-        None
-    }
-    /// Checked between the small tasks of a pass (at most `TASK_SAMPLES` samples each): true
-    /// drops the pass under way and ends the render with the passes done before it.
-    fn should_abandon(&self) -> bool {
-        false
-    }
-}
-
-/// Progress that nobody watches.
-pub struct Silent;
-
-impl Progress for Silent {
-    fn advance(&self, _: u64) {}
-}
+use crate::scene::{Scene, camera_sample};
 
 /// The most samples one task of a pass traces (and holds the radiance of) between two looks at
 /// `Progress::should_abandon`: a few milliseconds of work, whatever the image or pass size.
 pub const TASK_SAMPLES: usize = 4096;
-
-#[derive(Debug, Clone, PartialEq)]
-pub struct RenderStats {
-    pub seconds: f64,
-    /// Samples per pixel actually taken (fewer than asked if the render was stopped).
-    pub samples_per_pixel: u32,
-    pub dropped: u64,
-}
-
-impl RenderStats {
-    pub fn samples_per_second(&self, film: &Film) -> f64 {
-        (film.width * film.height) as f64 * f64::from(self.samples_per_pixel)
-            / self.seconds.max(1e-9)
-    }
-}
 
 /// Renders `scene` with its settings, in passes whose sample counts double (1, 1, 2, 4, ...,
 /// the last one shortened to end at the sample count or where `Progress::pass_limit` says), so
@@ -164,23 +124,6 @@ fn render_with_in(
         dropped: film.dropped,
     };
     (film, stats)
-}
-
-/// Camera sample `index` of pixel (x, y) of the image: its ray, and the sampler its path goes on
-/// drawing from.
-pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Ray, Sampler) {
-    let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
-    let pixel = (y * width + x) as u64;
-    let mut sampler = Sampler::new(scene.settings.seed, pixel, u64::from(index));
-    let jitter = sampler.next_2d();
-    // A pinhole camera needs no lens sample.
-    let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
-    let ray = scene.camera.ray(
-        (x as f32 + jitter.x) / width as f32,
-        (y as f32 + jitter.y) / height as f32,
-        lens,
-    );
-    (ray, sampler)
 }
 
 /// Renders the samples `offsets` of each pixel's share (its sample indices

@@ -104,21 +104,34 @@ impl ToneMap {
     }
 
     /// Checks the parameters; the message names the bad value.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ToneMapError> {
         if !(self.v.is_finite() && self.v > 0.0) {
-            return Err(format!("--v {} must be a positive number", self.v));
+            return Err(ToneMapError::V(self.v));
         }
         if !(self.gamma.is_finite() && self.gamma > 0.0) {
-            return Err(format!("--gamma {} must be a positive number", self.gamma));
+            return Err(ToneMapError::Gamma(self.gamma));
         }
         if !self.exposure.is_finite() {
-            return Err(format!("--exposure {} must be a finite number", self.exposure));
+            return Err(ToneMapError::Exposure(self.exposure));
         }
         if let Some(w) = self.white.filter(|w| !(w.is_finite() && *w > 0.0)) {
-            return Err(format!("--white {w} must be a positive number"));
+            return Err(ToneMapError::White(w));
         }
         Ok(())
     }
+}
+
+/// A tone-mapping parameter out of its range.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum ToneMapError {
+    #[error("--v {0} must be a positive number")]
+    V(f32),
+    #[error("--gamma {0} must be a positive number")]
+    Gamma(f32),
+    #[error("--exposure {0} must be a finite number")]
+    Exposure(f32),
+    #[error("--white {0} must be a positive number")]
+    White(f32),
 }
 
 /// Display values in [0, 1] per pixel. Components that are not finite take no part in the

@@ -3,7 +3,8 @@
 mod common;
 
 use common::scene_file;
-use raydiance::render::{Silent, render};
+use raydiance::progress::Silent;
+use raydiance::render::render;
 
 fn render_on(threads: usize, path: &str) -> Vec<glam::DVec3> {
     let mut scene = scene_file(path);

@@ -9,7 +9,8 @@ use common::{LAB_BOX, OneAtATime, max_abs_difference, render_image, scene};
 use glam::Vec3;
 use raydiance::geometry::Ray;
 use raydiance::integrator::{Direct, Integrator};
-use raydiance::render::{Silent, render_with};
+use raydiance::progress::Silent;
+use raydiance::render::render_with;
 use raydiance::sampling::Sampler;
 
 fn radiance_along(scene: &raydiance::scene::Scene, origin: Vec3, target: Vec3) -> Vec3 {

@@ -51,7 +51,7 @@ fn renders(page: &str, examples: Vec<(usize, String)>) {
         graph.settings.samples = 1;
         let scene = raydiance::scene::build(&graph)
             .unwrap_or_else(|e| panic!("the example at {page}:{line} does not build:\n{e}"));
-        let image = raydiance::render::render(&scene, &raydiance::render::Silent).0.image();
+        let image = raydiance::render::render(&scene, &raydiance::progress::Silent).0.image();
         assert!(image.pixels.iter().all(|p| p.is_finite()), "{page}:{line}");
     }
 }

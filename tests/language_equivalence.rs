@@ -127,7 +127,7 @@ fn radii(body: &str) -> Vec<f32> {
         .objects
         .iter()
         .map(|o| match o.shape {
-            raydiance::scene::graph::ShapeNode::Sphere { radius, .. } => radius,
+            raydiance::graph::ShapeNode::Sphere { radius, .. } => radius,
             _ => panic!("a sphere"),
         })
         .collect()
@@ -215,7 +215,7 @@ fn random_streams_do_not_depend_on_the_settings_seed() {
             .objects
             .iter()
             .map(|o| match o.shape {
-                raydiance::scene::graph::ShapeNode::Sphere { center, .. } => center.to_array(),
+                raydiance::graph::ShapeNode::Sphere { center, .. } => center.to_array(),
                 _ => panic!("a sphere"),
             })
             .collect();

@@ -83,7 +83,7 @@ proptest! {
             graph.settings.height = 4;
             graph.settings.samples = 1;
             if let Ok(scene) = raydiance::scene::build(&graph) {
-                let (film, _) = raydiance::render::render(&scene, &raydiance::render::Silent);
+                let (film, _) = raydiance::render::render(&scene, &raydiance::progress::Silent);
                 prop_assert!(film.image().pixels.iter().all(|p| p.is_finite()));
             }
         }

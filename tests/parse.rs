@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-fn graph(name: &str) -> raydiance::scene::graph::SceneGraph {
+fn graph(name: &str) -> raydiance::graph::SceneGraph {
     let path = format!("tests/scenes/{name}.scn");
     raydiance::lang::load_scene(Path::new(&path)).unwrap_or_else(|e| panic!("{e}"))
 }

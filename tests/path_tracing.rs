@@ -7,7 +7,8 @@ use common::{LAB_BOX, OneAtATime, scene};
 use glam::{Vec2, Vec3};
 use raydiance::film::Film;
 use raydiance::integrator::{Direct, Integrator, Path, Strategy};
-use raydiance::render::{Silent, render_with};
+use raydiance::progress::Silent;
+use raydiance::render::render_with;
 use raydiance::sampling::Sampler;
 use raydiance::scene::Scene;
 

@@ -8,9 +8,10 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use common::{scene, scene_file};
 use glam::DVec3;
 use raydiance::film::Film;
-use raydiance::render::{Progress, Silent, render};
+use raydiance::graph::IntegratorKind;
+use raydiance::progress::{Progress, Silent};
+use raydiance::render::render;
 use raydiance::scene::Scene;
-use raydiance::scene::graph::IntegratorKind;
 
 fn with(
     mut scene: Scene,

@@ -204,7 +204,7 @@ fn the_last_pass_is_shortened_to_the_budget() {
         samples: u64,
         done: std::sync::atomic::AtomicU64,
     }
-    impl raydiance::render::Progress for Budget {
+    impl raydiance::progress::Progress for Budget {
         fn advance(&self, samples: u64) {
             self.done.fetch_add(samples, std::sync::atomic::Ordering::Relaxed);
         }

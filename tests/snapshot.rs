@@ -5,7 +5,8 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::Vec3;
-use raydiance::render::{Silent, render};
+use raydiance::progress::Silent;
+use raydiance::render::render;
 use raydiance::snapshot::{self, Comparison, Estimate, FINEST_TILE, Rect, compare};
 
 const SIZE: usize = snapshot::DEFAULT_LONGER_SIDE as usize;

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{Ray, Shape};
-use raydiance::scene::graph::{
+use raydiance::graph::{
     CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
     compose,
 };
@@ -481,7 +481,7 @@ fn a_sphere_subtracted_from_a_cube_renders_its_analytic_silhouette_with_emission
         node(&graph, ShapeNode::Csg { op: CsgOp::Difference, operands: vec![cube, ball] }, vec![]);
     csg.material = Some(emissive);
     // Seen from a corner, so that the cut faces are in view.
-    graph.camera.form = raydiance::scene::graph::CameraForm::LookAt {
+    graph.camera.form = raydiance::graph::CameraForm::LookAt {
         location: Vec3::new(3.0, 2.5, -4.0),
         look_at: Vec3::ZERO,
         up: Vec3::Y,
@@ -690,7 +690,7 @@ fn an_intersection_of_six_half_spaces_is_a_box() {
 
 #[test]
 fn csg_surfaces_evaluate_textures_in_their_operands_own_space() {
-    use raydiance::scene::graph::Pattern;
+    use raydiance::graph::Pattern;
     let mut graph = empty_graph();
     let (a, b) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.1, 0.9));
     let mut checker = MaterialDesc::new(graph.camera.span.clone());

@@ -7,8 +7,9 @@ use std::path::PathBuf;
 
 use proptest::prelude::*;
 use raydiance::image::Image;
+use raydiance::progress::Silent;
 use raydiance::region::{Crop, Region, Share};
-use raydiance::render::{Silent, render, render_region};
+use raydiance::render::{render, render_region};
 use raydiance::scene::Scene;
 use raydiance::split::merge::merge;
 use raydiance::split::part_file::{self, PartHeader};

@@ -8,7 +8,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec3A, Vec4};
 
 use super::HugeArray;
-use crate::geometry::{Aabb, Ray};
+use crate::aabb::Aabb;
+use crate::ray::Ray;
 
 const BINS: usize = 16;
 const MAX_LEAF: usize = 4;

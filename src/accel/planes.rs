@@ -3,7 +3,7 @@
 
 use glam::{Vec3, Vec4};
 
-use crate::geometry::Ray;
+use crate::ray::Ray;
 
 /// Four planes `n . p + offset = 0`, one per lane.
 #[derive(Debug, Clone, Copy)]

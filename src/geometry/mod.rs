@@ -1,6 +1,6 @@
-//! Rays, hits and the shapes they hit.
+//! The shapes rays hit. Rays, hits and boxes live below the acceleration structures (`ray`,
+//! `aabb`), which the meshes here build on, and are re-exported here with the shapes they meet.
 
-mod aabb;
 mod cone;
 mod crossings;
 mod csg;
@@ -10,13 +10,13 @@ mod lanes;
 mod planar;
 mod quadratic;
 mod quadric;
-mod ray;
 mod shape;
 mod solid_angle;
 mod torus;
 mod triangle_mesh;
 
-pub use aabb::Aabb;
+pub use crate::aabb::Aabb;
+pub use crate::ray::{Hit, Ray, offset_origin};
 pub use cone::Cone;
 pub use crossings::{Crossing, Crossings, MAX_CROSSINGS};
 pub use csg::{Csg, CsgNode, CsgOp};
@@ -25,7 +25,6 @@ pub use frame::{Frame, on_side};
 pub use lanes::{HitLanes, LANES, Lane, Vec3x4};
 pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
 pub use quadric::{QuadricFrame, QuadricKind};
-pub use ray::{Hit, Ray, offset_origin};
 pub(crate) use shape::REL_ERROR;
 pub use shape::{Intersection, Shape, SurfaceSample, similarity_scale, sphere_error};
 pub use solid_angle::DirectionSample;

@@ -47,7 +47,7 @@ pub fn write(path: &Path, image: &Image, info: &RenderInfo) -> std::result::Resu
 /// Reads the first RGB(A) layer of any OpenEXR file (alpha is ignored).
 pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
     let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
-        .map_err(|e| ImageError::format(path, e))?;
+        .map_err(|e| ImageError::input(path, e))?;
     read_bytes(&bytes).map_err(|message| ImageError::format(path, message))
 }
 

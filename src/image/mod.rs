@@ -52,6 +52,8 @@ pub enum ImageError {
     Format { path: PathBuf, message: String },
     #[error("{path}: {source}")]
     Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}: {source}")]
+    Input { path: PathBuf, source: crate::input::InputError },
 }
 
 impl ImageError {
@@ -62,6 +64,10 @@ impl ImageError {
     pub fn io(path: &Path, source: std::io::Error) -> Self {
         ImageError::Io { path: path.to_path_buf(), source }
     }
+
+    pub fn input(path: &Path, source: crate::input::InputError) -> Self {
+        ImageError::Input { path: path.to_path_buf(), source }
+    }
 }
 
 /// Reads an HDR image (`.exr`, or `.ppm` with or without `#MAX`) by its extension.
@@ -70,7 +76,7 @@ pub fn read_hdr(path: &Path) -> Result<Image, ImageError> {
         Some("exr") => exr::read(path),
         Some("ppm") => {
             let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
-                .map_err(|e| ImageError::format(path, e))?;
+                .map_err(|e| ImageError::input(path, e))?;
             ppm::parse(&bytes).map_err(|message| ImageError::format(path, message))
         }
         _ => Err(ImageError::format(path, "unknown image type (expected .exr or .ppm)")),

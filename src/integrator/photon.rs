@@ -17,7 +17,7 @@ use super::direct::whitted;
 use crate::geometry::{Hit, Ray};
 use crate::material::Bsdf;
 use crate::photon::{Emission, Photon, PhotonMap, trace_photon};
-use crate::render::Progress;
+use crate::progress::Progress;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 

@@ -19,8 +19,8 @@ use super::direct::{
 };
 use crate::film::Film;
 use crate::photon::{Emission, HashGrid, trace_photon};
-use crate::render::{Progress, RenderStats, camera_sample};
-use crate::scene::Scene;
+use crate::progress::{Progress, RenderStats};
+use crate::scene::{Scene, camera_sample};
 
 /// alpha: the fraction of each iteration's photons a pixel keeps as its radius shrinks.
 const ALPHA: f32 = 2.0 / 3.0;

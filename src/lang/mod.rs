@@ -23,7 +23,7 @@ use std::sync::Arc;
 use crate::animation::Frame;
 use crate::diagnostic::{SceneError, SourceFile};
 use crate::digest::Digest;
-use crate::scene::graph::SceneGraph;
+use crate::graph::SceneGraph;
 
 /// Reads and evaluates a scene file.
 pub fn load_scene(path: &Path) -> Result<SceneGraph, SceneError> {

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::syntax::MacroDef;
-use crate::scene::graph::{MaterialDesc, ObjectNode, TextureNode};
+use crate::graph::{MaterialDesc, ObjectNode, TextureNode};
 
 #[derive(Debug, Clone)]
 pub enum Value {

@@ -16,7 +16,7 @@ pub use fresnel::{Split, fresnel_dielectric, refract};
 
 use glam::Vec3;
 
-use crate::scene::graph::{MaterialDesc, Pattern};
+use crate::graph::{MaterialDesc, Pattern};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {

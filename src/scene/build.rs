@@ -7,7 +7,6 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use super::graph::{Below, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use super::{Primitive, Scene};
 use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
@@ -16,6 +15,7 @@ use crate::geometry::{
     Cone, Csg, CsgNode, CsgOp, Cuboid, Placement, Planar, PlanarKind, QuadricFrame, QuadricKind,
     Shape, Torus, TriangleMesh, similarity_scale,
 };
+use crate::graph::{Below, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use crate::light::Light;
 use crate::material::Material;
 use crate::texture::{ImageMap, Texture};

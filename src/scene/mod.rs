@@ -1,8 +1,7 @@
-//! Scenes: the graph `lang` produces, and `build`, which turns it into a render-ready `Scene`:
+//! Scenes: `build` turns the graph `lang` produces (`crate::graph`) into a render-ready `Scene`:
 //! world-space primitives in flat arrays under a BVH, materials, lights and the camera.
 
 mod build;
-pub mod graph;
 
 pub use build::build;
 
@@ -13,10 +12,11 @@ use glam::{Affine3A, BVec4A, Vec3, Vec4};
 use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
 use crate::camera::Camera;
 use crate::geometry::{Csg, Hit, Intersection, LANES, Lane, Ray, Shape};
+use crate::graph::Settings;
 use crate::light::Light;
 use crate::material::Material;
+use crate::sampling::Sampler;
 use crate::texture::Texture;
-use graph::Settings;
 
 #[derive(Debug, Clone)]
 pub struct Primitive {
@@ -243,4 +243,21 @@ impl Scene {
         let below = if index == 0 { 0.0 } else { self.light_cdf[index - 1] };
         (self.light_cdf[index] - below) / total
     }
+}
+
+/// Camera sample `index` of pixel (x, y) of the image: its ray, and the sampler its path goes on
+/// drawing from.
+pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Ray, Sampler) {
+    let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
+    let pixel = (y * width + x) as u64;
+    let mut sampler = Sampler::new(scene.settings.seed, pixel, u64::from(index));
+    let jitter = sampler.next_2d();
+    // A pinhole camera needs no lens sample.
+    let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
+    let ray = scene.camera.ray(
+        (x as f32 + jitter.x) / width as f32,
+        (y as f32 + jitter.y) / height as f32,
+        lens,
+    );
+    (ray, sampler)
 }

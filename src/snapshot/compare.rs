@@ -105,13 +105,21 @@ impl Comparison {
     }
 }
 
+/// A snapshot and a render of other sizes, which cannot be compared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("the snapshot is {}x{} and the render {}x{}", snapshot.0, snapshot.1, render.0, render.1)]
+pub struct SizesDiffer {
+    pub snapshot: (usize, usize),
+    pub render: (usize, usize),
+}
+
 /// Compares a new render with the reference, tile by tile; the sizes must agree.
-pub fn compare(reference: &Estimate, new: &Estimate) -> Result<Comparison, String> {
+pub fn compare(reference: &Estimate, new: &Estimate) -> Result<Comparison, SizesDiffer> {
     if (reference.width, reference.height) != (new.width, new.height) {
-        return Err(format!(
-            "the snapshot is {}x{} and the render {}x{}",
-            reference.width, reference.height, new.width, new.height
-        ));
+        return Err(SizesDiffer {
+            snapshot: (reference.width, reference.height),
+            render: (new.width, new.height),
+        });
     }
     let (width, height) = (new.width, new.height);
     let mut tiles = Vec::new();

@@ -15,14 +15,16 @@ pub struct Estimate {
     pub samples_per_pixel: u32,
 }
 
+/// A render of fewer than two samples per pixel, which has no variance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("a snapshot needs at least 2 samples per pixel for its variance (the render has {0})")]
+pub struct TooFewSamples(pub u32);
+
 impl Estimate {
     /// The film's estimate; it needs at least two samples per pixel for a variance.
-    pub fn from_film(film: &Film) -> Result<Estimate, String> {
+    pub fn from_film(film: &Film) -> Result<Estimate, TooFewSamples> {
         if film.samples < 2 {
-            return Err(format!(
-                "a snapshot needs at least 2 samples per pixel for its variance (the render has {})",
-                film.samples
-            ));
+            return Err(TooFewSamples(film.samples));
         }
         Ok(Estimate {
             width: film.width,

@@ -45,7 +45,7 @@ pub fn write(path: &Path, estimate: &Estimate) -> std::result::Result<(), ImageE
 /// Reads a snapshot; anything else (another EXR, a damaged file) is an error naming the file.
 pub fn read(path: &Path) -> std::result::Result<Estimate, ImageError> {
     let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
-        .map_err(|e| ImageError::format(path, e))?;
+        .map_err(|e| ImageError::input(path, e))?;
     read_bytes(&bytes).map_err(|message| {
         ImageError::format(path, format!("not a readable raydiance snapshot: {message}"))
     })

@@ -10,12 +10,35 @@ mod heatmap;
 
 use std::path::{Path, PathBuf};
 
-pub use compare::{Comparison, FINEST_TILE, Rect, TileTest, Z_BOUND, compare};
-pub use estimate::Estimate;
+pub use compare::{Comparison, FINEST_TILE, Rect, SizesDiffer, TileTest, Z_BOUND, compare};
+pub use estimate::{Estimate, TooFewSamples};
 pub use file::{read, write};
 
-use crate::pipeline::{RenderRequest, build, load_graph};
-use crate::render::{Silent, render};
+use crate::image::ImageError;
+use crate::pipeline::{LoadError, RenderRequest, build, load_graph};
+use crate::progress::Silent;
+use crate::render::render;
+
+/// Why a scene could not be snapshot-tested, or snapshots not found or accepted.
+#[derive(Debug, thiserror::Error)]
+pub enum SnapshotError {
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    #[error("error: {0}")]
+    Image(#[from] ImageError),
+    #[error("error: {}: {source}", scene.display())]
+    TooFewSamples { scene: PathBuf, source: TooFewSamples },
+    #[error("error: {}: {source} (`--size` sets the size)", snapshot.display())]
+    SizesDiffer { snapshot: PathBuf, source: SizesDiffer },
+    #[error("error: {}: {source}", path.display())]
+    Io { path: PathBuf, source: std::io::Error },
+}
+
+impl SnapshotError {
+    fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SnapshotError + '_ {
+        move |source| SnapshotError::Io { path: path.to_path_buf(), source }
+    }
+}
 
 /// Samples per pixel of a snapshot render unless `--samples` says otherwise.
 pub const DEFAULT_SAMPLES: u32 = 64;
@@ -116,13 +139,13 @@ impl Outcome {
 /// Renders `scene` small and compares it with its snapshot. A differing or new render is
 /// written beside the snapshot as `.new` (with a heat map of the z-scores when it differs); a
 /// match removes any `.new` and heat map left from before.
-pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
+pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, SnapshotError> {
     let files = SnapshotFiles::of(scene_path);
     let reference = match files.snapshot.exists() {
-        true => Some(read(&files.snapshot).map_err(|e| format!("error: {e}"))?),
+        true => Some(read(&files.snapshot)?),
         false => None,
     };
-    let graph = load_graph(scene_path).map_err(|e| e.to_string())?;
+    let graph = load_graph(scene_path)?;
     let integrator = graph.settings.integrator;
     if !integrator.samples_are_independent() {
         let verdict = Verdict::Unsupported { integrator: integrator.name() };
@@ -145,10 +168,12 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
         height: Some(height),
         ..Default::default()
     };
-    let scene = build(graph, &request).map_err(|e| e.to_string())?;
+    let scene = build(graph, &request)?;
     let (film, _) = render(&scene, &Silent);
-    let new =
-        Estimate::from_film(&film).map_err(|e| format!("error: {}: {e}", scene_path.display()))?;
+    let new = Estimate::from_film(&film).map_err(|source| SnapshotError::TooFewSamples {
+        scene: scene_path.to_path_buf(),
+        source,
+    })?;
     let outcome = |tiles, verdict| Outcome {
         scene: scene_path.to_path_buf(),
         width: new.width,
@@ -156,14 +181,14 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
         tiles,
         verdict,
     };
-    let written = |e: crate::image::ImageError| format!("error: {e}");
     let Some(reference) = reference else {
         create_folder(&files.new)?;
-        write(&files.new, &new).map_err(written)?;
+        write(&files.new, &new)?;
         return Ok(outcome(0, Verdict::New));
     };
-    let comparison = compare(&reference, &new).map_err(|e| {
-        format!("error: {}: {e} (`--size` sets the size)", files.snapshot.display())
+    let comparison = compare(&reference, &new).map_err(|source| SnapshotError::SizesDiffer {
+        snapshot: files.snapshot.clone(),
+        source,
     })?;
     let tiles = comparison.tiles.len();
     match comparison.worst().filter(|_| !comparison.matches()) {
@@ -173,8 +198,8 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
             Ok(outcome(tiles, Verdict::Matches))
         }
         Some(&worst) => {
-            write(&files.new, &new).map_err(written)?;
-            heatmap::write(&files.diff, &comparison, &new).map_err(written)?;
+            write(&files.new, &new)?;
+            heatmap::write(&files.diff, &comparison, &new)?;
             let failing = comparison.failing().count();
             Ok(outcome(tiles, Verdict::Differs { failing, worst }))
         }
@@ -192,11 +217,10 @@ fn default_size(width: u32, height: u32) -> (u32, u32) {
 
 /// Every `.scn` file among `paths` and in the folders below them, sorted; folders named
 /// `target`, and hidden ones, are passed over.
-pub fn scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub fn scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>, SnapshotError> {
     let mut found = Vec::new();
     for path in paths {
-        let metadata =
-            std::fs::metadata(path).map_err(|e| format!("error: {}: {e}", path.display()))?;
+        let metadata = std::fs::metadata(path).map_err(SnapshotError::io(path))?;
         if metadata.is_dir() {
             walk(path, &mut |file| {
                 if file.extension().is_some_and(|e| e == "scn") {
@@ -214,7 +238,7 @@ pub fn scenes(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
 
 /// `--accept`: every `.new` snapshot among `paths` (scenes, or folders searched below) becomes
 /// the snapshot, and its heat map is removed. Returns the snapshots written.
-pub fn accept(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub fn accept(paths: &[PathBuf]) -> Result<Vec<PathBuf>, SnapshotError> {
     let mut pending = Vec::new();
     for path in paths {
         if path.is_dir() {
@@ -236,9 +260,9 @@ pub fn accept(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
         .into_iter()
         .map(|files| {
             // A damaged `.new` is refused rather than made the snapshot.
-            read(&files.new).map_err(|e| format!("error: {e}"))?;
+            read(&files.new)?;
             std::fs::rename(&files.new, &files.snapshot)
-                .map_err(|e| format!("error: {}: {e}", files.snapshot.display()))?;
+                .map_err(SnapshotError::io(&files.snapshot))?;
             remove_if_present(&files.diff)?;
             Ok(files.snapshot)
         })
@@ -246,8 +270,8 @@ pub fn accept(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
 }
 
 /// Calls `visit` on every file below `folder`, passing over snapshot, build and hidden folders.
-fn walk(folder: &Path, visit: &mut dyn FnMut(&Path)) -> Result<(), String> {
-    let error = |e: std::io::Error| format!("error: {}: {e}", folder.display());
+fn walk(folder: &Path, visit: &mut dyn FnMut(&Path)) -> Result<(), SnapshotError> {
+    let error = |e: std::io::Error| SnapshotError::io(folder)(e);
     let mut entries: Vec<_> =
         std::fs::read_dir(folder).map_err(error)?.collect::<Result<_, _>>().map_err(error)?;
     entries.sort_by_key(|e| e.file_name());
@@ -267,16 +291,14 @@ fn walk(folder: &Path, visit: &mut dyn FnMut(&Path)) -> Result<(), String> {
     Ok(())
 }
 
-fn create_folder(file: &Path) -> Result<(), String> {
+fn create_folder(file: &Path) -> Result<(), SnapshotError> {
     let folder = file.parent().unwrap_or(Path::new("."));
-    std::fs::create_dir_all(folder).map_err(|e| format!("error: {}: {e}", folder.display()))
+    std::fs::create_dir_all(folder).map_err(SnapshotError::io(folder))
 }
 
-fn remove_if_present(file: &Path) -> Result<(), String> {
+fn remove_if_present(file: &Path) -> Result<(), SnapshotError> {
     match std::fs::remove_file(file) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-            Err(format!("error: {}: {e}", file.display()))
-        }
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(SnapshotError::io(file)(e)),
         _ => Ok(()),
     }
 }

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::ops::Range;
 
+use super::merge::MergeError;
 use super::part_file::PartHeader;
 use crate::region::{Crop, Share};
 
@@ -14,18 +15,19 @@ use crate::region::{Crop, Share};
 const LISTED: usize = 8;
 
 /// Refuses parts that do not belong to one render; the message names two files that differ.
-pub fn check_same_render(parts: &[PartHeader]) -> Result<(), String> {
+pub fn check_same_render(parts: &[PartHeader]) -> Result<(), MergeError> {
     let Some(first) = parts.first() else {
-        return Err("error: no parts to merge".to_string());
+        return Err(MergeError::NoParts);
     };
     for part in &parts[1..] {
-        let differ = |what: &str, a: String, b: String| {
-            Err(format!(
-                "error: cannot merge {} and {}: they are parts of renders with other {what} ({a} \
-                 and {b})",
-                first.path.display(),
-                part.path.display()
-            ))
+        let differ = |what: &'static str, first_has: String, other_has: String| {
+            Err(MergeError::OtherRenders {
+                first: first.path.clone(),
+                other: part.path.clone(),
+                what,
+                first_has,
+                other_has,
+            })
         };
         if (first.width, first.height) != (part.width, part.height) {
             let size = |p: &PartHeader| format!("{}x{}", p.width, p.height);
@@ -57,7 +59,7 @@ pub fn check_same_render(parts: &[PartHeader]) -> Result<(), String> {
 
 /// Refuses overlapping parts; returns what is missing (empty when the parts cover every sample
 /// of every pixel), one line each, saying how to render it.
-pub fn missing_work(parts: &[PartHeader]) -> Result<Vec<String>, String> {
+pub fn missing_work(parts: &[PartHeader]) -> Result<Vec<String>, MergeError> {
     let mut tiles: BTreeMap<Crop, Vec<&PartHeader>> = BTreeMap::new();
     for part in parts {
         tiles.entry(part.region.crop).or_default().push(part);
@@ -65,12 +67,12 @@ pub fn missing_work(parts: &[PartHeader]) -> Result<Vec<String>, String> {
     let crops: Vec<&Crop> = tiles.keys().collect();
     for (i, a) in crops.iter().enumerate() {
         if let Some(b) = crops[i + 1..].iter().find(|b| a.intersects(b)) {
-            return Err(format!(
-                "error: {} (crop {a}) and {} (crop {b}) overlap: their crops share pixels (the \
-                 parts of one tile must all have the same --crop, and tiles must not overlap)",
-                tiles[*a][0].path.display(),
-                tiles[*b][0].path.display()
-            ));
+            return Err(MergeError::CropsOverlap {
+                first: tiles[*a][0].path.clone(),
+                first_crop: **a,
+                other: tiles[*b][0].path.clone(),
+                other_crop: **b,
+            });
         }
     }
     let mut missing = Vec::new();
@@ -98,7 +100,7 @@ pub fn missing_work(parts: &[PartHeader]) -> Result<Vec<String>, String> {
 
 /// The shares of one tile: refuses two that take the same samples; lists the samples no part
 /// takes, as the shares to render.
-fn missing_shares(crop: &Crop, tile: &mut [&PartHeader]) -> Result<Vec<String>, String> {
+fn missing_shares(crop: &Crop, tile: &mut [&PartHeader]) -> Result<Vec<String>, MergeError> {
     let total = tile[0].region.total();
     tile.sort_by_key(|p| (p.region.share.numbers(total).start, p.region.share.count));
     let mut gaps: Vec<Range<u64>> = Vec::new();
@@ -106,14 +108,13 @@ fn missing_shares(crop: &Crop, tile: &mut [&PartHeader]) -> Result<Vec<String>, 
     for pair in tile.windows(2) {
         let (a, b) = (pair[0], pair[1]);
         if a.region.share.numbers(total).end > b.region.share.numbers(total).start {
-            return Err(format!(
-                "error: {} (share {}) and {} (share {}) overlap: they take the same samples of \
-                 crop {crop}",
-                a.path.display(),
-                a.region.share,
-                b.path.display(),
-                b.region.share
-            ));
+            return Err(MergeError::SharesOverlap {
+                first: a.path.clone(),
+                first_share: a.region.share,
+                other: b.path.clone(),
+                other_share: b.region.share,
+                crop: *crop,
+            });
         }
     }
     for part in tile.iter() {

@@ -7,8 +7,63 @@ use std::path::PathBuf;
 use glam::DVec3;
 
 use super::coverage;
-use super::part_file::{self, PartHeader};
-use crate::image::{Image, RenderInfo};
+use super::part_file::{self, PartFileError, PartHeader};
+use crate::image::{Image, ImageError, RenderInfo};
+use crate::region::{Crop, Share};
+
+/// Why parts do not merge, or the merge cannot be written; the messages name the files.
+#[derive(Debug, thiserror::Error)]
+pub enum MergeError {
+    #[error("error: {0}")]
+    Part(#[from] PartFileError),
+    #[error("error: no parts to merge")]
+    NoParts,
+    #[error(
+        "error: cannot merge {} and {}: they are parts of renders with other {what} ({first_has} \
+         and {other_has})",
+        first.display(),
+        other.display()
+    )]
+    OtherRenders {
+        first: PathBuf,
+        other: PathBuf,
+        what: &'static str,
+        first_has: String,
+        other_has: String,
+    },
+    #[error(
+        "error: {} (crop {first_crop}) and {} (crop {other_crop}) overlap: their crops share \
+         pixels (the parts of one tile must all have the same --crop, and tiles must not overlap)",
+        first.display(),
+        other.display()
+    )]
+    CropsOverlap { first: PathBuf, first_crop: Crop, other: PathBuf, other_crop: Crop },
+    #[error(
+        "error: {} (share {first_share}) and {} (share {other_share}) overlap: they take the \
+         same samples of crop {crop}",
+        first.display(),
+        other.display()
+    )]
+    SharesOverlap {
+        first: PathBuf,
+        first_share: Share,
+        other: PathBuf,
+        other_share: Share,
+        crop: Crop,
+    },
+    #[error(
+        "error: the parts given ({parts}) do not make the whole image:\n  {}\nrender what is \
+         missing and merge again (or merge with --allow-partial)",
+        missing.join("\n  ")
+    )]
+    Incomplete { parts: usize, missing: Vec<String> },
+    #[error("error: {}: pixel {pixel} of its crop is missing (the file is damaged)", part.display())]
+    PixelMissing { part: PathBuf, pixel: usize },
+    #[error("error: {}: is one of the parts; merging would replace it", .0.display())]
+    OutputIsAPart(PathBuf),
+    #[error("error: {0}")]
+    Output(#[from] ImageError),
+}
 
 /// A merged image and what to say about it.
 #[derive(Debug)]
@@ -25,20 +80,13 @@ pub struct Merged {
 
 /// Merges the part files; with `allow_partial`, missing shares, tiles and samples are not an
 /// error (the image is the mean of the samples there are, and records the fewest per pixel).
-pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, String> {
-    let mut parts = paths
-        .iter()
-        .map(|path| part_file::read_header(path).map_err(|e| format!("error: {e}")))
-        .collect::<Result<Vec<_>, _>>()?;
+pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, MergeError> {
+    let mut parts =
+        paths.iter().map(|path| part_file::read_header(path)).collect::<Result<Vec<_>, _>>()?;
     coverage::check_same_render(&parts)?;
     let missing = coverage::missing_work(&parts)?;
     if !missing.is_empty() && !allow_partial {
-        return Err(format!(
-            "error: the parts given ({}) do not make the whole image:\n  {}\nrender what is \
-             missing and merge again (or merge with --allow-partial)",
-            parts.len(),
-            missing.join("\n  ")
-        ));
+        return Err(MergeError::Incomplete { parts: parts.len(), missing });
     }
     // A fixed order: the same image bit for bit whatever the order the parts were given in.
     parts.sort_by_key(|p| {
@@ -81,7 +129,7 @@ fn add_part(
     width: usize,
     sums: &mut [DVec3],
     counts: &mut [u32],
-) -> Result<(), String> {
+) -> Result<(), MergeError> {
     let region = &part.region;
     let crop = region.crop;
     let layout = region.layout();
@@ -103,13 +151,9 @@ fn add_part(
         sums[y * width + x] += sum;
         counts[y * width + x] += count;
         Ok(())
-    })
-    .map_err(|e| format!("error: {e}"))?;
+    })?;
     if let Some(pixel) = seen.iter().position(|s| !s) {
-        return Err(format!(
-            "error: {}: pixel {pixel} of its crop is missing (the file is damaged)",
-            part.path.display()
-        ));
+        return Err(MergeError::PixelMissing { part: part.path.clone(), pixel });
     }
     Ok(())
 }

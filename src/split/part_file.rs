@@ -13,18 +13,56 @@ use ::exr::block::reader::ChunksReader;
 use ::exr::meta::header::Header;
 use ::exr::prelude::*;
 
-type Result<T, E = String> = std::result::Result<T, E>;
+type Result<T, E = PartFileError> = std::result::Result<T, E>;
 use glam::DVec3;
 
 use crate::animation::Frame;
 use crate::film::Film;
 use crate::image::{ImageError, write_atomic};
-use crate::region::{Crop, Region, Share};
+use crate::region::{Crop, Region, RegionError, Share};
 
 /// The channel of per-pixel sample counts.
 const SAMPLES: &str = "samples";
 /// The channels of per-pixel means of the squared radiance.
 const MOMENT2: [&str; 3] = ["moment2.R", "moment2.G", "moment2.B"];
+
+/// Why a part file cannot be read; the message names the file.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {problem}", path.display())]
+pub struct PartFileError {
+    pub path: PathBuf,
+    pub problem: PartProblem,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum PartProblem {
+    #[error("{0}")]
+    Io(std::io::Error),
+    #[error("not a regular file")]
+    NotRegular,
+    #[error("not a readable OpenEXR file ({0})")]
+    NotExr(::exr::error::Error),
+    #[error("not a part: a part file has one layer")]
+    Layers,
+    #[error("not a part (it has no raydiance:part: render parts with --part or --crop)")]
+    NotAPart,
+    #[error("its header has no valid raydiance:{0}")]
+    Missing(&'static str),
+    #[error("its header is inconsistent: {0}")]
+    Inconsistent(RegionError),
+    #[error(
+        "its data and display windows do not match raydiance:crop {crop} and \
+         raydiance:image_size {size}"
+    )]
+    Windows { crop: Crop, size: String },
+    #[error("it has no {kind:?} channel `{name}`")]
+    NoChannel { kind: SampleType, name: &'static str },
+    #[error("cannot read its pixels (truncated or damaged?): {0}")]
+    Pixels(::exr::error::Error),
+    /// What the reader of its pixels found wrong with them.
+    #[error("{0}")]
+    Damaged(String),
+}
 
 /// What a part's header says.
 #[derive(Debug, Clone, PartialEq)]
@@ -120,46 +158,44 @@ pub fn write(path: &Path, film: &Film, header: &PartHeader) -> Result<(), ImageE
 }
 
 /// Opens a regular file for reading (a FIFO or a folder is an error, not a hang).
-fn open(path: &Path) -> Result<BufReader<File>, String> {
-    let metadata = std::fs::metadata(path).map_err(|e| e.to_string())?;
+fn open(path: &Path) -> Result<BufReader<File>, PartProblem> {
+    let metadata = std::fs::metadata(path).map_err(PartProblem::Io)?;
     if !metadata.is_file() {
-        return Err("not a regular file".to_string());
+        return Err(PartProblem::NotRegular);
     }
-    File::open(path).map(BufReader::new).map_err(|e| e.to_string())
+    File::open(path).map(BufReader::new).map_err(PartProblem::Io)
 }
 
 /// Reads and checks a part's header; the message names the file.
-pub fn read_header(path: &Path) -> Result<PartHeader, String> {
-    let named = |message: String| format!("{}: {message}", path.display());
+pub fn read_header(path: &Path) -> Result<PartHeader> {
+    let named = |problem| PartFileError { path: path.to_path_buf(), problem };
     let reader = open(path).map_err(named)?;
-    let meta = MetaData::read_from_buffered(reader, false)
-        .map_err(|e| named(format!("not a readable OpenEXR file ({e})")))?;
+    let meta =
+        MetaData::read_from_buffered(reader, false).map_err(|e| named(PartProblem::NotExr(e)))?;
     let [header] = &meta.headers[..] else {
-        return Err(named("not a part: a part file has one layer".to_string()));
+        return Err(named(PartProblem::Layers));
     };
     parse_header(path, header).map_err(named)
 }
 
-fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
+fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem> {
     let get = |name: &str| {
         let key = key(name);
         header.own_attributes.other.get(&key).or_else(|| header.shared_attributes.other.get(&key))
     };
     if get("part").is_none() {
-        return Err(
-            "not a part (it has no raydiance:part: render parts with --part or --crop)".to_string()
-        );
+        return Err(PartProblem::NotAPart);
     }
-    let missing = |name: &str| format!("its header has no valid raydiance:{name}");
-    let text_of = |name: &str| match get(name) {
+    let missing = PartProblem::Missing;
+    let text_of = |name: &'static str| match get(name) {
         Some(AttributeValue::Text(t)) => Ok(t.to_string()),
         _ => Err(missing(name)),
     };
-    let int_of = |name: &str| match get(name) {
+    let int_of = |name: &'static str| match get(name) {
         Some(AttributeValue::I32(n)) => u32::try_from(*n).map_err(|_| missing(name)),
         _ => Err(missing(name)),
     };
-    let float_of = |name: &str| match get(name) {
+    let float_of = |name: &'static str| match get(name) {
         Some(AttributeValue::F64(x)) => Ok(*x),
         _ => Err(missing(name)),
     };
@@ -171,7 +207,7 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
         .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
         .ok_or_else(|| missing("image_size"))?;
     let region = Region { crop, share, samples: int_of("render_samples")? };
-    region.check(width, height).map_err(|e| format!("its header is inconsistent: {e}"))?;
+    region.check(width, height).map_err(PartProblem::Inconsistent)?;
     // The EXR windows must say what the attributes say.
     let display = header.shared_attributes.display_window;
     let data = IntegerBounds::new(header.own_attributes.layer_position, header.layer_size);
@@ -182,10 +218,7 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
     if display != IntegerBounds::from_dimensions((width as usize, height as usize))
         || data != expected_data
     {
-        return Err(format!(
-            "its data and display windows do not match raydiance:crop {crop} and \
-             raydiance:image_size {size}"
-        ));
+        return Err(PartProblem::Windows { crop, size });
     }
     for (name, kind) in [
         ("R", SampleType::F32),
@@ -194,7 +227,7 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
         (SAMPLES, SampleType::U32),
     ] {
         if !header.channels.list.iter().any(|c| c.name == *name && c.sample_type == kind) {
-            return Err(format!("it has no {kind:?} channel `{name}`"));
+            return Err(PartProblem::NoChannel { kind, name });
         }
     }
     Ok(PartHeader {
@@ -217,8 +250,8 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
 pub fn read_pixels(
     part: &PartHeader,
     mut visit: impl FnMut(usize, DVec3, u32) -> Result<(), String>,
-) -> Result<(), String> {
-    let named = |message: String| format!("{}: {message}", part.path.display());
+) -> Result<()> {
+    let named = |problem| PartFileError { path: part.path.clone(), problem };
     let reader = open(&part.path).map_err(named)?;
     let width = part.region.crop.width() as usize;
     let mut error = None;
@@ -256,10 +289,8 @@ pub fn read_pixels(
             })
         });
     match (error, result) {
-        (Some(message), _) => Err(named(message)),
-        (None, Err(e)) => {
-            Err(named(format!("cannot read its pixels (truncated or damaged?): {e}")))
-        }
+        (Some(message), _) => Err(named(PartProblem::Damaged(message))),
+        (None, Err(e)) => Err(named(PartProblem::Pixels(e))),
         (None, Ok(())) => Ok(()),
     }
 }

@@ -6,9 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::scheduler;
-use crate::animation::{DEFAULT_CLOCK, Frame, Frames};
-use crate::region::{Crop, Share};
+use super::scheduler::{self, SchedulerError};
+use crate::animation::{DEFAULT_CLOCK, Frame, FrameError, Frames};
+use crate::region::{Crop, RegionError, Share};
 
 /// `--part`: a share, or the scheduler's task.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -59,32 +59,50 @@ pub struct Plan {
     pub task: Option<String>,
 }
 
+/// Choices that do not go together, or a frame or task that is not there.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    #[error(
+        "error: --parts N goes with --part auto (the count of a Kubernetes Indexed Job's shares)"
+    )]
+    PartsWithoutAuto,
+    #[error("error: --frame F picks one of --frames F0..F1: give both")]
+    FrameWithoutFrames,
+    #[error("error: --clock C0..C1 goes with --frames F0..F1")]
+    ClockWithoutFrames,
+    #[error("error: {0}")]
+    Frame(#[from] FrameError),
+    /// The share of a scheduler's task.
+    #[error("error: {0}")]
+    Share(#[from] RegionError),
+    #[error(transparent)]
+    Scheduler(#[from] SchedulerError),
+}
+
 /// Plans the renders; `var` looks up the environment (for `--part auto`).
 pub fn plan(
     choices: &Choices,
     output: &Path,
     var: impl Fn(&str) -> Option<String>,
-) -> Result<Plan, String> {
+) -> Result<Plan, PlanError> {
     if choices.parts.is_some() && choices.part != Some(PartChoice::Auto) {
-        return Err("error: --parts N goes with --part auto (the count of a Kubernetes \
-                    Indexed Job's shares)"
-            .to_string());
+        return Err(PlanError::PartsWithoutAuto);
     }
     let frames = match (choices.frames, choices.frame, choices.clock) {
         (Some((first, last)), _, clock) => {
             Some(Frames { first, last, clock: clock.unwrap_or(DEFAULT_CLOCK) })
         }
         (None, Some(_), _) => {
-            return Err("error: --frame F picks one of --frames F0..F1: give both".to_string());
+            return Err(PlanError::FrameWithoutFrames);
         }
         (None, None, Some(_)) => {
-            return Err("error: --clock C0..C1 goes with --frames F0..F1".to_string());
+            return Err(PlanError::ClockWithoutFrames);
         }
         (None, None, None) => None,
     };
     let numbers: Vec<u32> = match (&frames, choices.frame) {
         (Some(frames), Some(number)) => {
-            frames.frame(number).map_err(|e| format!("error: {e}"))?;
+            frames.frame(number)?;
             vec![number]
         }
         (Some(frames), None) => (frames.first..=frames.last).collect(),
@@ -122,8 +140,7 @@ pub fn plan(
             };
             Ok(Job { frame, share, crop: choices.crop, output })
         })
-        .collect::<Result<Vec<_>, String>>()
-        .map_err(|e| format!("error: {e}"))?;
+        .collect::<Result<Vec<_>, FrameError>>()?;
     Ok(Plan { jobs, task })
 }
 
@@ -187,7 +204,7 @@ mod tests {
     #[test]
     fn choices_that_do_not_go_together_are_refused() {
         let refuse = |choices: Choices, says: &str| {
-            let error = plan(&choices, Path::new("o.exr"), no_scheduler).unwrap_err();
+            let error = plan(&choices, Path::new("o.exr"), no_scheduler).unwrap_err().to_string();
             assert!(error.contains(says), "{error}");
         };
         refuse(Choices { frame: Some(1), ..Choices::default() }, "give both");

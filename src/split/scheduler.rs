@@ -4,6 +4,55 @@
 //! Kubernetes Indexed Jobs give task `JOB_COMPLETION_INDEX`, the count being `--parts N` times
 //! the frames.
 
+/// Why `--part auto` found no task of its own.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SchedulerError {
+    #[error("error: --part auto: {name}={value:?} is not a whole number")]
+    NotANumber { name: String, value: String },
+    #[error(
+        "error: --part auto: both SLURM_ARRAY_TASK_ID (Slurm) and JOB_COMPLETION_INDEX \
+         (Kubernetes) are set: cannot tell which scheduler started this process; give --part I/N \
+         instead"
+    )]
+    BothSchedulers,
+    #[error("error: --part auto: SLURM_ARRAY_TASK_ID is set but {0} is not")]
+    SlurmVariableMissing(String),
+    #[error(
+        "error: --part auto: Slurm array task {id} is not one of {count} tasks from {min} by \
+         {step} (the array must be a range such as --array=0-{last})",
+        last = count.saturating_sub(1)
+    )]
+    NotInArray { id: u32, count: u32, min: u32, step: u32 },
+    #[error(
+        "error: --part auto: JOB_COMPLETION_INDEX is set (a Kubernetes Indexed Job) but the \
+         number of shares is not: give --parts N (the Job's completions, divided by the frames)"
+    )]
+    PartsMissing,
+    #[error("error: --parts times --frames is too large")]
+    TooManyTasks,
+    #[error(
+        "error: --part auto: JOB_COMPLETION_INDEX {index} is not less than the {count} tasks of \
+         --parts {parts} (times {frames} frames)"
+    )]
+    IndexOutOfRange { index: u32, count: u32, parts: u32, frames: u32 },
+    #[error(
+        "error: --part auto: no scheduler task found: neither a Slurm job array \
+         (SLURM_ARRAY_TASK_ID{unset}) nor a Kubernetes Indexed Job (JOB_COMPLETION_INDEX) \
+         started this process; give --part I/N instead",
+        unset = if *slurm_job {
+            " is unset: this Slurm job is not an array, submit it with --array"
+        } else {
+            ""
+        }
+    )]
+    NoTask { slurm_job: bool },
+    #[error(
+        "error: --part auto: the Slurm array has {count} tasks, not {frames} frames times {shares}",
+        shares = parts.map_or("a whole number of shares".to_string(), |p| format!("--parts {p}"))
+    )]
+    ArrayCount { count: u32, frames: u32, parts: Option<u32> },
+}
+
 /// Task `index` of `count` tasks, and who said so.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Task {
@@ -18,29 +67,24 @@ pub fn task(
     var: impl Fn(&str) -> Option<String>,
     parts: Option<u32>,
     frames: u32,
-) -> Result<Task, String> {
-    let number = |name: &str| -> Result<Option<u32>, String> {
+) -> Result<Task, SchedulerError> {
+    let number = |name: &str| -> Result<Option<u32>, SchedulerError> {
         match var(name) {
             None => Ok(None),
             Some(v) => v
                 .trim()
                 .parse()
                 .map(Some)
-                .map_err(|_| format!("error: --part auto: {name}={v:?} is not a whole number")),
+                .map_err(|_| SchedulerError::NotANumber { name: name.to_string(), value: v }),
         }
     };
     let slurm = number("SLURM_ARRAY_TASK_ID")?;
     let kubernetes = number("JOB_COMPLETION_INDEX")?;
     match (slurm, kubernetes) {
-        (Some(_), Some(_)) => Err("error: --part auto: both SLURM_ARRAY_TASK_ID (Slurm) and \
-             JOB_COMPLETION_INDEX (Kubernetes) are set: cannot tell which scheduler started \
-             this process; give --part I/N instead"
-            .to_string()),
+        (Some(_), Some(_)) => Err(SchedulerError::BothSchedulers),
         (Some(id), None) => {
             let need = |name: &str| {
-                number(name)?.ok_or_else(|| {
-                    format!("error: --part auto: SLURM_ARRAY_TASK_ID is set but {name} is not")
-                })
+                number(name)?.ok_or_else(|| SchedulerError::SlurmVariableMissing(name.to_string()))
             };
             let (min, count) = (need("SLURM_ARRAY_TASK_MIN")?, need("SLURM_ARRAY_TASK_COUNT")?);
             let step = number("SLURM_ARRAY_TASK_STEP")?.unwrap_or(1).max(1);
@@ -49,56 +93,28 @@ pub fn task(
                 Some(index) => {
                     check_count(Task { index, count, scheduler: "Slurm" }, parts, frames)
                 }
-                None => Err(format!(
-                    "error: --part auto: Slurm array task {id} is not one of {count} tasks from \
-                     {min} by {step} (the array must be a range such as --array=0-{})",
-                    count.saturating_sub(1)
-                )),
+                None => Err(SchedulerError::NotInArray { id, count, min, step }),
             }
         }
         (None, Some(index)) => {
             let Some(parts) = parts else {
-                return Err("error: --part auto: JOB_COMPLETION_INDEX is set (a Kubernetes \
-                     Indexed Job) but the number of shares is not: give --parts N (the Job's \
-                     completions, divided by the frames)"
-                    .to_string());
+                return Err(SchedulerError::PartsMissing);
             };
-            let count =
-                parts.checked_mul(frames).ok_or("error: --parts times --frames is too large")?;
+            let count = parts.checked_mul(frames).ok_or(SchedulerError::TooManyTasks)?;
             if index >= count {
-                return Err(format!(
-                    "error: --part auto: JOB_COMPLETION_INDEX {index} is not less than the {count} \
-                     tasks of --parts {parts} (times {frames} frames)"
-                ));
+                return Err(SchedulerError::IndexOutOfRange { index, count, parts, frames });
             }
             Ok(Task { index, count, scheduler: "Kubernetes" })
         }
-        (None, None) => {
-            let slurm_job = var("SLURM_JOB_ID").is_some();
-            Err(format!(
-                "error: --part auto: no scheduler task found: neither a Slurm job array \
-                 (SLURM_ARRAY_TASK_ID{}) nor a Kubernetes Indexed Job (JOB_COMPLETION_INDEX) \
-                 started this process; give --part I/N instead",
-                if slurm_job {
-                    " is unset: this Slurm job is not an array, submit it with --array"
-                } else {
-                    ""
-                }
-            ))
-        }
+        (None, None) => Err(SchedulerError::NoTask { slurm_job: var("SLURM_JOB_ID").is_some() }),
     }
 }
 
 /// A Slurm array's count must be a multiple of the frames, and of `--parts` when given.
-fn check_count(task: Task, parts: Option<u32>, frames: u32) -> Result<Task, String> {
+fn check_count(task: Task, parts: Option<u32>, frames: u32) -> Result<Task, SchedulerError> {
     let per_frame = task.count / frames;
     if task.count % frames != 0 || parts.is_some_and(|p| p != per_frame) {
-        return Err(format!(
-            "error: --part auto: the Slurm array has {} tasks, not {} frames times {}",
-            task.count,
-            frames,
-            parts.map_or("a whole number of shares".to_string(), |p| format!("--parts {p}"))
-        ));
+        return Err(SchedulerError::ArrayCount { count: task.count, frames, parts });
     }
     Ok(task)
 }
@@ -127,10 +143,17 @@ mod tests {
             task(array("16"), None, 1).unwrap(),
             Task { index: 15, count: 16, scheduler: "Slurm" }
         );
-        assert!(task(array("17"), None, 1).unwrap_err().contains("not one of 16 tasks"));
-        assert!(task(array("x"), None, 1).unwrap_err().contains("not a whole number"));
-        assert!(task(array("3"), None, 3).unwrap_err().contains("not 3 frames"));
-        assert!(task(array("3"), Some(8), 1).unwrap_err().contains("not 1 frames times --parts 8"));
+        assert!(
+            task(array("17"), None, 1).unwrap_err().to_string().contains("not one of 16 tasks")
+        );
+        assert!(task(array("x"), None, 1).unwrap_err().to_string().contains("not a whole number"));
+        assert!(task(array("3"), None, 3).unwrap_err().to_string().contains("not 3 frames"));
+        assert!(
+            task(array("3"), Some(8), 1)
+                .unwrap_err()
+                .to_string()
+                .contains("not 1 frames times --parts 8")
+        );
         let stepped = env(&[
             ("SLURM_ARRAY_TASK_ID", "6"),
             ("SLURM_ARRAY_TASK_MIN", "0"),
@@ -145,16 +168,20 @@ mod tests {
         let indexed = env(&[("JOB_COMPLETION_INDEX", "5")]);
         assert_eq!(task(&indexed, Some(8), 1).unwrap().index, 5);
         assert_eq!(task(&indexed, Some(2), 3).unwrap().count, 6);
-        assert!(task(&indexed, None, 1).unwrap_err().contains("give --parts N"));
-        assert!(task(&indexed, Some(4), 1).unwrap_err().contains("not less than the 4"));
+        assert!(task(&indexed, None, 1).unwrap_err().to_string().contains("give --parts N"));
+        assert!(
+            task(&indexed, Some(4), 1).unwrap_err().to_string().contains("not less than the 4")
+        );
     }
 
     #[test]
     fn without_a_scheduler_it_is_an_error_that_says_so() {
-        assert!(task(env(&[]), None, 1).unwrap_err().contains("no scheduler task found"));
+        assert!(
+            task(env(&[]), None, 1).unwrap_err().to_string().contains("no scheduler task found")
+        );
         let plain = env(&[("SLURM_JOB_ID", "7")]);
-        assert!(task(plain, None, 1).unwrap_err().contains("not an array"));
+        assert!(task(plain, None, 1).unwrap_err().to_string().contains("not an array"));
         let both = env(&[("SLURM_ARRAY_TASK_ID", "0"), ("JOB_COMPLETION_INDEX", "0")]);
-        assert!(task(both, Some(2), 1).unwrap_err().contains("both"));
+        assert!(task(both, Some(2), 1).unwrap_err().to_string().contains("both"));
     }
 }

@@ -19,7 +19,8 @@ pub const MAX_TEXELS: u64 = 1 << 26;
 impl ImageMap {
     pub fn load(path: &Path) -> Result<ImageMap, String> {
         let error = |e: String| format!("{}: {e}", path.display());
-        let bytes = crate::input::read(path, crate::input::MAX_IMAGE_BYTES).map_err(error)?;
+        let bytes = crate::input::read(path, crate::input::MAX_IMAGE_BYTES)
+            .map_err(|e| error(e.to_string()))?;
         let reader = || {
             image::ImageReader::new(std::io::Cursor::new(&bytes))
                 .with_guessed_format()

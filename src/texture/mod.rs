@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use crate::scene::graph::{ColorMap, Pattern, TextureNode, compose};
+use crate::graph::{ColorMap, Pattern, TextureNode, compose};
 
 #[derive(Debug, Clone)]
 pub struct Texture {
@@ -126,7 +126,7 @@ fn lookup(map: &ColorMap, t: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::graph::Transform;
+    use crate::graph::Transform;
 
     fn texture(pattern: Pattern, transforms: Vec<Transform>) -> Texture {
         Texture::new(&TextureNode { pattern, transforms }, &mut |_| Err("no images".into()))

@@ -6,7 +6,8 @@ use std::path::Path;
 use glam::Vec3;
 use raydiance::film::Film;
 use raydiance::image::Image;
-use raydiance::render::{Silent, render};
+use raydiance::progress::Silent;
+use raydiance::render::render;
 use raydiance::scene::{Scene, build};
 
 /// The walls of the seed's lab box, for tests that set their own camera.

@@ -6,9 +6,9 @@ use glam::Vec3;
 
 use super::{Body, Evaluator, as_float, as_vector};
 use crate::diagnostic::{SceneError, Span};
+use crate::graph::{CameraDesc, CameraForm};
 use crate::lang::syntax::Item;
 use crate::lang::value::Value;
-use crate::scene::graph::{CameraDesc, CameraForm};
 
 /// The camera's parameters as given: value and where its key is written.
 pub type CameraParams = HashMap<String, (Value, Span)>;

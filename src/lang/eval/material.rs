@@ -8,11 +8,11 @@ use glam::Vec3;
 use super::expression::colour_of;
 use super::{Body, Evaluator, resolve};
 use crate::diagnostic::{SceneError, Span};
+use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
 use crate::lang::syntax::{
     self, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind, TextureParamKind,
 };
 use crate::lang::value::Value;
-use crate::scene::graph::{MaterialDesc, Pattern, TextureNode, Transform};
 
 /// A texture node's items as they are read.
 pub struct TextureState {

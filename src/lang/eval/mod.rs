@@ -21,7 +21,7 @@ use super::{parser, tree};
 use crate::animation::Frame;
 use crate::diagnostic::{Context, SceneError, SourceFile, Span};
 use crate::digest::Digest;
-use crate::scene::graph::{
+use crate::graph::{
     CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
 };
 
@@ -117,7 +117,7 @@ pub enum Body<'a> {
     Camera(&'a mut CameraParams),
     Light(&'a mut Option<Vec3>),
     Object(&'a mut ObjectNode),
-    Material(&'a mut crate::scene::graph::MaterialDesc),
+    Material(&'a mut crate::graph::MaterialDesc),
     Texture(&'a mut TextureState),
     ColorMap(&'a mut Vec<(f32, Vec3)>),
     /// A macro called as a value: its body gives one.

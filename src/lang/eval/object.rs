@@ -8,9 +8,9 @@ use super::{
     Body, Evaluator, MAX_CSG_DEPTH, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE, as_vector, resolve,
 };
 use crate::diagnostic::SceneError;
+use crate::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform};
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
 use crate::lang::value::Value;
-use crate::scene::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform};
 
 impl Evaluator {
     pub(super) fn object(&mut self, object: &syntax::Object) -> Result<ObjectNode, SceneError> {

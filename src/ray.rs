@@ -1,3 +1,6 @@
+//! Rays and the hits they find: below the acceleration structures that trace them and the
+//! shapes that are hit (`geometry` re-exports them with its shapes).
+
 use glam::{Vec3, Vec3A};
 
 /// A ray `origin + t * dir` with `dir` of unit length. (`Vec3A`, written and read whole: the

@@ -1,3 +1,6 @@
+//! Axis-aligned boxes: below the BVH that is built over them and the shapes that they bound
+//! (`geometry` re-exports them with its shapes).
+
 use glam::Vec3;
 
 /// An axis-aligned bounding box; `EMPTY` is the identity of `union`.
