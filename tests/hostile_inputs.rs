@@ -366,6 +366,41 @@ fn numbers_beyond_f32_are_located_errors() {
         assert_refused(&output, expected);
         assert!(String::from_utf8_lossy(&output.stderr).contains("n.scn:4:"), "{object}");
     }
+    let camera = "camera { origin <0, 0, -3e39>  left <1, 0, 0>  up <0, 1, 0>  forward <0, 0, 1> }";
+    let path = dir.path().join("camera.scn");
+    std::fs::write(&path, camera).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 10);
+    assert_refused(&output, "camera.scn:1:10: error: -3e39 is too large");
+}
+
+/// The language's work is budgeted: a macro calling itself twice, which would make 2^41 calls,
+/// is stopped by the count of macro calls, at the call.
+#[test]
+fn an_exponential_macro_is_stopped_by_the_count_of_calls() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{SMALL_SCENE}#macro F(N) #if (N > 0) F(N-1) F(N-1) #end #end\nF(40)\n");
+    let start = Instant::now();
+    let expected = format!("more than {} macro calls", raydiance::lang::MAX_MACRO_CALLS);
+    assert_scene_refused(dir.path(), "macro.scn", &text, &expected);
+    // Both runs (debug build) in well under the 2^41 calls' weeks.
+    assert!(start.elapsed() < Duration::from_secs(30), "{:?}", start.elapsed());
+}
+
+/// Strings are bounded where `concat` makes them, and appending to a variable takes time linear
+/// in the length made: 200,000 appends of 5 bytes stay far from the quadratic 10^11 bytes copied.
+#[test]
+fn strings_are_bounded_and_appends_linear() {
+    let dir = tempfile::tempdir().unwrap();
+    let doubling = "#declare S = \"x\";\n#for (I, 1, 40) #declare S = concat(S, S); #end\n";
+    let text = format!("{SMALL_SCENE}{doubling}");
+    let expected = "double.scn:5:30: error: a string of 2097152 bytes: at most 1048576 are allowed";
+    assert_scene_refused(dir.path(), "double.scn", &text, expected);
+    let appends =
+        "#declare S = \"\";\n#for (I, 1, 200000) #declare S = concat(S, \"abcde\"); #end\n";
+    let path = dir.path().join("append.scn");
+    std::fs::write(&path, format!("{SMALL_SCENE}{appends}")).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 30);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
 }
 
 /// A mesh whose bad token is 20 MB long, with escape sequences: the error quotes a clipped,
@@ -386,4 +421,44 @@ fn a_huge_token_in_a_mesh_is_quoted_short_and_escaped() {
     assert_eq!(output.status.code(), Some(1), "{}", &stderr[..stderr.len().min(500)]);
     assert!(output.stderr.len() < 2000, "{} bytes of error", output.stderr.len());
     assert!(!stderr.contains('\u{1b}'), "{stderr:?}");
+}
+
+/// Arrays are held in shared chunks and counted scene-wide: declaring a 10-million-element array
+/// a thousand times, or writing into a copy of one, copies a chunk, not the array; a loop of
+/// copies written into is stopped by the count of elements made or copied.
+#[test]
+fn arrays_are_counted_scene_wide_and_written_without_a_whole_copy() {
+    let dir = tempfile::tempdir().unwrap();
+    let redeclared = "#for (I, 0, 999) #declare A = array[9999999]; #end\n\
+                      #declare A[5] = -1;\n#declare B = A;\n\
+                      #for (I, 0, 99) #declare B[I * 99991 + 5] = I; #end\n\
+                      #if (B[99 * 99991 + 5] != 99) #error \"the write is lost\" #end\n\
+                      #if (A[5] != -1) #error \"the copy's write reached A\" #end\n";
+    let path = dir.path().join("arrays.scn");
+    std::fs::write(&path, format!("{SMALL_SCENE}{redeclared}")).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 30);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+
+    let copies = "#declare A = array[9999999];\n\
+                  #for (I, 0, 9999998, 1024) #declare B = A; #declare B[I] = 1; #end\n";
+    let expected = format!(
+        "arrays.scn:5:53: error: more than {} array elements made or copied",
+        raydiance::lang::MAX_ARRAY_ELEMENTS_MADE
+    );
+    assert_scene_refused(dir.path(), "arrays.scn", &format!("{SMALL_SCENE}{copies}"), &expected);
+}
+
+/// Suggestions for an unknown name compare only names of about its length, and none for a name
+/// longer than a name is written: ten 40,000-character names and an unknown one are an error at
+/// once.
+#[test]
+fn suggestions_for_long_names_are_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    let declares: String =
+        (0..10).map(|i| format!("#declare {}{i} = 1;\n", "n".repeat(40_000))).collect();
+    let text = format!("{declares}sphere {{ 0, {}x }}\n", "n".repeat(40_000));
+    let start = Instant::now();
+    let output = limited(&["check", &write_scene(dir.path(), "names.scn", &text)], 20);
+    assert_refused(&output, "unknown identifier `nnnn");
+    assert!(start.elapsed() < Duration::from_secs(5), "{:?}", start.elapsed());
 }

@@ -217,12 +217,22 @@ fn token_at(text: &str) -> &str {
     if word > 0 { &text[..word] } else { text.chars().next().map_or("", |c| &text[..c.len_utf8()]) }
 }
 
+/// Names longer than this get no suggestion: the edit distance takes time in the product of
+/// the lengths, for every name in scope.
+const MAX_SUGGESTED_LENGTH: usize = 64;
+
 /// The candidate within edit distance 2 (and less than half the word) of `word`, if any.
 pub fn closest<'a>(word: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
-    if word.is_empty() || !word.chars().all(|c| c.is_alphanumeric() || c == '_') {
+    if word.is_empty()
+        || word.len() > MAX_SUGGESTED_LENGTH
+        || !word.chars().all(|c| c.is_alphanumeric() || c == '_')
+    {
         return None;
     }
+    // Lengths (in bytes, at most 4 a character) that differ by more than 8 differ by more
+    // than 2 characters: the distance is above 2.
     candidates
+        .filter(|c| c.len().abs_diff(word.len()) <= 8)
         .map(|c| (edit_distance(word, c), c))
         .filter(|&(d, c)| d > 0 && d <= 2 && 2 * d < word.len().max(c.len()))
         .min()
