@@ -74,7 +74,7 @@ enum Command {
         /// Render share I (0-based) of N disjoint shares of the samples, into a part file
         /// (.exr) for `merge`; `auto` takes the share from a Slurm job array or a Kubernetes
         /// Indexed Job (with --parts).
-        #[arg(long, value_name = "I/N|auto")]
+        #[arg(long, value_name = "I/N|auto", allow_hyphen_values = true)]
         part: Option<PartChoice>,
         /// With --part auto under Kubernetes: the number of shares of each frame (the Job's
         /// completions divided by the frames).

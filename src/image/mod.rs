@@ -97,7 +97,10 @@ pub fn check_writable(path: &Path) -> Result<(), ImageError> {
             format!("the folder `{}` does not exist", folder.display()),
         ));
     }
-    tempfile::NamedTempFile::new_in(folder).map(drop).map_err(|e| ImageError::io(path, e))
+    // The error names `path`, not the temporary file tried (`.tmpXXXXXX`, unknown to the user).
+    tempfile::NamedTempFile::new_in(folder)
+        .map(drop)
+        .map_err(|e| ImageError::io(path, std::io::Error::from(e.kind())))
 }
 
 /// Writes `path` through `write` into a temporary file in the same folder, renamed into place
@@ -115,8 +118,9 @@ pub fn write_atomic(
         let mode = std::fs::metadata(path).map_or(0o644, |m| m.permissions().mode() & 0o777);
         builder.permissions(std::fs::Permissions::from_mode(mode));
     }
-    let mut temporary =
-        builder.tempfile_in(folder_of(path)).map_err(|e| ImageError::io(path, e))?;
+    let mut temporary = builder
+        .tempfile_in(folder_of(path))
+        .map_err(|e| ImageError::io(path, std::io::Error::from(e.kind())))?;
     let _pending = Pending::register(temporary.path());
     {
         let mut writer = BufWriter::new(temporary.as_file_mut());
