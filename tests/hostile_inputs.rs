@@ -645,3 +645,19 @@ fn csg_of_too_many_operands_is_refused() {
     );
     assert_scene_refused(dir.path(), "csg.scn", &text, &expected);
 }
+
+/// What would silently render nothing is an error: a CSG object of no operands, a mesh whose
+/// every triangle has no area.
+#[test]
+fn empty_csg_and_all_degenerate_meshes_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{SMALL_SCENE}intersection {{ }}\n");
+    assert_scene_refused(dir.path(), "e.scn", &text, "e.scn:4:1: error: an intersection of no");
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+               property float z\nelement face 2\nproperty list uchar int vertex_indices\n\
+               end_header\n0 0 0\n1 1 1\n2 2 2\n3 0 1 2\n3 2 1 0\n";
+    std::fs::write(dir.path().join("line.ply"), ply).unwrap();
+    let text = format!("{SMALL_SCENE}mesh {{ \"line.ply\" }}\n");
+    let expected = "all 2 triangles of the mesh are degenerate";
+    assert_scene_refused(dir.path(), "m.scn", &text, expected);
+}

@@ -88,6 +88,16 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
             ));
         }
     }
+    let has_area = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+        (b - a).cross(c - a) != Vec3::ZERO
+    };
+    if !mesh.triangles.iter().any(has_area) {
+        return Err(format!(
+            "all {} triangles of the mesh are degenerate (of no area): it would be invisible",
+            mesh.triangles.len()
+        ));
+    }
     Ok(())
 }
 

@@ -158,12 +158,16 @@ impl Evaluator {
             ));
         }
         if let ShapeNode::Csg { op, operands } = &node.shape {
+            let what = match op {
+                CsgOp::Intersection => "an intersection",
+                CsgOp::Difference => "a difference",
+                CsgOp::Merge => "a merge",
+            };
+            if operands.is_empty() {
+                let message = format!("{what} of no operands: it would be empty");
+                return Err(SceneError::at(&object.span, message));
+            }
             if operands.len() > MAX_CSG_OPERANDS {
-                let what = match op {
-                    CsgOp::Intersection => "an intersection",
-                    CsgOp::Difference => "a difference",
-                    CsgOp::Merge => "a merge",
-                };
                 return Err(SceneError::at(
                     &object.span,
                     format!(
