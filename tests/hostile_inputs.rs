@@ -661,3 +661,23 @@ fn empty_csg_and_all_degenerate_meshes_are_refused() {
     let expected = "all 2 triangles of the mesh are degenerate";
     assert_scene_refused(dir.path(), "m.scn", &text, expected);
 }
+
+/// A stored snapshot whose variance no render gives (1e30, more than its mean squared) is refused
+/// as damaged instead of matching any render.
+#[test]
+fn a_snapshot_of_impossible_variance_is_refused() {
+    use raydiance::snapshot::{self, Estimate};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let stored = Estimate {
+        width: 8,
+        height: 8,
+        mean: vec![glam::Vec3::splat(0.5); 64],
+        variance: vec![glam::Vec3::splat(1e30); 64],
+        samples_per_pixel: 64,
+    };
+    std::fs::create_dir(dir.path().join("__snapshots__")).unwrap();
+    snapshot::write(&dir.path().join("__snapshots__/s.exr"), &stored).unwrap();
+    let output = limited(&["snapshot", &scene], 20);
+    assert_refused(&output, "pixel 0's variance 1e30 is more than the square of its mean 5e-1");
+}

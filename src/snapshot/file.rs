@@ -88,5 +88,16 @@ fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
     if let Some(i) = variance.iter().position(|v| !(v.is_finite() && v.min_element() >= 0.0)) {
         return Err(format!("pixel {i} has a variance that is not a finite number ≥ 0"));
     }
+    // Samples are never negative, so the variance of their mean is at most its square (all in one
+    // sample): a larger one (1e30) would make every render match, and is a forged or damaged file.
+    let values = mean.iter().zip(&variance).flat_map(|(m, v)| (0..3).map(move |c| (m[c], v[c])));
+    let too_large = |(m, v): &(f32, f32)| f64::from(*v) > f64::from(*m).powi(2) * 1.001 + 1e-30;
+    if let Some((k, (m, v))) = values.enumerate().find(|(_, p)| too_large(p)) {
+        return Err(format!(
+            "pixel {}'s variance {v:e} is more than the square of its mean {m:e} (no render \
+             gives that)",
+            k / 3
+        ));
+    }
     Ok(Estimate { width, height, mean, variance, samples_per_pixel })
 }
