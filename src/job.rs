@@ -62,6 +62,8 @@ pub enum RenderJobError {
     FilmTooLarge(#[from] FilmTooLarge),
     #[error("error: cannot handle signals: {0}")]
     Signals(String),
+    #[error("interrupted before the first pass: nothing written ({} left as it was)", .0.display())]
+    InterruptedBeforeFirstPass(PathBuf),
     #[error("error: {0}")]
     Write(ImageError),
 }
@@ -198,6 +200,10 @@ impl PlannedJob {
             };
             render::render_region(&scene, &region, &progress)
         };
+        // Nothing rendered: the file there (a render of before) is worth more than a black image.
+        if stats.samples_per_pixel == 0 && observer.interrupted() {
+            return Err(RenderJobError::InterruptedBeforeFirstPass(output.clone()));
+        }
         let written = if job.is_part() {
             let header = PartHeader {
                 path: output.clone(),

@@ -12,6 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use raydiance::animation;
 use raydiance::graph::IntegratorKind;
+use raydiance::image::end_cleanly_on_signal;
 use raydiance::job::{Ended, Observer, RenderJob, RenderJobError};
 use raydiance::progress::Progress;
 use raydiance::region::Crop;
@@ -75,7 +76,7 @@ enum Command {
         /// Render share I (0-based) of N disjoint shares of the samples, into a part file
         /// (.exr) for `merge`; `auto` takes the share from a Slurm job array or a Kubernetes
         /// Indexed Job (with --parts).
-        #[arg(long, value_name = "I/N|auto")]
+        #[arg(long, value_name = "I/N|auto", allow_hyphen_values = true)]
         part: Option<PartChoice>,
         /// With --part auto under Kubernetes: the number of shares of each frame (the Job's
         /// completions divided by the frames).
@@ -255,16 +256,29 @@ fn main() -> ExitCode {
             }
         }
         Command::Merge { parts, output, allow_partial, ppm_res } => complete(
-            raydiance::merge_files(&parts, &output, allow_partial, ppm_res).map(|merged| {
-                for line in &merged.missing {
-                    tell!("warning: {line}");
-                }
-                say!("{}", merged.summary);
-            }),
+            end_cleanly_on_signal()
+                .map_err(Failure::from)
+                .and_then(|()| {
+                    raydiance::merge_files(&parts, &output, allow_partial, ppm_res)
+                        .map_err(Failure::from)
+                })
+                .map(|merged| {
+                    for line in &merged.missing {
+                        tell!("warning: {line}");
+                    }
+                    say!("{}", merged.summary);
+                }),
         ),
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
             let tone_map = ToneMap { op, v, gamma, exposure, white };
-            complete(raydiance::tonemap_file(&input, &output, &tone_map).map(|s| say!("{s}")))
+            complete(
+                end_cleanly_on_signal()
+                    .map_err(Failure::from)
+                    .and_then(|()| {
+                        raydiance::tonemap_file(&input, &output, &tone_map).map_err(Failure::from)
+                    })
+                    .map(|s| say!("{s}")),
+            )
         }
         Command::Check { scene } => {
             complete(raydiance::check(&scene).map(|summary| say!("{summary}")))

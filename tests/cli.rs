@@ -317,3 +317,29 @@ fn dark_scenes_and_black_images_are_warned_about() {
     assert!(render.status.success());
     assert!(!stderr(&render).contains("warning"), "{}", stderr(&render));
 }
+
+/// Messages say what was given, not what an internal step met: a negative share is a bad
+/// share (not clap's "use '-- -1'"), `scale 1e30` is too large (not "singular"), and a folder
+/// where no file can be made is named by the output, not by a `.tmpXXXXXX` tried in it.
+#[test]
+fn messages_name_what_was_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.exr");
+    let out = out.to_str().unwrap();
+    let output = raydiance(&["render", "scenes/lab4-direct.scn", "-o", out, "--part", "-1/2"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("`-1/2` is not a share I/N"), "{}", stderr(&output));
+
+    let scene = dir.path().join("huge.scn");
+    let text = "camera { location <0, 0, -3>  look_at <0, 0, 0> }\nsphere { 0, 1 scale 1e30 }\n";
+    std::fs::write(&scene, text).unwrap();
+    let output = raydiance(&["check", scene.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    let expected = "huge.scn:2:1: error: the transforms of this object scale it beyond what 32-bit";
+    assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+
+    let output = raydiance(&["render", "scenes/lab4-direct.scn", "-o", "/proc/out.exr"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).starts_with("error: /proc/out.exr: "), "{}", stderr(&output));
+    assert!(!stderr(&output).contains(".tmp"), "{}", stderr(&output));
+}

@@ -122,7 +122,9 @@ fn snapshot_files_round_trip_exactly() {
     let estimate = Estimate {
         width: 3,
         height: 2,
-        mean: (0..6).map(|i| Vec3::new(i as f32, 0.5 / (i + 1) as f32, 1e-7 * i as f32)).collect(),
+        mean: (0..6)
+            .map(|i| Vec3::new(i as f32, 0.5 / (i + 1) as f32, 0.1 + 1e-7 * i as f32))
+            .collect(),
         variance: (0..6).map(|i| Vec3::splat(i as f32 * 1e-3)).collect(),
         samples_per_pixel: 64,
     };

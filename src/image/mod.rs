@@ -12,6 +12,10 @@ use std::sync::{Mutex, MutexGuard};
 
 use glam::Vec3;
 
+/// The most pixels an image read may have, from its header: a corrupt or hostile header must not
+/// make the decoder exhaust memory.
+pub const MAX_PIXELS: usize = 1 << 25;
+
 /// Linear RGB radiance, rows top to bottom, columns left to right.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {
@@ -99,7 +103,10 @@ pub fn check_writable(path: &Path) -> Result<(), ImageError> {
             format!("the folder `{}` does not exist", folder.display()),
         ));
     }
-    tempfile::NamedTempFile::new_in(folder).map(drop).map_err(|e| ImageError::io(path, e))
+    // The error names `path`, not the temporary file tried (`.tmpXXXXXX`, unknown to the user).
+    tempfile::NamedTempFile::new_in(folder)
+        .map(drop)
+        .map_err(|e| ImageError::io(path, std::io::Error::from(e.kind())))
 }
 
 /// Writes `path` through `write` into a temporary file in the same folder, renamed into place
@@ -117,8 +124,9 @@ pub fn write_atomic(
         let mode = std::fs::metadata(path).map_or(0o644, |m| m.permissions().mode() & 0o777);
         builder.permissions(std::fs::Permissions::from_mode(mode));
     }
-    let mut temporary =
-        builder.tempfile_in(folder_of(path)).map_err(|e| ImageError::io(path, e))?;
+    let mut temporary = builder
+        .tempfile_in(folder_of(path))
+        .map_err(|e| ImageError::io(path, std::io::Error::from(e.kind())))?;
     let _pending = Pending::register(temporary.path());
     {
         let mut writer = BufWriter::new(temporary.as_file_mut());
@@ -161,6 +169,17 @@ pub fn remove_pending_files() -> MutexGuard<'static, Vec<PathBuf>> {
         let _ = std::fs::remove_file(path);
     }
     pending
+}
+
+/// For a command that only writes files, with nothing to keep when stopped (`merge`,
+/// `tonemap`): Ctrl-C, SIGTERM and SIGHUP end the process at once with status 130, leaving no
+/// temporary file (by default the process would die with its `.tmpXXXXXX` beside the output).
+pub fn end_cleanly_on_signal() -> Result<(), String> {
+    ctrlc::set_handler(|| {
+        let _no_more_renames = remove_pending_files();
+        std::process::exit(130);
+    })
+    .map_err(|e| format!("error: cannot handle signals: {e}"))
 }
 
 fn folder_of(path: &Path) -> &Path {

@@ -10,7 +10,7 @@ use glam::{Affine3A, Vec3};
 use super::{Primitive, Scene};
 use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
-use crate::diagnostic::SceneError;
+use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
     Cone, Csg, CsgNode, CsgOp, Cuboid, Placement, Planar, PlanarKind, QuadricFrame, QuadricKind,
     Shape, Torus, TriangleMesh, similarity_scale,
@@ -205,6 +205,21 @@ struct Flattener {
     surfaces: Vec<Primitive>,
 }
 
+/// Refuses an object's transforms that a 32-bit matrix cannot invert: ones that flatten it, and
+/// ones that scale it past what 32-bit floats hold (`scale 1e30` is not singular, but too large).
+fn check_invertible(to_world: &Affine3A, span: &Span) -> Result<(), SceneError> {
+    let determinant = to_world.matrix3.determinant();
+    let message = if !determinant.is_finite() {
+        "the transforms of this object scale it beyond what 32-bit floats hold (its volume \
+         grows past 3.4e38 times)"
+    } else if determinant.abs() < 1e-12 {
+        "the transforms of this object are singular: they flatten it"
+    } else {
+        return Ok(());
+    };
+    Err(SceneError::at(span, message))
+}
+
 impl Flattener {
     fn add(
         &mut self,
@@ -213,10 +228,7 @@ impl Flattener {
         inherited: Option<&Arc<MaterialDesc>>,
     ) -> Result<(), SceneError> {
         let to_world = parent * compose(&node.transforms);
-        let determinant = to_world.matrix3.determinant();
-        if !determinant.is_finite() || determinant.abs() < 1e-12 {
-            return Err(SceneError::at(&node.span, "the transforms of this object are singular"));
-        }
+        check_invertible(&to_world, &node.span)?;
         let material = node.material.as_ref().or(inherited);
         match &node.shape {
             ShapeNode::Union(children) => {
@@ -293,10 +305,7 @@ impl Flattener {
         shapes: &mut Vec<Shape>,
     ) -> Result<CsgNode, SceneError> {
         let to_world = parent * compose(&node.transforms);
-        let determinant = to_world.matrix3.determinant();
-        if !determinant.is_finite() || determinant.abs() < 1e-12 {
-            return Err(SceneError::at(&node.span, "the transforms of this object are singular"));
-        }
+        check_invertible(&to_world, &node.span)?;
         let material = node.material.as_ref().or(inherited);
         let not_solid = |what: &str| {
             SceneError::at(

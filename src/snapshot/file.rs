@@ -7,7 +7,6 @@ use ::exr::prelude::*;
 use glam::Vec3;
 
 use super::Estimate;
-use crate::image::exr::MAX_PIXELS;
 use crate::image::{ImageError, write_atomic};
 
 const SAMPLES_ATTRIBUTE: &str = "raydiance:samples_per_pixel";
@@ -56,9 +55,7 @@ fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
         .map_err(|e| e.to_string())?;
     let header = meta.headers.first().ok_or("the file has no image")?;
     let (width, height) = (header.layer_size.width(), header.layer_size.height());
-    if width.saturating_mul(height) > MAX_PIXELS {
-        return Err(format!("{width} x {height} pixels is more than raydiance reads"));
-    }
+    super::check_size(width, height)?;
     let samples_per_pixel = match header.own_attributes.other.get(&Text::from(SAMPLES_ATTRIBUTE)) {
         Some(AttributeValue::I32(n)) if *n >= 2 => *n as u32,
         _ => return Err(format!("no `{SAMPLES_ATTRIBUTE}` of at least 2 in its header")),
@@ -90,6 +87,17 @@ fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
     }
     if let Some(i) = variance.iter().position(|v| !(v.is_finite() && v.min_element() >= 0.0)) {
         return Err(format!("pixel {i} has a variance that is not a finite number ≥ 0"));
+    }
+    // Samples are never negative, so the variance of their mean is at most its square (all in one
+    // sample): a larger one (1e30) would make every render match, and is a forged or damaged file.
+    let values = mean.iter().zip(&variance).flat_map(|(m, v)| (0..3).map(move |c| (m[c], v[c])));
+    let too_large = |(m, v): &(f32, f32)| f64::from(*v) > f64::from(*m).powi(2) * 1.001 + 1e-30;
+    if let Some((k, (m, v))) = values.enumerate().find(|(_, p)| too_large(p)) {
+        return Err(format!(
+            "pixel {}'s variance {v:e} is more than the square of its mean {m:e} (no render \
+             gives that)",
+            k / 3
+        ));
     }
     Ok(Estimate { width, height, mean, variance, samples_per_pixel })
 }

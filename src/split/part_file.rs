@@ -17,8 +17,11 @@ type Result<T, E = PartFileError> = std::result::Result<T, E>;
 use glam::DVec3;
 
 use crate::animation::Frame;
+use crate::diagnostic::printable;
 use crate::film::Film;
+use crate::graph::IntegratorKind;
 use crate::image::{ImageError, write_atomic};
+use crate::pipeline::MAX_RESOLUTION;
 use crate::region::{Crop, Region, RegionError, Share};
 
 /// The channel of per-pixel sample counts.
@@ -48,6 +51,9 @@ pub enum PartProblem {
     NotAPart,
     #[error("its header has no valid raydiance:{0}")]
     Missing(&'static str),
+    /// Its integrator (escaped) is not one whose renders split into parts.
+    #[error("its raydiance:integrator `{0}` is not one that renders parts")]
+    NotSplittable(String),
     #[error("its header is inconsistent: {0}")]
     Inconsistent(RegionError),
     #[error(
@@ -205,7 +211,12 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem>
     let (width, height) = size
         .split_once('x')
         .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| (1..=MAX_RESOLUTION).contains(&w) && (1..=MAX_RESOLUTION).contains(&h))
         .ok_or_else(|| missing("image_size"))?;
+    let integrator = text_of("integrator")?;
+    if !IntegratorKind::named(&integrator).is_some_and(IntegratorKind::samples_are_independent) {
+        return Err(PartProblem::NotSplittable(printable(&integrator)));
+    }
     let region = Region { crop, share, samples: int_of("render_samples")? };
     region.check(width, height).map_err(PartProblem::Inconsistent)?;
     // The EXR windows must say what the attributes say.
@@ -237,9 +248,9 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem>
         region,
         taken: int_of("samples_per_pixel")?,
         seed: text_of("seed")?.parse().map_err(|_| missing("seed"))?,
-        integrator: text_of("integrator")?,
+        integrator,
         max_depth: int_of("max_depth")?,
-        digest: text_of("digest")?,
+        digest: printable(&text_of("digest")?),
         frame: Frame { number: int_of("frame")?, clock: float_of("clock")? },
         seconds: float_of("render_seconds")?,
     })

@@ -10,6 +10,9 @@ use super::scheduler::{self, SchedulerError};
 use crate::animation::{DEFAULT_CLOCK, Frame, FrameError, Frames};
 use crate::region::{Crop, RegionError, Share};
 
+/// The most frames one command plans (each is checked and listed before the first renders).
+pub const MAX_FRAMES: u64 = 100_000;
+
 /// `--part`: a share, or the scheduler's task.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PartChoice {
@@ -70,6 +73,11 @@ pub enum PlanError {
     FrameWithoutFrames,
     #[error("error: --clock C0..C1 goes with --frames F0..F1")]
     ClockWithoutFrames,
+    #[error(
+        "error: --frames {first}..{last} is {count} frames: one command renders at most \
+         {MAX_FRAMES} (split the range over several)"
+    )]
+    TooManyFrames { first: u32, last: u32, count: u64 },
     #[error("error: {0}")]
     Frame(#[from] FrameError),
     /// The share of a scheduler's task.
@@ -105,7 +113,17 @@ pub fn plan(
             frames.frame(number)?;
             vec![number]
         }
-        (Some(frames), None) => (frames.first..=frames.last).collect(),
+        (Some(frames), None) => {
+            let count = u64::from(frames.last - frames.first) + 1;
+            if count > MAX_FRAMES {
+                return Err(PlanError::TooManyFrames {
+                    first: frames.first,
+                    last: frames.last,
+                    count,
+                });
+            }
+            (frames.first..=frames.last).collect()
+        }
         (None, _) => vec![0],
     };
     let (numbers, share, task) = match choices.part {
