@@ -40,19 +40,6 @@ impl IntegratorKind {
         }
     }
 
-    /// Whether the image is a mean of independent pixel samples, each a pure function of (seed,
-    /// pixel, sample index): then disjoint shares of the samples rendered apart merge into the
-    /// render of all of them (`--part`), and a render's per-pixel variance is what `snapshot`
-    /// tests with. An integrator whose pixels share work across samples (a photon map built per
-    /// pass, SPPM's shrinking radii) answers false: `render --part` refuses it and `snapshot`
-    /// says it cannot snapshot it.
-    pub fn samples_are_independent(self) -> bool {
-        match self {
-            IntegratorKind::Direct | IntegratorKind::Path => true,
-            IntegratorKind::Photon | IntegratorKind::Sppm => false,
-        }
-    }
-
     /// Every integrator, for parsing names and listing them in messages.
     pub const ALL: [IntegratorKind; 4] = [
         IntegratorKind::Direct,

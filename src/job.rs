@@ -94,6 +94,8 @@ impl RenderJob {
     /// Checks the command line's values and plans the frames and parts; `var` looks up the
     /// environment (for `--part auto`).
     pub fn plan(&self, var: impl Fn(&str) -> Option<String>) -> Result<PlannedJob, RenderJobError> {
+        // The scene first: a missing one is named before any frame is planned.
+        crate::lang::check_readable(&self.scene).map_err(LoadError::from)?;
         if let Some(t) = self.time.filter(|t| !(*t > 0.0 && *t <= MAX_TIME)) {
             return Err(RenderJobError::Time(t));
         }
@@ -178,7 +180,7 @@ impl PlannedJob {
             samples: settings.samples,
         };
         if job.is_part() {
-            if !settings.integrator.samples_are_independent() {
+            if !crate::integrator::of(settings).samples_are_independent() {
                 return Err(RenderJobError::SamplesShared(settings.integrator));
             }
             region.check(settings.width, settings.height).map_err(RenderJobError::Region)?;

@@ -28,8 +28,8 @@ pub struct RenderRequest {
     pub frame: Frame,
 }
 
-/// Largest image side and sample count accepted from the command line, as from `settings`.
-pub const MAX_RESOLUTION: u32 = 65536;
+pub use crate::region::MAX_RESOLUTION;
+/// Largest sample count accepted from the command line, as from `settings`.
 pub const MAX_SAMPLES: u32 = 1_000_000;
 /// Longest path accepted from the command line, in bounces.
 pub const MAX_DEPTH: u32 = 1024;

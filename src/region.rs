@@ -12,6 +12,10 @@ use std::fmt;
 use std::ops::Range;
 use std::str::FromStr;
 
+/// Largest image side accepted from the command line, as from `settings`, and from a part's
+/// header.
+pub const MAX_RESOLUTION: u32 = 65536;
+
 /// Share `index` (0-based) of `count` disjoint shares of the sample set.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Share {

@@ -1,30 +1,12 @@
-//! Rendering: passes of samples over the image, rows in parallel on rayon, into a `Film`.
-//!
-//! Each pixel sample draws from `Sampler::new(seed, pixel, sample index)`, and a pixel's samples
-//! are summed in index order, so the film is the same bit for bit whatever the thread count and
-//! however the samples are split into passes.
-
-use std::ops::Range;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::time::Instant;
-
-use glam::{DVec3, Vec3};
-use rayon::prelude::*;
+//! Rendering: the integrator a scene's settings name renders the image, or a region of it.
 
 use crate::film::Film;
-use crate::graph::IntegratorKind;
-use crate::integrator::{Direct, Integrator, Path, PhotonMapping, Strategy, sppm};
+use crate::integrator::{self, SampleIntegrator, render_samples};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
-use crate::scene::{Scene, camera_sample};
+use crate::scene::Scene;
 
-/// The most samples one task of a pass traces (and holds the radiance of) between two looks at
-/// `Progress::should_abandon`: a few milliseconds of work, whatever the image or pass size.
-pub const TASK_SAMPLES: usize = 4096;
-
-/// Renders `scene` with its settings, in passes whose sample counts double (1, 1, 2, 4, ...,
-/// the last one shortened to end at the sample count or where `Progress::pass_limit` says), so
-/// that a render stopped between passes is still an unbiased image.
+/// Renders `scene` with its settings.
 pub fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
     let s = &scene.settings;
     render_region(scene, &Region::whole(s.width, s.height, s.samples), progress)
@@ -38,168 +20,16 @@ pub fn render_region(
     region: &Region,
     progress: &dyn Progress,
 ) -> (Film, RenderStats) {
-    let max_depth = scene.settings.max_depth;
-    let s = &scene.settings;
-    // The photon integrators render whole images only: `render` refuses their shares and crops
-    // (`IntegratorKind::samples_are_independent`).
-    let whole = *region == Region::whole(s.width, s.height, s.samples);
-    match scene.settings.integrator {
-        IntegratorKind::Direct => render_with_in(scene, &Direct { max_depth }, region, progress),
-        IntegratorKind::Path => {
-            render_with_in(scene, &Path { max_depth, strategy: Strategy::Mis }, region, progress)
-        }
-        IntegratorKind::Photon => {
-            assert!(whole, "photon mapping renders whole images");
-            let start = Instant::now();
-            match PhotonMapping::new(scene, progress) {
-                Some(integrator) => {
-                    let (film, stats) = render_with(scene, &integrator, progress);
-                    (film, RenderStats { seconds: start.elapsed().as_secs_f64(), ..stats })
-                }
-                None => stopped_before_a_pass(scene, start),
-            }
-        }
-        IntegratorKind::Sppm => {
-            assert!(whole, "sppm renders whole images");
-            sppm::render(scene, progress)
-        }
-    }
+    integrator::of(&scene.settings).render(scene, region, progress)
 }
 
-/// The black film of a render stopped before its first pass.
-pub fn stopped_before_a_pass(scene: &Scene, start: Instant) -> (Film, RenderStats) {
-    let film = Film::new(scene.settings.width as usize, scene.settings.height as usize);
-    (film, RenderStats { seconds: start.elapsed().as_secs_f64(), samples_per_pixel: 0, dropped: 0 })
-}
-
-/// Renders with a given integrator (e.g. a `Path` with one sampling strategy, for tests).
+/// Renders the whole image with a given per-sample integrator (e.g. a `Path` with one sampling
+/// strategy, for tests).
 pub fn render_with(
     scene: &Scene,
-    integrator: &impl Integrator,
+    integrator: &impl SampleIntegrator,
     progress: &dyn Progress,
 ) -> (Film, RenderStats) {
     let s = &scene.settings;
-    render_with_in(scene, integrator, &Region::whole(s.width, s.height, s.samples), progress)
-}
-
-/// `render_with` of a region.
-fn render_with_in(
-    scene: &Scene,
-    integrator: &impl Integrator,
-    region: &Region,
-    progress: &dyn Progress,
-) -> (Film, RenderStats) {
-    let start = Instant::now();
-    let (width, height) = (region.crop.width() as usize, region.crop.height() as usize);
-    let mut film = Film::new(width, height);
-    let mut pass_film = Film::new(width, height);
-    let mut seconds_per_sample = 0.0;
-    let most = region.most_samples();
-    while film.samples < most {
-        let mut pass = film.samples.max(1).min(most - film.samples);
-        if film.samples > 0 {
-            match progress.pass_limit(seconds_per_sample) {
-                Some(0) => break,
-                Some(limit) => pass = pass.min(limit),
-                None => {}
-            }
-        }
-        let pass_start = Instant::now();
-        if !render_pass(
-            scene,
-            integrator,
-            progress,
-            region,
-            film.samples..film.samples + pass,
-            &mut pass_film,
-        ) {
-            break;
-        }
-        film.add_pass(&pass_film);
-        seconds_per_sample = pass_start.elapsed().as_secs_f64() / f64::from(pass);
-    }
-    let stats = RenderStats {
-        seconds: start.elapsed().as_secs_f64(),
-        samples_per_pixel: film.samples,
-        dropped: film.dropped,
-    };
-    (film, stats)
-}
-
-/// Renders the samples `offsets` of each pixel's share (its sample indices
-/// `Region::samples_of(pixel)`, from the first) into `pass` (overwritten), rows in parallel, each
-/// row in tasks of at most `TASK_SAMPLES` samples: several pixels' samples together (so that
-/// integrators tracing paths in lanes have enough of them), or a part of one pixel's. A pixel's
-/// samples are summed in index order. False when the pass was abandoned.
-fn render_pass(
-    scene: &Scene,
-    integrator: &impl Integrator,
-    progress: &dyn Progress,
-    region: &Region,
-    offsets: Range<u32>,
-    pass: &mut Film,
-) -> bool {
-    let (x0, y0) = (region.crop.x0 as usize, region.crop.y0 as usize);
-    let width = pass.width;
-    let count = (offsets.end - offsets.start) as usize;
-    let pixels_per_task = (TASK_SAMPLES / count).clamp(1, width);
-    let samples_per_task = count.min(TASK_SAMPLES) as u32;
-    let abandoned = AtomicBool::new(false);
-    let dropped = AtomicU64::new(0);
-    let layout = region.layout();
-    pass.sum
-        .par_chunks_mut(width)
-        .zip(pass.sum_squares.par_chunks_mut(width))
-        .enumerate()
-        .for_each(|(row, (sum_row, squares_row))| {
-            sum_row.fill(DVec3::ZERO);
-            squares_row.fill(DVec3::ZERO);
-            let y = y0 + row;
-            let mut radiance = vec![Vec3::ZERO; pixels_per_task * samples_per_task as usize];
-            let mut task: Vec<(usize, Range<u32>)> = Vec::with_capacity(pixels_per_task);
-            for first_x in (0..width).step_by(pixels_per_task) {
-                let columns = first_x..(first_x + pixels_per_task).min(width);
-                for first in offsets.clone().step_by(samples_per_task as usize) {
-                    if abandoned.load(Ordering::Relaxed) || progress.should_abandon() {
-                        abandoned.store(true, Ordering::Relaxed);
-                        return;
-                    }
-                    let last = (first + samples_per_task).min(offsets.end);
-                    // Each pixel's sample indices in this task: offsets first..last of its share.
-                    task.clear();
-                    task.extend(columns.clone().map(|column| {
-                        let share = layout.samples_of((row * width + column) as u64);
-                        let start = (share.start + first).min(share.end);
-                        (column, start..(share.start + last).min(share.end))
-                    }));
-                    // The task's camera samples, pixel by pixel, each pixel's in index order.
-                    let mut camera_samples = task.iter().flat_map(|(column, indices)| {
-                        let x = x0 + column;
-                        indices.clone().map(move |index| camera_sample(scene, x, y, index))
-                    });
-                    let taken: usize = task.iter().map(|(_, indices)| indices.len()).sum();
-                    let radiance = &mut radiance[..taken];
-                    integrator.radiance_of_all(scene, &mut camera_samples, radiance);
-                    let mut task_dropped = 0;
-                    let mut samples = radiance.iter();
-                    for (column, indices) in &task {
-                        let (sum, squares) = (&mut sum_row[*column], &mut squares_row[*column]);
-                        for radiance in samples.by_ref().take(indices.len()) {
-                            if radiance.is_finite() {
-                                let radiance = radiance.as_dvec3();
-                                *sum += radiance;
-                                *squares += radiance * radiance;
-                            } else {
-                                task_dropped += 1;
-                            }
-                        }
-                    }
-                    dropped.fetch_add(task_dropped, Ordering::Relaxed);
-                    progress.advance(taken as u64);
-                }
-            }
-        });
-    pass.samples = offsets.end - offsets.start;
-    pass.dropped = dropped.into_inner();
-    !abandoned.into_inner()
+    render_samples(scene, integrator, &Region::whole(s.width, s.height, s.samples), progress)
 }

@@ -8,7 +8,7 @@ use std::f32::consts::PI;
 use common::{LAB_BOX, OneAtATime, max_abs_difference, render_image, scene};
 use glam::Vec3;
 use raydiance::geometry::Ray;
-use raydiance::integrator::{Direct, Integrator};
+use raydiance::integrator::{Direct, SampleIntegrator};
 use raydiance::progress::Silent;
 use raydiance::render::render_with;
 use raydiance::sampling::Sampler;

@@ -6,7 +6,7 @@ mod common;
 use common::{LAB_BOX, OneAtATime, scene};
 use glam::{Vec2, Vec3};
 use raydiance::film::Film;
-use raydiance::integrator::{Direct, Integrator, Path, Strategy};
+use raydiance::integrator::{Direct, Path, SampleIntegrator, Strategy};
 use raydiance::progress::Silent;
 use raydiance::render::render_with;
 use raydiance::sampling::Sampler;

@@ -8,7 +8,7 @@ use std::f32::consts::PI;
 use common::{LAB_BOX, scene};
 use glam::Vec3;
 use raydiance::geometry::Ray;
-use raydiance::integrator::{Direct, Integrator};
+use raydiance::integrator::{Direct, SampleIntegrator};
 use raydiance::sampling::Sampler;
 
 #[test]

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use super::{Integrator, Lanes, ShadowLanes, direct_from_light};
+use super::{Lanes, SampleIntegrator, ShadowLanes, direct_from_light};
 use crate::geometry::{Hit, LANES, Ray, offset_origin};
 use crate::light::ShadowRay;
 use crate::material::{Bsdf, LobeFlags, NO_DIRECTION, TransportMode};
@@ -40,7 +40,7 @@ pub(super) fn direct_from_background(
     if scene.occluded(&ray, f32::INFINITY) { Vec3::ZERO } else { sample.weight * background }
 }
 
-impl Integrator for Direct {
+impl SampleIntegrator for Direct {
     /// One path at a time (`whitted`).
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
         whitted(scene, ray, sampler, self.max_depth, None)

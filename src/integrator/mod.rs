@@ -1,38 +1,78 @@
-//! Integrators: estimators of the radiance arriving along a camera ray.
+//! Integrators: estimators of the image. Each renders a region of it (`Integrator`); those that
+//! estimate each camera sample on its own (`direct`, `path`, `photon`) do it through the
+//! per-sample rung (`SampleIntegrator`, `render_samples`), and `sppm` renders by iterations of
+//! its own.
 
 mod direct;
 mod path;
 mod photon;
+mod samples;
 pub mod sppm;
 
 pub use direct::Direct;
 pub use path::{Path, Strategy};
 pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
+pub use samples::{SampleIntegrator, TASK_SAMPLES, render_samples, stopped_before_a_pass};
+pub use sppm::Sppm;
 
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::accel::RayLanes;
+use crate::film::Film;
 use crate::geometry::{Hit, LANES, Ray};
+use crate::graph::{IntegratorKind, Settings};
 use crate::light::{Light, ShadowRay};
 use crate::material::Bsdf;
+use crate::progress::{Progress, RenderStats};
+use crate::region::Region;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
+/// An estimator of the image: it renders a region (a crop of the image and a share of its
+/// samples) into a film.
 pub trait Integrator: Sync {
-    /// An estimate of the radiance arriving at the ray's origin from along `-ray.dir`.
-    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3;
-
-    /// The radiance of each camera sample, in order, into `radiance` (as long as the samples).
-    /// Integrators that trace several paths at once override this.
-    fn radiance_of_all(
+    fn render(
         &self,
         scene: &Scene,
-        samples: &mut dyn Iterator<Item = (Ray, Sampler)>,
-        radiance: &mut [Vec3],
-    ) {
-        for (out, (ray, mut sampler)) in radiance.iter_mut().zip(samples) {
-            *out = self.radiance(scene, ray, &mut sampler);
+        region: &Region,
+        progress: &dyn Progress,
+    ) -> (Film, RenderStats);
+
+    /// Whether the image is a mean of independent pixel samples, each a pure function of (seed,
+    /// pixel, sample index): then disjoint shares of the samples rendered apart merge into the
+    /// render of all of them (`--part`), and a render's per-pixel variance is what `snapshot`
+    /// tests with. An integrator whose pixels share work across samples (a photon map built per
+    /// pass, SPPM's shrinking radii) answers false: `render --part` refuses it and `snapshot`
+    /// says it cannot snapshot it.
+    fn samples_are_independent(&self) -> bool;
+}
+
+/// Integrators of each camera sample on its own render through the per-sample rung.
+impl<I: SampleIntegrator> Integrator for I {
+    fn render(
+        &self,
+        scene: &Scene,
+        region: &Region,
+        progress: &dyn Progress,
+    ) -> (Film, RenderStats) {
+        render_samples(scene, self, region, progress)
+    }
+
+    fn samples_are_independent(&self) -> bool {
+        true
+    }
+}
+
+/// The integrator `settings` name, with their parameters.
+pub fn of(settings: &Settings) -> Box<dyn Integrator> {
+    let max_depth = settings.max_depth;
+    match settings.integrator {
+        IntegratorKind::Direct => Box::new(Direct { max_depth }),
+        IntegratorKind::Path => Box::new(Path { max_depth, strategy: Strategy::Mis }),
+        IntegratorKind::Photon => {
+            Box::new(PhotonMapping { max_depth, k: settings.photon_k as usize })
         }
+        IntegratorKind::Sppm => Box::new(Sppm),
     }
 }
 

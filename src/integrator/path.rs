@@ -4,7 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Integrator, Lanes, ShadowLanes};
+use super::{Lanes, SampleIntegrator, ShadowLanes};
 use crate::geometry::{Hit, LANES, Ray, offset_origin};
 use crate::light::ShadowRay;
 use crate::material::{Bsdf, LobeFlags, TransportMode};
@@ -68,7 +68,7 @@ struct Bounce {
     continues: bool,
 }
 
-impl Integrator for Path {
+impl SampleIntegrator for Path {
     /// One path, one bounce at a time.
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
         let mut path = PathState::new(ray);

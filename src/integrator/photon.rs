@@ -7,47 +7,68 @@
 //! L_indirect(x, wo) = sum_p f(x, wo, wi_p) Phi_p / (pi r_k^2) (Jensen 2001, eq. 7.6), where the
 //! photons' powers Phi_p already share each light's power among the photons it emitted.
 
-use std::f32::consts::PI;
-
 use glam::Vec3;
 use rayon::prelude::*;
+use std::f32::consts::PI;
 
-use super::Integrator;
+use std::time::Instant;
+
 use super::direct::whitted;
+use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
+use crate::film::Film;
 use crate::geometry::{Hit, Ray};
 use crate::material::Bsdf;
 use crate::photon::{Emission, Photon, PhotonMap, trace_photon};
-use crate::progress::Progress;
+use crate::progress::{Progress, RenderStats};
+use crate::region::Region;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 /// Photons traced by one task between two looks at `Progress::should_abandon`.
 pub const PHOTON_TASK: u32 = 4096;
 
+/// Photon mapping with `k` photons in each density estimate, paths of at most `max_depth`
+/// bounces (the photons' too).
 pub struct PhotonMapping {
     pub max_depth: u32,
-    /// Photons in each density estimate.
     pub k: usize,
-    pub map: PhotonMap,
 }
 
-impl PhotonMapping {
-    /// Traces the scene's photon pass (pass 0, `photons` photons) and builds its map; `None`
-    /// if `progress` asks to stop first.
-    pub fn new(scene: &Scene, progress: &dyn Progress) -> Option<Self> {
-        let settings = &scene.settings;
-        let emission = Emission::new(&scene.lights, settings.photons());
-        let photons = trace_pass(scene, &emission, 0, progress)?;
-        Some(PhotonMapping {
-            max_depth: settings.max_depth,
-            k: settings.photon_k as usize,
-            map: PhotonMap::build(photons),
-        })
+impl Integrator for PhotonMapping {
+    /// Traces the scene's photon pass (pass 0, `photons` photons) and builds its map, then
+    /// renders with it; a black film if `progress` asks to stop first. Photon mapping renders
+    /// whole images: every pixel reads the same photons.
+    fn render(
+        &self,
+        scene: &Scene,
+        region: &Region,
+        progress: &dyn Progress,
+    ) -> (Film, RenderStats) {
+        let start = Instant::now();
+        let emission = Emission::new(&scene.lights, scene.settings.photons());
+        let Some(photons) = trace_pass(scene, &emission, 0, progress) else {
+            return stopped_before_a_pass(scene, start);
+        };
+        let estimate = PhotonEstimate { mapping: self, map: PhotonMap::build(photons) };
+        let (film, stats) = render_samples(scene, &estimate, region, progress);
+        (film, RenderStats { seconds: start.elapsed().as_secs_f64(), ..stats })
     }
 
+    fn samples_are_independent(&self) -> bool {
+        false
+    }
+}
+
+/// Camera rays as `direct` traces them, with indirect light from a photon map.
+struct PhotonEstimate<'a> {
+    mapping: &'a PhotonMapping,
+    map: PhotonMap,
+}
+
+impl PhotonEstimate<'_> {
     /// Light from other surfaces scattered towards `wo` at `hit`, from the nearest photons.
     fn indirect(&self, hit: &Hit, wo: Vec3, bsdf: &Bsdf) -> Vec3 {
-        let found = self.map.nearest(hit.point, self.k);
+        let found = self.map.nearest(hit.point, self.mapping.k);
         let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
             return Vec3::ZERO;
         };
@@ -65,10 +86,10 @@ impl PhotonMapping {
     }
 }
 
-impl Integrator for PhotonMapping {
+impl SampleIntegrator for PhotonEstimate<'_> {
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
         let indirect = |hit: &Hit, wo: Vec3, bsdf: &Bsdf| self.indirect(hit, wo, bsdf);
-        whitted(scene, ray, sampler, self.max_depth, Some(&indirect))
+        whitted(scene, ray, sampler, self.mapping.max_depth, Some(&indirect))
     }
 }
 

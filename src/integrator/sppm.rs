@@ -13,13 +13,14 @@ use std::time::Instant;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::PHOTON_TASK;
 use super::direct::{
     Vertex, WhittedPath, arrive, direct_from_background, follow_delta, lit_one_at_a_time,
 };
+use super::{Integrator, PHOTON_TASK};
 use crate::film::Film;
 use crate::photon::{Emission, HashGrid, trace_photon};
 use crate::progress::{Progress, RenderStats};
+use crate::region::Region;
 use crate::scene::{Scene, camera_sample};
 
 /// alpha: the fraction of each iteration's photons a pixel keeps as its radius shrinks.
@@ -59,7 +60,31 @@ struct PixelState {
     direct: DVec3,
 }
 
-pub fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
+/// Stochastic progressive photon mapping: it renders whole images (every pixel reads the
+/// same photons), by iterations of its own.
+pub struct Sppm;
+
+impl Integrator for Sppm {
+    fn render(
+        &self,
+        scene: &Scene,
+        region: &Region,
+        progress: &dyn Progress,
+    ) -> (Film, RenderStats) {
+        let s = &scene.settings;
+        assert!(
+            *region == Region::whole(s.width, s.height, s.samples),
+            "sppm renders whole images"
+        );
+        render(scene, progress)
+    }
+
+    fn samples_are_independent(&self) -> bool {
+        false
+    }
+}
+
+fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
     let start = Instant::now();
     let settings = &scene.settings;
     let (width, height) = (settings.width as usize, settings.height as usize);

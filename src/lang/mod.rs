@@ -33,10 +33,20 @@ pub fn load_scene(path: &Path) -> Result<SceneGraph, SceneError> {
 /// Reads and evaluates a scene file at an animation frame (its `clock` and `frame_number`);
 /// returns the scene and a digest of the text of every file read (the scene and its includes).
 pub fn load_scene_at(path: &Path, frame: Frame) -> Result<(SceneGraph, Digest), SceneError> {
-    let text = crate::input::read_text(path, crate::input::MAX_SCENE_BYTES)
-        .map_err(|e| SceneError::unlocated(format!("cannot read `{}`: {e}", path.display())))?;
+    let text = read_scene_text(path)?;
     let file = Arc::new(SourceFile::new(path.to_path_buf(), text));
     eval::Evaluator::at(frame).scene_and_sources(file)
+}
+
+/// Whether the scene file can be read: checked before work that only the scene can make worth
+/// doing (planning thousands of frames).
+pub fn check_readable(path: &Path) -> Result<(), SceneError> {
+    read_scene_text(path).map(drop)
+}
+
+fn read_scene_text(path: &Path) -> Result<String, SceneError> {
+    crate::input::read_text(path, crate::input::MAX_SCENE_BYTES)
+        .map_err(|e| SceneError::unlocated(format!("cannot read `{}`: {e}", path.display())))
 }
 
 /// Evaluates scene text as if read from `path` (which locates errors and relative paths).

@@ -173,7 +173,7 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, SnapshotEr
     };
     let graph = load_graph(scene_path)?;
     let integrator = graph.settings.integrator;
-    if !integrator.samples_are_independent() {
+    if !crate::integrator::of(&graph.settings).samples_are_independent() {
         let verdict = Verdict::Unsupported { integrator: integrator.name() };
         return Ok(Outcome {
             scene: scene_path.to_path_buf(),

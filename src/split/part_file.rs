@@ -19,10 +19,9 @@ use glam::DVec3;
 use crate::animation::Frame;
 use crate::diagnostic::printable;
 use crate::film::Film;
-use crate::graph::IntegratorKind;
+use crate::graph::{IntegratorKind, Settings};
 use crate::image::{ImageError, write_atomic};
-use crate::pipeline::MAX_RESOLUTION;
-use crate::region::{Crop, Region, RegionError, Share};
+use crate::region::{Crop, MAX_RESOLUTION, Region, RegionError, Share};
 
 /// The channel of per-pixel sample counts.
 const SAMPLES: &str = "samples";
@@ -214,7 +213,11 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem>
         .filter(|&(w, h)| (1..=MAX_RESOLUTION).contains(&w) && (1..=MAX_RESOLUTION).contains(&h))
         .ok_or_else(|| missing("image_size"))?;
     let integrator = text_of("integrator")?;
-    if !IntegratorKind::named(&integrator).is_some_and(IntegratorKind::samples_are_independent) {
+    let splits = |kind| {
+        let settings = Settings { integrator: kind, ..Settings::default() };
+        crate::integrator::of(&settings).samples_are_independent()
+    };
+    if !IntegratorKind::named(&integrator).is_some_and(splits) {
         return Err(PartProblem::NotSplittable(printable(&integrator)));
     }
     let region = Region { crop, share, samples: int_of("render_samples")? };

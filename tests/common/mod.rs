@@ -121,11 +121,13 @@ pub fn pixel_coverage(
     hits.count() as f32 / (n * n) as f32
 }
 
-/// An integrator one path at a time (`Integrator::radiance`, the scalar reference), not through
+/// An integrator one path at a time (`SampleIntegrator::radiance`, the scalar reference), not through
 /// its own `radiance_of_all` (which may trace paths in lanes).
 pub struct OneAtATime<'a, I>(pub &'a I);
 
-impl<I: raydiance::integrator::Integrator> raydiance::integrator::Integrator for OneAtATime<'_, I> {
+impl<I: raydiance::integrator::SampleIntegrator> raydiance::integrator::SampleIntegrator
+    for OneAtATime<'_, I>
+{
     fn radiance(
         &self,
         scene: &Scene,
