@@ -1,4 +1,4 @@
-//! Animation (scene language section 14): the frames of `--frames F0..F1`, the `clock` of each,
+//! Animation (`docs/language.md`, Animation): the frames of `--frames F0..F1`, the `clock` of each,
 //! and the name of each frame's output file.
 
 use std::path::{Path, PathBuf};

@@ -24,7 +24,7 @@ pub struct SceneGraph {
 pub enum IntegratorKind {
     Direct,
     Path,
-    /// Jensen's two-pass photon mapping (section 13).
+    /// Jensen's two-pass photon mapping (`docs/language.md`, Photon mapping).
     Photon,
     /// Stochastic progressive photon mapping (Hachisuka and Jensen 2009).
     Sppm,
@@ -89,7 +89,7 @@ impl Settings {
     }
 
     /// Photons per pass or iteration: as set, else 1,000,000 for `photon` and 200,000 for
-    /// `sppm` (section 13).
+    /// `sppm` (`docs/language.md`, Photon mapping).
     pub fn photons(&self) -> u32 {
         self.photons.unwrap_or(match self.integrator {
             IntegratorKind::Sppm => 200_000,
@@ -133,7 +133,7 @@ pub struct CameraDesc {
     pub span: Span,
 }
 
-/// `light_source { <c> power rgb p }`: p acts as radiant intensity (the seed's formula).
+/// `light_source { <c> power rgb p }`: p acts as radiant intensity (the course's Lab 4 formula).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointLightDesc {
     pub position: Vec3,
@@ -362,7 +362,7 @@ pub struct ObjectNode {
 
 #[derive(Debug, Clone)]
 pub enum ShapeNode {
-    /// Points p with `normal . p + offset = 0` (the seed's convention).
+    /// Points p with `normal . p + offset = 0` (the course's Lab 4 convention).
     Plane {
         normal: Vec3,
         offset: f32,

@@ -10,7 +10,7 @@ use crate::sampling::{cosine_hemisphere, uniform_sphere};
 
 #[derive(Debug, Clone)]
 pub enum Light {
-    /// `power` acts as radiant intensity: irradiance power / r^2 (the seed's formula).
+    /// `power` acts as radiant intensity: irradiance power / r^2 (the course's Lab 4 formula).
     Point { position: Vec3, power: Vec3 },
     /// An emissive primitive: its shape, the radiance it emits towards its normal, its surface
     /// area, and its index in `Scene::primitives` (which names hits on it).

@@ -1,4 +1,4 @@
-//! Tone mapping: linear HDR values to 8-bit display values, per the pipeline spec. Pure
+//! Tone mapping: linear HDR values to 8-bit display values, as `docs/tonemapping.md` states. Pure
 //! functions over an `Image`; exposure first, then normalisation, clamping, the curve, and
 //! quantisation round(255 c').
 

@@ -1,4 +1,4 @@
-//! The seed's Lab 4 result: direct light from point lights, checked against the formula
+//! The course's Lab 4 result: direct light from point lights, checked against the formula
 //! L = p / r^2 * kd / pi * |n . wi| computed here, independently of the renderer.
 
 mod common;

@@ -146,7 +146,7 @@ fn light_sampling_bsdf_sampling_and_mis_agree() {
     assert_films_agree(&mis, &path(&s, Strategy::BsdfSampling), "BSDF sampling vs MIS");
 }
 
-/// `small_cornell` with rough spheres (section 12): metal, frosted glass, and plastic (a
+/// `small_cornell` with rough spheres (`docs/language.md`): metal, frosted glass, and plastic (a
 /// diffuse base under a rough specular coat), seen directly and in each other.
 fn rough_cornell(samples: u32) -> Scene {
     scene(&format!(

@@ -5,7 +5,7 @@ mod common;
 
 use common::{max_abs_difference, mean, render_image, scene};
 
-/// The seed's scene scaled by `s`: geometry, camera and light positions by s, the light's power
+/// Lab 4's scene scaled by `s`: geometry, camera and light positions by s, the light's power
 /// by s^2 so that p / r^2, and so the image, stays the same.
 fn seed_scene_scaled(s: f64, integrator: &str) -> String {
     format!(

@@ -1,4 +1,4 @@
-//! The rough lobes (section 12) against the model written out here independently, in f64:
+//! The rough lobes (`docs/language.md`) against the model written out here independently, in f64:
 //! GGX D, Smith's G1, reflection ks D G / (4 |n.o| |n.i|), Walter's refraction. Integrals over
 //! directions are taken over microfacet normals m, in the variable u = tan^2 / (alpha^2 + tan^2)
 //! (the share of projected microfacet area within theta_m), where D(m) cos dm = du dphi / 2 pi: the

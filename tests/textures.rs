@@ -1,4 +1,4 @@
-//! Textures in scenes: the seed's formula with kd from the pattern, patterns that move with
+//! Textures in scenes: the course's Lab 4 formula with kd from the pattern, patterns that move with
 //! their objects, image maps decoded to linear.
 
 mod common;

@@ -20,7 +20,7 @@ pub struct Direct {
 /// Light of the background (an environment of constant radiance L all around) reflected towards
 /// `wo` by the non-delta lobes: one direction sampled from them with a shadow ray to infinity,
 /// whose estimate is f L cos / pdf (kd L for a diffuse lobe) where the sky is seen. A black
-/// background draws no sample, so the seed's scenes render as they always have.
+/// background draws no sample, so the course's Lab 4 scenes render as they always have.
 pub(super) fn direct_from_background(
     scene: &Scene,
     hit: &Hit,

@@ -78,7 +78,7 @@ pub fn of(settings: &Settings) -> Box<dyn Integrator> {
 
 /// Light from `light` scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, from
 /// its sample at `u`, if the shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point
-/// light exactly the seed's p / r^2 f |n . wi|).
+/// light exactly the course's Lab 4 p / r^2 f |n . wi|).
 fn direct_from_light(
     light: &Light,
     hit: &Hit,

@@ -1,4 +1,4 @@
-//! Jensen's two-pass photon mapping (section 13's `photon`): a pass of photons from the lights,
+//! Jensen's two-pass photon mapping (`docs/language.md`): a pass of photons from the lights,
 //! kept where they land after at least one bounce, in a k-d tree; then camera rays as `direct`
 //! traces them, with indirect light at each vertex with a non-delta lobe estimated from the
 //! `photon_k` nearest photons.

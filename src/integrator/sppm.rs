@@ -1,4 +1,4 @@
-//! Stochastic progressive photon mapping (Hachisuka and Jensen 2009; section 13's `sppm`).
+//! Stochastic progressive photon mapping (Hachisuka and Jensen 2009; `docs/language.md`'s `sppm`).
 //! Each iteration j traces one camera path per pixel through delta lobes to its visible point,
 //! adding emission on the way and next-event estimation there; then `photons` photons of pass j,
 //! whose deposits after one bounce or more within a pixel's radius add to its flux. Per pixel,

@@ -25,13 +25,13 @@ pub enum Constant {
     True,
     /// `false`, `no`, `off`: 0.
     False,
-    /// The animation's clock (section 14): 0 without animation options.
+    /// The animation's clock (`docs/language.md`, Animation): 0 without animation options.
     Clock,
     /// The frame's number: 0 without animation options.
     FrameNumber,
 }
 
-/// The built-in functions (section 2 and 10 of the language).
+/// The built-in functions (`docs/language.md`, Expressions and Comparisons).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Function {
     Sin,

@@ -1,4 +1,4 @@
-//! Procedural textures (the language's section 7): patterns evaluated in object space, moved by
+//! Procedural textures (`docs/language.md`, Textures): patterns evaluated in object space, moved by
 //! their own transforms (the value at p is the plain pattern's at T^-1(p)).
 
 mod image_map;

@@ -10,7 +10,7 @@ use raydiance::progress::Silent;
 use raydiance::render::render;
 use raydiance::scene::{Scene, build};
 
-/// The walls of the seed's lab box, for tests that set their own camera.
+/// The walls of the course's Lab 4 box, for tests that set their own camera.
 macro_rules! lab_walls {
     () => {
         r#"
@@ -24,7 +24,7 @@ plane { <0, 0, -1>, 1  material { diffuse rgb 0.8 } }
 }
 pub const LAB_WALLS: &str = lab_walls!();
 
-/// The lab box of the seed's scene without lights or spheres, for tests to add to.
+/// The lab box of the course's Lab 4 scene without lights or spheres, for tests to add to.
 pub const LAB_BOX: &str = concat!(
     "\ncamera { origin <0, 0, -3.5>  left <-1, 0, 0>  up <0, 1, 0>  forward <0, 0, 3> }",
     lab_walls!()

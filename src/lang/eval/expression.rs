@@ -78,7 +78,7 @@ impl Evaluator {
         single(f, &expr.span)
     }
 
-    /// A material's `roughness`: GGX alpha, in [0, 1] (section 12).
+    /// A material's `roughness`: GGX alpha, in [0, 1] (`docs/language.md`, Materials).
     pub(super) fn roughness(&mut self, expr: &Expr) -> Result<f32, SceneError> {
         let alpha = self.float(expr)?;
         if !(0.0..=1.0).contains(&alpha) {
