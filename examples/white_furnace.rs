@@ -12,7 +12,8 @@
 
 use std::path::Path;
 
-use raydiance::render::{Silent, render};
+use raydiance::progress::Silent;
+use raydiance::render::render;
 
 const SIDE: usize = 64;
 const DISTANCE: f64 = 100.0;
