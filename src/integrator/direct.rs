@@ -58,23 +58,25 @@ impl SampleIntegrator for Direct {
     ) {
         let mut samples = samples.enumerate();
         let mut lanes: Lanes<WhittedLane> = Lanes::new();
-        let start =
-            |ray| WhittedLane { path: WhittedPath::new(ray), vertex: None, lights: Vec::new() };
+        // Each lane's light samples this bounce, in light order (kept across paths: no
+        // allocation per camera sample).
+        let mut lights: [Vec<Option<(ShadowRay, Vec3)>>; LANES] = Default::default();
+        let start = |ray| WhittedLane { path: WhittedPath::new(ray), vertex: None };
         while let Some(active) = lanes.fill(&mut samples, start) {
             let found = scene.intersect_lanes(&lanes.rays(|lane| lane.path.ray), active);
             for (lane, path) in lanes.paths_mut() {
                 let state = &mut path.state;
                 state.vertex = arrive(scene, &mut state.path, found.hit(lane), self.max_depth);
-                state.lights.clear();
+                lights[lane].clear();
                 if let Some(vertex) = state.vertex.as_ref().filter(|v| v.is_lit()) {
-                    state.lights.extend(light_samples(scene, vertex, &mut path.sampler));
+                    lights[lane].extend(light_samples(scene, vertex, &mut path.sampler));
                 }
             }
             let mut lit = [Vec3::ZERO; LANES];
             for light in 0..scene.lights.len() {
                 let mut shadows = ShadowLanes::new();
-                for (lane, path) in lanes.paths_mut() {
-                    if let Some(Some(shadowed)) = path.state.lights.get(light) {
+                for (lane, _) in lanes.paths_mut() {
+                    if let Some(Some(shadowed)) = lights[lane].get(light) {
                         shadows.set_lane(lane, *shadowed);
                     }
                 }
@@ -96,12 +98,10 @@ impl SampleIntegrator for Direct {
     }
 }
 
-/// A path of `whitted` traced in a lane: its state, its vertex this bounce, and there the
-/// sample of each light, in order (`None`: none).
+/// A path of `whitted` traced in a lane: its state and its vertex this bounce.
 struct WhittedLane {
     path: WhittedPath,
     vertex: Option<Vertex>,
-    lights: Vec<Option<(ShadowRay, Vec3)>>,
 }
 
 /// A path of `whitted` (or of sppm's camera pass) between bounces.
