@@ -7,7 +7,7 @@ pub mod sppm;
 
 pub use direct::Direct;
 pub use path::{Path, Strategy};
-pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
+pub use photon::{PHOTON_TASK, PhotonMapping, STORED_PHOTON_BYTES, most_stored, trace_pass};
 
 use glam::{Vec2, Vec3, Vec4};
 
