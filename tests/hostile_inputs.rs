@@ -417,7 +417,7 @@ settings { integrator photon  max_depth 1024 }
     .unwrap();
     let output = limited(&["render", room.to_str().unwrap(), "-o", out.to_str().unwrap()], 10);
     assert_refused(&output, "`photons` 1000000 with `max_depth` 1024 may store 1024000000 photons");
-    assert!(String::from_utf8_lossy(&output.stderr).contains("61.0 GiB"));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("68.7 GiB"));
     // The most photons a pass may emit, at the default depth.
     let most = lab_scene(dir.path(), "most.scn", "integrator photon  photons 20000000");
     let output = limited(&["render", &most, "-o", out.to_str().unwrap()], 10);
