@@ -434,7 +434,7 @@ fn sppm_memory_does_not_grow_with_the_gather_radius() {
         let scene =
             lab_scene(dir.path(), "lab.scn", &format!("integrator sppm  photon_radius {radius}"));
         let args = ["render", &scene, "-o", out.to_str().unwrap(), "--samples", "1"];
-        let output = limited(&[&args[..], &["--width", "32", "--height", "32"]].concat(), 120);
+        let output = limited(&[&args[..], &["--width", "32", "--height", "32"]].concat(), 300);
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(0), "photon_radius {radius}: {stderr}");
         let warned = stderr.contains(&format!("warning: photon_radius {radius} is large"));
@@ -443,7 +443,7 @@ fn sppm_memory_does_not_grow_with_the_gather_radius() {
     // The documented radius draws no warning, and a bound too small refuses by the image.
     let scene = lab_scene(dir.path(), "lab.scn", "integrator sppm");
     let args = ["render", &scene, "-o", out.to_str().unwrap(), "--samples", "1"];
-    let output = limited(&[&args[..], &["--width", "32", "--height", "32"]].concat(), 120);
+    let output = limited(&[&args[..], &["--width", "32", "--height", "32"]].concat(), 300);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(0), "{stderr}");
     assert!(!stderr.contains("photon_radius"), "{stderr}");
