@@ -8,7 +8,11 @@ use std::time::{Duration, Instant};
 
 use crate::graph::{IntegratorKind, Settings};
 use crate::image::{self, ImageError};
-use crate::pipeline::{FilmTooLarge, LoadError, OutputFormat, RenderRequest, check_film_memory};
+use crate::integrator::sppm;
+use crate::pipeline::{
+    FilmTooLarge, LoadError, OutputFormat, RenderRequest, RenderTooLarge, check_film_memory,
+    check_render_memory,
+};
 use crate::progress::Progress;
 use crate::region::{Crop, Region, RegionError, Share};
 use crate::split::part_file::{self, PartHeader};
@@ -60,6 +64,8 @@ pub enum RenderJobError {
     Region(RegionError),
     #[error(transparent)]
     FilmTooLarge(#[from] FilmTooLarge),
+    #[error(transparent)]
+    RenderTooLarge(#[from] RenderTooLarge),
     #[error("error: cannot handle signals: {0}")]
     Signals(String),
     #[error("interrupted before the first pass: nothing written ({} left as it was)", .0.display())]
@@ -191,8 +197,15 @@ impl PlannedJob {
             ..settings.clone()
         };
         check_film_memory(&film_settings, self.max_bytes)?;
+        check_render_memory(&scene, self.max_bytes)?;
         for warning in &scene.warnings {
             observer.warning(warning);
+        }
+        if let Some(warning) = (settings.integrator == IntegratorKind::Sppm)
+            .then(|| sppm::radius_warning(&scene))
+            .flatten()
+        {
+            observer.warning(&warning);
         }
         let total = if self.time.is_some() { None } else { Some(region.samples_taken(u32::MAX)) };
         let (film, stats) = {

@@ -10,6 +10,7 @@ use crate::digest::Digest;
 use crate::film::{BYTES_PER_PIXEL, Film};
 use crate::graph::{IntegratorKind, SceneGraph, Settings};
 use crate::image::{self, Image, ImageError, RenderInfo};
+use crate::integrator::{self, sppm};
 use crate::progress::RenderStats;
 use crate::scene::{self, Scene};
 use crate::split::merge::{self, MergeError};
@@ -165,6 +166,59 @@ pub fn check_film_memory(settings: &Settings, max_bytes: u64) -> Result<(), Film
         return Ok(());
     }
     Err(FilmTooLarge { width: settings.width, height: settings.height, needed_bytes, max_bytes })
+}
+
+/// A photon integrator's render larger than `render --max-memory` allows, counted before any
+/// photon is traced.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderTooLarge {
+    #[error(
+        "error: photon: `photons` {photons} with `max_depth` {max_depth} may store {stored} \
+         photons (one at each bounce, up to max_depth per photon: all of them in a closed room \
+         of white walls), {needed:.1} GiB with the film, more than --max-memory {allowed:.1} GiB \
+         allows: lower `photons` or `max_depth`, or raise --max-memory if the machine has the \
+         memory",
+        needed = gib(*needed_bytes),
+        allowed = gib(*max_bytes)
+    )]
+    Photons { photons: u32, max_depth: u32, stored: u64, needed_bytes: u64, max_bytes: u64 },
+    #[error(
+        "error: sppm: a {width}x{height} image needs {needed:.1} GiB ({per_pixel} bytes a pixel: \
+         the film, the visible points, their grid and the photons' sums), more than --max-memory \
+         {allowed:.1} GiB allows: lower the resolution, or raise --max-memory if the machine has \
+         the memory",
+        needed = gib(*needed_bytes),
+        allowed = gib(*max_bytes)
+    )]
+    Sppm { width: u32, height: u32, per_pixel: u64, needed_bytes: u64, max_bytes: u64 },
+}
+
+/// Refuses, before any work, a photon integrator's render that would take more than
+/// `max_bytes` (`render --max-memory`); the others take their film only (`check_film_memory`).
+pub fn check_render_memory(scene: &Scene, max_bytes: u64) -> Result<(), RenderTooLarge> {
+    let s = &scene.settings;
+    let pixels = u64::from(s.width) * u64::from(s.height);
+    match s.integrator {
+        IntegratorKind::Direct | IntegratorKind::Path => Ok(()),
+        IntegratorKind::Photon => {
+            let stored = integrator::most_stored(scene);
+            let needed_bytes = pixels * BYTES_PER_PIXEL + stored * integrator::STORED_PHOTON_BYTES;
+            if needed_bytes <= max_bytes {
+                return Ok(());
+            }
+            let (photons, max_depth) = (s.photons(), s.max_depth);
+            Err(RenderTooLarge::Photons { photons, max_depth, stored, needed_bytes, max_bytes })
+        }
+        IntegratorKind::Sppm => {
+            let per_pixel = sppm::bytes_per_pixel();
+            let needed_bytes = pixels * per_pixel;
+            if needed_bytes <= max_bytes {
+                return Ok(());
+            }
+            let (width, height) = (s.width, s.height);
+            Err(RenderTooLarge::Sppm { width, height, per_pixel, needed_bytes, max_bytes })
+        }
+    }
 }
 
 /// What `render` writes, chosen by the output's extension.

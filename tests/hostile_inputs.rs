@@ -681,3 +681,66 @@ fn a_snapshot_of_impossible_variance_is_refused() {
     let output = limited(&["snapshot", &scene], 20);
     assert_refused(&output, "pixel 0's variance 1e30 is more than the square of its mean 5e-1");
 }
+
+/// The lab's open box with a point light, and `settings` (issue 31's photon mapping cases).
+fn lab_scene(dir: &Path, name: &str, settings: &str) -> String {
+    let lab = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lab-box.inc");
+    let text = format!(
+        "#include \"{}\"\nlight_source {{ <0, 0.5, 0>  power rgb 1 }}\nsettings {{ {settings} }}\n",
+        lab.display()
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn photon_maps_too_large_for_memory_are_refused_before_tracing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.exr");
+    // A closed room of white walls keeps every photon to max_depth bounces: 1024 stored each.
+    let room = dir.path().join("room.scn");
+    std::fs::write(
+        &room,
+        "camera { location <0, 0, -0.9>  look_at <0, 0, 0> }
+light_source { <0, 0.5, 0>  power rgb 10 }
+box { <-1, -1, -1>, <1, 1, 1>  material { diffuse rgb 1 } }
+settings { integrator photon  max_depth 1024 }
+",
+    )
+    .unwrap();
+    let output = limited(&["render", room.to_str().unwrap(), "-o", out.to_str().unwrap()], 10);
+    assert_refused(&output, "`photons` 1000000 with `max_depth` 1024 may store 1024000000 photons");
+    assert!(String::from_utf8_lossy(&output.stderr).contains("68.7 GiB"));
+    // The most photons a pass may emit, at the default depth.
+    let most = lab_scene(dir.path(), "most.scn", "integrator photon  photons 20000000");
+    let output = limited(&["render", &most, "-o", out.to_str().unwrap()], 10);
+    assert_refused(&output, "`photons` 20000000 with `max_depth` 32 may store 640000000 photons");
+    assert!(!out.exists());
+}
+
+#[test]
+fn sppm_memory_does_not_grow_with_the_gather_radius() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.exr");
+    // A radius of 5 in a box 2 wide holds every pixel's visible point in every photon's reach.
+    for radius in ["0.5", "5"] {
+        let scene =
+            lab_scene(dir.path(), "lab.scn", &format!("integrator sppm  photon_radius {radius}"));
+        let args = ["render", &scene, "-o", out.to_str().unwrap(), "--samples", "1"];
+        let output = limited(&[&args[..], &["--width", "32", "--height", "32"]].concat(), 300);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(0), "photon_radius {radius}: {stderr}");
+        let warned = stderr.contains(&format!("warning: photon_radius {radius} is large"));
+        assert!(warned, "photon_radius {radius}: {stderr}");
+    }
+    // The documented radius draws no warning, and a bound too small refuses by the image.
+    let scene = lab_scene(dir.path(), "lab.scn", "integrator sppm");
+    let args = ["render", &scene, "-o", out.to_str().unwrap(), "--samples", "1"];
+    let output = limited(&[&args[..], &["--width", "32", "--height", "32"]].concat(), 300);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("photon_radius"), "{stderr}");
+    let output = limited(&[&args[..], &["--max-memory", "0.01"]].concat(), 10);
+    assert_refused(&output, "error: sppm: a 256x256 image needs");
+}

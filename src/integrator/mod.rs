@@ -11,7 +11,7 @@ pub mod sppm;
 
 pub use direct::Direct;
 pub use path::{Path, Strategy};
-pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
+pub use photon::{PHOTON_TASK, PhotonMapping, STORED_PHOTON_BYTES, most_stored, trace_pass};
 pub use samples::{SampleIntegrator, TASK_SAMPLES, render_samples, stopped_before_a_pass};
 pub use sppm::Sppm;
 

@@ -6,6 +6,10 @@
 //!   N' = N + alpha M,   R' = R sqrt(N' / (N + M)),   tau' = (tau + Phi) (R' / R)^2,
 //! and after n iterations L = (sum of direct) / n + tau / (n pi R^2) (each pass's photons carry
 //! the lights' whole power, so n passes divide by n).
+//!
+//! Memory is bounded by the image, whatever the radius or the photon count: each photon task
+//! adds what it finds into its own per-pixel sums (not a list of deposits), and as many tasks
+//! run together as there are threads (`bytes_per_pixel` counts it all before the render).
 
 use std::f32::consts::PI;
 use std::time::Instant;
@@ -17,7 +21,7 @@ use super::direct::{
     Vertex, WhittedPath, arrive, direct_from_background, follow_delta, lit_one_at_a_time,
 };
 use super::{Integrator, PHOTON_TASK};
-use crate::film::Film;
+use crate::film::{BYTES_PER_PIXEL, Film};
 use crate::photon::{Emission, HashGrid, trace_photon};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
@@ -26,9 +30,63 @@ use crate::scene::{Scene, camera_sample};
 /// alpha: the fraction of each iteration's photons a pixel keeps as its radius shrinks.
 const ALPHA: f32 = 2.0 / 3.0;
 
-/// Photon tasks traced together before their deposits are added up in photon order (bounds the
-/// memory the deposits take).
-const TASKS_PER_WAVE: usize = 16;
+/// The flux Phi and photon count M a pixel gathers from some photons.
+#[derive(Clone, Copy, Default)]
+struct Gathered {
+    flux: Vec3,
+    found: u32,
+}
+
+/// Photon tasks traced together before their sums are added up in task order: one a thread, so
+/// that their per-pixel sums take threads x pixels, and the image does not depend on the threads.
+fn tasks_per_wave() -> usize {
+    rayon::current_num_threads().max(1)
+}
+
+/// The most memory an `sppm` render takes per pixel on this thread pool: the film, each
+/// pixel's state, camera path and visible point (twice: by rows, then flattened), its sphere
+/// in the hash grid, and the sums of the iteration and of each task under way.
+pub fn bytes_per_pixel() -> u64 {
+    let per_pixel = size_of::<PixelState>()
+        + 2 * size_of::<CameraPath>()
+        + size_of::<(u32, Vec3, f32)>()
+        + HashGrid::BYTES_PER_SPHERE
+        + (1 + tasks_per_wave()) * size_of::<Gathered>();
+    BYTES_PER_PIXEL + per_pixel as u64
+}
+
+/// Camera rays across the image whose hits measure the scene's extent for `radius_warning`.
+const EXTENT_RAYS: usize = 32;
+
+/// A warning when `photon_radius` is large against the scene the camera sees (the diagonal of
+/// the box holding the first hits of a 32 x 32 grid of camera rays): above a tenth of it, the
+/// image blurs and each photon is gathered by a large share of the pixels; usually the scene's
+/// scale is not what the radius assumed.
+pub fn radius_warning(scene: &Scene) -> Option<String> {
+    let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
+    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    for j in 0..EXTENT_RAYS {
+        for i in 0..EXTENT_RAYS {
+            let (x, y) =
+                ((2 * i + 1) * width / (2 * EXTENT_RAYS), (2 * j + 1) * height / (2 * EXTENT_RAYS));
+            let (ray, _) = camera_sample(scene, x, y, 0);
+            if let Some(hit) = scene.intersect(&ray) {
+                (lo, hi) = (lo.min(hit.point), hi.max(hit.point));
+            }
+        }
+    }
+    let extent = (hi - lo).length();
+    let radius = scene.settings.photon_radius;
+    (extent.is_finite() && radius > extent / 10.0).then(|| {
+        format!(
+            "warning: photon_radius {radius} is large against the scene: the camera sees \
+             surfaces across {extent:.3} scene units, and every pixel gathers photons within \
+             {radius} of what it sees, so the image blurs and takes long. Is the scene's scale \
+             right? A radius of about a hundredth of it ({:.3}) is a usual start",
+            extent / 100.0
+        )
+    })
+}
 
 /// Where a camera path stopped on a non-delta lobe, the BSDF there, and the throughput it
 /// brought there.
@@ -158,42 +216,43 @@ fn iterate(
         .collect();
     let grid = HashGrid::build(&spheres);
 
-    // Phi and M of each pixel, summed in photon order.
-    let mut flux = vec![Vec3::ZERO; pixels.len()];
-    let mut found = vec![0u32; pixels.len()];
+    // Phi and M of each pixel: per task in photon order, then the tasks in task order.
+    let mut gathered = vec![Gathered::default(); pixels.len()];
     let tasks: Vec<u32> = (0..emission.total().div_ceil(PHOTON_TASK)).collect();
-    for wave in tasks.chunks(TASKS_PER_WAVE) {
-        let deposits: Vec<Option<Vec<(u32, Vec3)>>> = wave
+    for wave in tasks.chunks(tasks_per_wave()) {
+        let sums: Vec<Option<Vec<Gathered>>> = wave
             .par_iter()
             .map(|&task| {
                 if progress.should_abandon() {
                     return None;
                 }
-                let mut deposits = Vec::new();
+                let mut sums = vec![Gathered::default(); pixels.len()];
                 let first = task * PHOTON_TASK;
                 for index in first..(first + PHOTON_TASK).min(emission.total()) {
                     let max_depth = scene.settings.max_depth;
                     trace_photon(scene, emission, max_depth, u64::from(iteration), index, |d| {
                         for pixel in grid.holding(d.hit.point) {
                             let Some(vp) = &points[pixel as usize].1 else { continue };
-                            deposits.push((pixel, vp.flux(d.wi, d.power)));
+                            let sum = &mut sums[pixel as usize];
+                            sum.flux += vp.flux(d.wi, d.power);
+                            sum.found += 1;
                         }
                     });
                 }
-                Some(deposits)
+                Some(sums)
             })
             .collect();
-        for deposits in deposits {
-            let Some(deposits) = deposits else { return false };
-            for (pixel, phi) in deposits {
-                flux[pixel as usize] += phi;
-                found[pixel as usize] += 1;
-            }
+        for sums in sums {
+            let Some(sums) = sums else { return false };
+            gathered.par_iter_mut().zip(&sums).for_each(|(total, sum)| {
+                total.flux += sum.flux;
+                total.found += sum.found;
+            });
         }
     }
 
-    pixels.par_iter_mut().zip(points.par_iter()).zip(flux.par_iter().zip(&found)).for_each(
-        |((pixel, (direct, _)), (&phi, &m))| {
+    pixels.par_iter_mut().zip(points.par_iter()).zip(&gathered).for_each(
+        |((pixel, (direct, _)), &Gathered { flux: phi, found: m })| {
             pixel.direct += direct.as_dvec3();
             if m > 0 {
                 let m = m as f32;

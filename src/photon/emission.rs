@@ -3,8 +3,8 @@
 
 use crate::light::Light;
 
-/// The most photons a pass (`photon`) or iteration (`sppm`) may emit: 20 million, about 0.6 GB
-/// of stored photons (28 bytes each, a few stored per photon emitted) for `photon`.
+/// The most photons a pass (`photon`) or iteration (`sppm`) may emit: 20 million. (`photon`'s
+/// stored photons are counted against `--max-memory` too: `pipeline::check_render_memory`.)
 pub const MAX_PHOTONS: u32 = 20_000_000;
 
 /// Photons `0..total` of a pass by light: light `l` emits photons `first[l]..first[l + 1]`.

@@ -24,6 +24,12 @@ struct Entry {
 }
 
 impl HashGrid {
+    /// The most memory `build` takes per sphere: a sphere overlaps at most 8 cells, each
+    /// listed as a (bucket, sphere) pair and then as an entry, and the table has at most 4
+    /// buckets a sphere (twice the spheres, rounded up to a power of two), plus one.
+    pub const BYTES_PER_SPHERE: usize =
+        8 * (size_of::<(u32, u32)>() + size_of::<Entry>()) + 4 * size_of::<u32>();
+
     /// The grid of spheres `(id, centre, radius)`; ids are what `candidates` returns.
     pub fn build(spheres: &[(u32, Vec3, f32)]) -> Self {
         let (min, max_radius) = spheres.iter().fold((Vec3::INFINITY, 0.0f32), |(lo, r), s| {
