@@ -155,6 +155,23 @@ fn an_image_declaring_too_many_texels_is_refused_before_decoding() {
     assert_refused(&output, "15000 x 11000 texels, more than raydiance reads in one image");
 }
 
+/// A binary PPM whose header declares 18000 x 18000 pixels, in a sparse file of the size that
+/// needs: refused from the header's pixel count (as an EXR's), before samples are allocated.
+#[test]
+fn a_ppm_declaring_too_many_pixels_is_refused_from_its_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("huge.ppm");
+    let header = b"P6\n18000 18000\n255\n";
+    let file = std::fs::File::create(&path).unwrap();
+    std::io::Write::write_all(&mut &file, header).unwrap();
+    file.set_len(header.len() as u64 + 18000 * 18000 * 3).unwrap();
+    let out = dir.path().join("out.png");
+    let output = limited(&["tonemap", path.to_str().unwrap(), "-o", out.to_str().unwrap()], 20);
+    let expected = "the image is 18000 x 18000 pixels, more than raydiance reads (33554432)";
+    assert_refused(&output, expected);
+    assert!(!out.exists());
+}
+
 /// Reading a P3 PPM is linear in its size: a 512 x 512 HDR PPM as `render` writes it (1.6
 /// million numbers) tone-maps in seconds (46 s when every token counted the lines before it).
 #[test]

@@ -12,6 +12,10 @@ use std::sync::{Mutex, MutexGuard};
 
 use glam::Vec3;
 
+/// The most pixels an image read may have, from its header: a corrupt or hostile header must not
+/// make the decoder exhaust memory.
+pub const MAX_PIXELS: usize = 1 << 25;
+
 /// Linear RGB radiance, rows top to bottom, columns left to right.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {

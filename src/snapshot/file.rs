@@ -7,7 +7,7 @@ use ::exr::prelude::*;
 use glam::Vec3;
 
 use super::Estimate;
-use crate::image::exr::MAX_PIXELS;
+use crate::image::MAX_PIXELS;
 use crate::image::{ImageError, write_atomic};
 
 const SAMPLES_ATTRIBUTE: &str = "raydiance:samples_per_pixel";
