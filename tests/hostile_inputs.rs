@@ -479,3 +479,82 @@ fn suggestions_for_long_names_are_bounded() {
     assert_refused(&output, "unknown identifier `nnnn");
     assert!(start.elapsed() < Duration::from_secs(5), "{:?}", start.elapsed());
 }
+
+/// Writes a part file as `render --part` would, with a header and means made up here: a
+/// `width` x `height` image, its crop `crop`, share `share` of `samples` samples per pixel, each
+/// pixel's one sample `mean`.
+fn forged_part(path: &Path, size: (u32, u32), crop: &str, share: &str, samples: u32, mean: f64) {
+    use raydiance::region::{Crop, Region};
+    let crop: Crop = crop.parse().unwrap();
+    let mut film = raydiance::film::Film::new(crop.width() as usize, crop.height() as usize);
+    film.samples = 1;
+    film.sum.iter_mut().for_each(|s| *s = glam::DVec3::splat(mean));
+    let header = raydiance::split::part_file::PartHeader {
+        path: path.to_path_buf(),
+        width: size.0,
+        height: size.1,
+        region: Region { crop, share: share.parse().unwrap(), samples },
+        taken: 1,
+        seed: 0,
+        integrator: "path".to_string(),
+        max_depth: 8,
+        digest: "forged".to_string(),
+        frame: raydiance::animation::Frame { number: 0, clock: 0.0 },
+        seconds: 1.0,
+    };
+    raydiance::split::part_file::write(path, &film, &header).unwrap();
+}
+
+/// `merge` believes no size a part's header states: one past 65,536 a side is refused, and a
+/// 65536 x 65536 image, allowed, is refused from its memory before anything is allocated.
+#[test]
+fn merge_bounds_the_image_size_and_memory_from_the_headers() {
+    let dir = tempfile::tempdir().unwrap();
+    let (part, out) = (dir.path().join("part.exr"), dir.path().join("out.exr"));
+    let merge = |partial: &[&str]| {
+        let args = ["merge", part.to_str().unwrap(), "-o", out.to_str().unwrap()];
+        limited(&[&args[..], partial].concat(), 20)
+    };
+    forged_part(&part, (100_000, 1), "0,1,0,1", "0/1", 1, 0.5);
+    assert_refused(&merge(&[]), "its header has no valid raydiance:image_size");
+    forged_part(&part, (65536, 65536), "0,1,0,1", "0/1", 1, 0.5);
+    assert_refused(&merge(&["--allow-partial"]), "merging a 65536x65536 image needs 220.0 GiB");
+    assert!(!out.exists());
+}
+
+/// One share of 10^8 merged alone: the missing ones are counted, not listed one by one.
+#[test]
+fn merge_counts_missing_shares_without_listing_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (part, out) = (dir.path().join("part.exr"), dir.path().join("out.exr"));
+    forged_part(&part, (1, 1), "0,1,0,1", "0/100000000", 100_000_000, 0.5);
+    let args = ["merge", part.to_str().unwrap(), "-o", out.to_str().unwrap(), "--allow-partial"];
+    let output = limited(&args, 20);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("--part 8/100000000 and 99999991 more"), "{stderr}");
+    assert!(stderr.len() < 2000, "{} bytes", stderr.len());
+}
+
+/// A part whose means are not finite, or negative, is damaged: refused, never merged into the
+/// image; an integrator that does not render parts is refused with its name escaped.
+#[test]
+fn merge_refuses_damaged_means_and_forged_integrators() {
+    let dir = tempfile::tempdir().unwrap();
+    let (part, out) = (dir.path().join("part.exr"), dir.path().join("out.exr"));
+    let args = ["merge", part.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    for (mean, shown) in [(f64::NAN, "NaN"), (f64::INFINITY, "inf"), (-1.0, "-1")] {
+        forged_part(&part, (2, 2), "0,2,0,2", "0/1", 1, mean);
+        assert_refused(&limited(&args, 20), &format!("holds the mean [{shown}, {shown}, {shown}]"));
+        assert!(!out.exists());
+    }
+    forged_part(&part, (2, 2), "0,2,0,2", "0/1", 1, 0.5);
+    let bytes = std::fs::read(&part).unwrap();
+    let at = bytes.windows(4).position(|w| w == b"path").unwrap();
+    let mut forged = bytes.clone();
+    forged[at..at + 4].copy_from_slice(b"\x1b[1m");
+    std::fs::write(&part, forged).unwrap();
+    let output = limited(&args, 20);
+    assert_refused(&output, "raydiance:integrator `\\u{1b}[1m` is not one that renders parts");
+    assert!(!output.stderr.contains(&0x1b));
+}
