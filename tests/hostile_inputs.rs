@@ -558,3 +558,39 @@ fn merge_refuses_damaged_means_and_forged_integrators() {
     assert_refused(&output, "raydiance:integrator `\\u{1b}[1m` is not one that renders parts");
     assert!(!output.stderr.contains(&0x1b));
 }
+
+/// Snapshots are small renders: a `--size` or a stored size past 2^22 pixels is refused before
+/// anything renders; a scene named `NAME.new.scn`, whose snapshot would be the new render of
+/// `NAME.scn` beside it, is refused rather than compared with the wrong image.
+#[test]
+fn snapshot_sizes_are_bounded_and_names_cannot_collide() {
+    use raydiance::snapshot::{self, Estimate, MAX_SNAPSHOT_PIXELS};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let output = limited(&["snapshot", &scene, "--size", "65536x65536"], 20);
+    let expected =
+        format!("65536x65536: more pixels than a snapshot may have ({MAX_SNAPSHOT_PIXELS})");
+    assert_refused(&output, &expected);
+
+    let (width, height) = (2048, 2049);
+    let pixels = vec![glam::Vec3::ONE; width * height];
+    let stored =
+        Estimate { width, height, mean: pixels.clone(), variance: pixels, samples_per_pixel: 64 };
+    std::fs::create_dir(dir.path().join("__snapshots__")).unwrap();
+    snapshot::write(&dir.path().join("__snapshots__/s.exr"), &stored).unwrap();
+    let start = Instant::now();
+    assert_refused(&limited(&["snapshot", &scene], 20), "2048x2049: more pixels than a snapshot");
+    assert!(start.elapsed() < Duration::from_secs(10), "{:?}", start.elapsed());
+
+    let folder = dir.path().join("scenes");
+    std::fs::create_dir(&folder).unwrap();
+    write_scene(&folder, "foo.scn", "");
+    write_scene(&folder, "foo.new.scn", "");
+    let output = limited(&["snapshot", folder.to_str().unwrap()], 60);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("foo.new.scn: a scene named NAME.new.scn cannot be snapshotted"));
+    // foo.scn's new render is written; nothing was written as foo.new.scn's.
+    assert!(folder.join("__snapshots__/foo.new.exr").exists());
+    assert!(!folder.join("__snapshots__/foo.new.new.exr").exists());
+}
