@@ -594,3 +594,16 @@ fn snapshot_sizes_are_bounded_and_names_cannot_collide() {
     assert!(folder.join("__snapshots__/foo.new.exr").exists());
     assert!(!folder.join("__snapshots__/foo.new.new.exr").exists());
 }
+
+/// `--frames` is bounded when planned: four billion frames are refused at once, not listed.
+#[test]
+fn a_range_of_frames_beyond_reason_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let out = dir.path().join("f#.exr");
+    let args = ["render", &scene, "-o", out.to_str().unwrap(), "--frames", "0..4294967295"];
+    let output = limited(&args, 10);
+    assert_refused(&output, "--frames 0..4294967295 is 4294967296 frames: one command renders");
+    let args = ["render", "missing.scn", "-o", out.to_str().unwrap(), "--frames", "0..99999"];
+    assert_refused(&limited(&args, 20), "cannot read `missing.scn`");
+}
