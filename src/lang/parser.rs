@@ -136,8 +136,29 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
 /// The words that begin a statement of their own, which cannot stand inside another's block.
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
-/// A parse error that is a `{` left open: the file ends inside a block, or a statement stands
-/// inside another's block. Reported with where the block opened.
+/// The words that begin an object, and those of the blocks objects may stand in.
+const OBJECTS: [&str; 15] = [
+    "box",
+    "cone",
+    "cylinder",
+    "difference",
+    "disk",
+    "intersection",
+    "merge",
+    "mesh",
+    "object",
+    "plane",
+    "quad",
+    "sphere",
+    "torus",
+    "triangle",
+    "union",
+];
+const OBJECT_CONTAINERS: [&str; 4] = ["union", "difference", "intersection", "merge"];
+
+/// A parse error that is a `{` left open: the file ends inside a block, or a statement (or an
+/// object, outside a union or CSG) stands inside another's block. Reported with where the block
+/// opened.
 fn unclosed_block(
     file: &Arc<SourceFile>,
     offset: usize,
@@ -155,7 +176,10 @@ fn unclosed_block(
         let message = format!("the file ends inside a block: {opened} is not closed");
         return Some(SceneError::at(&span_at(file, offset), message));
     }
-    let statement = [found, previous].into_iter().find(|w| STATEMENTS.contains(w))?;
+    let misplaced = |w: &&str| {
+        STATEMENTS.contains(w) || (OBJECTS.contains(w) && !OBJECT_CONTAINERS.contains(&block.word))
+    };
+    let statement = [found, previous].into_iter().find(misplaced)?;
     let message =
         format!("`{statement}` cannot stand in a block: is the `}}` of {opened} missing?");
     let at = if statement == found { offset } else { hints::word_before(&file.text, offset).0 };
