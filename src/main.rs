@@ -436,6 +436,14 @@ fn render(
     );
     let (film, stats) = raydiance::render::render_region(&scene, &region, &progress);
     progress.bar.finish_and_clear();
+    // Nothing rendered: the file there (a render of before) is worth more than a black image.
+    if stats.samples_per_pixel == 0 && INTERRUPTED.load(Ordering::SeqCst) {
+        STOPPED.store(true, Ordering::SeqCst);
+        return Err(format!(
+            "interrupted before the first pass: nothing written ({} left as it was)",
+            output.display()
+        ));
+    }
     let written = if job.is_part() {
         let header = PartHeader {
             path: output.clone(),
