@@ -161,6 +161,17 @@ pub fn remove_pending_files() -> MutexGuard<'static, Vec<PathBuf>> {
     pending
 }
 
+/// For a command that only writes files, with nothing to keep when stopped (`merge`,
+/// `tonemap`): Ctrl-C, SIGTERM and SIGHUP end the process at once with status 130, leaving no
+/// temporary file (by default the process would die with its `.tmpXXXXXX` beside the output).
+pub fn end_cleanly_on_signal() -> Result<(), String> {
+    ctrlc::set_handler(|| {
+        let _no_more_renames = remove_pending_files();
+        std::process::exit(130);
+    })
+    .map_err(|e| format!("error: cannot handle signals: {e}"))
+}
+
 fn folder_of(path: &Path) -> &Path {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
