@@ -607,3 +607,27 @@ fn a_range_of_frames_beyond_reason_is_refused_at_once() {
     let args = ["render", "missing.scn", "-o", out.to_str().unwrap(), "--frames", "0..99999"];
     assert_refused(&limited(&args, 20), "cannot read `missing.scn`");
 }
+
+/// 20 MB of binary PLY faces of 255 vertices stand for 20 million triangles: refused while the
+/// faces are read, at the face that passes 2^24 triangles.
+#[test]
+fn a_mesh_of_too_many_triangles_is_refused_while_it_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n\
+                    property float y\nproperty float z\nelement face 80000\n\
+                    property list uchar uchar vertex_indices\nend_header\n"
+        .to_vec();
+    for corner in [[0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        corner.iter().for_each(|c| ply.extend(c.to_le_bytes()));
+    }
+    for _ in 0..80_000 {
+        ply.push(255);
+        ply.extend((0..255).map(|i| (i % 3) as u8));
+    }
+    std::fs::write(dir.path().join("fans.ply"), ply).unwrap();
+    let scene = write_scene(dir.path(), "m.scn", "mesh { \"fans.ply\" }");
+    let limit = raydiance::mesh::MAX_TRIANGLES;
+    let face = limit / 253;
+    let expected = format!("face {face}: the mesh has more than {limit} triangles");
+    assert_refused(&limited(&["check", &scene], 20), &expected);
+}
