@@ -631,3 +631,17 @@ fn a_mesh_of_too_many_triangles_is_refused_while_it_is_read() {
     let expected = format!("face {face}: the mesh has more than {limit} triangles");
     assert_refused(&limited(&["check", &scene], 20), &expected);
 }
+
+/// A ray meeting a CSG object is tested against every operand: more than 1,024 are refused
+/// (a difference of 10^5 spheres rendered 3000 times slower than their union).
+#[test]
+fn csg_of_too_many_operands_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let holes = "#for (I, 1, 100000) sphere { <I / 100000, 0, 0>, 0.01 } #end";
+    let text = format!("{SMALL_SCENE}difference {{ box {{ -1, 1 }} {holes} }}\n");
+    let expected = format!(
+        "csg.scn:4:1: error: a difference of 100001 operands: at most {} are allowed",
+        raydiance::lang::MAX_CSG_OPERANDS
+    );
+    assert_scene_refused(dir.path(), "csg.scn", &text, &expected);
+}

@@ -47,6 +47,10 @@ pub const MAX_OBJECT_DEPTH: u32 = 256;
 /// thread's stack (about 3 KiB a level).
 pub const MAX_CSG_DEPTH: u32 = 64;
 
+/// Operands of one intersection, difference or merge: a ray that meets the object is tested
+/// against each of them (a difference of 10^5 spheres traced 3000 times slower than their union).
+pub const MAX_CSG_OPERANDS: usize = 1024;
+
 /// Macro calls may nest this deep (a macro calling itself counts each call).
 pub const MAX_MACRO_DEPTH: usize = 256;
 

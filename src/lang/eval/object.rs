@@ -6,7 +6,8 @@ use glam::{Mat3, Vec3};
 
 use super::expression::{single, single_vector};
 use super::{
-    Body, Evaluator, MAX_CSG_DEPTH, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE, as_vector, resolve,
+    Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE,
+    as_vector, resolve,
 };
 use crate::diagnostic::SceneError;
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
@@ -156,7 +157,22 @@ impl Evaluator {
                 format!("objects nested more than {MAX_OBJECT_DEPTH} levels deep"),
             ));
         }
-        if let ShapeNode::Csg { .. } = node.shape {
+        if let ShapeNode::Csg { op, operands } = &node.shape {
+            if operands.len() > MAX_CSG_OPERANDS {
+                let what = match op {
+                    CsgOp::Intersection => "an intersection",
+                    CsgOp::Difference => "a difference",
+                    CsgOp::Merge => "a merge",
+                };
+                return Err(SceneError::at(
+                    &object.span,
+                    format!(
+                        "{what} of {} operands: at most {MAX_CSG_OPERANDS} are allowed (a ray is \
+                         tested against every operand)",
+                        operands.len()
+                    ),
+                ));
+            }
             if self.csg_levels(&node) > MAX_CSG_DEPTH {
                 return Err(SceneError::at(
                     &object.span,
