@@ -262,11 +262,14 @@ fn main() -> ExitCode {
             with_threads(threads, || render_all(&scene, &plan.jobs, &request, &options))
         }
         Command::Merge { parts, output, allow_partial, ppm_res } => {
-            merge(&parts, &output, allow_partial, ppm_res)
+            raydiance::image::end_cleanly_on_signal()
+                .and_then(|()| merge(&parts, &output, allow_partial, ppm_res))
         }
         Command::Tonemap { input, output, op, v, gamma, exposure, white } => {
             let tone_map = ToneMap { op, v, gamma, exposure, white };
-            raydiance::tonemap_file(&input, &output, &tone_map).map(|summary| say!("{summary}"))
+            raydiance::image::end_cleanly_on_signal()
+                .and_then(|()| raydiance::tonemap_file(&input, &output, &tone_map))
+                .map(|summary| say!("{summary}"))
         }
         Command::Check { scene } => {
             raydiance::check(&scene).map(|summary| say!("{summary}")).map_err(|e| e.to_string())
@@ -436,6 +439,14 @@ fn render(
     );
     let (film, stats) = raydiance::render::render_region(&scene, &region, &progress);
     progress.bar.finish_and_clear();
+    // Nothing rendered: the file there (a render of before) is worth more than a black image.
+    if stats.samples_per_pixel == 0 && INTERRUPTED.load(Ordering::SeqCst) {
+        STOPPED.store(true, Ordering::SeqCst);
+        return Err(format!(
+            "interrupted before the first pass: nothing written ({} left as it was)",
+            output.display()
+        ));
+    }
     let written = if job.is_part() {
         let header = PartHeader {
             path: output.clone(),

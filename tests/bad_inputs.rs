@@ -57,7 +57,7 @@ fn bad_ppm_images() {
         let path = image.to_str().unwrap();
         let stderr = assert_fails_cleanly(&["tonemap", path], "out.png");
         assert!(stderr.starts_with(&format!("error: {path}: ")), "names the file:\n{stderr}");
-        let located = ["line ", "byte ", "is too large", "the file is empty"];
+        let located = ["line ", "byte ", "more than raydiance reads", "the file is empty"];
         assert!(located.iter().any(|l| stderr.contains(l)), "{path} is located:\n{stderr}");
     }
     assert!(images.len() >= 13);

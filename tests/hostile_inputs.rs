@@ -155,6 +155,23 @@ fn an_image_declaring_too_many_texels_is_refused_before_decoding() {
     assert_refused(&output, "15000 x 11000 texels, more than raydiance reads in one image");
 }
 
+/// A binary PPM whose header declares 18000 x 18000 pixels, in a sparse file of the size that
+/// needs: refused from the header's pixel count (as an EXR's), before samples are allocated.
+#[test]
+fn a_ppm_declaring_too_many_pixels_is_refused_from_its_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("huge.ppm");
+    let header = b"P6\n18000 18000\n255\n";
+    let file = std::fs::File::create(&path).unwrap();
+    std::io::Write::write_all(&mut &file, header).unwrap();
+    file.set_len(header.len() as u64 + 18000 * 18000 * 3).unwrap();
+    let out = dir.path().join("out.png");
+    let output = limited(&["tonemap", path.to_str().unwrap(), "-o", out.to_str().unwrap()], 20);
+    let expected = "the image is 18000 x 18000 pixels, more than raydiance reads (33554432)";
+    assert_refused(&output, expected);
+    assert!(!out.exists());
+}
+
 /// Reading a P3 PPM is linear in its size: a 512 x 512 HDR PPM as `render` writes it (1.6
 /// million numbers) tone-maps in seconds (46 s when every token counted the lines before it).
 #[test]
@@ -366,6 +383,41 @@ fn numbers_beyond_f32_are_located_errors() {
         assert_refused(&output, expected);
         assert!(String::from_utf8_lossy(&output.stderr).contains("n.scn:4:"), "{object}");
     }
+    let camera = "camera { origin <0, 0, -3e39>  left <1, 0, 0>  up <0, 1, 0>  forward <0, 0, 1> }";
+    let path = dir.path().join("camera.scn");
+    std::fs::write(&path, camera).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 10);
+    assert_refused(&output, "camera.scn:1:10: error: -3e39 is too large");
+}
+
+/// The language's work is budgeted: a macro calling itself twice, which would make 2^41 calls,
+/// is stopped by the count of macro calls, at the call.
+#[test]
+fn an_exponential_macro_is_stopped_by_the_count_of_calls() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{SMALL_SCENE}#macro F(N) #if (N > 0) F(N-1) F(N-1) #end #end\nF(40)\n");
+    let start = Instant::now();
+    let expected = format!("more than {} macro calls", raydiance::lang::MAX_MACRO_CALLS);
+    assert_scene_refused(dir.path(), "macro.scn", &text, &expected);
+    // Both runs (debug build) in well under the 2^41 calls' weeks.
+    assert!(start.elapsed() < Duration::from_secs(30), "{:?}", start.elapsed());
+}
+
+/// Strings are bounded where `concat` makes them, and appending to a variable takes time linear
+/// in the length made: 200,000 appends of 5 bytes stay far from the quadratic 10^11 bytes copied.
+#[test]
+fn strings_are_bounded_and_appends_linear() {
+    let dir = tempfile::tempdir().unwrap();
+    let doubling = "#declare S = \"x\";\n#for (I, 1, 40) #declare S = concat(S, S); #end\n";
+    let text = format!("{SMALL_SCENE}{doubling}");
+    let expected = "double.scn:5:30: error: a string of 2097152 bytes: at most 1048576 are allowed";
+    assert_scene_refused(dir.path(), "double.scn", &text, expected);
+    let appends =
+        "#declare S = \"\";\n#for (I, 1, 200000) #declare S = concat(S, \"abcde\"); #end\n";
+    let path = dir.path().join("append.scn");
+    std::fs::write(&path, format!("{SMALL_SCENE}{appends}")).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 30);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
 }
 
 /// A mesh whose bad token is 20 MB long, with escape sequences: the error quotes a clipped,
@@ -386,4 +438,210 @@ fn a_huge_token_in_a_mesh_is_quoted_short_and_escaped() {
     assert_eq!(output.status.code(), Some(1), "{}", &stderr[..stderr.len().min(500)]);
     assert!(output.stderr.len() < 2000, "{} bytes of error", output.stderr.len());
     assert!(!stderr.contains('\u{1b}'), "{stderr:?}");
+}
+
+/// Arrays are held in shared chunks and counted scene-wide: declaring a 10-million-element array
+/// a thousand times, or writing into a copy of one, copies a chunk, not the array; a loop of
+/// copies written into is stopped by the count of elements made or copied.
+#[test]
+fn arrays_are_counted_scene_wide_and_written_without_a_whole_copy() {
+    let dir = tempfile::tempdir().unwrap();
+    let redeclared = "#for (I, 0, 999) #declare A = array[9999999]; #end\n\
+                      #declare A[5] = -1;\n#declare B = A;\n\
+                      #for (I, 0, 99) #declare B[I * 99991 + 5] = I; #end\n\
+                      #if (B[99 * 99991 + 5] != 99) #error \"the write is lost\" #end\n\
+                      #if (A[5] != -1) #error \"the copy's write reached A\" #end\n";
+    let path = dir.path().join("arrays.scn");
+    std::fs::write(&path, format!("{SMALL_SCENE}{redeclared}")).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 30);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+
+    let copies = "#declare A = array[9999999];\n\
+                  #for (I, 0, 9999998, 1024) #declare B = A; #declare B[I] = 1; #end\n";
+    let expected = format!(
+        "arrays.scn:5:53: error: more than {} array elements made or copied",
+        raydiance::lang::MAX_ARRAY_ELEMENTS_MADE
+    );
+    assert_scene_refused(dir.path(), "arrays.scn", &format!("{SMALL_SCENE}{copies}"), &expected);
+}
+
+/// Suggestions for an unknown name compare only names of about its length, and none for a name
+/// longer than a name is written: ten 40,000-character names and an unknown one are an error at
+/// once.
+#[test]
+fn suggestions_for_long_names_are_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    let declares: String =
+        (0..10).map(|i| format!("#declare {}{i} = 1;\n", "n".repeat(40_000))).collect();
+    let text = format!("{declares}sphere {{ 0, {}x }}\n", "n".repeat(40_000));
+    let start = Instant::now();
+    let output = limited(&["check", &write_scene(dir.path(), "names.scn", &text)], 20);
+    assert_refused(&output, "unknown identifier `nnnn");
+    assert!(start.elapsed() < Duration::from_secs(5), "{:?}", start.elapsed());
+}
+
+/// Writes a part file as `render --part` would, with a header and means made up here: a
+/// `width` x `height` image, its crop `crop`, share `share` of `samples` samples per pixel, each
+/// pixel's one sample `mean`.
+fn forged_part(path: &Path, size: (u32, u32), crop: &str, share: &str, samples: u32, mean: f64) {
+    use raydiance::region::{Crop, Region};
+    let crop: Crop = crop.parse().unwrap();
+    let mut film = raydiance::film::Film::new(crop.width() as usize, crop.height() as usize);
+    film.samples = 1;
+    film.sum.iter_mut().for_each(|s| *s = glam::DVec3::splat(mean));
+    let header = raydiance::split::part_file::PartHeader {
+        path: path.to_path_buf(),
+        width: size.0,
+        height: size.1,
+        region: Region { crop, share: share.parse().unwrap(), samples },
+        taken: 1,
+        seed: 0,
+        integrator: "path".to_string(),
+        max_depth: 8,
+        digest: "forged".to_string(),
+        frame: raydiance::animation::Frame { number: 0, clock: 0.0 },
+        seconds: 1.0,
+    };
+    raydiance::split::part_file::write(path, &film, &header).unwrap();
+}
+
+/// `merge` believes no size a part's header states: one past 65,536 a side is refused, and a
+/// 65536 x 65536 image, allowed, is refused from its memory before anything is allocated.
+#[test]
+fn merge_bounds_the_image_size_and_memory_from_the_headers() {
+    let dir = tempfile::tempdir().unwrap();
+    let (part, out) = (dir.path().join("part.exr"), dir.path().join("out.exr"));
+    let merge = |partial: &[&str]| {
+        let args = ["merge", part.to_str().unwrap(), "-o", out.to_str().unwrap()];
+        limited(&[&args[..], partial].concat(), 20)
+    };
+    forged_part(&part, (100_000, 1), "0,1,0,1", "0/1", 1, 0.5);
+    assert_refused(&merge(&[]), "its header has no valid raydiance:image_size");
+    forged_part(&part, (65536, 65536), "0,1,0,1", "0/1", 1, 0.5);
+    assert_refused(&merge(&["--allow-partial"]), "merging a 65536x65536 image needs 220.0 GiB");
+    assert!(!out.exists());
+}
+
+/// One share of 10^8 merged alone: the missing ones are counted, not listed one by one.
+#[test]
+fn merge_counts_missing_shares_without_listing_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (part, out) = (dir.path().join("part.exr"), dir.path().join("out.exr"));
+    forged_part(&part, (1, 1), "0,1,0,1", "0/100000000", 100_000_000, 0.5);
+    let args = ["merge", part.to_str().unwrap(), "-o", out.to_str().unwrap(), "--allow-partial"];
+    let output = limited(&args, 20);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("--part 8/100000000 and 99999991 more"), "{stderr}");
+    assert!(stderr.len() < 2000, "{} bytes", stderr.len());
+}
+
+/// A part whose means are not finite, or negative, is damaged: refused, never merged into the
+/// image; an integrator that does not render parts is refused with its name escaped.
+#[test]
+fn merge_refuses_damaged_means_and_forged_integrators() {
+    let dir = tempfile::tempdir().unwrap();
+    let (part, out) = (dir.path().join("part.exr"), dir.path().join("out.exr"));
+    let args = ["merge", part.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    for (mean, shown) in [(f64::NAN, "NaN"), (f64::INFINITY, "inf"), (-1.0, "-1")] {
+        forged_part(&part, (2, 2), "0,2,0,2", "0/1", 1, mean);
+        assert_refused(&limited(&args, 20), &format!("holds the mean [{shown}, {shown}, {shown}]"));
+        assert!(!out.exists());
+    }
+    forged_part(&part, (2, 2), "0,2,0,2", "0/1", 1, 0.5);
+    let bytes = std::fs::read(&part).unwrap();
+    let at = bytes.windows(4).position(|w| w == b"path").unwrap();
+    let mut forged = bytes.clone();
+    forged[at..at + 4].copy_from_slice(b"\x1b[1m");
+    std::fs::write(&part, forged).unwrap();
+    let output = limited(&args, 20);
+    assert_refused(&output, "raydiance:integrator `\\u{1b}[1m` is not one that renders parts");
+    assert!(!output.stderr.contains(&0x1b));
+}
+
+/// Snapshots are small renders: a `--size` or a stored size past 2^22 pixels is refused before
+/// anything renders; a scene named `NAME.new.scn`, whose snapshot would be the new render of
+/// `NAME.scn` beside it, is refused rather than compared with the wrong image.
+#[test]
+fn snapshot_sizes_are_bounded_and_names_cannot_collide() {
+    use raydiance::snapshot::{self, Estimate, MAX_SNAPSHOT_PIXELS};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let output = limited(&["snapshot", &scene, "--size", "65536x65536"], 20);
+    let expected =
+        format!("65536x65536: more pixels than a snapshot may have ({MAX_SNAPSHOT_PIXELS})");
+    assert_refused(&output, &expected);
+
+    let (width, height) = (2048, 2049);
+    let pixels = vec![glam::Vec3::ONE; width * height];
+    let stored =
+        Estimate { width, height, mean: pixels.clone(), variance: pixels, samples_per_pixel: 64 };
+    std::fs::create_dir(dir.path().join("__snapshots__")).unwrap();
+    snapshot::write(&dir.path().join("__snapshots__/s.exr"), &stored).unwrap();
+    let start = Instant::now();
+    assert_refused(&limited(&["snapshot", &scene], 20), "2048x2049: more pixels than a snapshot");
+    assert!(start.elapsed() < Duration::from_secs(10), "{:?}", start.elapsed());
+
+    let folder = dir.path().join("scenes");
+    std::fs::create_dir(&folder).unwrap();
+    write_scene(&folder, "foo.scn", "");
+    write_scene(&folder, "foo.new.scn", "");
+    let output = limited(&["snapshot", folder.to_str().unwrap()], 60);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("foo.new.scn: a scene named NAME.new.scn cannot be snapshotted"));
+    // foo.scn's new render is written; nothing was written as foo.new.scn's.
+    assert!(folder.join("__snapshots__/foo.new.exr").exists());
+    assert!(!folder.join("__snapshots__/foo.new.new.exr").exists());
+}
+
+/// `--frames` is bounded when planned: four billion frames are refused at once, not listed.
+#[test]
+fn a_range_of_frames_beyond_reason_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.scn", "");
+    let out = dir.path().join("f#.exr");
+    let args = ["render", &scene, "-o", out.to_str().unwrap(), "--frames", "0..4294967295"];
+    let output = limited(&args, 10);
+    assert_refused(&output, "--frames 0..4294967295 is 4294967296 frames: one command renders");
+    let args = ["render", "missing.scn", "-o", out.to_str().unwrap(), "--frames", "0..99999"];
+    assert_refused(&limited(&args, 20), "cannot read `missing.scn`");
+}
+
+/// 20 MB of binary PLY faces of 255 vertices stand for 20 million triangles: refused while the
+/// faces are read, at the face that passes 2^24 triangles.
+#[test]
+fn a_mesh_of_too_many_triangles_is_refused_while_it_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n\
+                    property float y\nproperty float z\nelement face 80000\n\
+                    property list uchar uchar vertex_indices\nend_header\n"
+        .to_vec();
+    for corner in [[0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        corner.iter().for_each(|c| ply.extend(c.to_le_bytes()));
+    }
+    for _ in 0..80_000 {
+        ply.push(255);
+        ply.extend((0..255).map(|i| (i % 3) as u8));
+    }
+    std::fs::write(dir.path().join("fans.ply"), ply).unwrap();
+    let scene = write_scene(dir.path(), "m.scn", "mesh { \"fans.ply\" }");
+    let limit = raydiance::mesh::MAX_TRIANGLES;
+    let face = limit / 253;
+    let expected = format!("face {face}: the mesh has more than {limit} triangles");
+    assert_refused(&limited(&["check", &scene], 20), &expected);
+}
+
+/// A ray meeting a CSG object is tested against every operand: more than 1,024 are refused
+/// (a difference of 10^5 spheres rendered 3000 times slower than their union).
+#[test]
+fn csg_of_too_many_operands_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let holes = "#for (I, 1, 100000) sphere { <I / 100000, 0, 0>, 0.01 } #end";
+    let text = format!("{SMALL_SCENE}difference {{ box {{ -1, 1 }} {holes} }}\n");
+    let expected = format!(
+        "csg.scn:4:1: error: a difference of 100001 operands: at most {} are allowed",
+        raydiance::lang::MAX_CSG_OPERANDS
+    );
+    assert_scene_refused(dir.path(), "csg.scn", &text, &expected);
 }

@@ -221,3 +221,68 @@ fn the_last_pass_is_shortened_to_the_budget() {
     let (film, stats) = raydiance::render::render(&s, &budget);
     assert_eq!((film.samples, stats.samples_per_pixel), (37, 37));
 }
+
+/// A signal before the first pass ends writes nothing: the file of an earlier render stays as
+/// it was, and the message says why.
+#[test]
+fn a_signal_before_the_first_pass_keeps_the_previous_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("keep.png");
+    let quick = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["render", "scenes/cornell-area.scn", "-o", out.to_str().unwrap()])
+        .args(["--width", "16", "--height", "16", "--samples", "4"])
+        .output()
+        .unwrap();
+    assert!(quick.status.success(), "{}", String::from_utf8_lossy(&quick.stderr));
+    let before = std::fs::read(&out).unwrap();
+    // SPPM's first pass traces 200,000 photons over a 1024 x 1024 film: longer than the wait.
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["render", "scenes/caustic-point.scn", "-o", out.to_str().unwrap()])
+        .args(["--width", "1024", "--height", "1024"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    send("-TERM", &child);
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_ne!(output.status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains("interrupted before the first pass"), "{stderr}");
+    assert_eq!(std::fs::read(&out).unwrap(), before, "the earlier render is kept");
+    assert!(others(dir.path(), &out).is_empty(), "{:?}", others(dir.path(), &out));
+}
+
+/// `tonemap` (and `merge`, the same handling) stopped while it writes its output leaves no
+/// temporary file: the signal is sent once the temporary file is seen.
+#[test]
+fn a_signal_while_tone_mapping_leaves_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("big.ppm");
+    let side = 4096;
+    let mut ppm = format!("P6\n{side} {side}\n255\n").into_bytes();
+    ppm.extend((0..side * side * 3).map(|i| (i % 251) as u8));
+    std::fs::write(&input, ppm).unwrap();
+    let out = dir.path().join("out.png");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["tonemap", input.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let writing = || others(dir.path(), &input).into_iter().any(|p| p != out);
+    while !writing() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    assert!(writing(), "the temporary output was never seen");
+    send("-TERM", &child);
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let left: Vec<_> = others(dir.path(), &input).into_iter().filter(|p| *p != out).collect();
+    assert!(left.is_empty(), "{left:?} left behind; {stderr}");
+    // Stopped (130) or, if the signal came as it finished, done (0) with the whole output.
+    match output.status.code() {
+        Some(130) => assert!(!out.exists()),
+        Some(0) => assert!(out.exists()),
+        other => panic!("exit {other:?}: {stderr}"),
+    }
+}

@@ -5,7 +5,7 @@ use std::path::Path;
 use ::exr::prelude::*;
 use glam::Vec3;
 
-use super::{Image, ImageError, RenderInfo, write_atomic};
+use super::{Image, ImageError, MAX_PIXELS, RenderInfo, write_atomic};
 
 pub fn write(path: &Path, image: &Image, info: &RenderInfo) -> std::result::Result<(), ImageError> {
     let channels = SpecificChannels::rgb(|position: Vec2<usize>| {
@@ -50,9 +50,6 @@ pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
         .map_err(|e| ImageError::format(path, e))?;
     read_bytes(&bytes).map_err(|message| ImageError::format(path, message))
 }
-
-/// The most pixels an EXR may have: a corrupt header must not make the decoder exhaust memory.
-pub const MAX_PIXELS: usize = 1 << 25;
 
 /// Decodes an OpenEXR file's contents.
 pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {

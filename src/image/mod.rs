@@ -12,6 +12,10 @@ use std::sync::{Mutex, MutexGuard};
 
 use glam::Vec3;
 
+/// The most pixels an image read may have, from its header: a corrupt or hostile header must not
+/// make the decoder exhaust memory.
+pub const MAX_PIXELS: usize = 1 << 25;
+
 /// Linear RGB radiance, rows top to bottom, columns left to right.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {
@@ -155,6 +159,17 @@ pub fn remove_pending_files() -> MutexGuard<'static, Vec<PathBuf>> {
         let _ = std::fs::remove_file(path);
     }
     pending
+}
+
+/// For a command that only writes files, with nothing to keep when stopped (`merge`,
+/// `tonemap`): Ctrl-C, SIGTERM and SIGHUP end the process at once with status 130, leaving no
+/// temporary file (by default the process would die with its `.tmpXXXXXX` beside the output).
+pub fn end_cleanly_on_signal() -> Result<(), String> {
+    ctrlc::set_handler(|| {
+        let _no_more_renames = remove_pending_files();
+        std::process::exit(130);
+    })
+    .map_err(|e| format!("error: cannot handle signals: {e}"))
 }
 
 fn folder_of(path: &Path) -> &Path {

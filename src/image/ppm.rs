@@ -6,7 +6,8 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::{Image, ImageError, write_atomic};
+use super::{Image, ImageError, MAX_PIXELS, write_atomic};
+use crate::diagnostic::printable;
 
 /// The integer that MAX stands for in HDR files written by `render` (the course's images).
 pub const HDR_RES: u32 = 10_000_000;
@@ -69,7 +70,10 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
         "P6" => true,
         _ => {
             let place = reader.place(magic.at);
-            return Err(format!("{place}: expected `P3` or `P6`, found `{}`", magic.text));
+            return Err(format!(
+                "{place}: expected `P3` or `P6`, found `{}`",
+                printable(magic.text)
+            ));
         }
     };
     let width = reader.number("the width", 1, u32::MAX.into())?;
@@ -77,9 +81,12 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
     // The course's HDR files use res 10000000; binary samples hold at most 16 bits.
     let res =
         reader.number("the maximum value", 1, if binary { 65535 } else { u32::MAX.into() })?;
-    let count = width.checked_mul(height).and_then(|n| n.checked_mul(3)).filter(|&n| n <= 1 << 34);
-    let count =
-        count.ok_or_else(|| format!("an image of {width} x {height} pixels is too large"))?;
+    if width.saturating_mul(height) > MAX_PIXELS as u64 {
+        return Err(format!(
+            "the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})"
+        ));
+    }
+    let count = width * height * 3;
     let mut samples = Vec::with_capacity((count as usize).min(bytes.len()));
     if binary {
         // Exactly one whitespace byte separates the header from the data.
@@ -117,7 +124,7 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
                 format!(
                     "{}: expected a sample value, found `{}`",
                     reader.place(token.at),
-                    token.text
+                    printable(token.text)
                 )
             })?;
             if value > res {
@@ -175,12 +182,14 @@ impl<'a> Reader<'a> {
                         .map_or(self.bytes.len(), |e| start + e);
                     let comment = String::from_utf8_lossy(&self.bytes[start..end]);
                     if let Some(value) = comment.trim_end().strip_prefix("#MAX=") {
+                        // The line is file text: quoted clipped, its control characters escaped.
+                        let quoted = printable(value);
                         let max: f32 = value.trim().parse().map_err(|_| {
-                            format!("{}: `#MAX={value}` is not a number", self.place(start))
+                            format!("{}: `#MAX={quoted}` is not a number", self.place(start))
                         })?;
                         if !(max.is_finite() && max >= 0.0) {
                             return Err(format!(
-                                "{}: `#MAX={value}` must be a finite number >= 0",
+                                "{}: `#MAX={quoted}` must be a finite number >= 0",
                                 self.place(start)
                             ));
                         }
@@ -214,7 +223,7 @@ impl<'a> Reader<'a> {
             _ => Err(format!(
                 "{}: expected {what} (a whole number from {min} to {max}), found `{}`",
                 self.place(token.at),
-                token.text
+                printable(token.text)
             )),
         }
     }

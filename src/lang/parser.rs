@@ -136,8 +136,29 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
 /// The words that begin a statement of their own, which cannot stand inside another's block.
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
-/// A parse error that is a `{` left open: the file ends inside a block, or a statement stands
-/// inside another's block. Reported with where the block opened.
+/// The words that begin an object, and those of the blocks objects may stand in.
+const OBJECTS: [&str; 15] = [
+    "box",
+    "cone",
+    "cylinder",
+    "difference",
+    "disk",
+    "intersection",
+    "merge",
+    "mesh",
+    "object",
+    "plane",
+    "quad",
+    "sphere",
+    "torus",
+    "triangle",
+    "union",
+];
+const OBJECT_CONTAINERS: [&str; 4] = ["union", "difference", "intersection", "merge"];
+
+/// A parse error that is a `{` left open: the file ends inside a block, or a statement (or an
+/// object, outside a union or CSG) stands inside another's block. Reported with where the block
+/// opened.
 fn unclosed_block(
     file: &Arc<SourceFile>,
     offset: usize,
@@ -155,7 +176,10 @@ fn unclosed_block(
         let message = format!("the file ends inside a block: {opened} is not closed");
         return Some(SceneError::at(&span_at(file, offset), message));
     }
-    let statement = [found, previous].into_iter().find(|w| STATEMENTS.contains(w))?;
+    let misplaced = |w: &&str| {
+        STATEMENTS.contains(w) || (OBJECTS.contains(w) && !OBJECT_CONTAINERS.contains(&block.word))
+    };
+    let statement = [found, previous].into_iter().find(misplaced)?;
     let message =
         format!("`{statement}` cannot stand in a block: is the `}}` of {opened} missing?");
     let at = if statement == found { offset } else { hints::word_before(&file.text, offset).0 };
@@ -217,12 +241,22 @@ fn token_at(text: &str) -> &str {
     if word > 0 { &text[..word] } else { text.chars().next().map_or("", |c| &text[..c.len_utf8()]) }
 }
 
+/// Names longer than this get no suggestion: the edit distance takes time in the product of
+/// the lengths, for every name in scope.
+const MAX_SUGGESTED_LENGTH: usize = 64;
+
 /// The candidate within edit distance 2 (and less than half the word) of `word`, if any.
 pub fn closest<'a>(word: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
-    if word.is_empty() || !word.chars().all(|c| c.is_alphanumeric() || c == '_') {
+    if word.is_empty()
+        || word.len() > MAX_SUGGESTED_LENGTH
+        || !word.chars().all(|c| c.is_alphanumeric() || c == '_')
+    {
         return None;
     }
+    // Lengths (in bytes, at most 4 a character) that differ by more than 8 differ by more
+    // than 2 characters: the distance is above 2.
     candidates
+        .filter(|c| c.len().abs_diff(word.len()) <= 8)
         .map(|c| (edit_distance(word, c), c))
         .filter(|&(d, c)| d > 0 && d <= 2 && 2 * d < word.len().max(c.len()))
         .min()

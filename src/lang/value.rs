@@ -14,7 +14,9 @@ pub enum Value {
     Vector(DVec3),
     /// A vector literal with other than three components (`matrix` takes twelve).
     Numbers(Vec<f64>),
-    String(Arc<str>),
+    /// Shared between copies; `#declare S = concat(S, ...)` appends in place when nothing else
+    /// holds it.
+    String(Arc<String>),
     Array(Arc<Array>),
     /// A stream of pseudo-random numbers made by `seed(n)`: an index into the evaluator's
     /// streams, so that copies of it draw from the same stream (as in POV-Ray).
@@ -43,12 +45,54 @@ impl Value {
     }
 }
 
-/// `array[d0][d1]...`: elements in row-major order; an element is `None` until set.
+/// `array[d0][d1]...`: elements in row-major order; an element is `None` until set. They are
+/// held in chunks shared between copies of the array: writing an element of a copy copies its
+/// chunk, not the whole array, and an array declared without elements holds one chunk of `None`s.
 #[derive(Debug, Clone)]
 pub struct Array {
     pub dimensions: Vec<usize>,
-    pub elements: Vec<Option<Value>>,
+    chunks: Vec<Arc<Vec<Option<Value>>>>,
+}
+
+/// Elements in a chunk of an array.
+pub const ARRAY_CHUNK: usize = 1024;
+
+impl Array {
+    /// An array of `dimensions` with no element set.
+    pub fn unset(dimensions: Vec<usize>) -> Array {
+        let total: usize = dimensions.iter().product();
+        let empty = Arc::new(vec![None; total.min(ARRAY_CHUNK)]);
+        Array { chunks: vec![empty; total.div_ceil(ARRAY_CHUNK)], dimensions }
+    }
+
+    /// An array of `dimensions` holding `elements`, in row-major order.
+    pub fn of(dimensions: Vec<usize>, elements: &[Option<Value>]) -> Array {
+        let chunks = elements.chunks(ARRAY_CHUNK).map(|c| Arc::new(c.to_vec())).collect();
+        Array { dimensions, chunks }
+    }
+
+    /// How many chunks hold the elements (each an `Arc` that a copy of the array copies).
+    pub fn chunk_count(&self) -> usize {
+        self.chunks.len()
+    }
+
+    /// The element at flat position `flat` (below the product of the dimensions), if set.
+    pub fn get(&self, flat: usize) -> Option<&Value> {
+        self.chunks[flat / ARRAY_CHUNK][flat % ARRAY_CHUNK].as_ref()
+    }
+
+    /// Sets the element at flat position `flat`; returns how many elements were copied to do so
+    /// (its chunk, where another array shares it).
+    pub fn set(&mut self, flat: usize, value: Value) -> usize {
+        let chunk = &mut self.chunks[flat / ARRAY_CHUNK];
+        let copied = if Arc::get_mut(chunk).is_some() { 0 } else { chunk.len() };
+        Arc::make_mut(chunk)[flat % ARRAY_CHUNK] = Some(value);
+        copied
+    }
 }
 
 /// The largest number of elements an array may have (as many as the loop turns of a scene).
 pub const MAX_ARRAY_ELEMENTS: usize = 10_000_000;
+
+/// The longest string, in bytes, that `concat` may make.
+pub const MAX_STRING_BYTES: usize = 1 << 20;

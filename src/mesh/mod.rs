@@ -7,7 +7,6 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::accel::MAX_PRIMITIVES;
 use crate::diagnostic::printable;
 
 /// An indexed triangle mesh in its own (object) space.
@@ -78,12 +77,6 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
     if mesh.triangles.is_empty() {
         return Err("the mesh has no faces".to_string());
     }
-    if mesh.triangles.len() > MAX_PRIMITIVES {
-        return Err(format!(
-            "the mesh has {} triangles; at most {MAX_PRIMITIVES} are supported",
-            mesh.triangles.len()
-        ));
-    }
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(format!("vertex {i} has a coordinate that is not a finite number"));
     }
@@ -99,8 +92,18 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
 }
 
 /// Splits a polygon into a fan of triangles around its first vertex.
-fn triangulate(polygon: &[u32], triangles: &mut Vec<[u32; 3]>) {
-    for i in 1..polygon.len().saturating_sub(1) {
+/// The most triangles a mesh may have, counted as its faces are read (a face of 255 vertices is
+/// 253 triangles: 20 MB of faces would otherwise make 3 GB of triangles before any check).
+pub const MAX_TRIANGLES: usize = 1 << 24;
+
+/// Adds the fan of triangles of `polygon`; an error once the mesh has more than `MAX_TRIANGLES`.
+fn triangulate(polygon: &[u32], triangles: &mut Vec<[u32; 3]>) -> Result<(), String> {
+    let fan = polygon.len().saturating_sub(2);
+    if triangles.len() + fan > MAX_TRIANGLES {
+        return Err(format!("the mesh has more than {MAX_TRIANGLES} triangles"));
+    }
+    for i in 1..=fan {
         triangles.push([polygon[0], polygon[i], polygon[i + 1]]);
     }
+    Ok(())
 }

@@ -47,7 +47,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                         polygon.len()
                     )));
                 }
-                triangulate(&polygon, &mut triangles);
+                triangulate(&polygon, &mut triangles).map_err(at)?;
             }
             _ => {}
         }

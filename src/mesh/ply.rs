@@ -147,7 +147,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                                 }
                                 polygon.push(index as u32);
                             }
-                            triangulate(&polygon, &mut triangles);
+                            triangulate(&polygon, &mut triangles).map_err(at)?;
                         }
                         Property::List { count, item, .. } => {
                             reader.skip_list(*count, *item).map_err(at)?

@@ -7,7 +7,6 @@ use ::exr::prelude::*;
 use glam::Vec3;
 
 use super::Estimate;
-use crate::image::exr::MAX_PIXELS;
 use crate::image::{ImageError, write_atomic};
 
 const SAMPLES_ATTRIBUTE: &str = "raydiance:samples_per_pixel";
@@ -56,9 +55,7 @@ fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
         .map_err(|e| e.to_string())?;
     let header = meta.headers.first().ok_or("the file has no image")?;
     let (width, height) = (header.layer_size.width(), header.layer_size.height());
-    if width.saturating_mul(height) > MAX_PIXELS {
-        return Err(format!("{width} x {height} pixels is more than raydiance reads"));
-    }
+    super::check_size(width, height)?;
     let samples_per_pixel = match header.own_attributes.other.get(&Text::from(SAMPLES_ATTRIBUTE)) {
         Some(AttributeValue::I32(n)) if *n >= 2 => *n as u32,
         _ => return Err(format!("no `{SAMPLES_ATTRIBUTE}` of at least 2 in its header")),

@@ -23,6 +23,10 @@ pub const DEFAULT_SAMPLES: u32 = 64;
 /// the other side keeps the scene's aspect ratio.
 pub const DEFAULT_LONGER_SIDE: u32 = 64;
 
+/// The most pixels a snapshot may have, stored or asked for with `--size`: snapshots are small
+/// renders (a stored size is adopted, so a crafted one must not start a render of hours).
+pub const MAX_SNAPSHOT_PIXELS: u64 = 1 << 22;
+
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Options {
     /// Samples per pixel (default `DEFAULT_SAMPLES`).
@@ -40,6 +44,20 @@ pub struct SnapshotFiles {
 }
 
 impl SnapshotFiles {
+    /// The files of `scene`; refused for a scene named `NAME.new.scn` or `NAME.diff.scn`, whose
+    /// snapshot would be the new render or heat map of `NAME.scn`.
+    pub fn checked(scene: &Path) -> Result<SnapshotFiles, String> {
+        let stem = scene.file_stem().unwrap_or_default().to_string_lossy();
+        match [".new", ".diff"].into_iter().find(|suffix| stem.ends_with(suffix)) {
+            Some(suffix) => Err(format!(
+                "error: {}: a scene named NAME{suffix}.scn cannot be snapshotted: its snapshot \
+                 would be the file NAME.scn's comparison writes (rename the scene)",
+                scene.display()
+            )),
+            None => Ok(SnapshotFiles::of(scene)),
+        }
+    }
+
     pub fn of(scene: &Path) -> SnapshotFiles {
         let folder = scene.parent().unwrap_or(Path::new("")).join("__snapshots__");
         let name = scene.file_stem().unwrap_or_default().to_string_lossy();
@@ -117,7 +135,10 @@ impl Outcome {
 /// written beside the snapshot as `.new` (with a heat map of the z-scores when it differs); a
 /// match removes any `.new` and heat map left from before.
 pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
-    let files = SnapshotFiles::of(scene_path);
+    let files = SnapshotFiles::checked(scene_path)?;
+    if let Some((width, height)) = options.size {
+        check_size(width as usize, height as usize).map_err(|e| format!("error: --size {e}"))?;
+    }
     let reference = match files.snapshot.exists() {
         true => Some(read(&files.snapshot).map_err(|e| format!("error: {e}"))?),
         false => None,
@@ -178,6 +199,16 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, String> {
             let failing = comparison.failing().count();
             Ok(outcome(tiles, Verdict::Differs { failing, worst }))
         }
+    }
+}
+
+/// Refuses a snapshot of more than `MAX_SNAPSHOT_PIXELS`.
+fn check_size(width: usize, height: usize) -> Result<(), String> {
+    match (width as u64).saturating_mul(height as u64) > MAX_SNAPSHOT_PIXELS {
+        true => Err(format!(
+            "{width}x{height}: more pixels than a snapshot may have ({MAX_SNAPSHOT_PIXELS})"
+        )),
+        false => Ok(()),
     }
 }
 

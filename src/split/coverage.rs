@@ -129,21 +129,29 @@ fn missing_shares(crop: &Crop, tile: &mut [&PartHeader]) -> Result<Vec<String>, 
     let files: Vec<String> = tile.iter().map(|p| p.path.display().to_string()).collect();
     let whole = *crop == Crop::whole(tile[0].width, tile[0].height);
     let (place, with_crop) = if whole {
-        (format!("of the image (there are {})", files.join(", ")), String::new())
+        (format!("of the image (there are {})", listed(&files)), String::new())
     } else {
-        (format!("of crop {crop} (there are {})", files.join(", ")), format!(" with --crop {crop}"))
+        (format!("of crop {crop} (there are {})", listed(&files)), format!(" with --crop {crop}"))
     };
     let count = tile[0].region.share.count;
     let one_split = tile.iter().all(|p| p.region.share.count == count);
     let mut lines = Vec::new();
     for gap in gaps {
         if one_split {
-            let shares: Vec<String> = (0..count)
-                .map(|index| Share { index, count })
-                .filter(|s| s.numbers(total).start >= gap.start && s.numbers(total).end <= gap.end)
-                .map(|s| format!("--part {s}"))
+            let indices = shares_within(&gap, count, total);
+            let shares: Vec<String> = indices
+                .clone()
+                .take(LISTED)
+                .map(|index| format!("--part {}", Share { index, count }))
                 .collect();
-            lines.push(format!("missing shares {place}: render {}{with_crop}", listed(&shares)));
+            let more = match indices.len().saturating_sub(LISTED) {
+                0 => String::new(),
+                n => format!(" and {n} more"),
+            };
+            lines.push(format!(
+                "missing shares {place}: render {}{more}{with_crop}",
+                shares.join(", ")
+            ));
         } else {
             lines.push(format!(
                 "missing samples {}..{} of the {total} {place}: the shares given split it \
@@ -153,6 +161,17 @@ fn missing_shares(crop: &Crop, tile: &mut [&PartHeader]) -> Result<Vec<String>, 
         }
     }
     Ok(lines)
+}
+
+/// The indices of the shares of `count` (of `total` samples) that lie within `gap`, found
+/// arithmetically (a split into 10^8 shares is not listed one by one): share i takes the
+/// numbers from floor(i total / count), so it starts at or after `gap.start` when
+/// i >= gap.start count / total, and ends by `gap.end` when (i + 1) total < (gap.end + 1) count.
+fn shares_within(gap: &Range<u64>, count: u32, total: u64) -> Range<u32> {
+    let (count, total) = (u128::from(count), u128::from(total));
+    let first = (u128::from(gap.start) * count).div_ceil(total);
+    let end = (u128::from(gap.end + 1) * count).div_ceil(total) - 1;
+    first.min(count) as u32..end.clamp(first, count) as u32
 }
 
 /// The parts of a `width` x `height` image that no crop covers (the crops are disjoint), as
@@ -198,6 +217,24 @@ fn listed(items: &[String]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_shares_within_a_gap_are_those_a_search_finds() {
+        for (count, total) in [(1, 1), (3, 10), (7, 7), (10, 1000), (13, 40)] {
+            for start in 0..=total {
+                for end in start..=total {
+                    let searched: Vec<u32> = (0..count)
+                        .filter(|&index| {
+                            let numbers = Share { index, count }.numbers(total);
+                            numbers.start >= start && numbers.end <= end
+                        })
+                        .collect();
+                    let found: Vec<u32> = shares_within(&(start..end), count, total).collect();
+                    assert_eq!(found, searched, "{count} shares of {total}, gap {start}..{end}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_holes_between_crops_are_listed_as_crops() {

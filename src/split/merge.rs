@@ -45,6 +45,7 @@ pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, String> {
         (p.region.crop, p.region.share.numbers(p.region.total()).start, p.region.share.count)
     });
     let first = &parts[0];
+    check_memory(first.width, first.height)?;
     let (width, height) = (first.width as usize, first.height as usize);
     let mut sums = vec![DVec3::ZERO; width * height];
     let mut counts = vec![0u32; width * height];
@@ -74,6 +75,28 @@ pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, String> {
     })
 }
 
+/// The most memory a merge may take: render's default `--max-memory`.
+pub const MAX_MERGE_BYTES: u64 = 8 << 30;
+
+/// Bytes a pixel of the image takes while merging: the sums (f64) and counts, the image made of
+/// them, and its tone-mapped copy for a PNG.
+const BYTES_PER_PIXEL: u64 = 24 + 4 + 12 + 12 + 3;
+
+/// Refuses, from the headers and before anything is allocated, an image too large to merge.
+fn check_memory(width: u32, height: u32) -> Result<(), String> {
+    let needed = u64::from(width) * u64::from(height) * BYTES_PER_PIXEL;
+    if needed <= MAX_MERGE_BYTES {
+        return Ok(());
+    }
+    let gib = |bytes: u64| bytes as f64 / f64::from(1u32 << 30);
+    Err(format!(
+        "error: merging a {width}x{height} image needs {:.1} GiB ({BYTES_PER_PIXEL} bytes a \
+         pixel), more than the {:.1} GiB a merge may take",
+        gib(needed),
+        gib(MAX_MERGE_BYTES)
+    ))
+}
+
 /// Adds a part's sums and counts into the image's, checking that each pixel's count is what
 /// its header's share says and that every pixel of its crop is there once.
 fn add_part(
@@ -97,6 +120,13 @@ fn add_part(
                 "pixel {pixel} of the crop holds {count} samples where share {} has {expected} \
                  (the file is damaged)",
                 region.share
+            ));
+        }
+        // Radiance is finite and never negative: anything else is a forged or damaged file.
+        if !sum.is_finite() || sum.min_element() < 0.0 {
+            return Err(format!(
+                "pixel {pixel} of the crop holds the mean {} (the file is damaged)",
+                sum / f64::from(count.max(1))
             ));
         }
         let (x, y) = (crop.x0 as usize + pixel % crop_width, crop.y0 as usize + pixel / crop_width);

@@ -17,9 +17,12 @@ type Result<T, E = String> = std::result::Result<T, E>;
 use glam::DVec3;
 
 use crate::animation::Frame;
+use crate::diagnostic::printable;
 use crate::film::Film;
 use crate::image::{ImageError, write_atomic};
+use crate::pipeline::MAX_RESOLUTION;
 use crate::region::{Crop, Region, Share};
+use crate::scene::graph::IntegratorKind;
 
 /// The channel of per-pixel sample counts.
 const SAMPLES: &str = "samples";
@@ -169,7 +172,15 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
     let (width, height) = size
         .split_once('x')
         .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| (1..=MAX_RESOLUTION).contains(&w) && (1..=MAX_RESOLUTION).contains(&h))
         .ok_or_else(|| missing("image_size"))?;
+    let integrator = text_of("integrator")?;
+    if !IntegratorKind::named(&integrator).is_some_and(IntegratorKind::samples_are_independent) {
+        return Err(format!(
+            "its raydiance:integrator `{}` is not one that renders parts",
+            printable(&integrator)
+        ));
+    }
     let region = Region { crop, share, samples: int_of("render_samples")? };
     region.check(width, height).map_err(|e| format!("its header is inconsistent: {e}"))?;
     // The EXR windows must say what the attributes say.
@@ -204,9 +215,9 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, String> {
         region,
         taken: int_of("samples_per_pixel")?,
         seed: text_of("seed")?.parse().map_err(|_| missing("seed"))?,
-        integrator: text_of("integrator")?,
+        integrator,
         max_depth: int_of("max_depth")?,
-        digest: text_of("digest")?,
+        digest: printable(&text_of("digest")?),
         frame: Frame { number: int_of("frame")?, clock: float_of("clock")? },
         seconds: float_of("render_seconds")?,
     })

@@ -10,6 +10,9 @@ use super::scheduler;
 use crate::animation::{DEFAULT_CLOCK, Frame, Frames};
 use crate::region::{Crop, Share};
 
+/// The most frames one command plans (each is checked and listed before the first renders).
+pub const MAX_FRAMES: u64 = 100_000;
+
 /// `--part`: a share, or the scheduler's task.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PartChoice {
@@ -87,7 +90,17 @@ pub fn plan(
             frames.frame(number).map_err(|e| format!("error: {e}"))?;
             vec![number]
         }
-        (Some(frames), None) => (frames.first..=frames.last).collect(),
+        (Some(frames), None) => {
+            let count = u64::from(frames.last - frames.first) + 1;
+            if count > MAX_FRAMES {
+                return Err(format!(
+                    "error: --frames {}..{} is {count} frames: one command renders at most \
+                     {MAX_FRAMES} (split the range over several)",
+                    frames.first, frames.last
+                ));
+            }
+            (frames.first..=frames.last).collect()
+        }
         (None, _) => vec![0],
     };
     let (numbers, share, task) = match choices.part {

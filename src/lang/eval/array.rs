@@ -2,10 +2,10 @@
 
 use std::sync::Arc;
 
-use super::Evaluator;
+use super::{Evaluator, MAX_ARRAY_ELEMENTS_MADE};
 use crate::diagnostic::{SceneError, Span};
-use crate::lang::syntax::{ArrayElement, ArrayLiteral};
-use crate::lang::value::{Array, MAX_ARRAY_ELEMENTS, Value};
+use crate::lang::syntax::{ArrayElement, ArrayLiteral, Ident};
+use crate::lang::value::{ARRAY_CHUNK, Array, MAX_ARRAY_ELEMENTS, Value};
 
 impl Evaluator {
     pub(super) fn array(&mut self, literal: &ArrayLiteral) -> Result<Value, SceneError> {
@@ -22,12 +22,55 @@ impl Evaluator {
                 format!("an array of more than {} elements", MAX_ARRAY_ELEMENTS),
             ));
         }
-        let mut elements = Vec::with_capacity(total);
-        match &literal.elements {
-            None => elements.resize(total, None),
-            Some(rows) => self.array_rows(rows, &dimensions, &literal.span, &mut elements)?,
+        let array = match &literal.elements {
+            None => Array::unset(dimensions),
+            Some(rows) => {
+                let mut elements = Vec::with_capacity(total);
+                self.array_rows(rows, &dimensions, &literal.span, &mut elements)?;
+                Array::of(dimensions, &elements)
+            }
+        };
+        self.count_array_elements(array.chunk_count() + total.min(ARRAY_CHUNK), &literal.span)?;
+        Ok(Value::Array(Arc::new(array)))
+    }
+
+    /// `A[i]...[k] = value`: copies only what another array shares (the list of chunks, the
+    /// element's chunk), counted in the scene's budget of array elements.
+    pub(super) fn set_element(
+        &mut self,
+        name: &Ident,
+        local: bool,
+        at: &[(f64, Span)],
+        value: Value,
+    ) -> Result<(), SceneError> {
+        let Some(slot) = self.slot_mut(&name.name, local) else {
+            return Err(self.unknown(name));
+        };
+        let Value::Array(array) = slot else {
+            return Err(SceneError::at(
+                &name.span,
+                format!("`{}` is {}, not an array", name.name, slot.kind()),
+            ));
+        };
+        let flat = element_index(array, Some(&name.name), at)?;
+        let list = if Arc::get_mut(array).is_some() { 0 } else { array.chunk_count() };
+        let copied = list + Arc::make_mut(array).set(flat, value);
+        self.count_array_elements(copied, &name.span)
+    }
+
+    /// Counts `made` more elements (or chunk pointers) made or copied in this scene.
+    fn count_array_elements(&mut self, made: usize, at: &Span) -> Result<(), SceneError> {
+        self.array_elements += made as u64;
+        if self.array_elements > MAX_ARRAY_ELEMENTS_MADE {
+            return Err(SceneError::at(
+                at,
+                format!(
+                    "more than {MAX_ARRAY_ELEMENTS_MADE} array elements made or copied in this \
+                     scene"
+                ),
+            ));
         }
-        Ok(Value::Array(Arc::new(Array { dimensions, elements })))
+        Ok(())
     }
 
     fn array_rows(

@@ -4,6 +4,7 @@ use std::collections::HashMap;
 
 use glam::Vec3;
 
+use super::expression::{single, single_vector};
 use super::{Body, Evaluator, as_float, as_vector};
 use crate::diagnostic::{SceneError, Span};
 use crate::lang::syntax::Item;
@@ -39,13 +40,13 @@ impl Evaluator {
         let vector = |key: &str| -> Result<Option<Vec3>, SceneError> {
             given
                 .get(key)
-                .map(|(v, at)| as_vector(v, at, &format!("`{key}`")).map(|v| v.as_vec3()))
+                .map(|(v, at)| single_vector(as_vector(v, at, &format!("`{key}`"))?, at))
                 .transpose()
         };
         let float = |key: &str| -> Result<Option<f32>, SceneError> {
             given
                 .get(key)
-                .map(|(v, at)| as_float(v, at, &format!("`{key}`")).map(|f| f as f32))
+                .map(|(v, at)| single(as_float(v, at, &format!("`{key}`"))?, at))
                 .transpose()
         };
         let require = |key: &str, v: Option<Vec3>| {

@@ -8,8 +8,8 @@ use glam::{DMat3, DVec3, Vec3};
 use super::{Body, EPSILON, Evaluator, as_float, as_vector, element_index};
 use crate::diagnostic::{SceneError, Span};
 use crate::lang::keywords::{Constant, Function};
-use crate::lang::syntax::{BinaryOp, Colour, Expr, ExprKind, UnaryOp};
-use crate::lang::value::Value;
+use crate::lang::syntax::{BinaryOp, Colour, Declare, Declared, Expr, ExprKind, UnaryOp};
+use crate::lang::value::{MAX_STRING_BYTES, Value};
 
 impl Evaluator {
     /// Evaluates an expression; a result that is not finite is an error at the expression.
@@ -55,8 +55,7 @@ impl Evaluator {
     }
 
     pub(super) fn vec3(&mut self, expr: &Expr) -> Result<Vec3, SceneError> {
-        let v = self.vector(expr)?;
-        Ok(Vec3::new(single(v.x, &expr.span)?, single(v.y, &expr.span)?, single(v.z, &expr.span)?))
+        single_vector(self.vector(expr)?, &expr.span)
     }
 
     pub(super) fn nonzero(&mut self, expr: &Expr, what: &str) -> Result<Vec3, SceneError> {
@@ -124,13 +123,55 @@ impl Evaluator {
 
     /// A string where `what` needs one (a file name, a message).
     pub(super) fn string(&mut self, expr: &Expr, what: &str) -> Result<String, SceneError> {
+        self.text(expr, what).map(|s| s.to_string())
+    }
+
+    /// A string where `what` needs one, shared with where it came from.
+    pub(super) fn text(&mut self, expr: &Expr, what: &str) -> Result<Arc<String>, SceneError> {
         match self.value(expr)? {
-            Value::String(s) => Ok(s.to_string()),
+            Value::String(s) => Ok(s),
             other => Err(SceneError::at(
                 &expr.span,
                 format!("{what} needs a string, not {}", other.kind()),
             )),
         }
+    }
+
+    /// `#declare S = concat(S, ...)` (or `#local`): appends to the string S holds, in place where
+    /// no other variable shares it, so that a loop of appends takes time linear in the length
+    /// made. False (nothing evaluated) where the declaration is not such an append.
+    pub(super) fn append_in_place(&mut self, declare: &Declare) -> Result<bool, SceneError> {
+        let Declare { local, name, indices, value, .. } = declare;
+        let Declared::Value(Expr { kind: ExprKind::Function(Function::Concat, args), span }) =
+            value
+        else {
+            return Ok(false);
+        };
+        let Some(ExprKind::Ident(first)) = args.first().map(|a| &a.kind) else {
+            return Ok(false);
+        };
+        let before = match self.slot_mut(&name.name, *local) {
+            Some(Value::String(s)) if *first == name.name && indices.is_empty() => s.clone(),
+            _ => return Ok(false),
+        };
+        let mut parts = Vec::with_capacity(args.len() - 1);
+        for arg in &args[1..] {
+            parts.push(self.text(arg, "`concat`")?);
+        }
+        let text = match self.slot_mut(&name.name, *local) {
+            Some(Value::String(s)) if Arc::ptr_eq(s, &before) => {
+                drop(before);
+                return append(Arc::make_mut(s), &parts, span).map(|()| true);
+            }
+            // A macro among the parts changed S: the value read first is the one concatenated.
+            _ => {
+                let mut text = before.to_string();
+                append(&mut text, &parts, span)?;
+                text
+            }
+        };
+        self.bind(&name.name, Value::String(Arc::new(text)), *local);
+        Ok(true)
     }
 
     /// A colour: `rgb <r, g, b>`, `rgb s`, or an expression; components must not be negative.
@@ -148,7 +189,7 @@ impl Evaluator {
         let at = &expr.span;
         Ok(match &expr.kind {
             ExprKind::Number(f) => Value::Float(*f),
-            ExprKind::String(s) => Value::String(Arc::from(s.as_str())),
+            ExprKind::String(s) => Value::String(Arc::new(s.clone())),
             ExprKind::Constant(c) => match c {
                 Constant::Pi => Value::Float(std::f64::consts::PI),
                 Constant::X => Value::Vector(DVec3::X),
@@ -271,7 +312,7 @@ impl Evaluator {
             _ => None,
         };
         let flat = element_index(&array, name, &at)?;
-        array.elements[flat].clone().ok_or_else(|| {
+        array.get(flat).cloned().ok_or_else(|| {
             let shown: String = at.iter().map(|(i, _)| format!("[{i}]")).collect();
             let element = format!("{}{shown}", name.unwrap_or("the array"));
             SceneError::at(
@@ -383,15 +424,16 @@ impl Evaluator {
             Concat => {
                 let mut text = String::new();
                 for arg in args {
-                    text.push_str(&self.string(arg, "`concat`")?);
+                    let part = self.text(arg, "`concat`")?;
+                    append(&mut text, &[part], at)?;
                 }
-                Value::String(Arc::from(text))
+                Value::String(Arc::new(text))
             }
             Str => {
                 let x = number(self, 0)?;
                 let width = number(self, 1)?;
                 let decimals = number(self, 2)?;
-                Value::String(Arc::from(format_number(x, width, decimals)))
+                Value::String(Arc::new(format_number(x, width, decimals)))
             }
             DimensionSize => {
                 let array = match self.value(&args[0])? {
@@ -415,6 +457,19 @@ impl Evaluator {
             }
         })
     }
+}
+
+/// Appends `parts` to `text`, within the bound on a string's length (an error at `at`).
+fn append(text: &mut String, parts: &[Arc<String>], at: &Span) -> Result<(), SceneError> {
+    let length = text.len() + parts.iter().map(|p| p.len()).sum::<usize>();
+    if length > MAX_STRING_BYTES {
+        return Err(SceneError::at(
+            at,
+            format!("a string of {length} bytes: at most {MAX_STRING_BYTES} are allowed"),
+        ));
+    }
+    parts.iter().for_each(|p| text.push_str(p));
+    Ok(())
 }
 
 /// `str(value, width, decimals)`: at least |width| characters, padded with zeros on the left
@@ -567,6 +622,11 @@ pub(super) fn single(value: f64, at: &Span) -> Result<f32, SceneError> {
         ));
     }
     Ok(single)
+}
+
+/// A vector as f32, each component checked as `single` does.
+pub(super) fn single_vector(v: DVec3, at: &Span) -> Result<Vec3, SceneError> {
+    Ok(Vec3::new(single(v.x, at)?, single(v.y, at)?, single(v.z, at)?))
 }
 
 #[cfg(test)]

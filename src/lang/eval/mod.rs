@@ -47,19 +47,32 @@ pub const MAX_OBJECT_DEPTH: u32 = 256;
 /// thread's stack (about 3 KiB a level).
 pub const MAX_CSG_DEPTH: u32 = 64;
 
+/// Operands of one intersection, difference or merge: a ray that meets the object is tested
+/// against each of them (a difference of 10^5 spheres traced 3000 times slower than their union).
+pub const MAX_CSG_OPERANDS: usize = 1024;
+
 /// Macro calls may nest this deep (a macro calling itself counts each call).
 pub const MAX_MACRO_DEPTH: usize = 256;
+
+/// Macro calls of one scene together: the language's work budget beside the loop turns (a
+/// macro calling itself twice would otherwise run for 2^depth calls, at some hundred
+/// nanoseconds a call).
+pub const MAX_MACRO_CALLS: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 1_000_000 };
 
 /// Objects the interpreter makes in one scene (each object written, every time it is evaluated;
 /// a mesh is one): a loop making unions of objects is stopped at about half a gigabyte, before
 /// the build counts primitives. `object { Name }` counts one, however much `Name` holds.
 pub const MAX_OBJECTS_MADE: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 1 << 22 };
 
+/// Array elements made or copied in one scene (chunk pointers count one each): some half a
+/// gigabyte. An array declared without elements makes one chunk however large it is.
+pub const MAX_ARRAY_ELEMENTS_MADE: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 1 << 24 };
+
 /// Turns of all `#while` and `#for` loops of one scene together.
 pub const MAX_LOOP_TURNS: u64 = if cfg!(fuzzing) { FUZZING_BUDGET } else { 10_000_000 };
 
 /// The fuzz targets run each input under a sanitizer, many times slower: there the budgets of
-/// loops and objects are smaller, so that a loop that never ends is refused in a fraction of a
+/// loops, macro calls and objects are smaller, so that a loop that never ends is refused in a fraction of a
 /// second rather than read as a hang. The checks themselves are the same.
 const FUZZING_BUDGET: u64 = 100_000;
 
@@ -91,6 +104,8 @@ pub struct Evaluator {
     /// in their spans, so that errors found while building the scene name them.
     context: Option<Arc<Context>>,
     loop_turns: u64,
+    macro_calls: u64,
+    array_elements: u64,
     includes: u32,
     included_bytes: u64,
     /// Texture nodes made or copied so far.
@@ -251,7 +266,10 @@ impl Evaluator {
                 };
                 match kind {
                     MessageKind::Debug => eprint!("{text}"),
-                    MessageKind::Warning => eprintln!("{span:?}: warning: {text}"),
+                    // Clipped and escaped as an error's text is.
+                    MessageKind::Warning => {
+                        eprintln!("{span:?}: warning: {}", crate::diagnostic::printable(&text))
+                    }
                     MessageKind::Error => return Err(SceneError::at(span, text.to_string())),
                 }
                 Ok(())
@@ -324,7 +342,7 @@ impl Evaluator {
                     SceneError::at(span, "the light_source needs `power rgb <r, g, b>`")
                 })?;
                 self.lights.push(PointLightDesc {
-                    position: position.as_vec3(),
+                    position: expression::single_vector(position, &at)?,
                     power,
                     span: self.here(span),
                 });
@@ -419,6 +437,9 @@ impl Evaluator {
     }
 
     fn declare(&mut self, declare: &Declare) -> Result<(), SceneError> {
+        if self.append_in_place(declare)? {
+            return Ok(());
+        }
         let Declare { local, name, indices, value, .. } = declare;
         let value = self.declared(value, Some(&name.name))?;
         if indices.is_empty() {
@@ -429,19 +450,7 @@ impl Evaluator {
         for index in indices {
             at.push((self.number(index, "an index")?, index.span.clone()));
         }
-        if self.slot_mut(&name.name, *local).is_none() {
-            return Err(self.unknown(name));
-        }
-        let slot = self.slot_mut(&name.name, *local).expect("checked above");
-        let Value::Array(array) = slot else {
-            return Err(SceneError::at(
-                &name.span,
-                format!("`{}` is {}, not an array", name.name, slot.kind()),
-            ));
-        };
-        let flat = element_index(array, Some(&name.name), &at)?;
-        Arc::make_mut(array).elements[flat] = Some(value);
-        Ok(())
+        self.set_element(name, *local, &at, value)
     }
 
     /// A `#declare`d value; `name` (the declared name) names a material in messages.
@@ -575,6 +584,16 @@ impl Evaluator {
             return Err(SceneError::at(
                 &call.span,
                 format!("macro calls nested more than {MAX_MACRO_DEPTH} deep"),
+            ));
+        }
+        self.macro_calls += 1;
+        if self.macro_calls > MAX_MACRO_CALLS {
+            return Err(SceneError::at(
+                &call.span,
+                format!(
+                    "more than {MAX_MACRO_CALLS} macro calls in this scene (does a macro call \
+                     itself without end?)"
+                ),
             ));
         }
         let mut scope = Scope::default();

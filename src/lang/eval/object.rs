@@ -4,8 +4,10 @@ use std::sync::Arc;
 
 use glam::{Mat3, Vec3};
 
+use super::expression::{single, single_vector};
 use super::{
-    Body, Evaluator, MAX_CSG_DEPTH, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE, as_vector, resolve,
+    Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE,
+    as_vector, resolve,
 };
 use crate::diagnostic::SceneError;
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
@@ -155,7 +157,22 @@ impl Evaluator {
                 format!("objects nested more than {MAX_OBJECT_DEPTH} levels deep"),
             ));
         }
-        if let ShapeNode::Csg { .. } = node.shape {
+        if let ShapeNode::Csg { op, operands } = &node.shape {
+            if operands.len() > MAX_CSG_OPERANDS {
+                let what = match op {
+                    CsgOp::Intersection => "an intersection",
+                    CsgOp::Difference => "a difference",
+                    CsgOp::Merge => "a merge",
+                };
+                return Err(SceneError::at(
+                    &object.span,
+                    format!(
+                        "{what} of {} operands: at most {MAX_CSG_OPERANDS} are allowed (a ray is \
+                         tested against every operand)",
+                        operands.len()
+                    ),
+                ));
+            }
             if self.csg_levels(&node) > MAX_CSG_DEPTH {
                 return Err(SceneError::at(
                     &object.span,
@@ -236,13 +253,13 @@ impl Evaluator {
         let value = self.value(&t.value)?;
         Ok(match t.kind {
             TransformKind::Translate => {
-                Transform::Translate(as_vector(&value, at, "`translate`")?.as_vec3())
+                Transform::Translate(single_vector(as_vector(&value, at, "`translate`")?, at)?)
             }
             TransformKind::Rotate => {
-                Transform::Rotate(as_vector(&value, at, "`rotate`")?.as_vec3())
+                Transform::Rotate(single_vector(as_vector(&value, at, "`rotate`")?, at)?)
             }
             TransformKind::Scale => {
-                let s = as_vector(&value, at, "`scale`")?.as_vec3();
+                let s = single_vector(as_vector(&value, at, "`scale`")?, at)?;
                 if s.cmpeq(Vec3::ZERO).any() {
                     let (x, y, z) = (s.x, s.y, s.z);
                     return Err(SceneError::at(
@@ -264,7 +281,8 @@ impl Evaluator {
                         ));
                     }
                 };
-                let m: Vec<f32> = numbers.iter().map(|&f| f as f32).collect();
+                let m: Vec<f32> =
+                    numbers.iter().map(|&f| single(f, at)).collect::<Result<_, _>>()?;
                 let linear = Mat3::from_cols_slice(&m[..9]);
                 if linear.determinant().abs() < 1e-12 {
                     return Err(SceneError::at(
