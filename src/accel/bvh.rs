@@ -570,7 +570,7 @@ fn partition(items: &mut [Item], left: impl Fn(&Item) -> bool) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{PlanarKind, Shape};
+    use crate::geometry::{Planar, PlanarKind, Shape};
     use crate::sampling::{Sampler, uniform_sphere};
 
     /// Random small triangles and spheres in the unit cube, as a BVH would see a scene.
@@ -585,7 +585,13 @@ mod tests {
                 } else {
                     let (edge1, edge2) = ((point() - 0.5) * 0.2, (point() - 0.5) * 0.2);
                     let normal = edge1.cross(edge2).normalize();
-                    Shape::Planar { kind: PlanarKind::Triangle, origin, edge1, edge2, normal }
+                    Shape::Planar(Planar {
+                        kind: PlanarKind::Triangle,
+                        origin,
+                        edge1,
+                        edge2,
+                        normal,
+                    })
                 }
             })
             .collect()

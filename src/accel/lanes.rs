@@ -9,7 +9,7 @@
 use glam::{BVec4A, Vec4};
 
 use crate::geometry::{
-    Hit, HitLanes, LANES, Lane, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error,
+    Hit, HitLanes, LANES, Lane, Planar, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error,
     sphere_error,
 };
 
@@ -108,15 +108,9 @@ impl FewShapes {
         let faces: Vec<(u32, Shape)> = shapes
             .into_iter()
             .flat_map(|(name, shape)| match shape {
-                Shape::Box(cuboid) => cuboid
-                    .faces
-                    .iter()
-                    .map(|f| {
-                        let (kind, origin, edge1, edge2, normal) =
-                            (f.kind, f.origin, f.edge1, f.edge2, f.normal);
-                        (name, Shape::Planar { kind, origin, edge1, edge2, normal })
-                    })
-                    .collect::<Vec<_>>(),
+                Shape::Box(cuboid) => {
+                    cuboid.faces.iter().map(|&face| (name, Shape::Planar(face))).collect::<Vec<_>>()
+                }
                 shape => vec![(name, shape.clone())],
             })
             .collect();
@@ -133,7 +127,7 @@ impl FewShapes {
                     radius_squared: Vec4::splat(radius * radius),
                     error: Vec4::splat(sphere_error(center, radius)),
                 },
-                Shape::Planar { kind, origin, edge1, edge2, normal } => Simple::Planar {
+                Shape::Planar(Planar { kind, origin, edge1, edge2, normal }) => Simple::Planar {
                     kind,
                     origin: Vec3x4::splat(origin),
                     edge1: Vec3x4::splat(edge1),
@@ -278,7 +272,7 @@ impl Simple {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Cuboid, Face};
+    use crate::geometry::Cuboid;
     use crate::sampling::{Sampler, uniform_sphere};
     use glam::Vec3;
 
@@ -300,13 +294,13 @@ mod tests {
             let (edge1, edge2) = (Vec3::new(0.3, 0.1, 0.0), Vec3::new(0.0, 0.2, 0.4));
             let (edge1, edge2) = if k % 2 == 0 { (edge1, edge2) } else { (edge2, edge1) };
             let normal = edge1.cross(edge2).normalize();
-            shapes.push(Shape::Planar { kind, origin, edge1, edge2, normal });
+            shapes.push(Shape::Planar(Planar { kind, origin, edge1, edge2, normal }));
         }
         // A box, as `scene::build` makes one: tested as its six faces.
         let (lo, size) = (Vec3::new(-0.2, -0.35, 0.05), Vec3::new(0.3, 0.2, 0.25));
         let [x, y, z] = [Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z];
         let hi = lo + size;
-        let quad = |origin, e1, e2| Face::new(PlanarKind::Quad, origin, e1, e2);
+        let quad = |origin, e1, e2| Planar::new(PlanarKind::Quad, origin, e1, e2);
         let faces = [
             quad(lo, z, y),
             quad(hi, -y, -z),

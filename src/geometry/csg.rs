@@ -8,8 +8,8 @@
 use arrayvec::ArrayVec;
 use glam::Vec3;
 
+use super::crossings::{Crossing, Crossings};
 use super::shape::Intersection;
-use super::solid::{Crossing, Crossings};
 use super::{Aabb, Hit, Ray, Shape};
 
 /// How a CSG node combines its children.

@@ -1,31 +1,26 @@
-//! World-space shapes: intersection, bounds, area and uniform area sampling.
+//! World-space shapes: what a ray meets, bounds, area and uniform area sampling, and for
+//! solids where a ray crosses them and what is inside. Each kind's own code is in its file;
+//! here every query is dispatched over every kind.
 
 use std::sync::Arc;
 
-use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
+use glam::{Affine3A, Mat3A, Vec2, Vec3};
 
+use super::cone::Cone;
+use super::crossings::Crossings;
 use super::csg::Csg;
-use super::solid::{Cone, Cuboid};
+use super::cuboid::Cuboid;
+use super::planar::Planar;
+use super::quadratic::quadratic_roots_with;
+use super::quadric::{QuadricFrame, QuadricKind};
 use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
 use super::{Aabb, Hit, Ray};
-use crate::sampling::{concentric_disk, uniform_sphere, uniform_triangle};
+use crate::sampling::uniform_sphere;
 
 /// Relative error allowance for computed hit points: a few hundred ulps of the coordinates'
 /// magnitude, so that spawned rays clear the surface at any scene scale.
 pub(crate) const REL_ERROR: f32 = 256.0 * f32::EPSILON;
-
-/// Planar shapes are parameterised as `origin + s * edge1 + t * edge2`; the kind says which
-/// (s, t) are inside. An affine transform keeps them planar, so they are stored in world space.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PlanarKind {
-    /// s, t >= 0, s + t <= 1
-    Triangle,
-    /// s, t in [0, 1]
-    Quad,
-    /// s^2 + t^2 <= 1, with `origin` the centre (an ellipse under non-uniform scale)
-    Disk,
-}
 
 #[derive(Debug, Clone)]
 pub enum Shape {
@@ -38,13 +33,8 @@ pub enum Shape {
         center: Vec3,
         radius: f32,
     },
-    Planar {
-        kind: PlanarKind,
-        origin: Vec3,
-        edge1: Vec3,
-        edge2: Vec3,
-        normal: Vec3,
-    },
+    /// A triangle, quad or disk.
+    Planar(Planar),
     /// The unit sphere, or the open tube x^2 + y^2 = 1, 0 <= z <= 1, under an affine map
     /// (a sphere under non-uniform scale, the side of a cylinder).
     Quadric {
@@ -65,56 +55,6 @@ pub enum Shape {
     Torus(Box<Torus>),
     /// A CSG solid: one primitive whose surfaces belong to its operands.
     Csg(Box<Csg>),
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum QuadricKind {
-    Ellipsoid,
-    Tube,
-}
-
-/// The maps between a quadric's canonical space and the world.
-#[derive(Debug, Clone)]
-pub struct QuadricFrame {
-    pub to_world: Affine3A,
-    pub to_object: Affine3A,
-    /// Inverse transpose of `to_world`'s linear part: maps normals.
-    pub normal_to_world: Mat3A,
-    /// The world-space area, when uniform sampling of the canonical parameters (z and angle
-    /// for the tube, the sphere's directions) is uniform by area: when the map from the
-    /// canonical shape is a similarity up to the tube's own radius and height.
-    pub area: Option<f32>,
-    /// Magnitude of the world coordinates, for the hit point's error bound.
-    pub magnitude: f32,
-}
-
-impl QuadricFrame {
-    pub fn new(to_world: Affine3A, area: Option<f32>) -> Self {
-        let corners = Self::canonical_corners().map(|c| to_world.transform_point3(c).abs());
-        QuadricFrame {
-            to_world,
-            to_object: to_world.inverse(),
-            normal_to_world: to_world.matrix3.inverse().transpose(),
-            area,
-            magnitude: corners.iter().fold(0.0f32, |m, c| m.max(c.max_element())),
-        }
-    }
-
-    /// The ray in canonical space, direction not normalised (so distances are the world's).
-    pub(super) fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
-        (self.to_object.transform_point3a(ray.origin), self.to_object.transform_vector3a(ray.dir))
-    }
-
-    /// Corners of a box holding both canonical quadrics.
-    pub(super) fn canonical_corners() -> [Vec3; 8] {
-        std::array::from_fn(|i| {
-            Vec3::new(
-                if i & 1 == 0 { -1.0 } else { 1.0 },
-                if i & 2 == 0 { -1.0 } else { 1.0 },
-                if i & 4 == 0 { -1.0 } else { 1.0 },
-            )
-        })
-    }
 }
 
 /// A point on a surface with its unit normal (the shape's own orientation).
@@ -164,15 +104,12 @@ impl Shape {
             Shape::Sphere { center, radius } => {
                 sphere_distance(*center, *radius, ray, t_max).map(Intersection::at)
             }
-            Shape::Planar { kind, origin, edge1, edge2, .. } => {
-                let (t, s, u) = planar_distance(*kind, *origin, *edge1, *edge2, ray, t_max)?;
-                Some(Intersection { t, st: Vec2::new(s, u), triangle: 0, part: 0 })
-            }
+            Shape::Planar(planar) => planar.intersection(ray, t_max),
             Shape::Quadric { kind, frame } => {
-                let (o, d) = frame.ray_to_object(ray);
-                quadric_distance(*kind, o, d, t_max).map(Intersection::at)
+                kind.intersection(frame, ray, t_max).map(Intersection::at)
             }
-            Shape::Box(_) | Shape::Cone(_) => self.solid_intersection(ray, t_max),
+            Shape::Box(cuboid) => cuboid.intersection(ray, t_max),
+            Shape::Cone(cone) => cone.intersection(ray, t_max),
             Shape::Torus(torus) => torus.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
@@ -205,36 +142,14 @@ impl Shape {
                 let normal = (ray.at(t) - *center).normalize();
                 surface(*center + *radius * normal, normal, sphere_error(*center, *radius))
             }
-            Shape::Planar { origin, edge1, edge2, normal, .. } => surface(
-                *origin + at.st.x * *edge1 + at.st.y * *edge2,
-                *normal,
-                planar_error(*origin, *edge1, *edge2),
-            ),
-            Shape::Quadric { kind, frame } => {
-                let (o, d) = frame.ray_to_object(ray);
-                let p = o + t * d;
-                // Back onto the surface, then to the world.
-                let (p, n) = match kind {
-                    QuadricKind::Ellipsoid => {
-                        let n = p.normalize();
-                        (n, n)
-                    }
-                    QuadricKind::Tube => {
-                        let radial = Vec3A::new(p.x, p.y, 0.0).normalize();
-                        (radial + Vec3A::new(0.0, 0.0, p.z), radial)
-                    }
-                };
-                surface(
-                    frame.to_world.transform_point3a(p).into(),
-                    (frame.normal_to_world * n).normalize().into(),
-                    REL_ERROR * frame.magnitude,
-                )
-            }
+            Shape::Planar(planar) => planar.hit(t, at.st),
+            Shape::Quadric { kind, frame } => kind.hit(frame, ray, t),
             Shape::Mesh { mesh, placement: None } => mesh.hit(at),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 placement.hit_to_world(mesh.hit(at))
             }
-            Shape::Box(_) | Shape::Cone(_) => self.solid_hit(ray, at).expect("a solid's hit"),
+            Shape::Box(cuboid) => cuboid.hit(at),
+            Shape::Cone(cone) => cone.hit(ray, at),
             Shape::Torus(torus) => torus.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
         }
@@ -248,7 +163,15 @@ impl Shape {
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.occluded(&placement.ray_to_object(ray), t_max)
             }
-            _ => self.intersection(ray, t_max).is_some(),
+            // The closest hit is as cheap as any hit.
+            Shape::Plane { .. }
+            | Shape::Sphere { .. }
+            | Shape::Planar(_)
+            | Shape::Quadric { .. }
+            | Shape::Box(_)
+            | Shape::Cone(_)
+            | Shape::Torus(_)
+            | Shape::Csg(_) => self.intersection(ray, t_max).is_some(),
         }
     }
 
@@ -260,25 +183,8 @@ impl Shape {
                 min: center - Vec3::splat(*radius),
                 max: center + Vec3::splat(*radius),
             }),
-            Shape::Planar { kind: PlanarKind::Triangle, origin, edge1, edge2, .. } => {
-                Some(Aabb::from_points(&[*origin, origin + edge1, origin + edge2]))
-            }
-            Shape::Planar { kind: PlanarKind::Quad, origin, edge1, edge2, .. } => {
-                Some(Aabb::from_points(&[
-                    *origin,
-                    origin + edge1,
-                    origin + edge2,
-                    origin + edge1 + edge2,
-                ]))
-            }
-            Shape::Planar { kind: PlanarKind::Disk, origin, edge1, edge2, .. } => {
-                // The ellipse origin + cos(a) e1 + sin(a) e2 reaches sqrt(e1_i^2 + e2_i^2) on axis i.
-                let half = (edge1 * edge1 + edge2 * edge2).map(f32::sqrt);
-                Some(Aabb { min: origin - half, max: origin + half })
-            }
-            Shape::Quadric { frame, .. } => Some(Aabb::from_points(
-                &QuadricFrame::canonical_corners().map(|c| frame.to_world.transform_point3(c)),
-            )),
+            Shape::Planar(planar) => Some(planar.bounds()),
+            Shape::Quadric { frame, .. } => Some(frame.bounds()),
             Shape::Mesh { mesh, placement } => {
                 let local = mesh.bounds();
                 Some(match placement {
@@ -289,7 +195,8 @@ impl Shape {
                     })),
                 })
             }
-            Shape::Box(_) | Shape::Cone(_) => self.solid_bounds(),
+            Shape::Box(cuboid) => Some(cuboid.bounds()),
+            Shape::Cone(cone) => Some(cone.bounds()),
             Shape::Torus(torus) => Some(torus.bounds()),
             Shape::Csg(csg) => csg.bounds(),
         }
@@ -300,16 +207,10 @@ impl Shape {
         match self {
             Shape::Plane { .. } | Shape::Mesh { .. } => None,
             Shape::Sphere { radius, .. } => Some(4.0 * std::f32::consts::PI * radius * radius),
-            Shape::Planar { kind, edge1, edge2, .. } => {
-                let parallelogram = edge1.cross(*edge2).length();
-                Some(match kind {
-                    PlanarKind::Triangle => 0.5 * parallelogram,
-                    PlanarKind::Quad => parallelogram,
-                    PlanarKind::Disk => std::f32::consts::PI * parallelogram,
-                })
-            }
+            Shape::Planar(planar) => Some(planar.area()),
             Shape::Quadric { frame, .. } => frame.area,
-            Shape::Box(_) | Shape::Cone(_) => self.solid_area(),
+            Shape::Box(cuboid) => Some(cuboid.area),
+            Shape::Cone(cone) => cone.area(),
             Shape::Torus(torus) => torus.area(),
             // Its surfaces are parts of its operands': not sampled as a light.
             Shape::Csg(_) => None,
@@ -320,40 +221,55 @@ impl Shape {
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
             Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) => None,
-            Shape::Box(_) | Shape::Cone(_) => self.solid_sample(u),
+            Shape::Box(cuboid) => Some(cuboid.sample(u)),
+            Shape::Cone(cone) => cone.sample(u),
             Shape::Torus(torus) => torus.sample(u),
             Shape::Sphere { center, radius } => {
                 let normal = uniform_sphere(u);
                 let point = center + *radius * normal;
                 Some(SurfaceSample { point, normal, error: sphere_error(*center, *radius) })
             }
-            Shape::Planar { kind, origin, edge1, edge2, normal } => {
-                let (s, t) = planar_coordinates(*kind, u).into();
-                Some(SurfaceSample {
-                    point: origin + s * edge1 + t * edge2,
-                    normal: *normal,
-                    error: planar_error(*origin, *edge1, *edge2),
-                })
+            Shape::Planar(planar) => Some(planar.sample(u)),
+            Shape::Quadric { kind, frame } => kind.sample(frame, u),
+        }
+    }
+
+    /// Where the ray crosses the solid's surface in (0, t_max), and whether it starts inside.
+    /// (Not a solid: no crossings, never inside.)
+    pub fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
+        match self {
+            Shape::Plane { normal, offset } => plane_crossings(*normal, *offset, ray, t_max),
+            Shape::Sphere { center, radius } => {
+                Crossings::between(sphere_roots(*center, *radius, ray), t_max)
             }
-            Shape::Quadric { kind, frame } => {
-                frame.area?;
-                let (p, n) = match kind {
-                    QuadricKind::Ellipsoid => {
-                        let n = uniform_sphere(u);
-                        (n, n)
-                    }
-                    QuadricKind::Tube => {
-                        let phi = 2.0 * std::f32::consts::PI * u.y;
-                        let n = Vec3::new(phi.cos(), phi.sin(), 0.0);
-                        (n + Vec3::new(0.0, 0.0, u.x), n)
-                    }
-                };
-                Some(SurfaceSample {
-                    point: frame.to_world.transform_point3(p),
-                    normal: (frame.normal_to_world * Vec3A::from(n)).normalize().into(),
-                    error: REL_ERROR * frame.magnitude,
-                })
-            }
+            Shape::Quadric { kind, frame } => kind.crossings(frame, ray, t_max),
+            Shape::Box(cuboid) => cuboid.crossings(ray, t_max),
+            Shape::Cone(cone) => cone.crossings(ray, t_max),
+            Shape::Torus(torus) => torus.crossings(ray, t_max),
+            Shape::Mesh { mesh, placement } => match placement {
+                None => mesh.crossings(ray, t_max),
+                Some(placement) => mesh.crossings(&placement.ray_to_object(ray), t_max),
+            },
+            Shape::Csg(csg) => csg.crossings(ray, t_max),
+            Shape::Planar(_) => Crossings::outside(),
+        }
+    }
+
+    /// Whether `p` is inside the solid (false for shapes that are not solids).
+    pub fn contains(&self, p: Vec3) -> bool {
+        match self {
+            Shape::Plane { normal, offset } => normal.dot(p) + offset < 0.0,
+            Shape::Sphere { center, radius } => p.distance_squared(*center) < radius * radius,
+            Shape::Quadric { kind, frame } => kind.contains(frame, p),
+            Shape::Box(cuboid) => cuboid.contains(p),
+            Shape::Cone(cone) => cone.contains(p),
+            Shape::Torus(torus) => torus.contains(p),
+            Shape::Mesh { mesh, placement } => match placement {
+                None => mesh.contains(p),
+                Some(placement) => mesh.contains(placement.to_object.transform_point3(p)),
+            },
+            Shape::Csg(csg) => csg.contains(p),
+            Shape::Planar(_) => false,
         }
     }
 }
@@ -367,25 +283,23 @@ pub fn similarity_scale(m: &Affine3A) -> Option<f32> {
     off.to_cols_array().iter().all(|e| e.abs() <= 1e-5 * s2).then(|| s2.sqrt())
 }
 
-/// Error bound of a point on a sphere (its coordinates are at most |center| + radius).
-pub fn sphere_error(center: Vec3, radius: f32) -> f32 {
-    REL_ERROR * (center.abs().max_element() + radius)
-}
-
-/// The coordinates along the edges of a point uniform in the area of a planar shape, from a
-/// point `u` of the unit square.
-pub fn planar_coordinates(kind: PlanarKind, u: Vec2) -> Vec2 {
-    match kind {
-        PlanarKind::Triangle => uniform_triangle(u),
-        PlanarKind::Quad => u,
-        PlanarKind::Disk => concentric_disk(u),
+/// Picks one of several parts of a surface in proportion to its area with `u.x`, and reuses
+/// what is left of `u.x` for a point on it.
+pub(super) fn choose_part(areas: impl Iterator<Item = f32>, total: f32, u: Vec2) -> (usize, Vec2) {
+    let target = u.x * total;
+    let mut below = 0.0;
+    let mut last = (0, 0.0, 0.0);
+    for (i, area) in areas.enumerate() {
+        if area > 0.0 {
+            last = (i, below, area);
+            if target < below + area {
+                break;
+            }
+        }
+        below += area;
     }
-}
-
-/// Error bound of a point on a planar shape (its coordinates are at most
-/// |origin| + |edge1| + |edge2|).
-pub fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
-    REL_ERROR * (origin.abs() + edge1.abs() + edge2.abs()).max_element()
+    let (i, below, area) = last;
+    (i, Vec2::new(((target - below) / area).clamp(0.0, 1.0 - f32::EPSILON / 2.0), u.y))
 }
 
 #[inline]
@@ -393,6 +307,24 @@ fn plane_distance(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<f3
     let (origin, dir) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
     let t = -(normal.dot(origin) + offset) / normal.dot(dir);
     (t > 0.0 && t < t_max).then_some(t)
+}
+
+/// The half-space `normal . p + offset < 0` along a ray.
+fn plane_crossings(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Crossings {
+    let (origin, dir) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+    let (side, slope) = (normal.dot(origin) + offset, normal.dot(dir));
+    let t = -side / slope;
+    let mut crossings = Crossings { inside_at_start: side < 0.0, list: Default::default() };
+    if t > 0.0 && t < t_max {
+        crossings.inside_at_start = slope > 0.0;
+        crossings.push(Intersection::at(t), slope < 0.0);
+    }
+    crossings
+}
+
+/// Error bound of a point on a sphere (its coordinates are at most |center| + radius).
+pub fn sphere_error(center: Vec3, radius: f32) -> f32 {
+    REL_ERROR * (center.abs().max_element() + radius)
 }
 
 #[inline]
@@ -404,96 +336,21 @@ fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f
 
 /// Both intersections of the sphere with the ray's line, in order.
 #[inline]
-pub(super) fn sphere_roots(center: Vec3, radius: f32, ray: &Ray) -> Option<(f32, f32)> {
+fn sphere_roots(center: Vec3, radius: f32, ray: &Ray) -> Option<(f32, f32)> {
     let dir = Vec3::from(ray.dir);
     let oc = Vec3::from(ray.origin) - center;
     let b = oc.dot(dir);
     // r^2 - |oc - b d|^2 instead of b^2 - (|oc|^2 - r^2): no cancellation for distant spheres
     // (Ray Tracing Gems, ch. 7).
     let perp = oc - b * dir;
-    let disc = radius * radius - perp.length_squared();
-    if disc < 0.0 {
-        return None;
-    }
-    let root = disc.sqrt();
-    // q = -b - sign(b) root gives the far-from-cancellation root; c / q the other (c = |oc|^2 - r^2).
-    let q = if b > 0.0 { -b - root } else { -b + root };
-    let c = oc.length_squared() - radius * radius;
-    let (a, b) = (q, c / q);
-    Some(if a < b { (a, b) } else { (b, a) })
-}
-
-/// Möller–Trumbore's coordinates (s, t) along edge1 and edge2 of where the ray meets the
-/// plane of a planar shape, inside it or not.
-pub(super) fn planar_unbounded(origin: Vec3, edge1: Vec3, edge2: Vec3, ray: &Ray) -> (f32, f32) {
-    let dir = Vec3::from(ray.dir);
-    let pvec = dir.cross(edge2);
-    let inv_det = 1.0 / edge1.dot(pvec);
-    let tvec = Vec3::from(ray.origin) - origin;
-    (tvec.dot(pvec) * inv_det, dir.dot(tvec.cross(edge1)) * inv_det)
-}
-
-/// Möller–Trumbore: distance and the coordinates (s, t) along edge1 and edge2.
-#[inline]
-pub(super) fn planar_distance(
-    kind: PlanarKind,
-    origin: Vec3,
-    edge1: Vec3,
-    edge2: Vec3,
-    ray: &Ray,
-    t_max: f32,
-) -> Option<(f32, f32, f32)> {
-    let dir = Vec3::from(ray.dir);
-    let pvec = dir.cross(edge2);
-    let det = edge1.dot(pvec);
-    if det == 0.0 {
-        return None;
-    }
-    let inv_det = 1.0 / det;
-    let tvec = Vec3::from(ray.origin) - origin;
-    let s = tvec.dot(pvec) * inv_det;
-    let qvec = tvec.cross(edge1);
-    let t = dir.dot(qvec) * inv_det;
-    let inside = match kind {
-        PlanarKind::Triangle => s >= 0.0 && t >= 0.0 && s + t <= 1.0,
-        PlanarKind::Quad => (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t),
-        PlanarKind::Disk => s * s + t * t <= 1.0,
-    };
-    if !inside {
-        return None;
-    }
-    let distance = edge2.dot(qvec) * inv_det;
-    (distance > 0.0 && distance < t_max).then_some((distance, s, t))
-}
-
-/// Distance along `o + t d` (canonical space, `d` not normalised, so t is the world distance).
-fn quadric_distance(kind: QuadricKind, o: Vec3A, d: Vec3A, t_max: f32) -> Option<f32> {
-    let (a, b, c) = match kind {
-        QuadricKind::Ellipsoid => (d.dot(d), o.dot(d), o.dot(o) - 1.0),
-        QuadricKind::Tube => {
-            (d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - 1.0)
-        }
-    };
-    let disc = b * b - a * c;
-    if a == 0.0 || disc < 0.0 {
-        return None;
-    }
-    let root = disc.sqrt();
-    let q = if b > 0.0 { -b - root } else { -b + root };
-    let (t0, t1) = {
-        let (x, y) = (q / a, c / q);
-        if x < y { (x, y) } else { (y, x) }
-    };
-    let accept = |t: f32| {
-        let in_range = t > 0.0 && t < t_max;
-        in_range && (kind == QuadricKind::Ellipsoid || (0.0..=1.0).contains(&(o.z + t * d.z)))
-    };
-    [t0, t1].into_iter().find(|&t| accept(t))
+    let discriminant = radius * radius - perp.length_squared();
+    quadratic_roots_with(1.0, b, oc.length_squared() - radius * radius, discriminant)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::PlanarKind;
 
     fn ray(origin: Vec3, dir: Vec3) -> Ray {
         Ray::new(origin, dir.normalize())
@@ -510,21 +367,6 @@ mod tests {
         assert!((inside.t - 1.0).abs() < 1e-6);
         assert_eq!(inside.normal, Vec3::X, "outward, whichever side the ray came from");
         assert!(sphere.intersect(&ray(Vec3::ZERO, Vec3::Z), 3.9).is_none(), "t_max respected");
-    }
-
-    #[test]
-    fn planar_kinds_accept_their_own_parameter_domains() {
-        let (origin, edge1, edge2) = (Vec3::new(0.0, 0.0, 1.0), Vec3::X, Vec3::Y);
-        let shape = |kind| Shape::Planar { kind, origin, edge1, edge2, normal: Vec3::Z };
-        let down = |x, y| ray(Vec3::new(x, y, 0.0), Vec3::Z);
-        let hits = |kind, x, y| shape(kind).intersect(&down(x, y), f32::INFINITY).is_some();
-        assert!(hits(PlanarKind::Quad, 0.9, 0.9) && !hits(PlanarKind::Quad, 1.1, 0.5));
-        assert!(hits(PlanarKind::Triangle, 0.4, 0.4) && !hits(PlanarKind::Triangle, 0.6, 0.6));
-        assert!(hits(PlanarKind::Disk, -0.7, 0.7) && !hits(PlanarKind::Disk, 0.8, 0.8));
-        let area = |kind| shape(kind).area().unwrap();
-        assert_eq!(area(PlanarKind::Quad), 1.0);
-        assert_eq!(area(PlanarKind::Triangle), 0.5);
-        assert!((area(PlanarKind::Disk) - std::f32::consts::PI).abs() < 1e-6);
     }
 
     #[test]
@@ -563,13 +405,7 @@ mod tests {
     fn area_samples_lie_on_the_shape() {
         let shapes = [
             Shape::Sphere { center: Vec3::ONE, radius: 2.0 },
-            Shape::Planar {
-                kind: PlanarKind::Disk,
-                origin: Vec3::ZERO,
-                edge1: Vec3::X,
-                edge2: Vec3::Y,
-                normal: Vec3::Z,
-            },
+            Shape::Planar(Planar::new(PlanarKind::Disk, Vec3::ZERO, Vec3::X, Vec3::Y)),
         ];
         for shape in &shapes {
             for i in 0..100 {
@@ -581,5 +417,18 @@ mod tests {
                 assert!((hit.point - s.point).length() < 1e-4, "{shape:?} {u}");
             }
         }
+    }
+
+    #[test]
+    fn choosing_parts_by_area_reuses_u() {
+        let areas = [1.0, 0.0, 3.0];
+        assert_eq!(
+            choose_part(areas.into_iter(), 4.0, Vec2::new(0.1, 0.5)),
+            (0, Vec2::new(0.4, 0.5))
+        );
+        let (part, u) = choose_part(areas.into_iter(), 4.0, Vec2::new(0.625, 0.5));
+        assert_eq!(part, 2);
+        assert!((u.x - 0.5).abs() < 1e-6);
+        assert_eq!(choose_part(areas.into_iter(), 4.0, Vec2::new(0.9999, 0.5)).0, 2);
     }
 }

@@ -10,8 +10,9 @@ use std::f64::consts::PI as PI64;
 use arrayvec::ArrayVec;
 use glam::{Affine3A, DMat3, DVec3, Vec2, Vec3, Vec3A};
 
-use super::shape::{Intersection, QuadricFrame, REL_ERROR, SurfaceSample};
-use super::solid::Crossings;
+use super::crossings::Crossings;
+use super::quadric::QuadricFrame;
+use super::shape::{Intersection, REL_ERROR, SurfaceSample};
 use super::{Aabb, Hit, Ray};
 
 #[derive(Debug, Clone)]

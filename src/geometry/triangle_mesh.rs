@@ -7,8 +7,8 @@ use std::ops::Range;
 use bytemuck::{Pod, Zeroable};
 use glam::{Affine3A, BVec4A, Mat3A, Vec2, Vec3, Vec3A, Vec4};
 
+use super::crossings::Crossings;
 use super::shape::Intersection;
-use super::solid::Crossings;
 use super::{Aabb, Hit, Ray, Vec3x4};
 use crate::accel::{Bvh, HugeArray, prefetch};
 use crate::mesh::Mesh;

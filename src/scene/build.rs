@@ -13,7 +13,7 @@ use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::SceneError;
 use crate::geometry::{
-    Cone, Csg, CsgNode, CsgOp, Cuboid, Face, Placement, PlanarKind, QuadricFrame, QuadricKind,
+    Cone, Csg, CsgNode, CsgOp, Cuboid, Placement, Planar, PlanarKind, QuadricFrame, QuadricKind,
     Shape, Torus, TriangleMesh, similarity_scale,
 };
 use crate::light::Light;
@@ -473,12 +473,9 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         let (origin, e1, e2) =
             (m.transform_point3(origin), m.transform_vector3(e1), m.transform_vector3(e2));
         let (e1, e2) = if mirrored { (e2, e1) } else { (e1, e2) };
-        Face::new(kind, origin, e1, e2)
+        Planar::new(kind, origin, e1, e2)
     };
-    let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| {
-        let Face { kind, origin, edge1, edge2, normal } = face(kind, origin, e1, e2);
-        Shape::Planar { kind, origin, edge1, edge2, normal }
-    };
+    let planar = |kind, origin: Vec3, e1: Vec3, e2: Vec3| Shape::Planar(face(kind, origin, e1, e2));
     // A disk (or cone cap) with the given centre and unit normal.
     let disk = |center: Vec3, normal: Vec3, radius: f32| {
         let (t, b) = tangents(normal);
@@ -564,9 +561,7 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             vec![planar(PlanarKind::Quad, corner, edge1, edge2)]
         }
         ShapeNode::Disk { center, normal, radius } => {
-            let Face { kind, origin, edge1, edge2, normal } =
-                disk(center, normal.normalize(), radius);
-            vec![Shape::Planar { kind, origin, edge1, edge2, normal }]
+            vec![Shape::Planar(disk(center, normal.normalize(), radius))]
         }
         ShapeNode::Cylinder { base, cap, radius } => vec![cone(base, radius, cap, radius, false)],
         ShapeNode::Cone { base, base_radius, cap, cap_radius, open } => {

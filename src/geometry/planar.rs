@@ -1,0 +1,176 @@
+//! Planar shapes: a triangle, a quad or a disk (an ellipse under non-uniform scale), stand-alone
+//! or as a face of a box or a cone's end. An affine transform keeps them planar, so they are
+//! stored in world space.
+
+use glam::{Vec2, Vec3};
+
+use super::shape::{Intersection, REL_ERROR, SurfaceSample};
+use super::{Aabb, Hit, Ray};
+use crate::sampling::{concentric_disk, uniform_triangle};
+
+/// Which coordinates (s, t) along the edges of `origin + s * edge1 + t * edge2` are inside.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlanarKind {
+    /// s, t >= 0, s + t <= 1
+    Triangle,
+    /// s, t in [0, 1]
+    Quad,
+    /// s^2 + t^2 <= 1, with `origin` the centre (an ellipse under non-uniform scale)
+    Disk,
+}
+
+/// `origin + s * edge1 + t * edge2` for the (s, t) its kind takes, facing `normal`, the unit
+/// `edge1 x edge2` (a solid's face: out of the solid).
+#[derive(Debug, Clone, Copy)]
+pub struct Planar {
+    pub kind: PlanarKind,
+    pub origin: Vec3,
+    pub edge1: Vec3,
+    pub edge2: Vec3,
+    pub normal: Vec3,
+}
+
+impl Planar {
+    pub fn new(kind: PlanarKind, origin: Vec3, edge1: Vec3, edge2: Vec3) -> Self {
+        Planar { kind, origin, edge1, edge2, normal: edge1.cross(edge2).normalize() }
+    }
+
+    /// Möller–Trumbore: the distance in (0, t_max) and the coordinates along the edges.
+    #[inline]
+    pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
+        let dir = Vec3::from(ray.dir);
+        let pvec = dir.cross(self.edge2);
+        let det = self.edge1.dot(pvec);
+        if det == 0.0 {
+            return None;
+        }
+        let inv_det = 1.0 / det;
+        let tvec = Vec3::from(ray.origin) - self.origin;
+        let s = tvec.dot(pvec) * inv_det;
+        let qvec = tvec.cross(self.edge1);
+        let t = dir.dot(qvec) * inv_det;
+        let inside = match self.kind {
+            PlanarKind::Triangle => s >= 0.0 && t >= 0.0 && s + t <= 1.0,
+            PlanarKind::Quad => (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t),
+            PlanarKind::Disk => s * s + t * t <= 1.0,
+        };
+        if !inside {
+            return None;
+        }
+        let distance = self.edge2.dot(qvec) * inv_det;
+        (distance > 0.0 && distance < t_max).then_some(Intersection {
+            t: distance,
+            st: Vec2::new(s, t),
+            triangle: 0,
+            part: 0,
+        })
+    }
+
+    /// The intersection of a ray known to cross this plane at `t` (found another way, by a
+    /// solid that has this as its face `part`), with its coordinates along the edges.
+    pub fn intersection_at(&self, ray: &Ray, t: f32, part: u32) -> Intersection {
+        let dir = Vec3::from(ray.dir);
+        let pvec = dir.cross(self.edge2);
+        let inv_det = 1.0 / self.edge1.dot(pvec);
+        let tvec = Vec3::from(ray.origin) - self.origin;
+        let st = Vec2::new(tvec.dot(pvec) * inv_det, dir.dot(tvec.cross(self.edge1)) * inv_det);
+        Intersection { t, st, triangle: part, part: 0 }
+    }
+
+    /// The hit record at distance `t` and coordinates `st`.
+    pub fn hit(&self, t: f32, st: Vec2) -> Hit {
+        Hit {
+            t,
+            point: self.origin + st.x * self.edge1 + st.y * self.edge2,
+            normal: self.normal,
+            shading_normal: self.normal,
+            error: self.error(),
+            primitive: 0,
+        }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        let (origin, edge1, edge2) = (self.origin, self.edge1, self.edge2);
+        match self.kind {
+            PlanarKind::Triangle => Aabb::from_points(&[origin, origin + edge1, origin + edge2]),
+            PlanarKind::Quad => {
+                Aabb::from_points(&[origin, origin + edge1, origin + edge2, origin + edge1 + edge2])
+            }
+            PlanarKind::Disk => {
+                // The ellipse origin + cos(a) e1 + sin(a) e2 reaches sqrt(e1_i^2 + e2_i^2) on
+                // axis i.
+                let half = (edge1 * edge1 + edge2 * edge2).map(f32::sqrt);
+                Aabb { min: origin - half, max: origin + half }
+            }
+        }
+    }
+
+    pub fn area(&self) -> f32 {
+        let parallelogram = self.edge1.cross(self.edge2).length();
+        match self.kind {
+            PlanarKind::Triangle => 0.5 * parallelogram,
+            PlanarKind::Quad => parallelogram,
+            PlanarKind::Disk => std::f32::consts::PI * parallelogram,
+        }
+    }
+
+    /// A point distributed uniformly by area, from a point `u` of the unit square.
+    pub fn sample(&self, u: Vec2) -> SurfaceSample {
+        let (s, t) = planar_coordinates(self.kind, u).into();
+        SurfaceSample {
+            point: self.origin + s * self.edge1 + t * self.edge2,
+            normal: self.normal,
+            error: self.error(),
+        }
+    }
+
+    /// Error bound of its points.
+    pub fn error(&self) -> f32 {
+        planar_error(self.origin, self.edge1, self.edge2)
+    }
+}
+
+/// The coordinates along the edges of a point uniform in the area of a planar shape, from a
+/// point `u` of the unit square.
+pub fn planar_coordinates(kind: PlanarKind, u: Vec2) -> Vec2 {
+    match kind {
+        PlanarKind::Triangle => uniform_triangle(u),
+        PlanarKind::Quad => u,
+        PlanarKind::Disk => concentric_disk(u),
+    }
+}
+
+/// Error bound of a point on a planar shape (its coordinates are at most
+/// |origin| + |edge1| + |edge2|).
+pub fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
+    REL_ERROR * (origin.abs() + edge1.abs() + edge2.abs()).max_element()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinds_accept_their_own_parameter_domains() {
+        let planar = |kind| Planar::new(kind, Vec3::new(0.0, 0.0, 1.0), Vec3::X, Vec3::Y);
+        let down = |x, y| Ray::new(Vec3::new(x, y, 0.0), Vec3::Z);
+        let hits = |kind, x, y| planar(kind).intersection(&down(x, y), f32::INFINITY).is_some();
+        assert!(hits(PlanarKind::Quad, 0.9, 0.9) && !hits(PlanarKind::Quad, 1.1, 0.5));
+        assert!(hits(PlanarKind::Triangle, 0.4, 0.4) && !hits(PlanarKind::Triangle, 0.6, 0.6));
+        assert!(hits(PlanarKind::Disk, -0.7, 0.7) && !hits(PlanarKind::Disk, 0.8, 0.8));
+        assert_eq!(planar(PlanarKind::Quad).area(), 1.0);
+        assert_eq!(planar(PlanarKind::Triangle).area(), 0.5);
+        assert!((planar(PlanarKind::Disk).area() - std::f32::consts::PI).abs() < 1e-6);
+        assert_eq!(planar(PlanarKind::Quad).normal, Vec3::Z, "edge1 x edge2");
+    }
+
+    #[test]
+    fn a_crossing_found_elsewhere_gets_the_coordinates_of_a_hit() {
+        let quad = Planar::new(PlanarKind::Quad, Vec3::ZERO, Vec3::X * 2.0, Vec3::Y * 4.0);
+        let ray = Ray::new(Vec3::new(1.0, 1.0, 3.0), -Vec3::Z);
+        let hit = quad.intersection(&ray, f32::INFINITY).unwrap();
+        let at = quad.intersection_at(&ray, hit.t, 5);
+        assert_eq!((at.st, at.triangle), (hit.st, 5));
+        assert_eq!(at.st, Vec2::new(0.5, 0.25));
+    }
+}
