@@ -86,7 +86,8 @@ pub fn load_with_digest(
     request: &RenderRequest,
 ) -> Result<(Scene, Digest), LoadError> {
     let (mut graph, sources) =
-        crate::lang::load_scene_at(path, request.frame).map_err(LoadError::Scene)?;
+        crate::lang::load_scene_for_image(path, request.frame, request.width.zip(request.height))
+            .map_err(LoadError::Scene)?;
     graph.settings = request.apply(&graph.settings).map_err(LoadError::Request)?;
     let frame = request.frame;
     let digest = sources

@@ -312,6 +312,7 @@ fn describe(rule: Rule) -> &'static str {
         Rule::camera_item | Rule::camera_key => {
             "a camera parameter (`origin`, `left`, `up`, `forward`, `location`, `look_at`, `angle`, `aperture`, `focal_distance`)"
         }
+        Rule::camera_projection => "a projection (`perspective`, `orthographic`)",
         Rule::light_source => "`light_source`",
         Rule::light_item => "`power`",
         Rule::object => "an object",
@@ -350,7 +351,9 @@ fn describe(rule: Rule) -> &'static str {
         Rule::texture_parameter => "a texture parameter (`axis`, `octaves`, `turbulence`)",
         Rule::color_map => "`color_map`",
         Rule::map_entry => "a color_map entry (`[position colour]`)",
-        Rule::colour | Rule::rgb_colour | Rule::kw_rgb => "a colour (`rgb <r, g, b>`)",
+        Rule::colour | Rule::rgb_colour | Rule::kw_rgb | Rule::colour_word => {
+            "a colour (`rgb <r, g, b>`)"
+        }
         Rule::array | Rule::array_init => "an array",
         Rule::declared_if => "`#if`",
         Rule::dimension => "an array's size (`[n]`)",

@@ -68,6 +68,11 @@ pub enum Item {
         key: Ident,
         value: Expr,
     },
+    /// POV-Ray's `perspective` or `orthographic` (`.pov` only).
+    CameraProjection {
+        orthographic: bool,
+        span: Span,
+    },
     Light {
         position: Expr,
         items: Vec<Item>,
@@ -116,6 +121,7 @@ impl Item {
             Item::Setting(_) => "a setting",
             Item::Camera { .. } => "a camera",
             Item::CameraParam { .. } => "a camera parameter",
+            Item::CameraProjection { .. } => "a camera's projection",
             Item::Light { .. } => "a light_source",
             Item::LightPower { .. } => "a light's power",
             Item::Object(_) => "an object",
@@ -144,6 +150,7 @@ impl Item {
             | Item::Ignored { span, .. }
             | Item::Settings { span, .. }
             | Item::Camera { span, .. }
+            | Item::CameraProjection { span, .. }
             | Item::Light { span, .. }
             | Item::ColorMap { span, .. } => span,
             Item::Macro(m) => &m.span,

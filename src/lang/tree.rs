@@ -6,16 +6,17 @@ use std::sync::Arc;
 
 use pest::iterators::Pair;
 
+use super::dialect::Dialect;
 use super::keywords::{self, KeywordKind};
 use super::parser::{self, MAX_NESTING, Rule};
 use super::povray;
 use super::syntax::*;
 use crate::diagnostic::{SceneError, SourceFile, Span};
 
-/// Parses a file into its items.
-pub fn parse_file(file: &Arc<SourceFile>) -> Result<Vec<Item>, SceneError> {
+/// Parses a file into its items, read in `dialect`.
+pub fn parse_file(file: &Arc<SourceFile>, dialect: Dialect) -> Result<Vec<Item>, SceneError> {
     let pairs = parser::parse(file)?;
-    let mut builder = Builder { file: file.clone(), depth: 0 };
+    let mut builder = Builder { file: file.clone(), depth: 0, dialect };
     builder.items(pairs.filter(|p| p.as_rule() != Rule::EOI))
 }
 
@@ -23,6 +24,8 @@ struct Builder {
     file: Arc<SourceFile>,
     /// Brackets and blocks open around what is being built.
     depth: usize,
+    /// POV-Ray's words are read only in `.pov` scenes; in `.scn` each is refused with advice.
+    dialect: Dialect,
 }
 
 /// A block being filled while its directives are folded (a few at a time: their size does not
@@ -75,6 +78,19 @@ impl Open {
 }
 
 impl Builder {
+    /// Refuses POV-Ray's `pair` outside a `.pov` scene, with what to write instead.
+    fn pov_only(&self, pair: &Pair<'_, Rule>, inside: Option<&str>) -> Result<(), SceneError> {
+        match self.dialect {
+            Dialect::Pov => Ok(()),
+            Dialect::Scn => {
+                let word = pair.as_str();
+                let message = povray::message(word, inside)
+                    .unwrap_or_else(|| format!("`{word}` is POV-Ray's (a `.pov` scene's) word"));
+                Err(self.error(pair, message))
+            }
+        }
+    }
+
     /// From the file's line index: pest's `line_col` counts the columns from the line's start
     /// every time, quadratic in the length of a long line.
     fn span(&self, pair: &Pair<'_, Rule>) -> Span {
@@ -279,9 +295,21 @@ impl Builder {
                 self.leave();
                 Item::Camera { items, span }
             }
+            Rule::camera_projection => {
+                self.pov_only(&pair, Some("camera"))?;
+                let orthographic = inner_pair(&pair).as_rule() == Rule::kw_orthographic;
+                Item::CameraProjection { orthographic, span }
+            }
             Rule::camera_item => {
                 let mut inner = pair.into_inner();
                 let key = inner.next().expect("the key");
+                let pov_only = matches!(
+                    inner_pair(&key).as_rule(),
+                    Rule::kw_right | Rule::kw_direction | Rule::kw_sky
+                );
+                if pov_only {
+                    self.pov_only(&key, Some("camera"))?;
+                }
                 let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };
                 Item::CameraParam { key, value: self.expr(inner.next().expect("the value"))? }
             }
@@ -296,7 +324,7 @@ impl Builder {
             Rule::light_item => {
                 let mut inner = pair.into_inner();
                 let key_pair = inner.next().expect("the key");
-                if key_pair.as_rule() != Rule::kw_power {
+                if key_pair.as_rule() != Rule::kw_power && self.dialect == Dialect::Scn {
                     let message = povray::message(key_pair.as_str(), Some("light_source"))
                         .expect("`color` and `colour` have advice");
                     return Err(self.error(&key_pair, message));
@@ -607,7 +635,10 @@ impl Builder {
             Rule::expr => self.expr(pair),
             Rule::rgb_colour | Rule::colour | Rule::argument => {
                 let span = self.span(&pair);
-                let mut inner = pair.into_inner();
+                let mut inner = pair.into_inner().peekable();
+                if let Some(word) = inner.next_if(|p| p.as_rule() == Rule::colour_word) {
+                    self.pov_only(&inner_pair(&word), None)?;
+                }
                 let first = inner.next().expect("a value");
                 match first.as_rule() {
                     Rule::kw_rgb => {

@@ -21,6 +21,7 @@ use super::{parser, tree};
 use crate::animation::Frame;
 use crate::diagnostic::{Context, SceneError, SourceFile, Span};
 use crate::digest::Digest;
+use crate::lang::dialect::Dialect;
 use crate::scene::graph::{
     CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
 };
@@ -123,7 +124,19 @@ pub struct Evaluator {
     frame: Frame,
     /// Digest of the text of every file read, in the order read.
     sources: Digest,
+    /// The scene's language: the main file's, for every file it includes.
+    dialect: Dialect,
+    /// `.pov`: the image's size in pixels (`image_width`, `image_height`).
+    image: (u32, u32),
+    /// `.pov`: the point the camera looks at, where POV-Ray's lights are matched.
+    pov_look_at: Option<Vec3>,
+    /// `.pov`: the lights given a POV-Ray colour (their index in `lights`), whose power is set
+    /// once the camera is known.
+    light_colours: Vec<usize>,
 }
+
+/// POV-Ray's image size when none is given (its `+W320 +H240`).
+pub const POV_IMAGE: (u32, u32) = (320, 240);
 
 /// Where items stand, which decides what they may be.
 pub enum Body<'a> {
@@ -172,9 +185,10 @@ impl Body<'_> {
 }
 
 impl Evaluator {
-    /// An evaluator for the scene at animation frame `frame`.
-    pub fn at(frame: Frame) -> Self {
-        Evaluator { frame, ..Evaluator::default() }
+    /// An evaluator for a scene in `dialect` whose image is `image` pixels (POV-Ray's
+    /// `image_width` and `image_height`; `None`: the scene's own or POV-Ray's default).
+    pub fn for_image(frame: Frame, dialect: Dialect, image: Option<(u32, u32)>) -> Self {
+        Evaluator { frame, dialect, image: image.unwrap_or(POV_IMAGE), ..Evaluator::default() }
     }
 
     /// Evaluates the main file and returns the scene it describes.
@@ -189,17 +203,40 @@ impl Evaluator {
     ) -> Result<(SceneGraph, Digest), SceneError> {
         self.sources.add(file.text.as_bytes());
         self.scopes.push(Scope::default());
+        if self.dialect == Dialect::Pov {
+            let (width, height) = self.image;
+            self.scopes[0]
+                .names
+                .insert("image_width".into(), Slot::Value(Value::Float(width.into())));
+            self.scopes[0]
+                .names
+                .insert("image_height".into(), Slot::Value(Value::Float(height.into())));
+        }
         self.open_files.push((identity(&file.path), file.path.clone()));
-        let items = tree::parse_file(&file)?;
+        let items = tree::parse_file(&file, self.dialect)?;
         self.exec(&items, &mut Body::Scene)?;
-        let camera = self.camera.ok_or_else(|| {
-            SceneError::at(
-                &parser::span_at(&file, file.text.trim_end().len()),
-                "missing camera: a scene needs one `camera { ... }`",
-            )
-        })?;
+        let at_end = parser::span_at(&file, file.text.trim_end().len());
+        let camera = match (self.camera.take(), self.dialect) {
+            (Some(camera), _) => camera,
+            // POV-Ray's default camera.
+            (None, Dialect::Pov) => self.pov_camera(&CameraParams::new(), &at_end)?,
+            (None, Dialect::Scn) => {
+                return Err(SceneError::at(
+                    &at_end,
+                    "missing camera: a scene needs one `camera { ... }`",
+                ));
+            }
+        };
+        self.light_powers_from_colours();
+        let settings = match self.dialect {
+            Dialect::Scn => self.settings.unwrap_or_default(),
+            Dialect::Pov => {
+                let (width, height) = self.image;
+                Settings { width, height, ..self.settings.unwrap_or_default() }
+            }
+        };
         let graph = SceneGraph {
-            settings: self.settings.unwrap_or_default(),
+            settings,
             camera,
             lights: self.lights,
             objects: self.objects,
@@ -283,6 +320,7 @@ impl Evaluator {
             | Item::Setting(_)
             | Item::Camera { .. }
             | Item::CameraParam { .. }
+            | Item::CameraProjection { .. }
             | Item::Light { .. }
             | Item::LightPower { .. }
             | Item::Object(_)
@@ -338,9 +376,22 @@ impl Evaluator {
                 let position = as_vector(&self.value(position)?, &at, "this value")?;
                 let mut power = None;
                 self.exec(items, &mut Body::Light(&mut power))?;
-                let power = power.ok_or_else(|| {
-                    SceneError::at(span, "the light_source needs `power rgb <r, g, b>`")
-                })?;
+                let power = match (power, self.dialect) {
+                    (Some(power), Dialect::Pov) => {
+                        self.light_colours.push(self.lights.len());
+                        power
+                    }
+                    (Some(power), Dialect::Scn) => power,
+                    (None, Dialect::Pov) => {
+                        return Err(SceneError::at(span, "the light_source needs a colour"));
+                    }
+                    (None, Dialect::Scn) => {
+                        return Err(SceneError::at(
+                            span,
+                            "the light_source needs `power rgb <r, g, b>`",
+                        ));
+                    }
+                };
                 self.lights.push(PointLightDesc {
                     position: expression::single_vector(position, &at)?,
                     power,
@@ -404,6 +455,19 @@ impl Evaluator {
             }
         }
         Ok(())
+    }
+
+    /// POV-Ray's light colours as power (`docs/povray.md`): a POV-Ray light gives a surface
+    /// facing it `colour` × cos θ at every distance; a point light of intensity π·C·d² gives a
+    /// Lambertian surface at distance d the same radiance, so d is taken as the distance from the
+    /// light to where the camera looks.
+    fn light_powers_from_colours(&mut self) {
+        let look_at = self.pov_look_at.unwrap_or(Vec3::Z);
+        for &i in &self.light_colours {
+            let light = &mut self.lights[i];
+            let d2 = light.position.distance_squared(look_at);
+            light.power *= std::f32::consts::PI * d2;
+        }
     }
 
     fn light_item(&mut self, item: &Item, power: &mut Option<Vec3>) -> Result<(), SceneError> {
@@ -663,7 +727,8 @@ impl Evaluator {
         self.scopes.push(Scope::default());
         let note = format!("included from {at:?}");
         let outer = self.context.replace(Arc::new(Context { note, outer: self.context.clone() }));
-        let result = tree::parse_file(&file).and_then(|items| self.exec(&items, body));
+        let result =
+            tree::parse_file(&file, self.dialect).and_then(|items| self.exec(&items, body));
         self.context = outer;
         self.scopes.pop();
         self.open_files.pop();

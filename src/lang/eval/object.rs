@@ -10,6 +10,7 @@ use super::{
     as_vector, resolve,
 };
 use crate::diagnostic::SceneError;
+use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
 use crate::lang::value::Value;
 use crate::scene::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform};
@@ -20,7 +21,14 @@ impl Evaluator {
         let shape = match &object.shape {
             Shape::Plane { normal, offset } => {
                 let normal = self.nonzero(normal, "the plane's normal")?;
-                ShapeNode::Plane { normal, offset: self.single(offset)? }
+                let offset = self.single(offset)?;
+                match self.dialect {
+                    Dialect::Scn => ShapeNode::Plane { normal, offset },
+                    // POV-Ray's plane: the points p with n̂ · p = d.
+                    Dialect::Pov => {
+                        ShapeNode::Plane { normal: normal.normalize(), offset: -offset }
+                    }
+                }
             }
             Shape::Sphere { center, radius } => ShapeNode::Sphere {
                 center: self.vec3(center)?,
