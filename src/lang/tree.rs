@@ -359,9 +359,79 @@ impl Builder {
                 let position = self.arithmetic(inner.next().expect("the position"))?;
                 Item::MapEntry { position, colour: self.colour(inner.next().expect("the colour"))? }
             }
-            Rule::rgb_colour | Rule::expr => Item::Value(self.value_expr(pair)?),
+            Rule::rgb_colour | Rule::expr | Rule::colour => Item::Value(self.value_expr(pair)?),
+            Rule::default => {
+                self.pov_only(&pair, None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner())?;
+                self.leave();
+                Item::Default { items, span }
+            }
+            Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
+                Item::Appearance(self.appearance(pair)?)
+            }
+            Rule::pattern => {
+                let mut inner = pair.into_inner();
+                let kind = match inner.next().expect("the pattern's word").as_rule() {
+                    Rule::kw_checker => PatternKind::Checker,
+                    Rule::kw_gradient => PatternKind::Gradient,
+                    Rule::kw_marble => PatternKind::Marble,
+                    Rule::kw_wood => PatternKind::Wood,
+                    Rule::kw_bozo | Rule::kw_spotted => PatternKind::Bozo,
+                    rule => unreachable!("no pattern {rule:?}"),
+                };
+                let mut arguments = Vec::new();
+                for argument in inner {
+                    let span = self.span(&argument);
+                    let value = match argument.as_rule() {
+                        Rule::colour => self.value_expr(argument)?,
+                        _ => self.expr(argument)?,
+                    };
+                    arguments.push(Colour { value, span });
+                }
+                Item::Pattern { kind, arguments, span }
+            }
+            Rule::finish_item | Rule::reflection_item | Rule::interior_item => {
+                let mut inner = pair.into_inner();
+                let key = inner.next().expect("the key");
+                let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };
+                let mut value = None;
+                let mut items = Vec::new();
+                for part in inner {
+                    match part.as_rule() {
+                        Rule::colour | Rule::expr if value.is_none() => {
+                            let span = self.span(&part);
+                            value = Some(Colour { value: self.value_expr(part)?, span });
+                        }
+                        _ => items.push(self.item(part)?),
+                    }
+                }
+                Item::PovParam { key, value, items }
+            }
             _ => unreachable!("the grammar gives no other item: {rule:?}"),
         })
+    }
+
+    /// `pigment`, `finish`, `texture`, `interior` or `normal { }` (`.pov`; refused in `.scn`).
+    fn appearance(&mut self, pair: Pair<'_, Rule>) -> Result<Appearance, SceneError> {
+        let span = self.span(&pair);
+        let kind = match pair.as_rule() {
+            Rule::pigment => AppearanceKind::Pigment,
+            Rule::finish => AppearanceKind::Finish,
+            Rule::pov_texture => AppearanceKind::Texture,
+            Rule::interior => AppearanceKind::Interior,
+            Rule::normal => AppearanceKind::Normal,
+            rule => unreachable!("no appearance {rule:?}"),
+        };
+        self.pov_only(&inner_pair(&pair), None)?;
+        if kind == AppearanceKind::Normal {
+            // Read whole and not rendered: its items are not parsed.
+            return Ok(Appearance { kind, items: Vec::new(), span });
+        }
+        self.enter(&pair)?;
+        let items = self.items(pair.into_inner().skip(1))?;
+        self.leave();
+        Ok(Appearance { kind, items, span })
     }
 
     fn declare(&mut self, pair: Pair<'_, Rule>) -> Result<Declare, SceneError> {
@@ -384,6 +454,9 @@ impl Builder {
             Rule::texture => Declared::Texture(self.texture(pair)?),
             Rule::array => Declared::Array(self.array(pair)?),
             Rule::rgb_colour | Rule::expr => Declared::Value(self.value_expr(pair)?),
+            Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
+                Declared::Appearance(self.appearance(pair)?)
+            }
             Rule::declared_if => {
                 let span = self.span(&pair);
                 self.enter(&pair)?;
@@ -640,13 +713,20 @@ impl Builder {
                     self.pov_only(&inner_pair(&word), None)?;
                 }
                 let first = inner.next().expect("a value");
-                match first.as_rule() {
+                let pov_kind = match first.as_rule() {
                     Rule::kw_rgb => {
                         let value = self.expr(inner.next().expect("the colour's value"))?;
-                        Ok(Expr { kind: ExprKind::Rgb(Box::new(value)), span })
+                        return Ok(Expr { kind: ExprKind::Rgb(Box::new(value)), span });
                     }
-                    _ => self.value_expr(first),
-                }
+                    Rule::kw_rgbf => PovColourKind::Rgbf,
+                    Rule::kw_rgbt => PovColourKind::Rgbt,
+                    Rule::kw_rgbft => PovColourKind::Rgbft,
+                    Rule::kw_srgb => PovColourKind::Srgb,
+                    _ => return self.value_expr(first),
+                };
+                self.pov_only(&first, None)?;
+                let value = self.expr(inner.next().expect("the colour's value"))?;
+                Ok(Expr { kind: ExprKind::PovColour(pov_kind, Box::new(value)), span })
             }
             rule => unreachable!("no value {rule:?}"),
         }

@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
 
+mod appearance;
 mod array;
 mod camera;
 mod expression;
@@ -26,6 +27,8 @@ use crate::scene::graph::{
     CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
 };
 
+use appearance::PigmentState;
+pub use appearance::{Finish, Look, Pigment};
 use array::element_index;
 pub use camera::CameraParams;
 pub use material::TextureState;
@@ -133,6 +136,13 @@ pub struct Evaluator {
     /// `.pov`: the lights given a POV-Ray colour (their index in `lights`), whose power is set
     /// once the camera is known.
     light_colours: Vec<usize>,
+    /// `.pov`: what `#default` has made POV-Ray's default texture.
+    default_look: Look,
+    /// `.pov`: the look of each object being evaluated, innermost last (`None` until one of its
+    /// items gives it one).
+    looks: Vec<Option<Look>>,
+    /// `.pov`: whether the warning that highlights are not rendered has been given.
+    warned_highlight: bool,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).
@@ -148,6 +158,11 @@ pub enum Body<'a> {
     Material(&'a mut crate::scene::graph::MaterialDesc),
     Texture(&'a mut TextureState),
     ColorMap(&'a mut Vec<(f32, Vec3)>),
+    /// POV-Ray's pigment, finish, texture (with `#default`) and interior's ior (`.pov`).
+    Pigment(&'a mut PigmentState),
+    Finish(&'a mut Finish),
+    Look(&'a mut Look),
+    Interior(&'a mut f32),
     /// A macro called as a value: its body gives one.
     Value(&'a mut Option<Value>),
 }
@@ -179,6 +194,10 @@ impl Body<'_> {
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",
             Body::ColorMap(_) => "in a color_map",
+            Body::Pigment(_) => "in a pigment",
+            Body::Finish(_) => "in a finish",
+            Body::Look(_) => "in a texture",
+            Body::Interior(_) => "in an interior",
             Body::Value(_) => "where a value is expected",
         }
     }
@@ -332,6 +351,10 @@ impl Evaluator {
             | Item::TextureParam(_)
             | Item::ColorMap { .. }
             | Item::MapEntry { .. }
+            | Item::Default { .. }
+            | Item::Appearance(_)
+            | Item::Pattern { .. }
+            | Item::PovParam { .. }
             | Item::Value(_) => match body {
                 Body::Scene => self.scene_item(item),
                 Body::Settings(settings) => self.setting_item(item, settings),
@@ -342,6 +365,10 @@ impl Evaluator {
                 Body::Texture(state) => self.texture_item(item, state),
                 Body::ColorMap(entries) => self.map_entry(item, entries),
                 Body::Value(slot) => self.value_item(item, slot),
+                Body::Pigment(state) => self.pigment_item(item, state),
+                Body::Finish(finish) => self.finish_item(item, finish),
+                Body::Look(look) => self.look_item(item, look),
+                Body::Interior(ior) => self.interior_item(item, ior),
             },
         }
     }
@@ -400,8 +427,19 @@ impl Evaluator {
                 Ok(())
             }
             Item::Object(object) => {
-                let node = self.object(object)?;
+                let mut node = self.object(object)?;
+                if self.dialect == Dialect::Pov && node.material.is_none() {
+                    // POV-Ray's default texture, where nothing gives the object one.
+                    let look = self.default_look.clone();
+                    node.material = Some(self.look_material(&look, &object.span));
+                }
                 self.objects.push(node);
+                Ok(())
+            }
+            Item::Default { items, .. } => {
+                let mut look = self.default_look.clone();
+                self.exec(items, &mut Body::Look(&mut look))?;
+                self.default_look = look;
                 Ok(())
             }
             Item::Value(expr) => match self.value(expr)? {
@@ -525,6 +563,7 @@ impl Evaluator {
             Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,
+            Declared::Appearance(a) => self.declared_appearance(a)?,
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {

@@ -158,7 +158,13 @@ impl Evaluator {
             ));
         }
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
-        self.exec(&object.items, &mut Body::Object(&mut node))?;
+        self.looks.push(None);
+        let items = self.exec(&object.items, &mut Body::Object(&mut node));
+        let look = self.looks.pop().flatten();
+        items?;
+        if let Some(look) = look {
+            node.material = Some(self.look_material(&look, &object.span));
+        }
         if node.depth > MAX_OBJECT_DEPTH {
             return Err(SceneError::at(
                 &object.span,
@@ -237,6 +243,17 @@ impl Evaluator {
             Item::Material(m) => node.material = Some(self.material(m, None)?),
             Item::MaterialName(name) => node.material = Some(self.material_named(name)?),
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
+            Item::Appearance(appearance) => {
+                let mut look = match self.looks.last_mut().and_then(Option::take) {
+                    Some(look) => look,
+                    None => self.default_look.clone(),
+                };
+                let result = self.apply_appearance(appearance, &mut look);
+                if let Some(slot) = self.looks.last_mut() {
+                    *slot = Some(look);
+                }
+                result?;
+            }
             Item::Object(object) if children(&mut node.shape).is_some() => {
                 let child = self.object(object)?;
                 add_child(node, child);
