@@ -149,3 +149,86 @@ fn pov_words_are_refused_in_scn_and_lab_words_in_pov() {
     let zero = pov_error("camera { location 0 look_at 0 }");
     assert!(zero.contains("`look_at` is the camera's `location`"), "{zero}");
 }
+
+#[test]
+fn a_light_s_colour_may_follow_its_position_without_color() {
+    let graph = pov("light_source { <0, 0, -1>, rgb <1, 0, 0> }  light_source { <0, 0, -1> 0.5 }");
+    // The default camera looks at <0, 0, 1>: d = 2.
+    let pi4 = 4.0 * std::f32::consts::PI;
+    assert!(close(graph.lights[0].power / pi4, Vec3::X), "{}", graph.lights[0].power);
+    assert!(close(graph.lights[1].power / pi4, Vec3::splat(0.5)));
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "camera { location 0 look_at z } light_source { <0, 1, 0>, rgb 1 }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(scn.contains("`color`: a POV-Ray light's colour"), "{scn}");
+}
+
+#[test]
+fn background_is_the_environment_with_a_warning_and_focal_blur_is_warned_about() {
+    let graph = pov("background { color rgb <0.1, 0.2, 0.3> }\n\
+         camera { location <0, 0, -5> look_at 0 aperture 0.4 focal_point 0 blur_samples 20 }");
+    assert!(close(graph.settings.background, Vec3::new(0.1, 0.2, 0.3)));
+    assert_eq!((graph.settings.width, graph.settings.height), (320, 240));
+    assert!(graph.warnings.iter().any(|w| w.contains(":1:1: warning: POV-Ray's `background`")));
+    assert!(
+        graph.warnings.iter().any(|w| w.contains(":2:40: warning: POV-Ray's focal blur")),
+        "{:?}",
+        graph.warnings
+    );
+}
+
+#[test]
+fn colors_inc_is_built_in_for_pov_scenes_and_a_file_on_the_include_path_comes_first() {
+    let graph = pov("#include \"colors.inc\"\n\
+         sphere { <0, 0, 0>, 1 pigment { SkyBlue } finish { diffuse 1 } }");
+    let m = graph.objects[0].material.as_ref().unwrap();
+    assert!(matches!(m.diffuse.pattern, raydiance::scene::graph::Pattern::Solid(c)
+        if close(c, Vec3::new(0.196078, 0.6, 0.8))));
+    // `.scn` has no built-in library.
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "#include \"colors.inc\" camera { location 0 look_at z }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(scn.contains("cannot read"), "{scn}");
+    // RAYDIANCE_INCLUDE_PATH is searched before the library.
+    let dir = std::env::temp_dir().join(format!("raydiance-include-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("inc")).unwrap();
+    std::fs::write(dir.join("inc/colors.inc"), "#declare SkyBlue = rgb <1, 0, 0>;").unwrap();
+    std::fs::write(
+        dir.join("scene.pov"),
+        "#include \"colors.inc\"\nbackground { SkyBlue }\nsphere { <0, 0, 5>, 1 }",
+    )
+    .unwrap();
+    let run = |path: Option<&Path>| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"));
+        command.args(["render", "scene.pov", "-o", "out.ppm", "--width", "8", "--height", "6"]);
+        command.args(["--samples", "1"]).current_dir(&dir);
+        match path {
+            Some(p) => command.env("RAYDIANCE_INCLUDE_PATH", p),
+            None => command.env_remove("RAYDIANCE_INCLUDE_PATH"),
+        };
+        let output = command.output().unwrap();
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        // A plain PPM: "P3", width, height, maximum, then the pixels (lines with `#` are notes).
+        let ppm = std::fs::read_to_string(dir.join("out.ppm")).unwrap();
+        let numbers: Vec<f64> = ppm
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .flat_map(str::split_whitespace)
+            .skip(4)
+            .map(|n| n.parse().unwrap())
+            .collect();
+        // The top-left pixel is the background: red from the include path, else sky blue.
+        (numbers[0], numbers[2])
+    };
+    let (red, blue) = run(Some(&dir.join("inc")));
+    assert!(red > 0.0 && blue == 0.0, "the include path's file: {red} {blue}");
+    let (red, blue) = run(None);
+    assert!(red < blue, "the built-in SkyBlue: {red} {blue}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

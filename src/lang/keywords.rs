@@ -88,7 +88,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "photon_radius" => S, "global_settings" => S,
     "camera" => S, "origin" => S, "left" => S, "up" => S, "forward" => S, "location" => S,
     "look_at" => S, "angle" => S, "aperture" => S, "focal_distance" => S, "right" => S,
-    "direction" => S, "sky" => S, "perspective" => S, "orthographic" => S,
+    "direction" => S, "sky" => S, "focal_point" => S, "blur_samples" => S, "perspective" => S, "orthographic" => S,
     "light_source" => S, "power" => S, "colour" => S, "color" => S,
     "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S,
     "cylinder" => S, "cone" => S, "torus" => S, "open" => S, "mesh" => S, "union" => S,

@@ -6,6 +6,7 @@ pub mod dialect;
 mod eval;
 mod hints;
 pub mod keywords;
+mod library;
 mod parser;
 mod povray;
 pub mod syntax;

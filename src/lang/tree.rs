@@ -289,6 +289,12 @@ impl Builder {
             | Rule::photons
             | Rule::photon_k
             | Rule::photon_radius => Item::Setting(self.setting(pair)?),
+            Rule::pov_background => {
+                let word = inner_pair(&pair);
+                self.pov_only(&word, None)?;
+                let colour = self.colour(pair.into_inner().nth(1).expect("the colour"))?;
+                Item::Setting(Setting { kind: SettingKind::Background(colour), span })
+            }
             Rule::camera => {
                 self.enter(&pair)?;
                 let items = self.items(pair.into_inner().skip(1))?;
@@ -305,7 +311,11 @@ impl Builder {
                 let key = inner.next().expect("the key");
                 let pov_only = matches!(
                     inner_pair(&key).as_rule(),
-                    Rule::kw_right | Rule::kw_direction | Rule::kw_sky
+                    Rule::kw_right
+                        | Rule::kw_direction
+                        | Rule::kw_sky
+                        | Rule::kw_focal_point
+                        | Rule::kw_blur_samples
                 );
                 if pov_only {
                     self.pov_only(&key, Some("camera"))?;
@@ -320,6 +330,14 @@ impl Builder {
                 let items = self.items(inner)?;
                 self.leave();
                 Item::Light { position, items, span }
+            }
+            Rule::light_colour => {
+                if self.dialect == Dialect::Scn {
+                    let message = povray::message("color", Some("light_source"))
+                        .expect("a light's colour has advice");
+                    return Err(self.error(&pair, message));
+                }
+                Item::LightPower { key: span, colour: self.colour(inner_pair(&pair))? }
             }
             Rule::light_item => {
                 let mut inner = pair.into_inner();

@@ -186,6 +186,15 @@ impl Evaluator {
         let mut up = vector("up", POV_UP)?;
         let mut right = vector("right", POV_RIGHT)?;
         let sky = vector("sky", POV_UP)?;
+        // Focal blur: read, and warned about (the camera stays a pinhole).
+        let blur = ["aperture", "focal_point", "blur_samples"].iter().find_map(|k| given.get(*k));
+        if let Some((_, at)) = blur {
+            let at = self.here(at);
+            self.warnings.push(format!(
+                "{at:?}: warning: POV-Ray's focal blur (`aperture`, `focal_point`, \
+                 `blur_samples`) is not rendered: the camera is a pinhole"
+            ));
+        }
         let orthographic =
             given.get(PROJECTION).is_some_and(|(v, _)| matches!(v, Value::Float(f) if *f != 0.0));
         for (key, v) in [("direction", direction), ("up", up), ("right", right), ("sky", sky)] {

@@ -398,6 +398,20 @@ impl Evaluator {
                 Ok(())
             }
             Item::Camera { items, span } => self.camera(items, span),
+            // POV-Ray's `background { C }` (only `.pov` gives a setting outside `settings`).
+            Item::Setting(setting) => {
+                let SettingKind::Background(colour) = &setting.kind else {
+                    return Err(Self::misplaced(item, &Body::Scene));
+                };
+                let colour = self.colour(colour)?;
+                self.settings.get_or_insert_with(Settings::default).background = colour;
+                let at = self.here(&setting.span);
+                self.warnings.push(format!(
+                    "{at:?}: warning: POV-Ray's `background` is only seen; here it is the \
+                     environment, which also lights the scene"
+                ));
+                Ok(())
+            }
             Item::Light { position, items, span } => {
                 let at = position.span.clone();
                 let position = as_vector(&self.value(position)?, &at, "this value")?;
@@ -727,7 +741,7 @@ impl Evaluator {
         body: &mut Body,
     ) -> Result<(), SceneError> {
         let name = self.string(file, "`#include`")?;
-        let path = resolve(&file.span.file.path, &name);
+        let (path, built_in) = self.find_include(&file.span.file.path, &name);
         let id = identity(&path);
         if self.open_files.len() > MAX_INCLUDE_DEPTH {
             return Err(SceneError::at(
@@ -750,8 +764,12 @@ impl Evaluator {
                 format!("more than {MAX_INCLUDES} files included in one scene"),
             ));
         }
-        let text = crate::input::read_text(&path, crate::input::MAX_SCENE_BYTES)
-            .map_err(|e| SceneError::at(at, format!("cannot read `{}`: {e}", path.display())))?;
+        let text = match built_in {
+            Some(text) => text.to_string(),
+            None => crate::input::read_text(&path, crate::input::MAX_SCENE_BYTES).map_err(|e| {
+                SceneError::at(at, format!("cannot read `{}`: {e}", path.display()))
+            })?,
+        };
         self.included_bytes += text.len() as u64;
         if self.included_bytes > MAX_INCLUDED_BYTES {
             return Err(SceneError::at(
@@ -774,6 +792,31 @@ impl Evaluator {
         result.map_err(|e| e.noted(format!("included from {at:?}")))
     }
 }
+
+impl Evaluator {
+    /// Where `#include "name"` in `from` reads: `from`'s folder, then each folder of
+    /// `RAYDIANCE_INCLUDE_PATH`, then (`.pov`) raydiance's built-in library, whose text is
+    /// returned. An absolute name, or one found nowhere, is read where `from` names it.
+    fn find_include(&self, from: &Path, name: &str) -> (PathBuf, Option<&'static str>) {
+        let local = resolve(from, name);
+        if local.is_file() || Path::new(name).is_absolute() {
+            return (local, None);
+        }
+        let folders = std::env::var_os(INCLUDE_PATH_VARIABLE)
+            .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
+            .unwrap_or_default();
+        if let Some(found) = folders.iter().map(|f| f.join(name)).find(|p| p.is_file()) {
+            return (found, None);
+        }
+        match (self.dialect, crate::lang::library::file(name)) {
+            (Dialect::Pov, Some(text)) => (PathBuf::from(format!("<built-in>/{name}")), Some(text)),
+            _ => (local, None),
+        }
+    }
+}
+
+/// The environment variable naming folders searched for included files (as `PATH` is written).
+pub const INCLUDE_PATH_VARIABLE: &str = "RAYDIANCE_INCLUDE_PATH";
 
 /// An object value standing where an object goes: an instance of it, located here.
 fn instance(node: Arc<ObjectNode>, span: Span) -> ObjectNode {
