@@ -232,3 +232,20 @@ fn colors_inc_is_built_in_for_pov_scenes_and_a_file_on_the_include_path_comes_fi
     assert!(red < blue, "the built-in SkyBlue: {red} {blue}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn povray_s_lenient_forms_are_read() {
+    let graph = pov("# debug \"\"\n\
+         #declare V = version;\n\
+         #if (V >= 3.7) sphere { <sqr(2), 0, 0>, 1 } #end\n\
+         disc { <0, 1, 0>, y, 2 }\n\
+         object { sphere { 0, 1 } translate <0, 0, 3> }");
+    match &graph.objects[0].shape {
+        ShapeNode::Sphere { center, .. } => assert_eq!(*center, Vec3::new(4.0, 0.0, 0.0)),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(graph.objects[1].shape, ShapeNode::Disk { radius: 2.0, .. }));
+    // The inline shape takes the outer items as its own.
+    let inline = &graph.objects[2];
+    assert!(matches!(inline.shape, ShapeNode::Sphere { .. }) && inline.transforms.len() == 1);
+}

@@ -23,9 +23,33 @@ impl Dialect {
     }
 }
 
+impl Dialect {
+    /// The text of a scene file: UTF-8, or in `.pov` Latin-1 when it is not UTF-8 (POV-Ray's
+    /// older sample files are, in their authors' names).
+    pub fn read(self, path: &Path) -> Result<String, String> {
+        match self {
+            Dialect::Scn => crate::input::read_text(path, crate::input::MAX_SCENE_BYTES),
+            Dialect::Pov => {
+                let bytes = crate::input::read(path, crate::input::MAX_SCENE_BYTES)?;
+                Ok(String::from_utf8(bytes)
+                    .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| char::from(b)).collect()))
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_pov_file_that_is_not_utf8_is_latin1() {
+        let path = std::env::temp_dir().join(format!("latin1-{}.pov", std::process::id()));
+        std::fs::write(&path, b"// Jos\xe9\n").unwrap();
+        assert_eq!(Dialect::Pov.read(&path).unwrap(), "// Jos\u{e9}\n");
+        assert!(Dialect::Scn.read(&path).unwrap_err().contains("UTF-8"));
+        std::fs::remove_file(&path).unwrap();
+    }
 
     #[test]
     fn the_extension_decides() {

@@ -41,6 +41,8 @@ pub enum Function {
     Acos,
     Atan,
     Sqrt,
+    /// POV-Ray's `sqr(x)`: x².
+    Sqr,
     Pow,
     Abs,
     Min,
@@ -90,7 +92,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "look_at" => S, "angle" => S, "aperture" => S, "focal_distance" => S, "right" => S,
     "direction" => S, "sky" => S, "focal_point" => S, "blur_samples" => S, "perspective" => S, "orthographic" => S,
     "light_source" => S, "power" => S, "colour" => S, "color" => S,
-    "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S,
+    "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S, "disc" => S,
     "cylinder" => S, "cone" => S, "torus" => S, "open" => S, "mesh" => S, "union" => S,
     "intersection" => S, "difference" => S, "merge" => S, "object" => S, "material" => S,
     "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
@@ -109,7 +111,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "clock" => C(Constant::Clock), "frame_number" => C(Constant::FrameNumber),
     "sin" => F(Function::Sin), "cos" => F(Function::Cos), "tan" => F(Function::Tan),
     "asin" => F(Function::Asin), "acos" => F(Function::Acos), "atan" => F(Function::Atan),
-    "sqrt" => F(Function::Sqrt), "pow" => F(Function::Pow), "abs" => F(Function::Abs),
+    "sqrt" => F(Function::Sqrt), "sqr" => F(Function::Sqr), "pow" => F(Function::Pow), "abs" => F(Function::Abs),
     "min" => F(Function::Min), "max" => F(Function::Max), "radians" => F(Function::Radians),
     "degrees" => F(Function::Degrees), "floor" => F(Function::Floor), "ceil" => F(Function::Ceil),
     "int" => F(Function::Int), "mod" => F(Function::Mod), "exp" => F(Function::Exp),
@@ -140,7 +142,7 @@ impl Function {
     pub fn arity(self) -> Option<usize> {
         use Function::*;
         match self {
-            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Abs | Radians | Degrees | Floor
+            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Sqr | Abs | Radians | Degrees | Floor
             | Ceil | Int | Exp | Ln | Log | Vlength | Vnormalize | Seed | Rand => Some(1),
             Pow | Min | Max | Mod | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
             Select | Str => Some(3),

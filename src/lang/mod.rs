@@ -46,10 +46,12 @@ pub fn load_scene_for_image(
     frame: Frame,
     image: Option<(u32, u32)>,
 ) -> Result<(SceneGraph, Digest), SceneError> {
-    let text = crate::input::read_text(path, crate::input::MAX_SCENE_BYTES)
+    let dialect = Dialect::of(path);
+    let text = dialect
+        .read(path)
         .map_err(|e| SceneError::unlocated(format!("cannot read `{}`: {e}", path.display())))?;
     let file = Arc::new(SourceFile::new(path.to_path_buf(), text));
-    eval::Evaluator::for_image(frame, Dialect::of(path), image).scene_and_sources(file)
+    eval::Evaluator::for_image(frame, dialect, image).scene_and_sources(file)
 }
 
 /// Evaluates scene text as if read from `path` (which locates errors and relative paths).

@@ -257,10 +257,12 @@ impl Builder {
             Rule::include => Item::Include { file: self.first_expr(&pair)?, span },
             Rule::message => {
                 let mut inner = pair.into_inner();
-                let kind = match inner.next().expect("the kind").as_str() {
-                    "#debug" => MessageKind::Debug,
-                    "#warning" => MessageKind::Warning,
-                    "#error" => MessageKind::Error,
+                let kind = inner.next().expect("the kind");
+                let kind = kind.as_str().trim_start_matches('#').trim_start();
+                let kind = match kind {
+                    "debug" => MessageKind::Debug,
+                    "warning" => MessageKind::Warning,
+                    "error" => MessageKind::Error,
                     other => unreachable!("no message `{other}`"),
                 };
                 Item::Message { kind, text: self.expr(inner.next().expect("the text"))?, span }
@@ -566,8 +568,19 @@ impl Builder {
             _ => pair,
         };
         let span = self.span(&pair);
-        self.enter(&pair)?;
         let rule = pair.as_rule();
+        if rule == Rule::instance
+            && pair.clone().into_inner().nth(1).is_some_and(|p| p.as_rule() == Rule::object)
+        {
+            // `object { shape ... items }`: the shape, with the items after it added to its own.
+            self.enter(&pair)?;
+            let mut inner = pair.into_inner().skip(1);
+            let mut object = self.object(inner.next().expect("the shape"))?;
+            object.items.extend(self.items(inner)?);
+            self.leave();
+            return Ok(object);
+        }
+        self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
         let mut take =
             |b: &mut Self| b.expr(inner.next().expect("the grammar gives the arguments"));

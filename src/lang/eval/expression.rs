@@ -349,7 +349,7 @@ impl Evaluator {
         };
         use Function::*;
         Ok(match f {
-            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Abs | Radians | Degrees | Floor
+            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Sqr | Abs | Radians | Degrees | Floor
             | Ceil | Int | Exp | Ln | Log => {
                 let x = number(self, 0)?;
                 Value::Float(match f {
@@ -364,6 +364,7 @@ impl Evaluator {
                     }
                     Atan => x.atan(),
                     Sqrt => domain(x >= 0.0, x, "negative").map(|_| x.sqrt())?,
+                    Sqr => x * x,
                     Abs => x.abs(),
                     Radians => x.to_radians(),
                     Degrees => x.to_degrees(),

@@ -224,12 +224,12 @@ impl Evaluator {
         self.scopes.push(Scope::default());
         if self.dialect == Dialect::Pov {
             let (width, height) = self.image;
-            self.scopes[0]
-                .names
-                .insert("image_width".into(), Slot::Value(Value::Float(width.into())));
-            self.scopes[0]
-                .names
-                .insert("image_height".into(), Slot::Value(Value::Float(height.into())));
+            // The version POV-Ray's scenes test for: raydiance reads POV-Ray 3.7's language.
+            let names =
+                [("image_width", width.into()), ("image_height", height.into()), ("version", 3.7)];
+            for (name, value) in names {
+                self.scopes[0].names.insert(name.into(), Slot::Value(Value::Float(value)));
+            }
         }
         self.open_files.push((identity(&file.path), file.path.clone()));
         let items = tree::parse_file(&file, self.dialect)?;
@@ -766,7 +766,7 @@ impl Evaluator {
         }
         let text = match built_in {
             Some(text) => text.to_string(),
-            None => crate::input::read_text(&path, crate::input::MAX_SCENE_BYTES).map_err(|e| {
+            None => self.dialect.read(&path).map_err(|e| {
                 SceneError::at(at, format!("cannot read `{}`: {e}", path.display()))
             })?,
         };
