@@ -249,3 +249,24 @@ fn povray_s_lenient_forms_are_read() {
     let inline = &graph.objects[2];
     assert!(matches!(inline.shape, ShapeNode::Sphere { .. }) && inline.transforms.len() == 1);
 }
+
+#[test]
+fn a_fading_light_is_matched_where_the_camera_looks_and_modifiers_are_read_or_warned() {
+    let graph = pov("light_source { <0, 0, 5> rgb 1 fade_distance 2 fade_power 2 shadowless }\n\
+         camera { location <0, 0, -5> look_at 0 }\n\
+         sphere { 0, 1 hollow on no_shadow double_illuminate bounded_by { sphere { 0, 2 } } }");
+    // d = 5: POV-Ray's light there is 2 / (1 + (5/2)²) of its colour.
+    let expected = std::f32::consts::PI * 25.0 * 2.0 / (1.0 + 6.25);
+    assert!((graph.lights[0].power.x - expected).abs() < 1e-4, "{}", graph.lights[0].power);
+    let warned = |what: &str| graph.warnings.iter().any(|w| w.contains(what));
+    assert!(warned(":1:61: warning: `shadowless` is not honoured"), "{:?}", graph.warnings);
+    assert!(warned(":3:25: warning: `no_shadow` is not honoured"), "{:?}", graph.warnings);
+    assert!(!warned("hollow") && !warned("double_illuminate"));
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "camera { location 0 look_at z } sphere { 0, 1 hollow }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(scn.contains("`hollow`: this POV-Ray object modifier"), "{scn}");
+}

@@ -297,6 +297,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::macro_def
         | Rule::end
         | Rule::message
+        | Rule::default
         | Rule::message_kind => "a directive (`#declare`, `#if`, ...)",
         Rule::settings => "`settings`",
         Rule::resolution => "`resolution`",
@@ -316,7 +317,6 @@ fn describe(rule: Rule) -> &'static str {
         Rule::light_source => "`light_source`",
         Rule::light_colour | Rule::light_modifier => "a light's colour",
         Rule::pov_background => "`background`",
-        Rule::default => "`#default`",
         Rule::pigment => "`pigment`",
         Rule::finish => "`finish`",
         Rule::pov_texture => "`texture`",
@@ -326,6 +326,10 @@ fn describe(rule: Rule) -> &'static str {
         Rule::finish_item => "a finish item (`ambient`, `diffuse`, `reflection`, ...)",
         Rule::reflection_item => "`fresnel`, `metallic`, `falloff` or `exponent`",
         Rule::interior_item => "`ior`",
+        Rule::light_option => "`fade_distance`, `fade_power` or `shadowless`",
+        Rule::object_modifier | Rule::truth_value | Rule::truth_word => {
+            "an object modifier (`hollow`, `no_shadow`, ...)"
+        }
         Rule::light_item => "`power`",
         Rule::object => "an object",
         Rule::plane => "`plane`",

@@ -411,7 +411,34 @@ impl Builder {
                 }
                 Item::Pattern { kind, arguments, span }
             }
-            Rule::finish_item | Rule::reflection_item | Rule::interior_item => {
+            Rule::object_modifier => {
+                let mut inner = pair.into_inner();
+                let word = inner.next().expect("the modifier");
+                self.pov_only(&word, None)?;
+                let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                let value = match inner.next() {
+                    Some(truth) => {
+                        let truth = inner_pair(&truth);
+                        let on = match truth.as_str() {
+                            "off" | "false" | "no" => 0.0,
+                            "on" | "true" | "yes" => 1.0,
+                            number => number.parse().expect("the grammar gives a number"),
+                        };
+                        let span = self.span(&truth);
+                        let value = Expr { kind: ExprKind::Number(on), span: span.clone() };
+                        Some(Colour { value, span })
+                    }
+                    None => None,
+                };
+                Item::PovParam { key, value, items: Vec::new() }
+            }
+            Rule::finish_item
+            | Rule::reflection_item
+            | Rule::interior_item
+            | Rule::light_option => {
+                if rule == Rule::light_option {
+                    self.pov_only(&inner_pair(&pair), Some("light_source"))?;
+                }
                 let mut inner = pair.into_inner();
                 let key = inner.next().expect("the key");
                 let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };

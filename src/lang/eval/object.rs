@@ -222,7 +222,11 @@ impl Evaluator {
     }
 
     /// A radius that may be 0 (a cone's).
-    fn non_negative(&mut self, expr: &syntax::Expr, what: &str) -> Result<f32, SceneError> {
+    pub(super) fn non_negative(
+        &mut self,
+        expr: &syntax::Expr,
+        what: &str,
+    ) -> Result<f32, SceneError> {
         let f = self.float(expr)?;
         if f < 0.0 || f.is_nan() {
             return Err(SceneError::at(
@@ -243,6 +247,27 @@ impl Evaluator {
             Item::Material(m) => node.material = Some(self.material(m, None)?),
             Item::MaterialName(name) => node.material = Some(self.material_named(name)?),
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
+            // POV-Ray's object modifiers: `hollow` and `double_illuminate` change nothing without
+            // media and with two-sided shading; the others are not honoured, and say so.
+            Item::PovParam { key, value, .. } => {
+                let on = match value {
+                    Some(v) => self.number(&v.value, &format!("`{}`", key.name))? != 0.0,
+                    None => true,
+                };
+                match key.name.as_str() {
+                    "hollow" | "double_illuminate" | "bounded_by" => {}
+                    "no_shadow" | "no_image" | "no_reflection" if on => {
+                        let at = self.here(&key.span);
+                        self.warnings.push(format!(
+                            "{at:?}: warning: `{}` is not honoured: the object is seen, reflected \
+                             and casts shadows",
+                            key.name
+                        ));
+                    }
+                    "no_shadow" | "no_image" | "no_reflection" => {}
+                    other => unreachable!("no object modifier `{other}`"),
+                }
+            }
             Item::Appearance(appearance) => {
                 let mut look = match self.looks.last_mut().and_then(Option::take) {
                     Some(look) => look,
