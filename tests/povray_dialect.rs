@@ -270,3 +270,17 @@ fn a_fading_light_is_matched_where_the_camera_looks_and_modifiers_are_read_or_wa
     .to_string();
     assert!(scn.contains("`hollow`: this POV-Ray object modifier"), "{scn}");
 }
+
+#[test]
+fn a_declared_camera_is_used_by_name_and_may_be_changed() {
+    let camera = camera_of_pov(
+        "#declare C = camera { location <0, 0, -5> right 2*x angle 90 }\n\
+         camera { C look_at <0, 0, 0> }",
+    );
+    assert_eq!(camera.origin, Vec3::new(0.0, 0.0, -5.0));
+    assert!(close(towards(&camera, 1.0, 0.5), Vec3::new(1.0, 0.0, 1.0).normalize()));
+    let scn = parse_scene(Path::new("tests/inline.scn"), "#declare C = 1 camera { C }")
+        .unwrap_err()
+        .to_string();
+    assert!(scn.contains("cannot stand in a camera"), "{scn}");
+}

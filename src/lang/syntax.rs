@@ -286,6 +286,11 @@ pub enum Declared {
     Value(Expr),
     /// POV-Ray's declared `pigment`, `finish`, `texture` or `interior` (`.pov`).
     Appearance(Appearance),
+    /// POV-Ray's declared camera (`.pov`): its items.
+    Camera {
+        items: Vec<Item>,
+        span: Span,
+    },
     /// `#if (c) a #elseif (d) b #else e #end` as the value.
     If {
         branches: Vec<(Condition, Declared)>,

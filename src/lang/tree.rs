@@ -504,6 +504,14 @@ impl Builder {
             Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
                 Declared::Appearance(self.appearance(pair)?)
             }
+            Rule::camera => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Declared::Camera { items, span }
+            }
             Rule::declared_if => {
                 let span = self.span(&pair);
                 self.enter(&pair)?;

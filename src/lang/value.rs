@@ -33,6 +33,8 @@ pub enum Value {
     Look(Arc<Look>),
     Interior(f32),
     Normal,
+    /// A declared camera's parameters (`.pov`).
+    Camera(Arc<super::eval::CameraParams>),
 }
 
 impl Value {
@@ -54,6 +56,7 @@ impl Value {
             Value::Look(_) => "a POV-Ray texture",
             Value::Interior(_) => "an interior",
             Value::Normal => "a normal",
+            Value::Camera(_) => "a camera",
         }
     }
 }

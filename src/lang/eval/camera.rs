@@ -38,6 +38,19 @@ impl Evaluator {
             }
             return Ok(());
         }
+        if let (Item::Value(expr), Dialect::Pov) = (item, self.dialect) {
+            // A declared camera's name: its parameters, which later items may change.
+            return match self.value(expr)? {
+                Value::Camera(declared) => {
+                    given.extend(declared.iter().map(|(k, v)| (k.clone(), v.clone())));
+                    Ok(())
+                }
+                other => Err(SceneError::at(
+                    &expr.span,
+                    format!("a camera names a declared camera, not {}", other.kind()),
+                )),
+            };
+        }
         let Item::CameraParam { key, value } = item else {
             return Err(Self::misplaced(item, &Body::Camera(given)));
         };

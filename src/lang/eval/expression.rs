@@ -32,7 +32,8 @@ impl Evaluator {
             | Value::Finish(_)
             | Value::Look(_)
             | Value::Interior(_)
-            | Value::Normal => true,
+            | Value::Normal
+            | Value::Camera(_) => true,
         };
         if !finite {
             return Err(SceneError::at(

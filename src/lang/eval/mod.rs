@@ -610,6 +610,11 @@ impl Evaluator {
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,
             Declared::Appearance(a) => self.declared_appearance(a)?,
+            Declared::Camera { items, .. } => {
+                let mut given = CameraParams::new();
+                self.exec(items, &mut Body::Camera(&mut given))?;
+                Value::Camera(Arc::new(given))
+            }
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {
