@@ -18,6 +18,9 @@ pub struct Camera {
     /// Thin-lens radius (0: pinhole) and the distance along `forward` that is in focus.
     pub aperture: f32,
     pub focal_distance: f32,
+    /// Parallel rays (POV-Ray's `orthographic`): each leaves `origin + a * left + b * up` along
+    /// `forward`.
+    pub orthographic: bool,
 }
 
 impl Camera {
@@ -41,6 +44,10 @@ impl Camera {
                     )
                 });
                 (origin, left, up, forward, warning)
+            }
+            // POV-Ray's image plane is what `right` and `up` say, whatever the resolution.
+            CameraForm::Orthographic { origin, left, up, forward } => {
+                (origin, left, up, forward, None)
             }
             CameraForm::LookAt { location, look_at, up, angle } => {
                 // Left-handed like POV-Ray: with forward +z and up +y, right is up x forward = +x.
@@ -69,7 +76,9 @@ impl Camera {
             ));
         }
         let focal_distance = desc.focal_distance.unwrap_or(forward.length());
-        let camera = Camera { origin, left, up, forward, aperture: desc.aperture, focal_distance };
+        let orthographic = matches!(desc.form, CameraForm::Orthographic { .. });
+        let aperture = desc.aperture;
+        let camera = Camera { origin, left, up, forward, aperture, focal_distance, orthographic };
         Ok((camera, warnings))
     }
 
@@ -77,6 +86,10 @@ impl Camera {
     /// lens position `lens` in [0, 1]^2 when the camera has an aperture.
     #[inline]
     pub fn ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
+        if self.orthographic {
+            let origin = self.origin + (1.0 - 2.0 * x) * self.left + (1.0 - 2.0 * y) * self.up;
+            return Ray::new(origin, self.forward.normalize());
+        }
         let dir = self.forward + (1.0 - 2.0 * x) * self.left + (1.0 - 2.0 * y) * self.up;
         if self.aperture <= 0.0 {
             return Ray::new(self.origin, dir.normalize());

@@ -121,6 +121,9 @@ pub enum CameraForm {
     Lab { origin: Vec3, left: Vec3, up: Vec3, forward: Vec3 },
     /// POV-Ray's camera: `angle` is the horizontal field of view in degrees.
     LookAt { location: Vec3, look_at: Vec3, up: Vec3, angle: f32 },
+    /// POV-Ray's `orthographic` camera: parallel rays along `forward` from the image plane
+    /// `origin + a*left + b*up`, a, b in [-1, 1].
+    Orthographic { origin: Vec3, left: Vec3, up: Vec3, forward: Vec3 },
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -91,7 +91,8 @@ pub fn load_with_digest(
     path: &Path,
     request: &RenderRequest,
 ) -> Result<(Scene, Digest), LoadError> {
-    let (mut graph, sources) = crate::lang::load_scene_at(path, request.frame)?;
+    let (mut graph, sources) =
+        crate::lang::load_scene_for_image(path, request.frame, request.width.zip(request.height))?;
     graph.settings = request.apply(&graph.settings)?;
     let frame = request.frame;
     let digest = sources

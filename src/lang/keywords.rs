@@ -41,6 +41,8 @@ pub enum Function {
     Acos,
     Atan,
     Sqrt,
+    /// POV-Ray's `sqr(x)`: x².
+    Sqr,
     Pow,
     Abs,
     Min,
@@ -87,9 +89,10 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "seed" => F(Function::Seed), "background" => S, "photons" => S, "photon_k" => S,
     "photon_radius" => S, "global_settings" => S,
     "camera" => S, "origin" => S, "left" => S, "up" => S, "forward" => S, "location" => S,
-    "look_at" => S, "angle" => S, "aperture" => S, "focal_distance" => S,
+    "look_at" => S, "angle" => S, "aperture" => S, "focal_distance" => S, "right" => S,
+    "direction" => S, "sky" => S, "focal_point" => S, "blur_samples" => S, "perspective" => S, "orthographic" => S,
     "light_source" => S, "power" => S, "colour" => S, "color" => S,
-    "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S,
+    "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S, "disc" => S,
     "cylinder" => S, "cone" => S, "torus" => S, "open" => S, "mesh" => S, "union" => S,
     "intersection" => S, "difference" => S, "merge" => S, "object" => S, "material" => S,
     "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
@@ -98,13 +101,20 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "checker" => S, "stripes" => S, "gradient" => S, "noise" => S, "marble" => S, "wood" => S,
     "image_map" => S, "mix" => S, "axis" => S, "octaves" => S, "turbulence" => S,
     "color_map" => S, "colour_map" => S, "array" => S,
+    "pigment" => S, "finish" => S, "texture" => S, "interior" => S, "normal" => S, "bozo" => S,
+    "spotted" => S, "ambient" => S, "brilliance" => S, "phong" => S, "phong_size" => S,
+    "reflection" => S, "metallic" => S, "conserve_energy" => S, "crand" => S, "falloff" => S,
+    "exponent" => S, "rgbf" => S, "rgbt" => S, "rgbft" => S, "srgb" => S,
+    "fade_distance" => S, "fade_power" => S, "shadowless" => S, "hollow" => S,
+    "double_illuminate" => S, "no_shadow" => S, "no_image" => S, "no_reflection" => S,
+    "bounded_by" => S,
     "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),
     "true" => C(Constant::True), "yes" => C(Constant::True), "on" => C(Constant::True),
     "false" => C(Constant::False), "no" => C(Constant::False), "off" => C(Constant::False),
     "clock" => C(Constant::Clock), "frame_number" => C(Constant::FrameNumber),
     "sin" => F(Function::Sin), "cos" => F(Function::Cos), "tan" => F(Function::Tan),
     "asin" => F(Function::Asin), "acos" => F(Function::Acos), "atan" => F(Function::Atan),
-    "sqrt" => F(Function::Sqrt), "pow" => F(Function::Pow), "abs" => F(Function::Abs),
+    "sqrt" => F(Function::Sqrt), "sqr" => F(Function::Sqr), "pow" => F(Function::Pow), "abs" => F(Function::Abs),
     "min" => F(Function::Min), "max" => F(Function::Max), "radians" => F(Function::Radians),
     "degrees" => F(Function::Degrees), "floor" => F(Function::Floor), "ceil" => F(Function::Ceil),
     "int" => F(Function::Int), "mod" => F(Function::Mod), "exp" => F(Function::Exp),
@@ -135,7 +145,7 @@ impl Function {
     pub fn arity(self) -> Option<usize> {
         use Function::*;
         match self {
-            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Abs | Radians | Degrees | Floor
+            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Sqr | Abs | Radians | Degrees | Floor
             | Ceil | Int | Exp | Ln | Log | Vlength | Vnormalize | Seed | Rand => Some(1),
             Pow | Min | Max | Mod | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
             Select | Str => Some(3),

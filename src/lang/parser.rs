@@ -297,6 +297,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::macro_def
         | Rule::end
         | Rule::message
+        | Rule::default
         | Rule::message_kind => "a directive (`#declare`, `#if`, ...)",
         Rule::settings => "`settings`",
         Rule::resolution => "`resolution`",
@@ -312,7 +313,23 @@ fn describe(rule: Rule) -> &'static str {
         Rule::camera_item | Rule::camera_key => {
             "a camera parameter (`origin`, `left`, `up`, `forward`, `location`, `look_at`, `angle`, `aperture`, `focal_distance`)"
         }
+        Rule::camera_projection => "a projection (`perspective`, `orthographic`)",
         Rule::light_source => "`light_source`",
+        Rule::light_colour | Rule::light_modifier => "a light's colour",
+        Rule::pov_background => "`background`",
+        Rule::pigment => "`pigment`",
+        Rule::finish => "`finish`",
+        Rule::pov_texture => "`texture`",
+        Rule::interior => "`interior`",
+        Rule::normal => "`normal`",
+        Rule::pattern => "a pattern (`checker`, `gradient`, `marble`, `wood`, `bozo`)",
+        Rule::finish_item => "a finish item (`ambient`, `diffuse`, `reflection`, ...)",
+        Rule::reflection_item => "`fresnel`, `metallic`, `falloff` or `exponent`",
+        Rule::interior_item => "`ior`",
+        Rule::light_option => "`fade_distance`, `fade_power` or `shadowless`",
+        Rule::object_modifier | Rule::truth_value | Rule::truth_word => {
+            "an object modifier (`hollow`, `no_shadow`, ...)"
+        }
         Rule::light_item => "`power`",
         Rule::object => "an object",
         Rule::plane => "`plane`",
@@ -350,7 +367,9 @@ fn describe(rule: Rule) -> &'static str {
         Rule::texture_parameter => "a texture parameter (`axis`, `octaves`, `turbulence`)",
         Rule::color_map => "`color_map`",
         Rule::map_entry => "a color_map entry (`[position colour]`)",
-        Rule::colour | Rule::rgb_colour | Rule::kw_rgb => "a colour (`rgb <r, g, b>`)",
+        Rule::colour | Rule::rgb_colour | Rule::kw_rgb | Rule::colour_word => {
+            "a colour (`rgb <r, g, b>`)"
+        }
         Rule::array | Rule::array_init => "an array",
         Rule::declared_if => "`#if`",
         Rule::dimension => "an array's size (`[n]`)",

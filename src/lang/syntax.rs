@@ -68,6 +68,11 @@ pub enum Item {
         key: Ident,
         value: Expr,
     },
+    /// POV-Ray's `perspective` or `orthographic` (`.pov` only).
+    CameraProjection {
+        orthographic: bool,
+        span: Span,
+    },
     Light {
         position: Expr,
         items: Vec<Item>,
@@ -95,6 +100,65 @@ pub enum Item {
     },
     /// A value standing alone (a macro's body such as `(X * X)`).
     Value(Expr),
+    /// POV-Ray's `#default { ... }` (`.pov`).
+    Default {
+        items: Vec<Item>,
+        span: Span,
+    },
+    /// POV-Ray's `pigment`, `finish`, `texture`, `interior` or `normal` (`.pov`).
+    Appearance(Appearance),
+    /// A pigment's pattern (`checker Red, Blue`, `gradient y`, `marble`).
+    Pattern {
+        kind: PatternKind,
+        /// `checker`'s colours, `gradient`'s axis.
+        arguments: Vec<Colour>,
+        span: Span,
+    },
+    /// An item of a finish, an interior or a `reflection { }`: its key, its value if given, and
+    /// (`reflection { }`) its own items.
+    PovParam {
+        key: Ident,
+        value: Option<Colour>,
+        items: Vec<Item>,
+    },
+}
+
+#[derive(Debug, Clone)]
+pub struct Appearance {
+    pub kind: AppearanceKind,
+    pub items: Vec<Item>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AppearanceKind {
+    Pigment,
+    Finish,
+    Texture,
+    Interior,
+    Normal,
+}
+
+impl AppearanceKind {
+    pub fn word(self) -> &'static str {
+        match self {
+            AppearanceKind::Pigment => "pigment",
+            AppearanceKind::Finish => "finish",
+            AppearanceKind::Texture => "texture",
+            AppearanceKind::Interior => "interior",
+            AppearanceKind::Normal => "normal",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PatternKind {
+    Checker,
+    Gradient,
+    Marble,
+    Wood,
+    /// POV-Ray's `bozo` and `spotted` (the same noise).
+    Bozo,
 }
 
 impl Item {
@@ -116,6 +180,7 @@ impl Item {
             Item::Setting(_) => "a setting",
             Item::Camera { .. } => "a camera",
             Item::CameraParam { .. } => "a camera parameter",
+            Item::CameraProjection { .. } => "a camera's projection",
             Item::Light { .. } => "a light_source",
             Item::LightPower { .. } => "a light's power",
             Item::Object(_) => "an object",
@@ -128,6 +193,16 @@ impl Item {
             Item::ColorMap { .. } => "a color_map",
             Item::MapEntry { .. } => "a color_map entry",
             Item::Value(_) => "a value",
+            Item::Default { .. } => "`#default`",
+            Item::Appearance(a) => match a.kind {
+                AppearanceKind::Pigment => "a pigment",
+                AppearanceKind::Finish => "a finish",
+                AppearanceKind::Texture => "a texture",
+                AppearanceKind::Interior => "an interior",
+                AppearanceKind::Normal => "a normal",
+            },
+            Item::Pattern { .. } => "a pattern",
+            Item::PovParam { .. } => "a finish or interior item",
         }
     }
 
@@ -144,8 +219,13 @@ impl Item {
             | Item::Ignored { span, .. }
             | Item::Settings { span, .. }
             | Item::Camera { span, .. }
+            | Item::CameraProjection { span, .. }
             | Item::Light { span, .. }
-            | Item::ColorMap { span, .. } => span,
+            | Item::ColorMap { span, .. }
+            | Item::Default { span, .. }
+            | Item::Pattern { span, .. } => span,
+            Item::Appearance(a) => &a.span,
+            Item::PovParam { key, .. } => &key.span,
             Item::Macro(m) => &m.span,
             Item::Call(c) => &c.span,
             Item::Setting(s) => &s.span,
@@ -204,6 +284,13 @@ pub enum Declared {
     Texture(Texture),
     Array(ArrayLiteral),
     Value(Expr),
+    /// POV-Ray's declared `pigment`, `finish`, `texture` or `interior` (`.pov`).
+    Appearance(Appearance),
+    /// POV-Ray's declared camera (`.pov`): its items.
+    Camera {
+        items: Vec<Item>,
+        span: Span,
+    },
     /// `#if (c) a #elseif (d) b #else e #end` as the value.
     If {
         branches: Vec<(Condition, Declared)>,
@@ -462,6 +549,8 @@ pub enum ExprKind {
     Vector(Vec<Expr>),
     /// `rgb e`: a colour (a number is promoted to grey).
     Rgb(Box<Expr>),
+    /// POV-Ray's `rgbf`, `rgbt`, `rgbft` or `srgb` colour (`.pov`).
+    PovColour(PovColourKind, Box<Expr>),
     Unary {
         op: UnaryOp,
         operand: Box<Expr>,
@@ -489,6 +578,19 @@ pub enum ExprKind {
     },
     Function(Function, Vec<Expr>),
     Call(Call),
+}
+
+/// How a POV-Ray colour's components are written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PovColourKind {
+    /// `<r, g, b, filter>`
+    Rgbf,
+    /// `<r, g, b, transmit>`
+    Rgbt,
+    /// `<r, g, b, filter, transmit>`
+    Rgbft,
+    /// `<r, g, b>` in sRGB's encoding.
+    Srgb,
 }
 
 impl Expr {

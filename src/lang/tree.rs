@@ -6,16 +6,17 @@ use std::sync::Arc;
 
 use pest::iterators::Pair;
 
+use super::dialect::Dialect;
 use super::keywords::{self, KeywordKind};
 use super::parser::{self, MAX_NESTING, Rule};
 use super::povray;
 use super::syntax::*;
 use crate::diagnostic::{SceneError, SourceFile, Span};
 
-/// Parses a file into its items.
-pub fn parse_file(file: &Arc<SourceFile>) -> Result<Vec<Item>, SceneError> {
+/// Parses a file into its items, read in `dialect`.
+pub fn parse_file(file: &Arc<SourceFile>, dialect: Dialect) -> Result<Vec<Item>, SceneError> {
     let pairs = parser::parse(file)?;
-    let mut builder = Builder { file: file.clone(), depth: 0 };
+    let mut builder = Builder { file: file.clone(), depth: 0, dialect };
     builder.items(pairs.filter(|p| p.as_rule() != Rule::EOI))
 }
 
@@ -23,6 +24,8 @@ struct Builder {
     file: Arc<SourceFile>,
     /// Brackets and blocks open around what is being built.
     depth: usize,
+    /// POV-Ray's words are read only in `.pov` scenes; in `.scn` each is refused with advice.
+    dialect: Dialect,
 }
 
 /// A block being filled while its directives are folded (a few at a time: their size does not
@@ -75,6 +78,19 @@ impl Open {
 }
 
 impl Builder {
+    /// Refuses POV-Ray's `pair` outside a `.pov` scene, with what to write instead.
+    fn pov_only(&self, pair: &Pair<'_, Rule>, inside: Option<&str>) -> Result<(), SceneError> {
+        match self.dialect {
+            Dialect::Pov => Ok(()),
+            Dialect::Scn => {
+                let word = pair.as_str();
+                let message = povray::message(word, inside)
+                    .unwrap_or_else(|| format!("`{word}` is POV-Ray's (a `.pov` scene's) word"));
+                Err(self.error(pair, message))
+            }
+        }
+    }
+
     /// From the file's line index: pest's `line_col` counts the columns from the line's start
     /// every time, quadratic in the length of a long line.
     fn span(&self, pair: &Pair<'_, Rule>) -> Span {
@@ -241,10 +257,12 @@ impl Builder {
             Rule::include => Item::Include { file: self.first_expr(&pair)?, span },
             Rule::message => {
                 let mut inner = pair.into_inner();
-                let kind = match inner.next().expect("the kind").as_str() {
-                    "#debug" => MessageKind::Debug,
-                    "#warning" => MessageKind::Warning,
-                    "#error" => MessageKind::Error,
+                let kind = inner.next().expect("the kind");
+                let kind = kind.as_str().trim_start_matches('#').trim_start();
+                let kind = match kind {
+                    "debug" => MessageKind::Debug,
+                    "warning" => MessageKind::Warning,
+                    "error" => MessageKind::Error,
                     other => unreachable!("no message `{other}`"),
                 };
                 Item::Message { kind, text: self.expr(inner.next().expect("the text"))?, span }
@@ -273,15 +291,37 @@ impl Builder {
             | Rule::photons
             | Rule::photon_k
             | Rule::photon_radius => Item::Setting(self.setting(pair)?),
+            Rule::pov_background => {
+                let word = inner_pair(&pair);
+                self.pov_only(&word, None)?;
+                let colour = self.colour(pair.into_inner().nth(1).expect("the colour"))?;
+                Item::Setting(Setting { kind: SettingKind::Background(colour), span })
+            }
             Rule::camera => {
                 self.enter(&pair)?;
                 let items = self.items(pair.into_inner().skip(1))?;
                 self.leave();
                 Item::Camera { items, span }
             }
+            Rule::camera_projection => {
+                self.pov_only(&pair, Some("camera"))?;
+                let orthographic = inner_pair(&pair).as_rule() == Rule::kw_orthographic;
+                Item::CameraProjection { orthographic, span }
+            }
             Rule::camera_item => {
                 let mut inner = pair.into_inner();
                 let key = inner.next().expect("the key");
+                let pov_only = matches!(
+                    inner_pair(&key).as_rule(),
+                    Rule::kw_right
+                        | Rule::kw_direction
+                        | Rule::kw_sky
+                        | Rule::kw_focal_point
+                        | Rule::kw_blur_samples
+                );
+                if pov_only {
+                    self.pov_only(&key, Some("camera"))?;
+                }
                 let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };
                 Item::CameraParam { key, value: self.expr(inner.next().expect("the value"))? }
             }
@@ -293,10 +333,18 @@ impl Builder {
                 self.leave();
                 Item::Light { position, items, span }
             }
+            Rule::light_colour => {
+                if self.dialect == Dialect::Scn {
+                    let message = povray::message("color", Some("light_source"))
+                        .expect("a light's colour has advice");
+                    return Err(self.error(&pair, message));
+                }
+                Item::LightPower { key: span, colour: self.colour(inner_pair(&pair))? }
+            }
             Rule::light_item => {
                 let mut inner = pair.into_inner();
                 let key_pair = inner.next().expect("the key");
-                if key_pair.as_rule() != Rule::kw_power {
+                if key_pair.as_rule() != Rule::kw_power && self.dialect == Dialect::Scn {
                     let message = povray::message(key_pair.as_str(), Some("light_source"))
                         .expect("`color` and `colour` have advice");
                     return Err(self.error(&key_pair, message));
@@ -331,9 +379,106 @@ impl Builder {
                 let position = self.arithmetic(inner.next().expect("the position"))?;
                 Item::MapEntry { position, colour: self.colour(inner.next().expect("the colour"))? }
             }
-            Rule::rgb_colour | Rule::expr => Item::Value(self.value_expr(pair)?),
+            Rule::rgb_colour | Rule::expr | Rule::colour => Item::Value(self.value_expr(pair)?),
+            Rule::default => {
+                self.pov_only(&pair, None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner())?;
+                self.leave();
+                Item::Default { items, span }
+            }
+            Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
+                Item::Appearance(self.appearance(pair)?)
+            }
+            Rule::pattern => {
+                let mut inner = pair.into_inner();
+                let kind = match inner.next().expect("the pattern's word").as_rule() {
+                    Rule::kw_checker => PatternKind::Checker,
+                    Rule::kw_gradient => PatternKind::Gradient,
+                    Rule::kw_marble => PatternKind::Marble,
+                    Rule::kw_wood => PatternKind::Wood,
+                    Rule::kw_bozo | Rule::kw_spotted => PatternKind::Bozo,
+                    rule => unreachable!("no pattern {rule:?}"),
+                };
+                let mut arguments = Vec::new();
+                for argument in inner {
+                    let span = self.span(&argument);
+                    let value = match argument.as_rule() {
+                        Rule::colour => self.value_expr(argument)?,
+                        _ => self.expr(argument)?,
+                    };
+                    arguments.push(Colour { value, span });
+                }
+                Item::Pattern { kind, arguments, span }
+            }
+            Rule::object_modifier => {
+                let mut inner = pair.into_inner();
+                let word = inner.next().expect("the modifier");
+                self.pov_only(&word, None)?;
+                let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                let value = match inner.next() {
+                    Some(truth) => {
+                        let truth = inner_pair(&truth);
+                        let on = match truth.as_str() {
+                            "off" | "false" | "no" => 0.0,
+                            "on" | "true" | "yes" => 1.0,
+                            number => number.parse().expect("the grammar gives a number"),
+                        };
+                        let span = self.span(&truth);
+                        let value = Expr { kind: ExprKind::Number(on), span: span.clone() };
+                        Some(Colour { value, span })
+                    }
+                    None => None,
+                };
+                Item::PovParam { key, value, items: Vec::new() }
+            }
+            Rule::finish_item
+            | Rule::reflection_item
+            | Rule::interior_item
+            | Rule::light_option => {
+                if rule == Rule::light_option {
+                    self.pov_only(&inner_pair(&pair), Some("light_source"))?;
+                }
+                let mut inner = pair.into_inner();
+                let key = inner.next().expect("the key");
+                let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };
+                let mut value = None;
+                let mut items = Vec::new();
+                for part in inner {
+                    match part.as_rule() {
+                        Rule::colour | Rule::expr if value.is_none() => {
+                            let span = self.span(&part);
+                            value = Some(Colour { value: self.value_expr(part)?, span });
+                        }
+                        _ => items.push(self.item(part)?),
+                    }
+                }
+                Item::PovParam { key, value, items }
+            }
             _ => unreachable!("the grammar gives no other item: {rule:?}"),
         })
+    }
+
+    /// `pigment`, `finish`, `texture`, `interior` or `normal { }` (`.pov`; refused in `.scn`).
+    fn appearance(&mut self, pair: Pair<'_, Rule>) -> Result<Appearance, SceneError> {
+        let span = self.span(&pair);
+        let kind = match pair.as_rule() {
+            Rule::pigment => AppearanceKind::Pigment,
+            Rule::finish => AppearanceKind::Finish,
+            Rule::pov_texture => AppearanceKind::Texture,
+            Rule::interior => AppearanceKind::Interior,
+            Rule::normal => AppearanceKind::Normal,
+            rule => unreachable!("no appearance {rule:?}"),
+        };
+        self.pov_only(&inner_pair(&pair), None)?;
+        if kind == AppearanceKind::Normal {
+            // Read whole and not rendered: its items are not parsed.
+            return Ok(Appearance { kind, items: Vec::new(), span });
+        }
+        self.enter(&pair)?;
+        let items = self.items(pair.into_inner().skip(1))?;
+        self.leave();
+        Ok(Appearance { kind, items, span })
     }
 
     fn declare(&mut self, pair: Pair<'_, Rule>) -> Result<Declare, SceneError> {
@@ -356,6 +501,17 @@ impl Builder {
             Rule::texture => Declared::Texture(self.texture(pair)?),
             Rule::array => Declared::Array(self.array(pair)?),
             Rule::rgb_colour | Rule::expr => Declared::Value(self.value_expr(pair)?),
+            Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
+                Declared::Appearance(self.appearance(pair)?)
+            }
+            Rule::camera => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Declared::Camera { items, span }
+            }
             Rule::declared_if => {
                 let span = self.span(&pair);
                 self.enter(&pair)?;
@@ -447,8 +603,19 @@ impl Builder {
             _ => pair,
         };
         let span = self.span(&pair);
-        self.enter(&pair)?;
         let rule = pair.as_rule();
+        if rule == Rule::instance
+            && pair.clone().into_inner().nth(1).is_some_and(|p| p.as_rule() == Rule::object)
+        {
+            // `object { shape ... items }`: the shape, with the items after it added to its own.
+            self.enter(&pair)?;
+            let mut inner = pair.into_inner().skip(1);
+            let mut object = self.object(inner.next().expect("the shape"))?;
+            object.items.extend(self.items(inner)?);
+            self.leave();
+            return Ok(object);
+        }
+        self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
         let mut take =
             |b: &mut Self| b.expr(inner.next().expect("the grammar gives the arguments"));
@@ -607,15 +774,25 @@ impl Builder {
             Rule::expr => self.expr(pair),
             Rule::rgb_colour | Rule::colour | Rule::argument => {
                 let span = self.span(&pair);
-                let mut inner = pair.into_inner();
+                let mut inner = pair.into_inner().peekable();
+                if let Some(word) = inner.next_if(|p| p.as_rule() == Rule::colour_word) {
+                    self.pov_only(&inner_pair(&word), None)?;
+                }
                 let first = inner.next().expect("a value");
-                match first.as_rule() {
+                let pov_kind = match first.as_rule() {
                     Rule::kw_rgb => {
                         let value = self.expr(inner.next().expect("the colour's value"))?;
-                        Ok(Expr { kind: ExprKind::Rgb(Box::new(value)), span })
+                        return Ok(Expr { kind: ExprKind::Rgb(Box::new(value)), span });
                     }
-                    _ => self.value_expr(first),
-                }
+                    Rule::kw_rgbf => PovColourKind::Rgbf,
+                    Rule::kw_rgbt => PovColourKind::Rgbt,
+                    Rule::kw_rgbft => PovColourKind::Rgbft,
+                    Rule::kw_srgb => PovColourKind::Srgb,
+                    _ => return self.value_expr(first),
+                };
+                self.pov_only(&first, None)?;
+                let value = self.expr(inner.next().expect("the colour's value"))?;
+                Ok(Expr { kind: ExprKind::PovColour(pov_kind, Box::new(value)), span })
             }
             rule => unreachable!("no value {rule:?}"),
         }

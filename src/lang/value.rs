@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
+use super::eval::{Finish, Look, Pigment};
 use super::syntax::MacroDef;
 use crate::graph::{MaterialDesc, ObjectNode, TextureNode};
 
@@ -25,6 +26,15 @@ pub enum Value {
     Material(Arc<MaterialDesc>),
     Object(Arc<ObjectNode>),
     Texture(Arc<TextureNode>),
+    /// POV-Ray's declared `pigment`, `finish`, `texture`, `interior` (its ior) and `normal`
+    /// (`.pov`).
+    Pigment(Arc<Pigment>),
+    Finish(Arc<Finish>),
+    Look(Arc<Look>),
+    Interior(f32),
+    Normal,
+    /// A declared camera's parameters (`.pov`).
+    Camera(Arc<super::eval::CameraParams>),
 }
 
 impl Value {
@@ -41,6 +51,12 @@ impl Value {
             Value::Material(_) => "a material",
             Value::Object(_) => "an object",
             Value::Texture(_) => "a texture",
+            Value::Pigment(_) => "a pigment",
+            Value::Finish(_) => "a finish",
+            Value::Look(_) => "a POV-Ray texture",
+            Value::Interior(_) => "an interior",
+            Value::Normal => "a normal",
+            Value::Camera(_) => "a camera",
         }
     }
 }

@@ -8,8 +8,19 @@ use super::expression::{single, single_vector};
 use super::{Body, Evaluator, as_float, as_vector};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{CameraDesc, CameraForm};
+use crate::lang::dialect::Dialect;
 use crate::lang::syntax::Item;
 use crate::lang::value::Value;
+
+/// Where `perspective`/`orthographic` is kept among the parameters (1 for orthographic): not a
+/// word of the language, so no parameter has its name.
+const PROJECTION: &str = "#projection";
+
+/// POV-Ray's camera defaults (`.pov`): at the origin, looking along +z, `up` y, `right` 1.33 x.
+const POV_LOCATION: Vec3 = Vec3::ZERO;
+const POV_DIRECTION: Vec3 = Vec3::Z;
+const POV_UP: Vec3 = Vec3::Y;
+const POV_RIGHT: Vec3 = Vec3::new(1.33, 0.0, 0.0);
 
 /// The camera's parameters as given: value and where its key is written.
 pub type CameraParams = HashMap<String, (Value, Span)>;
@@ -20,6 +31,26 @@ impl Evaluator {
         item: &Item,
         given: &mut CameraParams,
     ) -> Result<(), SceneError> {
+        if let Item::CameraProjection { orthographic, span } = item {
+            let projection = Value::Float(f64::from(u8::from(*orthographic)));
+            if given.insert(PROJECTION.to_string(), (projection, span.clone())).is_some() {
+                return Err(SceneError::at(span, "the camera's projection is given twice"));
+            }
+            return Ok(());
+        }
+        if let (Item::Value(expr), Dialect::Pov) = (item, self.dialect) {
+            // A declared camera's name: its parameters, which later items may change.
+            return match self.value(expr)? {
+                Value::Camera(declared) => {
+                    given.extend(declared.iter().map(|(k, v)| (k.clone(), v.clone())));
+                    Ok(())
+                }
+                other => Err(SceneError::at(
+                    &expr.span,
+                    format!("a camera names a declared camera, not {}", other.kind()),
+                )),
+            };
+        }
         let Item::CameraParam { key, value } = item else {
             return Err(Self::misplaced(item, &Body::Camera(given)));
         };
@@ -37,6 +68,11 @@ impl Evaluator {
         }
         let mut given = CameraParams::new();
         self.exec(items, &mut Body::Camera(&mut given))?;
+        if self.dialect == Dialect::Pov {
+            let camera = self.pov_camera(&given, span)?;
+            self.camera = Some(camera);
+            return Ok(());
+        }
         let vector = |key: &str| -> Result<Option<Vec3>, SceneError> {
             given
                 .get(key)
@@ -134,5 +170,105 @@ impl Evaluator {
         }
         self.camera = Some(CameraDesc { form, aperture, focal_distance, span: self.here(span) });
         Ok(())
+    }
+}
+
+impl Evaluator {
+    /// POV-Ray's camera (`.pov`), as POV-Ray 3.7 builds it: the vectors default to POV-Ray's, then
+    /// `angle` sets the length of `direction` (perspective) or scales `right` and `up`
+    /// (orthographic), then `look_at` turns them about `sky` keeping their lengths and the
+    /// handedness of `right`. A ray leaves through `location + direction + (u - 1/2) right +
+    /// (1/2 - v) up`, u, v in [0, 1] from the image's top left.
+    pub(super) fn pov_camera(
+        &mut self,
+        given: &CameraParams,
+        span: &Span,
+    ) -> Result<CameraDesc, SceneError> {
+        for key in ["origin", "left", "forward", "focal_distance"] {
+            if let Some((_, at)) = given.get(key) {
+                return Err(SceneError::at(at, format!("`{key}` is not a POV-Ray camera word")));
+            }
+        }
+        let vector = |key: &str, default: Vec3| -> Result<Vec3, SceneError> {
+            given.get(key).map_or(Ok(default), |(v, at)| {
+                single_vector(as_vector(v, at, &format!("`{key}`"))?, at)
+            })
+        };
+        let location = vector("location", POV_LOCATION)?;
+        let mut direction = vector("direction", POV_DIRECTION)?;
+        let mut up = vector("up", POV_UP)?;
+        let mut right = vector("right", POV_RIGHT)?;
+        let sky = vector("sky", POV_UP)?;
+        // Focal blur: read, and warned about (the camera stays a pinhole).
+        let blur = ["aperture", "focal_point", "blur_samples"].iter().find_map(|k| given.get(*k));
+        if let Some((_, at)) = blur {
+            let at = self.here(at);
+            self.warnings.push(format!(
+                "{at:?}: warning: POV-Ray's focal blur (`aperture`, `focal_point`, \
+                 `blur_samples`) is not rendered: the camera is a pinhole"
+            ));
+        }
+        let orthographic =
+            given.get(PROJECTION).is_some_and(|(v, _)| matches!(v, Value::Float(f) if *f != 0.0));
+        for (key, v) in [("direction", direction), ("up", up), ("right", right), ("sky", sky)] {
+            if v.length() == 0.0 {
+                let at = given.get(key).map_or(span, |g| &g.1);
+                return Err(SceneError::at(at, format!("`{key}` is a zero vector")));
+            }
+        }
+        if let Some((value, at)) = given.get("angle") {
+            let angle = single(as_float(value, at, "`angle`")?, at)?;
+            if !(angle > 0.0 && angle < 180.0) {
+                return Err(SceneError::at(
+                    at,
+                    format!("angle {angle} must be between 0 and 180 degrees"),
+                ));
+            }
+            let half = (angle.to_radians() * 0.5).tan();
+            if orthographic {
+                // The image plane is as wide as a perspective camera's at the direction's length.
+                let scale = 2.0 * half * direction.length() / right.length();
+                right *= scale;
+                up *= scale;
+            } else {
+                direction = direction.normalize() * (0.5 * right.length() / half);
+            }
+        }
+        let look_at = match given.get("look_at") {
+            Some((value, at)) => {
+                let look_at = single_vector(as_vector(value, at, "`look_at`")?, at)?;
+                let view = look_at - location;
+                if view.length() == 0.0 {
+                    return Err(SceneError::at(at, "`look_at` is the camera's `location`"));
+                }
+                let handedness = up.cross(direction).dot(right);
+                let new_direction = view.normalize();
+                let new_right = sky.cross(new_direction);
+                if new_right.length() <= 1e-6 * sky.length() {
+                    return Err(SceneError::at(
+                        at,
+                        "`sky` is parallel to the view direction: the camera cannot be turned",
+                    ));
+                }
+                let new_right = new_right.normalize();
+                let new_up = new_direction.cross(new_right).normalize();
+                direction = new_direction * direction.length();
+                right = new_right * right.length() * if handedness < 0.0 { -1.0 } else { 1.0 };
+                up = new_up * up.length();
+                look_at
+            }
+            None => location + direction,
+        };
+        if right.cross(up).length() <= 1e-6 * right.length() * up.length() {
+            return Err(SceneError::at(span, "`right` and `up` are parallel: no image plane"));
+        }
+        self.pov_look_at = Some(look_at);
+        let (left, half_up) = (-0.5 * right, 0.5 * up);
+        let form = if orthographic {
+            CameraForm::Orthographic { origin: location, left, up: half_up, forward: direction }
+        } else {
+            CameraForm::Lab { origin: location, left, up: half_up, forward: direction }
+        };
+        Ok(CameraDesc { form, aperture: 0.0, focal_distance: None, span: self.here(span) })
     }
 }

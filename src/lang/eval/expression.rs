@@ -8,7 +8,9 @@ use glam::{DMat3, DVec3, Vec3};
 use super::{Body, EPSILON, Evaluator, as_float, as_vector, element_index};
 use crate::diagnostic::{SceneError, Span};
 use crate::lang::keywords::{Constant, Function};
-use crate::lang::syntax::{BinaryOp, Colour, Declare, Declared, Expr, ExprKind, UnaryOp};
+use crate::lang::syntax::{
+    BinaryOp, Colour, Declare, Declared, Expr, ExprKind, PovColourKind, UnaryOp,
+};
 use crate::lang::value::{MAX_STRING_BYTES, Value};
 
 impl Evaluator {
@@ -25,7 +27,13 @@ impl Evaluator {
             | Value::Macro(_)
             | Value::Material(_)
             | Value::Object(_)
-            | Value::Texture(_) => true,
+            | Value::Texture(_)
+            | Value::Pigment(_)
+            | Value::Finish(_)
+            | Value::Look(_)
+            | Value::Interior(_)
+            | Value::Normal
+            | Value::Camera(_) => true,
         };
         if !finite {
             return Err(SceneError::at(
@@ -239,6 +247,7 @@ impl Evaluator {
                 check_colour(colour, at)?;
                 Value::Vector(colour)
             }
+            ExprKind::PovColour(kind, inner) => pov_colour_value(*kind, self.eval(inner)?, at)?,
             ExprKind::Unary { op, operand } => {
                 let v = self.eval(operand)?;
                 match op {
@@ -341,7 +350,7 @@ impl Evaluator {
         };
         use Function::*;
         Ok(match f {
-            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Abs | Radians | Degrees | Floor
+            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Sqr | Abs | Radians | Degrees | Floor
             | Ceil | Int | Exp | Ln | Log => {
                 let x = number(self, 0)?;
                 Value::Float(match f {
@@ -356,6 +365,7 @@ impl Evaluator {
                     }
                     Atan => x.atan(),
                     Sqrt => domain(x >= 0.0, x, "negative").map(|_| x.sqrt())?,
+                    Sqr => x * x,
                     Abs => x.abs(),
                     Radians => x.to_radians(),
                     Degrees => x.to_degrees(),
@@ -494,6 +504,43 @@ fn seed_state(n: f64) -> u32 {
 fn next_random(state: &mut u32) -> f64 {
     *state = state.wrapping_mul(1_812_433_253).wrapping_add(12_345);
     f64::from(*state) / 4_294_967_296.0
+}
+
+/// `rgbf`, `rgbt`, `rgbft` (as `<r, g, b, filter, transmit>`) or `srgb` (as linear `<r, g, b>`):
+/// a number stands for every component written.
+fn pov_colour_value(kind: PovColourKind, value: Value, at: &Span) -> Result<Value, SceneError> {
+    let written = match kind {
+        PovColourKind::Rgbf | PovColourKind::Rgbt => 4,
+        PovColourKind::Rgbft => 5,
+        PovColourKind::Srgb => 3,
+    };
+    let numbers = match value {
+        Value::Float(f) => vec![f; written],
+        Value::Vector(v) if written == 3 => v.to_array().to_vec(),
+        Value::Numbers(n) if n.len() == written => n,
+        other => {
+            return Err(SceneError::at(
+                at,
+                format!("this colour needs {written} components, not {}", other.kind()),
+            ));
+        }
+    };
+    Ok(match kind {
+        PovColourKind::Rgbf => {
+            Value::Numbers(vec![numbers[0], numbers[1], numbers[2], numbers[3], 0.0])
+        }
+        PovColourKind::Rgbt => {
+            Value::Numbers(vec![numbers[0], numbers[1], numbers[2], 0.0, numbers[3]])
+        }
+        PovColourKind::Rgbft => Value::Numbers(numbers),
+        PovColourKind::Srgb => {
+            // sRGB's decoding of each component to linear light.
+            let linear = |c: f64| {
+                if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+            };
+            Value::Vector(DVec3::new(linear(numbers[0]), linear(numbers[1]), linear(numbers[2])))
+        }
+    })
 }
 
 /// A value where a colour is expected: a number (grey) or a vector, not negative.

@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
 
+mod appearance;
 mod array;
 mod camera;
 mod expression;
@@ -24,7 +25,10 @@ use crate::digest::Digest;
 use crate::graph::{
     CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
 };
+use crate::lang::dialect::Dialect;
 
+use appearance::PigmentState;
+pub use appearance::{Finish, Look, Pigment};
 use array::element_index;
 pub use camera::CameraParams;
 pub use material::TextureState;
@@ -123,6 +127,34 @@ pub struct Evaluator {
     frame: Frame,
     /// Digest of the text of every file read, in the order read.
     sources: Digest,
+    /// The scene's language: the main file's, for every file it includes.
+    dialect: Dialect,
+    /// `.pov`: the image's size in pixels (`image_width`, `image_height`).
+    image: (u32, u32),
+    /// `.pov`: the point the camera looks at, where POV-Ray's lights are matched.
+    pov_look_at: Option<Vec3>,
+    /// `.pov`: the lights given a POV-Ray colour (their index in `lights`), whose power is set
+    /// once the camera is known.
+    light_colours: Vec<(usize, Option<(f32, f32)>)>,
+    /// `.pov`: what `#default` has made POV-Ray's default texture.
+    default_look: Look,
+    /// `.pov`: the look of each object being evaluated, innermost last (`None` until one of its
+    /// items gives it one).
+    looks: Vec<Option<Look>>,
+    /// `.pov`: whether the warning that highlights are not rendered has been given.
+    warned_highlight: bool,
+}
+
+/// POV-Ray's image size when none is given (its `+W320 +H240`).
+pub const POV_IMAGE: (u32, u32) = (320, 240);
+
+/// A light's items as they are read.
+#[derive(Default)]
+pub struct LightState {
+    power: Option<Vec3>,
+    /// `.pov`: `fade_distance` and `fade_power`.
+    fade_distance: f32,
+    fade_power: f32,
 }
 
 /// Where items stand, which decides what they may be.
@@ -130,11 +162,16 @@ pub enum Body<'a> {
     Scene,
     Settings(&'a mut Settings),
     Camera(&'a mut CameraParams),
-    Light(&'a mut Option<Vec3>),
+    Light(&'a mut LightState),
     Object(&'a mut ObjectNode),
     Material(&'a mut crate::graph::MaterialDesc),
     Texture(&'a mut TextureState),
     ColorMap(&'a mut Vec<(f32, Vec3)>),
+    /// POV-Ray's pigment, finish, texture (with `#default`) and interior's ior (`.pov`).
+    Pigment(&'a mut PigmentState),
+    Finish(&'a mut Finish),
+    Look(&'a mut Look),
+    Interior(&'a mut f32),
     /// A macro called as a value: its body gives one.
     Value(&'a mut Option<Value>),
 }
@@ -166,15 +203,20 @@ impl Body<'_> {
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",
             Body::ColorMap(_) => "in a color_map",
+            Body::Pigment(_) => "in a pigment",
+            Body::Finish(_) => "in a finish",
+            Body::Look(_) => "in a texture",
+            Body::Interior(_) => "in an interior",
             Body::Value(_) => "where a value is expected",
         }
     }
 }
 
 impl Evaluator {
-    /// An evaluator for the scene at animation frame `frame`.
-    pub fn at(frame: Frame) -> Self {
-        Evaluator { frame, ..Evaluator::default() }
+    /// An evaluator for a scene in `dialect` whose image is `image` pixels (POV-Ray's
+    /// `image_width` and `image_height`; `None`: the scene's own or POV-Ray's default).
+    pub fn for_image(frame: Frame, dialect: Dialect, image: Option<(u32, u32)>) -> Self {
+        Evaluator { frame, dialect, image: image.unwrap_or(POV_IMAGE), ..Evaluator::default() }
     }
 
     /// Evaluates the main file and returns the scene it describes.
@@ -189,17 +231,40 @@ impl Evaluator {
     ) -> Result<(SceneGraph, Digest), SceneError> {
         self.sources.add(file.text.as_bytes());
         self.scopes.push(Scope::default());
+        if self.dialect == Dialect::Pov {
+            let (width, height) = self.image;
+            // The version POV-Ray's scenes test for: raydiance reads POV-Ray 3.7's language.
+            let names =
+                [("image_width", width.into()), ("image_height", height.into()), ("version", 3.7)];
+            for (name, value) in names {
+                self.scopes[0].names.insert(name.into(), Slot::Value(Value::Float(value)));
+            }
+        }
         self.open_files.push((identity(&file.path), file.path.clone()));
-        let items = tree::parse_file(&file)?;
+        let items = tree::parse_file(&file, self.dialect)?;
         self.exec(&items, &mut Body::Scene)?;
-        let camera = self.camera.ok_or_else(|| {
-            SceneError::at(
-                &parser::span_at(&file, file.text.trim_end().len()),
-                "missing camera: a scene needs one `camera { ... }`",
-            )
-        })?;
+        let at_end = parser::span_at(&file, file.text.trim_end().len());
+        let camera = match (self.camera.take(), self.dialect) {
+            (Some(camera), _) => camera,
+            // POV-Ray's default camera.
+            (None, Dialect::Pov) => self.pov_camera(&CameraParams::new(), &at_end)?,
+            (None, Dialect::Scn) => {
+                return Err(SceneError::at(
+                    &at_end,
+                    "missing camera: a scene needs one `camera { ... }`",
+                ));
+            }
+        };
+        self.light_powers_from_colours();
+        let settings = match self.dialect {
+            Dialect::Scn => self.settings.unwrap_or_default(),
+            Dialect::Pov => {
+                let (width, height) = self.image;
+                Settings { width, height, ..self.settings.unwrap_or_default() }
+            }
+        };
         let graph = SceneGraph {
-            settings: self.settings.unwrap_or_default(),
+            settings,
             camera,
             lights: self.lights,
             objects: self.objects,
@@ -283,6 +348,7 @@ impl Evaluator {
             | Item::Setting(_)
             | Item::Camera { .. }
             | Item::CameraParam { .. }
+            | Item::CameraProjection { .. }
             | Item::Light { .. }
             | Item::LightPower { .. }
             | Item::Object(_)
@@ -294,6 +360,10 @@ impl Evaluator {
             | Item::TextureParam(_)
             | Item::ColorMap { .. }
             | Item::MapEntry { .. }
+            | Item::Default { .. }
+            | Item::Appearance(_)
+            | Item::Pattern { .. }
+            | Item::PovParam { .. }
             | Item::Value(_) => match body {
                 Body::Scene => self.scene_item(item),
                 Body::Settings(settings) => self.setting_item(item, settings),
@@ -304,6 +374,10 @@ impl Evaluator {
                 Body::Texture(state) => self.texture_item(item, state),
                 Body::ColorMap(entries) => self.map_entry(item, entries),
                 Body::Value(slot) => self.value_item(item, slot),
+                Body::Pigment(state) => self.pigment_item(item, state),
+                Body::Finish(finish) => self.finish_item(item, finish),
+                Body::Look(look) => self.look_item(item, look),
+                Body::Interior(ior) => self.interior_item(item, ior),
             },
         }
     }
@@ -333,14 +407,43 @@ impl Evaluator {
                 Ok(())
             }
             Item::Camera { items, span } => self.camera(items, span),
+            // POV-Ray's `background { C }` (only `.pov` gives a setting outside `settings`).
+            Item::Setting(setting) => {
+                let SettingKind::Background(colour) = &setting.kind else {
+                    return Err(Self::misplaced(item, &Body::Scene));
+                };
+                let colour = self.colour(colour)?;
+                self.settings.get_or_insert_with(Settings::default).background = colour;
+                let at = self.here(&setting.span);
+                self.warnings.push(format!(
+                    "{at:?}: warning: POV-Ray's `background` is only seen; here it is the \
+                     environment, which also lights the scene"
+                ));
+                Ok(())
+            }
             Item::Light { position, items, span } => {
                 let at = position.span.clone();
                 let position = as_vector(&self.value(position)?, &at, "this value")?;
-                let mut power = None;
-                self.exec(items, &mut Body::Light(&mut power))?;
-                let power = power.ok_or_else(|| {
-                    SceneError::at(span, "the light_source needs `power rgb <r, g, b>`")
-                })?;
+                let mut state = LightState::default();
+                self.exec(items, &mut Body::Light(&mut state))?;
+                let power = match (state.power, self.dialect) {
+                    (Some(power), Dialect::Pov) => {
+                        let fade = (state.fade_distance > 0.0 && state.fade_power > 0.0)
+                            .then_some((state.fade_distance, state.fade_power));
+                        self.light_colours.push((self.lights.len(), fade));
+                        power
+                    }
+                    (Some(power), Dialect::Scn) => power,
+                    (None, Dialect::Pov) => {
+                        return Err(SceneError::at(span, "the light_source needs a colour"));
+                    }
+                    (None, Dialect::Scn) => {
+                        return Err(SceneError::at(
+                            span,
+                            "the light_source needs `power rgb <r, g, b>`",
+                        ));
+                    }
+                };
                 self.lights.push(PointLightDesc {
                     position: expression::single_vector(position, &at)?,
                     power,
@@ -349,8 +452,19 @@ impl Evaluator {
                 Ok(())
             }
             Item::Object(object) => {
-                let node = self.object(object)?;
+                let mut node = self.object(object)?;
+                if self.dialect == Dialect::Pov && node.material.is_none() {
+                    // POV-Ray's default texture, where nothing gives the object one.
+                    let look = self.default_look.clone();
+                    node.material = Some(self.look_material(&look, &object.span));
+                }
                 self.objects.push(node);
+                Ok(())
+            }
+            Item::Default { items, .. } => {
+                let mut look = self.default_look.clone();
+                self.exec(items, &mut Body::Look(&mut look))?;
+                self.default_look = look;
                 Ok(())
             }
             Item::Value(expr) => match self.value(expr)? {
@@ -406,14 +520,48 @@ impl Evaluator {
         Ok(())
     }
 
-    fn light_item(&mut self, item: &Item, power: &mut Option<Vec3>) -> Result<(), SceneError> {
-        let Item::LightPower { key, colour } = item else {
-            return Err(Self::misplaced(item, &Body::Light(power)));
-        };
-        if power.is_some() {
-            return Err(SceneError::at(key, "the light's power is given twice"));
+    /// POV-Ray's light colours as power (`docs/povray.md`): a POV-Ray light gives a surface
+    /// facing it `colour` × cos θ at every distance; a point light of intensity π·C·d² gives a
+    /// Lambertian surface at distance d the same radiance, so d is taken as the distance from the
+    /// light to where the camera looks. A fading light (`fade_distance` f, `fade_power` p) is
+    /// POV-Ray's colour × 2 / (1 + (d/f)^p) there.
+    fn light_powers_from_colours(&mut self) {
+        let look_at = self.pov_look_at.unwrap_or(Vec3::Z);
+        for &(i, fade) in &self.light_colours {
+            let light = &mut self.lights[i];
+            let d = light.position.distance(look_at);
+            let faded = fade.map_or(1.0, |(f, p)| 2.0 / (1.0 + (d / f).powf(p)));
+            light.power *= std::f32::consts::PI * d * d * faded;
         }
-        *power = Some(self.colour(colour)?);
+    }
+
+    fn light_item(&mut self, item: &Item, state: &mut LightState) -> Result<(), SceneError> {
+        match item {
+            Item::LightPower { key, colour } => {
+                if state.power.is_some() {
+                    return Err(SceneError::at(key, "the light's power is given twice"));
+                }
+                state.power = Some(self.colour(colour)?);
+            }
+            Item::PovParam { key, value, .. } => match key.name.as_str() {
+                "fade_distance" | "fade_power" => {
+                    let v = value.as_ref().expect("the grammar gives the value");
+                    let v = self.non_negative(&v.value, &format!("`{}`", key.name))?;
+                    match key.name.as_str() {
+                        "fade_distance" => state.fade_distance = v,
+                        _ => state.fade_power = v,
+                    }
+                }
+                "shadowless" => {
+                    let at = self.here(&key.span);
+                    self.warnings.push(format!(
+                        "{at:?}: warning: `shadowless` is not honoured: a light here casts shadows"
+                    ));
+                }
+                other => unreachable!("no light item `{other}`"),
+            },
+            _ => return Err(Self::misplaced(item, &Body::Light(state))),
+        }
         Ok(())
     }
 
@@ -461,6 +609,12 @@ impl Evaluator {
             Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,
+            Declared::Appearance(a) => self.declared_appearance(a)?,
+            Declared::Camera { items, .. } => {
+                let mut given = CameraParams::new();
+                self.exec(items, &mut Body::Camera(&mut given))?;
+                Value::Camera(Arc::new(given))
+            }
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {
@@ -624,7 +778,7 @@ impl Evaluator {
         body: &mut Body,
     ) -> Result<(), SceneError> {
         let name = self.string(file, "`#include`")?;
-        let path = resolve(&file.span.file.path, &name);
+        let (path, built_in) = self.find_include(&file.span.file.path, &name);
         let id = identity(&path);
         if self.open_files.len() > MAX_INCLUDE_DEPTH {
             return Err(SceneError::at(
@@ -647,8 +801,12 @@ impl Evaluator {
                 format!("more than {MAX_INCLUDES} files included in one scene"),
             ));
         }
-        let text = crate::input::read_text(&path, crate::input::MAX_SCENE_BYTES)
-            .map_err(|e| SceneError::at(at, format!("cannot read `{}`: {e}", path.display())))?;
+        let text = match built_in {
+            Some(text) => text.to_string(),
+            None => self.dialect.read(&path).map_err(|e| {
+                SceneError::at(at, format!("cannot read `{}`: {e}", path.display()))
+            })?,
+        };
         self.included_bytes += text.len() as u64;
         if self.included_bytes > MAX_INCLUDED_BYTES {
             return Err(SceneError::at(
@@ -663,13 +821,39 @@ impl Evaluator {
         self.scopes.push(Scope::default());
         let note = format!("included from {at:?}");
         let outer = self.context.replace(Arc::new(Context { note, outer: self.context.clone() }));
-        let result = tree::parse_file(&file).and_then(|items| self.exec(&items, body));
+        let result =
+            tree::parse_file(&file, self.dialect).and_then(|items| self.exec(&items, body));
         self.context = outer;
         self.scopes.pop();
         self.open_files.pop();
         result.map_err(|e| e.noted(format!("included from {at:?}")))
     }
 }
+
+impl Evaluator {
+    /// Where `#include "name"` in `from` reads: `from`'s folder, then each folder of
+    /// `RAYDIANCE_INCLUDE_PATH`, then (`.pov`) raydiance's built-in library, whose text is
+    /// returned. An absolute name, or one found nowhere, is read where `from` names it.
+    fn find_include(&self, from: &Path, name: &str) -> (PathBuf, Option<&'static str>) {
+        let local = resolve(from, name);
+        if local.is_file() || Path::new(name).is_absolute() {
+            return (local, None);
+        }
+        let folders = std::env::var_os(INCLUDE_PATH_VARIABLE)
+            .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
+            .unwrap_or_default();
+        if let Some(found) = folders.iter().map(|f| f.join(name)).find(|p| p.is_file()) {
+            return (found, None);
+        }
+        match (self.dialect, crate::lang::library::file(name)) {
+            (Dialect::Pov, Some(text)) => (PathBuf::from(format!("<built-in>/{name}")), Some(text)),
+            _ => (local, None),
+        }
+    }
+}
+
+/// The environment variable naming folders searched for included files (as `PATH` is written).
+pub const INCLUDE_PATH_VARIABLE: &str = "RAYDIANCE_INCLUDE_PATH";
 
 /// An object value standing where an object goes: an instance of it, located here.
 fn instance(node: Arc<ObjectNode>, span: Span) -> ObjectNode {

@@ -11,6 +11,7 @@ use super::{
 };
 use crate::diagnostic::SceneError;
 use crate::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform};
+use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{self, Item, Shape, TransformKind};
 use crate::lang::value::Value;
 
@@ -20,7 +21,14 @@ impl Evaluator {
         let shape = match &object.shape {
             Shape::Plane { normal, offset } => {
                 let normal = self.nonzero(normal, "the plane's normal")?;
-                ShapeNode::Plane { normal, offset: self.single(offset)? }
+                let offset = self.single(offset)?;
+                match self.dialect {
+                    Dialect::Scn => ShapeNode::Plane { normal, offset },
+                    // POV-Ray's plane: the points p with n̂ · p = d.
+                    Dialect::Pov => {
+                        ShapeNode::Plane { normal: normal.normalize(), offset: -offset }
+                    }
+                }
             }
             Shape::Sphere { center, radius } => ShapeNode::Sphere {
                 center: self.vec3(center)?,
@@ -150,7 +158,13 @@ impl Evaluator {
             ));
         }
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
-        self.exec(&object.items, &mut Body::Object(&mut node))?;
+        self.looks.push(None);
+        let items = self.exec(&object.items, &mut Body::Object(&mut node));
+        let look = self.looks.pop().flatten();
+        items?;
+        if let Some(look) = look {
+            node.material = Some(self.look_material(&look, &object.span));
+        }
         if node.depth > MAX_OBJECT_DEPTH {
             return Err(SceneError::at(
                 &object.span,
@@ -212,7 +226,11 @@ impl Evaluator {
     }
 
     /// A radius that may be 0 (a cone's).
-    fn non_negative(&mut self, expr: &syntax::Expr, what: &str) -> Result<f32, SceneError> {
+    pub(super) fn non_negative(
+        &mut self,
+        expr: &syntax::Expr,
+        what: &str,
+    ) -> Result<f32, SceneError> {
         let f = self.float(expr)?;
         if f < 0.0 || f.is_nan() {
             return Err(SceneError::at(
@@ -233,6 +251,38 @@ impl Evaluator {
             Item::Material(m) => node.material = Some(self.material(m, None)?),
             Item::MaterialName(name) => node.material = Some(self.material_named(name)?),
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
+            // POV-Ray's object modifiers: `hollow` and `double_illuminate` change nothing without
+            // media and with two-sided shading; the others are not honoured, and say so.
+            Item::PovParam { key, value, .. } => {
+                let on = match value {
+                    Some(v) => self.number(&v.value, &format!("`{}`", key.name))? != 0.0,
+                    None => true,
+                };
+                match key.name.as_str() {
+                    "hollow" | "double_illuminate" | "bounded_by" => {}
+                    "no_shadow" | "no_image" | "no_reflection" if on => {
+                        let at = self.here(&key.span);
+                        self.warnings.push(format!(
+                            "{at:?}: warning: `{}` is not honoured: the object is seen, reflected \
+                             and casts shadows",
+                            key.name
+                        ));
+                    }
+                    "no_shadow" | "no_image" | "no_reflection" => {}
+                    other => unreachable!("no object modifier `{other}`"),
+                }
+            }
+            Item::Appearance(appearance) => {
+                let mut look = match self.looks.last_mut().and_then(Option::take) {
+                    Some(look) => look,
+                    None => self.default_look.clone(),
+                };
+                let result = self.apply_appearance(appearance, &mut look);
+                if let Some(slot) = self.looks.last_mut() {
+                    *slot = Some(look);
+                }
+                result?;
+            }
             Item::Object(object) if children(&mut node.shape).is_some() => {
                 let child = self.object(object)?;
                 add_child(node, child);

@@ -1,0 +1,458 @@
+//! POV-Ray's appearance (`.pov`): `pigment`, `finish`, `texture`, `interior`, `normal` and
+//! `#default`, read as POV-Ray reads them and turned into a physically based material as
+//! `docs/povray.md` states.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+
+use super::expression::single;
+use super::{Body, Evaluator};
+use crate::diagnostic::{SceneError, Span};
+use crate::graph::{MaterialDesc, Pattern, TextureNode};
+use crate::lang::syntax::{
+    Appearance, AppearanceKind, Colour, Item, PatternKind, TextureParamKind,
+};
+use crate::lang::value::Value;
+
+/// A pigment: a colour or a pattern of colours, and how much light passes through its colour
+/// (POV-Ray's filter, tinted by the colour, and transmit, not tinted).
+#[derive(Debug, Clone)]
+pub struct Pigment {
+    pub colour: TextureNode,
+    pub filter: f32,
+    pub transmit: f32,
+}
+
+/// A finish, with POV-Ray's defaults for what is not given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finish {
+    pub ambient: Vec3,
+    pub diffuse: f32,
+    pub emission: Vec3,
+    /// Mirror reflection (POV-Ray's `reflection`, the largest when a range is given).
+    pub reflection: Vec3,
+    /// `metallic`: the reflection is tinted by the pigment.
+    pub metallic: bool,
+    /// `reflection { ... fresnel }`: the reflection follows Fresnel's law.
+    pub fresnel: bool,
+    /// POV-Ray's highlights (`phong`, `specular`): not rendered, warned about.
+    pub highlight: f32,
+}
+
+/// POV-Ray's default finish: `ambient 0.1 diffuse 0.6`, no highlight, no reflection.
+pub const POV_FINISH: Finish = Finish {
+    ambient: Vec3::splat(0.1),
+    diffuse: 0.6,
+    emission: Vec3::ZERO,
+    reflection: Vec3::ZERO,
+    metallic: false,
+    fresnel: false,
+    highlight: 0.0,
+};
+
+/// A texture (POV-Ray's `texture { pigment finish normal }`) with the object's interior: what
+/// an object looks like.
+#[derive(Debug, Clone)]
+pub struct Look {
+    pub pigment: Pigment,
+    pub finish: Finish,
+    /// `interior { ior }`: 1 when not given.
+    pub ior: f32,
+}
+
+impl Default for Look {
+    /// POV-Ray's default texture: a black pigment and the default finish.
+    fn default() -> Self {
+        Look {
+            pigment: Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 },
+            finish: POV_FINISH,
+            ior: 1.0,
+        }
+    }
+}
+
+/// A pigment's items as they are read.
+pub struct PigmentState {
+    pigment: Pigment,
+    /// The pattern, its colours (`checker`) and its axis (`gradient`).
+    pattern: Option<(PatternKind, Vec<TextureNode>, Option<Vec3>)>,
+    map: Option<Vec<(f32, Vec3)>>,
+    turbulence: f32,
+    octaves: u32,
+}
+
+impl Evaluator {
+    /// The look of a `#default` or an object after `appearance`, starting from `look`.
+    pub(super) fn apply_appearance(
+        &mut self,
+        appearance: &Appearance,
+        look: &mut Look,
+    ) -> Result<(), SceneError> {
+        match appearance.kind {
+            AppearanceKind::Pigment => look.pigment = self.pigment(appearance, &look.pigment)?,
+            AppearanceKind::Finish => {
+                self.exec(&appearance.items, &mut Body::Finish(&mut look.finish))?
+            }
+            AppearanceKind::Texture => {
+                // A texture starts from the default one, as POV-Ray's does.
+                let mut texture = self.default_look.clone();
+                self.exec(&appearance.items, &mut Body::Look(&mut texture))?;
+                look.pigment = texture.pigment;
+                look.finish = texture.finish;
+            }
+            AppearanceKind::Interior => {
+                self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?
+            }
+            AppearanceKind::Normal => self.warn_normal(&appearance.span),
+        }
+        Ok(())
+    }
+
+    fn warn_normal(&mut self, span: &Span) {
+        let at = self.here(span);
+        self.warnings.push(format!(
+            "{at:?}: warning: `normal` (POV-Ray's bump mapping) is read but not rendered: \
+             surfaces are shaded with their geometric normals"
+        ));
+    }
+
+    /// A declared pigment, finish, texture or interior.
+    pub(super) fn declared_appearance(
+        &mut self,
+        appearance: &Appearance,
+    ) -> Result<Value, SceneError> {
+        let mut look = self.default_look.clone();
+        Ok(match appearance.kind {
+            AppearanceKind::Pigment => {
+                Value::Pigment(Arc::new(self.pigment(appearance, &look.pigment)?))
+            }
+            AppearanceKind::Finish => {
+                self.exec(&appearance.items, &mut Body::Finish(&mut look.finish))?;
+                Value::Finish(Arc::new(look.finish))
+            }
+            AppearanceKind::Texture => {
+                self.apply_appearance(appearance, &mut look)?;
+                Value::Look(Arc::new(look))
+            }
+            AppearanceKind::Interior => {
+                self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?;
+                Value::Interior(look.ior)
+            }
+            AppearanceKind::Normal => {
+                self.warn_normal(&appearance.span);
+                Value::Normal
+            }
+        })
+    }
+
+    fn pigment(&mut self, appearance: &Appearance, base: &Pigment) -> Result<Pigment, SceneError> {
+        let mut state = PigmentState {
+            pigment: base.clone(),
+            pattern: None,
+            map: None,
+            turbulence: 0.0,
+            octaves: 4,
+        };
+        self.exec(&appearance.items, &mut Body::Pigment(&mut state))?;
+        let Some((kind, mut colours, axis)) = state.pattern else {
+            return Ok(state.pigment);
+        };
+        // Without a map, black to white.
+        let map = state
+            .map
+            .filter(|m| !m.is_empty())
+            .unwrap_or_else(|| vec![(0.0, Vec3::ZERO), (1.0, Vec3::ONE)]);
+        let (turbulence, octaves) = (state.turbulence, state.octaves);
+        let pattern = match kind {
+            PatternKind::Checker => {
+                // POV-Ray's checker is blue and green unless given its colours.
+                let b = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 1.0, 0.0)));
+                let a = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 0.0, 1.0)));
+                Pattern::Checker(Box::new(a), Box::new(b))
+            }
+            PatternKind::Gradient => Pattern::Gradient { axis: axis.unwrap_or(Vec3::Y), map },
+            PatternKind::Marble => Pattern::Marble { turbulence, octaves, map },
+            PatternKind::Wood => Pattern::Wood { turbulence, octaves, map },
+            PatternKind::Bozo => Pattern::Noise { octaves: 1, map },
+        };
+        Ok(Pigment {
+            colour: TextureNode { pattern, transforms: state.pigment.colour.transforms },
+            filter: 0.0,
+            transmit: 0.0,
+        })
+    }
+
+    pub(super) fn pigment_item(
+        &mut self,
+        item: &Item,
+        state: &mut PigmentState,
+    ) -> Result<(), SceneError> {
+        match item {
+            Item::Value(expr) => match self.value(expr)? {
+                Value::Pigment(p) => {
+                    state.pigment = (*p).clone();
+                    state.pattern = None;
+                }
+                other => {
+                    let (colour, filter, transmit) = pov_colour(other, &expr.span)?;
+                    state.pigment =
+                        Pigment { colour: TextureNode::solid(colour), filter, transmit };
+                    state.pattern = None;
+                }
+            },
+            Item::Pattern { kind, arguments, .. } => {
+                let mut colours = Vec::new();
+                let mut axis = None;
+                for argument in arguments {
+                    match kind {
+                        PatternKind::Gradient => {
+                            axis = Some(self.nonzero(&argument.value, "the gradient's axis")?)
+                        }
+                        PatternKind::Checker
+                        | PatternKind::Marble
+                        | PatternKind::Wood
+                        | PatternKind::Bozo => {
+                            colours.push(TextureNode::solid(self.pov_colour(argument)?.0))
+                        }
+                    }
+                }
+                state.pattern = Some((*kind, colours, axis));
+                state.pigment.colour.transforms.clear();
+            }
+            Item::Transform(t) => {
+                let transform = self.transform(t)?;
+                state.pigment.colour.transforms.push(transform);
+            }
+            Item::ColorMap { entries, span } => {
+                let mut map = Vec::new();
+                self.exec(entries, &mut Body::ColorMap(&mut map))?;
+                if state.map.replace(map).is_some() {
+                    return Err(SceneError::at(span, "a second color_map"));
+                }
+            }
+            Item::TextureParam(param) => match param.kind {
+                TextureParamKind::Turbulence => {
+                    let t = self.single(&param.value)?;
+                    state.turbulence = t.max(0.0);
+                }
+                TextureParamKind::Octaves => {
+                    state.octaves = self.integer(&param.value, 1, 16)? as u32;
+                }
+                TextureParamKind::Axis => {
+                    return Err(SceneError::at(&param.span, "`axis` is not POV-Ray's word"));
+                }
+            },
+            _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
+        }
+        Ok(())
+    }
+
+    pub(super) fn finish_item(
+        &mut self,
+        item: &Item,
+        finish: &mut Finish,
+    ) -> Result<(), SceneError> {
+        match item {
+            Item::Value(expr) => match self.value(expr)? {
+                Value::Finish(f) => *finish = (*f).clone(),
+                other => {
+                    return Err(SceneError::at(
+                        &expr.span,
+                        format!("a finish names a declared finish, not {}", other.kind()),
+                    ));
+                }
+            },
+            Item::PovParam { key, value, items } => {
+                let colour = |e: &mut Self| -> Result<Vec3, SceneError> {
+                    let v = value.as_ref().expect("the grammar gives the value");
+                    Ok(e.pov_colour(v)?.0)
+                };
+                match key.name.as_str() {
+                    "ambient" => finish.ambient = colour(self)?,
+                    "emission" => finish.emission = colour(self)?,
+                    "diffuse" => finish.diffuse = colour(self)?.x,
+                    "phong" | "specular" => finish.highlight = colour(self)?.x,
+                    "metallic" => {
+                        finish.metallic = match value {
+                            Some(v) => self.pov_colour(v)?.0.x > 0.0,
+                            None => true,
+                        }
+                    }
+                    "reflection" => {
+                        finish.reflection = colour(self)?;
+                        for item in items {
+                            self.reflection_item(item, finish)?;
+                        }
+                    }
+                    // Read without effect: POV-Ray's highlight's size and the diffuse falloff
+                    // (shading here is physically based), grain, and energy conservation
+                    // (always conserved here).
+                    "phong_size" | "roughness" | "brilliance" | "crand" | "conserve_energy" => {}
+                    other => unreachable!("no finish item `{other}`"),
+                }
+            }
+            _ => return Err(Self::misplaced(item, &Body::Finish(finish))),
+        }
+        Ok(())
+    }
+
+    /// `reflection { min, max  fresnel  metallic }`: the largest reflection is kept.
+    fn reflection_item(&mut self, item: &Item, finish: &mut Finish) -> Result<(), SceneError> {
+        match item {
+            Item::Value(expr) => {
+                let max =
+                    self.pov_colour(&Colour { value: expr.clone(), span: expr.span.clone() })?;
+                finish.reflection = finish.reflection.max(max.0);
+            }
+            Item::PovParam { key, value, .. } => {
+                let on = match value {
+                    Some(v) => self.pov_colour(v)?.0.x > 0.0,
+                    None => true,
+                };
+                match key.name.as_str() {
+                    "fresnel" => finish.fresnel = on,
+                    "metallic" => finish.metallic = on,
+                    "falloff" | "exponent" => {}
+                    other => unreachable!("no reflection item `{other}`"),
+                }
+            }
+            _ => return Err(Self::misplaced(item, &Body::Finish(finish))),
+        }
+        Ok(())
+    }
+
+    pub(super) fn look_item(&mut self, item: &Item, look: &mut Look) -> Result<(), SceneError> {
+        match item {
+            Item::Appearance(a) => self.apply_appearance(a, look)?,
+            Item::Transform(t) => {
+                let transform = self.transform(t)?;
+                look.pigment.colour.transforms.push(transform);
+            }
+            Item::Value(expr) => match self.value(expr)? {
+                Value::Look(l) => {
+                    look.pigment = l.pigment.clone();
+                    look.finish = l.finish.clone();
+                }
+                other => {
+                    return Err(SceneError::at(
+                        &expr.span,
+                        format!("a texture names a declared texture, not {}", other.kind()),
+                    ));
+                }
+            },
+            _ => return Err(Self::misplaced(item, &Body::Look(look))),
+        }
+        Ok(())
+    }
+
+    pub(super) fn interior_item(&mut self, item: &Item, ior: &mut f32) -> Result<(), SceneError> {
+        match item {
+            Item::PovParam { key, value: Some(v), .. } if key.name == "ior" => {
+                *ior = self.positive(&v.value, "ior")?;
+            }
+            Item::Value(expr) => match self.value(expr)? {
+                Value::Interior(i) => *ior = i,
+                other => {
+                    return Err(SceneError::at(
+                        &expr.span,
+                        format!("an interior names a declared interior, not {}", other.kind()),
+                    ));
+                }
+            },
+            _ => return Err(Self::misplaced(item, &Body::Interior(ior))),
+        }
+        Ok(())
+    }
+
+    /// A POV-Ray colour: its red, green and blue, filter and transmit.
+    pub(super) fn pov_colour(&mut self, colour: &Colour) -> Result<(Vec3, f32, f32), SceneError> {
+        let value = self.value(&colour.value)?;
+        pov_colour(value, &colour.span)
+    }
+
+    /// The material of a look (`docs/povray.md`): the pigment's opaque part × `diffuse` is the
+    /// Lambertian albedo, `reflection` a mirror (tinted by the pigment when `metallic`), filter
+    /// and transmit the transmission through the interior's `ior`; where the sum exceeds 1 all
+    /// three are scaled down together. `ambient` is light only where `diffuse` is 0 (the object
+    /// only glows); `emission` always is.
+    pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
+        let Look { pigment, finish, ior } = look;
+        let colour = pigment.colour.max_value();
+        let solid = matches!(pigment.colour.pattern, Pattern::Solid(_));
+        let opacity = (1.0 - pigment.filter - pigment.transmit).max(0.0);
+        let mut diffuse = finish.diffuse.max(0.0) * opacity;
+        let mut reflection = finish.reflection.max(Vec3::ZERO);
+        if finish.metallic {
+            reflection *= colour;
+        }
+        let mut transmission = pigment.filter * colour + Vec3::splat(pigment.transmit);
+        let total = (diffuse * colour + reflection + transmission).max_element();
+        if total > 1.0 {
+            diffuse /= total;
+            reflection /= total;
+            transmission /= total;
+        }
+        let glow =
+            finish.emission + if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
+        let emission = glow * colour;
+        let at = self.here(span);
+        if emission != Vec3::ZERO && !solid {
+            self.warnings.push(format!(
+                "{at:?}: warning: a patterned pigment that glows emits its brightest colour \
+                 everywhere"
+            ));
+        }
+        if finish.highlight > 0.0 && !self.warned_highlight {
+            self.warned_highlight = true;
+            self.warnings.push(format!(
+                "{at:?}: warning: POV-Ray's `phong` and `specular` highlights are not rendered: \
+                 the surface is diffuse (and a mirror where it has `reflection`)"
+            ));
+        }
+        let diffuse_node = match &pigment.colour.pattern {
+            Pattern::Solid(c) => TextureNode::solid(*c * diffuse),
+            // node × diffuse, as a mix with black.
+            _ => TextureNode {
+                pattern: Pattern::Mix {
+                    a: Box::new(pigment.colour.clone()),
+                    b: Box::new(TextureNode::solid(Vec3::ZERO)),
+                    t: Box::new(TextureNode::solid(Vec3::splat(1.0 - diffuse))),
+                },
+                transforms: Vec::new(),
+            },
+        };
+        Arc::new(MaterialDesc {
+            name: None,
+            diffuse: diffuse_node,
+            specular: reflection,
+            transmission,
+            ior: *ior,
+            emission,
+            fresnel: finish.fresnel,
+            roughness: 0.0,
+            span: at,
+        })
+    }
+}
+
+/// A value where POV-Ray takes a colour: a number (grey), `<r, g, b>`, `<r, g, b, f>` or
+/// `<r, g, b, f, t>`; red, green and blue must not be negative.
+pub(super) fn pov_colour(value: Value, at: &Span) -> Result<(Vec3, f32, f32), SceneError> {
+    let (rgb, filter, transmit) = match value {
+        Value::Float(f) => (DVec3::splat(f), 0.0, 0.0),
+        Value::Vector(v) => (v, 0.0, 0.0),
+        Value::Numbers(n) if n.len() == 4 || n.len() == 5 => {
+            (DVec3::new(n[0], n[1], n[2]), n[3], n.get(4).copied().unwrap_or(0.0))
+        }
+        other => {
+            return Err(SceneError::at(at, format!("expected a colour, found {}", other.kind())));
+        }
+    };
+    if rgb.min_element() < 0.0 {
+        let [r, g, b] = rgb.to_array();
+        return Err(SceneError::at(at, format!("colour <{r}, {g}, {b}> has a negative component")));
+    }
+    let rgb = Vec3::new(single(rgb.x, at)?, single(rgb.y, at)?, single(rgb.z, at)?);
+    Ok((rgb, single(filter, at)?.clamp(0.0, 1.0), single(transmit, at)?.clamp(0.0, 1.0)))
+}

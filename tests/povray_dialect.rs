@@ -1,0 +1,286 @@
+//! The `.pov` dialect (language section 15, `docs/povray.md`): POV-Ray's conventions where `.scn`
+//! differs — planes, the camera, light colours, `image_width`/`image_height` — and `.scn` unchanged.
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+use raydiance::camera::Camera;
+use raydiance::graph::{SceneGraph, ShapeNode};
+use raydiance::lang::parse_scene;
+
+fn pov(text: &str) -> SceneGraph {
+    parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn pov_error(text: &str) -> String {
+    parse_scene(Path::new("tests/inline.pov"), text).map(|_| ()).unwrap_err().to_string()
+}
+
+fn camera(graph: &SceneGraph) -> Camera {
+    let s = &graph.settings;
+    Camera::new(&graph.camera, s.width, s.height).unwrap().0
+}
+
+fn plane(graph: &SceneGraph) -> (Vec3, f32) {
+    match &graph.objects[0].shape {
+        ShapeNode::Plane { normal, offset } => (*normal, *offset),
+        other => panic!("not a plane: {other:?}"),
+    }
+}
+
+/// The ray's direction, normalised, through image position (u, v) from the top left.
+fn towards(camera: &Camera, u: f32, v: f32) -> Vec3 {
+    Vec3::from(camera.ray(u, v, Vec2::ZERO).dir).normalize()
+}
+
+fn close(a: impl Into<Vec3>, b: Vec3) -> bool {
+    (a.into() - b).length() < 1e-5
+}
+
+#[test]
+fn a_pov_plane_is_the_points_at_distance_d_along_its_unit_normal() {
+    let (normal, offset) = plane(&pov("plane { <0, 2, 0>, -1 }"));
+    // n̂ · p = -1 is the floor y = -1: n · p + offset = 0 with n̂ and offset 1.
+    assert!(close(normal, Vec3::Y), "{normal}");
+    assert_eq!(offset, 1.0);
+    // The same text in `.scn` keeps the course's meaning: n · p + d = 0.
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "camera { location <0, 0, -1> look_at 0 } plane { <0, 2, 0>, -1 }",
+    )
+    .unwrap();
+    assert_eq!(plane(&scn), (Vec3::new(0.0, 2.0, 0.0), -1.0));
+}
+
+#[test]
+fn without_a_camera_a_pov_scene_has_povray_s_default_camera() {
+    let graph = pov("");
+    assert_eq!((graph.settings.width, graph.settings.height), (320, 240));
+    let camera = camera(&graph);
+    assert_eq!(camera.origin, Vec3::ZERO);
+    assert!(close(towards(&camera, 0.5, 0.5), Vec3::Z));
+    // `right` 1.33 x, `up` y, `direction` z: the image's right edge is at x = 0.665.
+    assert!(close(towards(&camera, 1.0, 0.5), Vec3::new(0.665, 0.0, 1.0).normalize()));
+    assert!(close(towards(&camera, 0.5, 0.0), Vec3::new(0.0, 0.5, 1.0).normalize()));
+    // A `.scn` scene still needs its camera.
+    let scn = parse_scene(Path::new("tests/inline.scn"), "").unwrap_err().to_string();
+    assert!(scn.contains("missing camera"), "{scn}");
+}
+
+#[test]
+fn look_at_turns_right_up_and_direction_keeping_their_lengths() {
+    let graph =
+        pov("camera { location <0, 0, -5> right x*image_width/image_height up y direction 2*z \
+         look_at <5, 0, 0> }");
+    let camera = camera(&graph);
+    let view = Vec3::new(5.0, 0.0, 5.0).normalize();
+    assert!(close(towards(&camera, 0.5, 0.5), view));
+    assert!((camera.forward.length() - 2.0).abs() < 1e-5, "direction keeps its length");
+    // Left-handed as POV-Ray: right is sky x view.
+    let right = Vec3::Y.cross(view).normalize() * (320.0 / 240.0);
+    assert!(close(towards(&camera, 1.0, 0.5), (2.0 * view + 0.5 * right).normalize()));
+    // A right-handed camera (`right -x`) mirrors the image.
+    let mirrored = camera_of_pov("camera { location <0, 0, -5> right -1.33*x look_at 0 }");
+    assert!(close(towards(&mirrored, 1.0, 0.5), Vec3::new(-0.665, 0.0, 5.0 / 5.0).normalize()));
+}
+
+fn camera_of_pov(text: &str) -> Camera {
+    camera(&pov(text))
+}
+
+#[test]
+fn angle_sets_the_horizontal_field_of_view_from_right() {
+    let camera = camera_of_pov("camera { location 0 right 2*x up y angle 90 look_at z }");
+    // Half the width is 1 at distance 1: the right edge is 45 degrees off the axis.
+    assert!(close(towards(&camera, 1.0, 0.5), Vec3::new(1.0, 0.0, 1.0).normalize()));
+    assert!(close(towards(&camera, 0.5, 0.0), Vec3::new(0.0, 0.5, 1.0).normalize()));
+}
+
+#[test]
+fn sky_tilts_the_camera() {
+    let camera = camera_of_pov("camera { location 0 sky x look_at z }");
+    // With sky x, up is x and right is x cross z = -y (the image turned a quarter).
+    assert!(close(towards(&camera, 0.5, 0.0), Vec3::new(0.5, 0.0, 1.0).normalize()));
+    assert!(close(towards(&camera, 1.0, 0.5), Vec3::new(0.0, -0.665, 1.0).normalize()));
+}
+
+#[test]
+fn an_orthographic_camera_sends_parallel_rays_from_its_image_plane() {
+    let camera =
+        camera_of_pov("camera { orthographic location <0, 0, -5> right 4*x up 3*y look_at 0 }");
+    let (a, b) = (camera.ray(0.0, 0.0, Vec2::ZERO), camera.ray(1.0, 1.0, Vec2::ZERO));
+    assert!(close(a.dir, Vec3::Z) && close(b.dir, Vec3::Z));
+    assert!(close(a.origin, Vec3::new(-2.0, 1.5, -5.0)), "{}", a.origin);
+    assert!(close(b.origin, Vec3::new(2.0, -1.5, -5.0)), "{}", b.origin);
+}
+
+#[test]
+fn a_pov_light_colour_is_power_matched_at_the_distance_to_look_at() {
+    let graph = pov("light_source { <0, 4, -3> color rgb <1, 0.5, 0> }\n\
+         camera { location <0, 1, -4> look_at 0 }");
+    let light = &graph.lights[0];
+    // d² = 16 + 9: π·C·d² gives a white Lambertian surface there the radiance C·cos θ / π · π.
+    let expected = std::f32::consts::PI * 25.0 * Vec3::new(1.0, 0.5, 0.0);
+    assert!(close(light.power / 100.0, expected / 100.0), "{}", light.power);
+}
+
+#[test]
+fn image_width_and_height_are_the_image_s_size() {
+    let graph = pov("#declare W = image_width; #declare H = image_height; \
+                     sphere { <W, H, 0>, 1 }");
+    match &graph.objects[0].shape {
+        ShapeNode::Sphere { center, .. } => assert_eq!(*center, Vec3::new(320.0, 240.0, 0.0)),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn pov_words_are_refused_in_scn_and_lab_words_in_pov() {
+    let scn =
+        parse_scene(Path::new("tests/inline.scn"), "camera { orthographic location 0 look_at z }")
+            .unwrap_err()
+            .to_string();
+    assert!(scn.contains("`orthographic`") && scn.contains(":1:10"), "{scn}");
+    let lab = pov_error("camera { origin 0 left x up y forward z }");
+    assert!(
+        lab.contains("`origin` is not a POV-Ray camera word") && lab.contains(":1:10"),
+        "{lab}"
+    );
+    let zero = pov_error("camera { location 0 look_at 0 }");
+    assert!(zero.contains("`look_at` is the camera's `location`"), "{zero}");
+}
+
+#[test]
+fn a_light_s_colour_may_follow_its_position_without_color() {
+    let graph = pov("light_source { <0, 0, -1>, rgb <1, 0, 0> }  light_source { <0, 0, -1> 0.5 }");
+    // The default camera looks at <0, 0, 1>: d = 2.
+    let pi4 = 4.0 * std::f32::consts::PI;
+    assert!(close(graph.lights[0].power / pi4, Vec3::X), "{}", graph.lights[0].power);
+    assert!(close(graph.lights[1].power / pi4, Vec3::splat(0.5)));
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "camera { location 0 look_at z } light_source { <0, 1, 0>, rgb 1 }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(scn.contains("`color`: a POV-Ray light's colour"), "{scn}");
+}
+
+#[test]
+fn background_is_the_environment_with_a_warning_and_focal_blur_is_warned_about() {
+    let graph = pov("background { color rgb <0.1, 0.2, 0.3> }\n\
+         camera { location <0, 0, -5> look_at 0 aperture 0.4 focal_point 0 blur_samples 20 }");
+    assert!(close(graph.settings.background, Vec3::new(0.1, 0.2, 0.3)));
+    assert_eq!((graph.settings.width, graph.settings.height), (320, 240));
+    assert!(graph.warnings.iter().any(|w| w.contains(":1:1: warning: POV-Ray's `background`")));
+    assert!(
+        graph.warnings.iter().any(|w| w.contains(":2:40: warning: POV-Ray's focal blur")),
+        "{:?}",
+        graph.warnings
+    );
+}
+
+#[test]
+fn colors_inc_is_built_in_for_pov_scenes_and_a_file_on_the_include_path_comes_first() {
+    let graph = pov("#include \"colors.inc\"\n\
+         sphere { <0, 0, 0>, 1 pigment { SkyBlue } finish { diffuse 1 } }");
+    let m = graph.objects[0].material.as_ref().unwrap();
+    assert!(matches!(m.diffuse.pattern, raydiance::graph::Pattern::Solid(c)
+        if close(c, Vec3::new(0.196078, 0.6, 0.8))));
+    // `.scn` has no built-in library.
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "#include \"colors.inc\" camera { location 0 look_at z }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(scn.contains("cannot read"), "{scn}");
+    // RAYDIANCE_INCLUDE_PATH is searched before the library.
+    let dir = std::env::temp_dir().join(format!("raydiance-include-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("inc")).unwrap();
+    std::fs::write(dir.join("inc/colors.inc"), "#declare SkyBlue = rgb <1, 0, 0>;").unwrap();
+    std::fs::write(
+        dir.join("scene.pov"),
+        "#include \"colors.inc\"\nbackground { SkyBlue }\nsphere { <0, 0, 5>, 1 }",
+    )
+    .unwrap();
+    let run = |path: Option<&Path>| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"));
+        command.args(["render", "scene.pov", "-o", "out.ppm", "--width", "8", "--height", "6"]);
+        command.args(["--samples", "1"]).current_dir(&dir);
+        match path {
+            Some(p) => command.env("RAYDIANCE_INCLUDE_PATH", p),
+            None => command.env_remove("RAYDIANCE_INCLUDE_PATH"),
+        };
+        let output = command.output().unwrap();
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        // A plain PPM: "P3", width, height, maximum, then the pixels (lines with `#` are notes).
+        let ppm = std::fs::read_to_string(dir.join("out.ppm")).unwrap();
+        let numbers: Vec<f64> = ppm
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .flat_map(str::split_whitespace)
+            .skip(4)
+            .map(|n| n.parse().unwrap())
+            .collect();
+        // The top-left pixel is the background: red from the include path, else sky blue.
+        (numbers[0], numbers[2])
+    };
+    let (red, blue) = run(Some(&dir.join("inc")));
+    assert!(red > 0.0 && blue == 0.0, "the include path's file: {red} {blue}");
+    let (red, blue) = run(None);
+    assert!(red < blue, "the built-in SkyBlue: {red} {blue}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn povray_s_lenient_forms_are_read() {
+    let graph = pov("# debug \"\"\n\
+         #declare V = version;\n\
+         #if (V >= 3.7) sphere { <sqr(2), 0, 0>, 1 } #end\n\
+         disc { <0, 1, 0>, y, 2 }\n\
+         object { sphere { 0, 1 } translate <0, 0, 3> }");
+    match &graph.objects[0].shape {
+        ShapeNode::Sphere { center, .. } => assert_eq!(*center, Vec3::new(4.0, 0.0, 0.0)),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(graph.objects[1].shape, ShapeNode::Disk { radius: 2.0, .. }));
+    // The inline shape takes the outer items as its own.
+    let inline = &graph.objects[2];
+    assert!(matches!(inline.shape, ShapeNode::Sphere { .. }) && inline.transforms.len() == 1);
+}
+
+#[test]
+fn a_fading_light_is_matched_where_the_camera_looks_and_modifiers_are_read_or_warned() {
+    let graph = pov("light_source { <0, 0, 5> rgb 1 fade_distance 2 fade_power 2 shadowless }\n\
+         camera { location <0, 0, -5> look_at 0 }\n\
+         sphere { 0, 1 hollow on no_shadow double_illuminate bounded_by { sphere { 0, 2 } } }");
+    // d = 5: POV-Ray's light there is 2 / (1 + (5/2)²) of its colour.
+    let expected = std::f32::consts::PI * 25.0 * 2.0 / (1.0 + 6.25);
+    assert!((graph.lights[0].power.x - expected).abs() < 1e-4, "{}", graph.lights[0].power);
+    let warned = |what: &str| graph.warnings.iter().any(|w| w.contains(what));
+    assert!(warned(":1:61: warning: `shadowless` is not honoured"), "{:?}", graph.warnings);
+    assert!(warned(":3:25: warning: `no_shadow` is not honoured"), "{:?}", graph.warnings);
+    assert!(!warned("hollow") && !warned("double_illuminate"));
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "camera { location 0 look_at z } sphere { 0, 1 hollow }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(scn.contains("`hollow`: this POV-Ray object modifier"), "{scn}");
+}
+
+#[test]
+fn a_declared_camera_is_used_by_name_and_may_be_changed() {
+    let camera = camera_of_pov(
+        "#declare C = camera { location <0, 0, -5> right 2*x angle 90 }\n\
+         camera { C look_at <0, 0, 0> }",
+    );
+    assert_eq!(camera.origin, Vec3::new(0.0, 0.0, -5.0));
+    assert!(close(towards(&camera, 1.0, 0.5), Vec3::new(1.0, 0.0, 1.0).normalize()));
+    let scn = parse_scene(Path::new("tests/inline.scn"), "#declare C = 1 camera { C }")
+        .unwrap_err()
+        .to_string();
+    assert!(scn.contains("cannot stand in a camera"), "{scn}");
+}

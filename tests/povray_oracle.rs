@@ -1,0 +1,105 @@
+//! POV-Ray 3.7 (Debian's `povray`, which CI installs) as the oracle for the `.pov` dialect's
+//! geometry: a scene in flat emissive colours rendered by both agrees pixel for pixel away from
+//! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`; orthographic), planes with
+//! offsets, `#default`.
+
+use std::path::Path;
+use std::process::Command;
+
+const SCENE: &str = r#"
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+sphere { <0, 0, 0>, 1 pigment { rgb <1, 0, 0> } }
+sphere { <2, 0, 1>, 0.7 pigment { rgb <0, 1, 0> } }
+box { <-2, -1.5, -1>, <-1, -0.5, 0> pigment { rgb <0, 0, 1> } }
+plane { y, -2 pigment { rgb <1, 1, 0> } }
+"#;
+
+const CAMERAS: [&str; 3] = [
+    "camera { location <1, 2, -6> right x*image_width/image_height up y sky <0.3, 1, 0> \
+     angle 50 look_at <0.5, 0.3, 0> }",
+    "camera { location <-3, 1, -5> right -1.33*x direction 1.5*z look_at <0, 0, 0> }",
+    "camera { orthographic location <0, 3, -6> right 8*x up 6*y look_at <0, 0, 0> }",
+];
+
+const WIDTH: usize = 64;
+const HEIGHT: usize = 48;
+
+/// The pixels of a binary (P6) or plain (P3) PPM as numbers in [0, 1].
+fn ppm(path: &Path) -> Vec<f32> {
+    let data = std::fs::read(path).unwrap();
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while tokens.len() < 4 {
+        while data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if data[i] == b'#' {
+            while data[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        let start = i;
+        while !data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        tokens.push(String::from_utf8(data[start..i].to_vec()).unwrap());
+    }
+    let max: f32 = tokens[3].parse().unwrap();
+    match tokens[0].as_str() {
+        "P6" => data[i + 1..].iter().map(|&b| f32::from(b) / max).collect(),
+        "P3" => {
+            let text: String = String::from_utf8(data[i..].to_vec()).unwrap();
+            let lines = text.lines().filter(|l| !l.starts_with('#'));
+            lines.flat_map(str::split_whitespace).map(|n| n.parse::<f32>().unwrap() / max).collect()
+        }
+        other => panic!("not a PPM: {other}"),
+    }
+}
+
+/// Each pixel's colour as which channels are lit.
+fn classes(pixels: &[f32]) -> Vec<[bool; 3]> {
+    pixels.chunks(3).map(|p| [p[0] > 0.5, p[1] > 0.5, p[2] > 0.5]).collect()
+}
+
+#[test]
+fn flat_emissive_scenes_match_povray_away_from_edges() {
+    let dir = tempfile::tempdir().unwrap();
+    for (n, camera) in CAMERAS.iter().enumerate() {
+        let scene = dir.path().join(format!("scene{n}.pov"));
+        std::fs::write(&scene, format!("{camera}\n{SCENE}")).unwrap();
+        let ours = dir.path().join(format!("ours{n}.ppm"));
+        let theirs = dir.path().join(format!("theirs{n}.ppm"));
+        let povray = Command::new("povray")
+            .arg(format!("+I{}", scene.display()))
+            .arg(format!("+O{}", theirs.display()))
+            .args(["+FP", &format!("+W{WIDTH}"), &format!("+H{HEIGHT}"), "-D", "-A"])
+            .output()
+            .expect("POV-Ray is the oracle: install Debian's `povray`");
+        assert!(povray.status.success(), "{}", String::from_utf8_lossy(&povray.stderr));
+        let size = [WIDTH.to_string(), HEIGHT.to_string()];
+        let status = Command::new(env!("CARGO_BIN_EXE_raydiance"))
+            .args(["render", scene.to_str().unwrap(), "-o", ours.to_str().unwrap()])
+            .args(["--width", &size[0], "--height", &size[1], "--samples", "16"])
+            .output()
+            .unwrap();
+        assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+        let (a, b) = (classes(&ppm(&theirs)), classes(&ppm(&ours)));
+        assert_eq!((a.len(), b.len()), (WIDTH * HEIGHT, WIDTH * HEIGHT));
+        // A pixel differs only on an edge: where POV-Ray's own neighbours differ.
+        let edge = |k: usize| {
+            let (x, y) = ((k % WIDTH) as i64, (k / WIDTH) as i64);
+            [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
+                let (u, v) = (x + dx, y + dy);
+                (0..WIDTH as i64).contains(&u)
+                    && (0..HEIGHT as i64).contains(&v)
+                    && a[(v * WIDTH as i64 + u) as usize] != a[k]
+            })
+        };
+        let wrong: Vec<usize> = (0..a.len()).filter(|&k| a[k] != b[k] && !edge(k)).collect();
+        assert!(wrong.is_empty(), "camera {n}: pixels {wrong:?} differ from POV-Ray's");
+        let lit = a.iter().filter(|c| c.iter().any(|&l| l)).count();
+        assert!(lit > a.len() / 4, "camera {n}: the scene is in view ({lit} pixels lit)");
+    }
+}
