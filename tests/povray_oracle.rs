@@ -3,6 +3,8 @@
 //! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`; orthographic), planes with
 //! offsets, `#default`.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -65,6 +67,10 @@ fn classes(pixels: &[f32]) -> Vec<[bool; 3]> {
 
 #[test]
 fn flat_emissive_scenes_match_povray_away_from_edges() {
+    let test = "flat_emissive_scenes_match_povray_away_from_edges";
+    if !common::outside_tool("povray", "povray", test) {
+        return;
+    }
     let dir = tempfile::tempdir().unwrap();
     for (n, camera) in CAMERAS.iter().enumerate() {
         let scene = dir.path().join(format!("scene{n}.pov"));
