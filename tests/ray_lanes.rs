@@ -6,9 +6,8 @@ mod common;
 
 use common::{LAB_BOX, scene};
 use glam::{Vec3, Vec4};
-use raydiance::accel::RayLanes;
-use raydiance::geometry::LANES;
 use raydiance::geometry::{Hit, Ray};
+use raydiance::lanes::{LANES, RayLanes};
 use raydiance::sampling::{Sampler, uniform_sphere};
 use raydiance::scene::Scene;
 

@@ -614,7 +614,7 @@ fn torus_and_cone_area_samples_lie_on_them_and_lit_tori_render() {
 
 #[test]
 fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time() {
-    use raydiance::accel::RayLanes;
+    use raydiance::lanes::RayLanes;
     let mut graph = empty_graph();
     let mut rng = Rng(23);
     graph.objects = (0..4).map(|_| random_tree(&graph, &mut rng, 2)).collect();

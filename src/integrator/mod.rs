@@ -11,8 +11,8 @@ pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 
 use glam::{Vec2, Vec3, Vec4};
 
-use crate::accel::RayLanes;
-use crate::geometry::{Hit, LANES, Ray};
+use crate::geometry::{Hit, Ray};
+use crate::lanes::{LANES, RayLanes};
 use crate::light::{Light, ShadowRay};
 use crate::material::Bsdf;
 use crate::sampling::Sampler;

@@ -9,10 +9,11 @@ use std::ops::Range;
 
 use glam::{Affine3A, BVec4A, Vec3, Vec4};
 
-use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
+use crate::accel::{Bvh, Planes};
 use crate::camera::Camera;
-use crate::geometry::{Csg, Hit, Intersection, LANES, Lane, Ray, Shape};
+use crate::geometry::{Csg, FewShapes, Hit, Intersection, Nearest, Ray, Shape};
 use crate::graph::Settings;
+use crate::lanes::{LANES, Lane, RayLanes};
 use crate::light::Light;
 use crate::material::Material;
 use crate::sampling::Sampler;

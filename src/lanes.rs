@@ -1,12 +1,13 @@
-//! Vectors of four lanes, one per path traced together: each coordinate is a `Vec4`, so one
-//! SIMD operation does the work of four scalar ones. Operations round as glam's `Vec3` ones do
-//! (same operations in the same order), so a lane computes exactly what one path alone would.
+//! Lanes: paths, rays and hits traced together, one per SIMD lane. Each coordinate is a `Vec4`,
+//! so one SIMD operation does the work of four scalar ones. Operations round as glam's `Vec3`
+//! ones do (same operations in the same order), so a lane computes exactly what one path alone
+//! would. Below the shapes and the acceleration structures, which both work in lanes.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use glam::{BVec4A, Vec3, Vec4};
 
-use super::Hit;
+use crate::ray::{Hit, Ray};
 
 /// Paths, rays and shadow rays traced together.
 pub const LANES: usize = 4;
@@ -179,6 +180,34 @@ impl HitLanes {
         let offset = self.normal * self.error;
         let outside = self.normal.dot(dir).cmpge(Vec4::ZERO);
         Vec3x4::select(outside, self.point + offset, self.point - offset)
+    }
+}
+
+/// Rays, coordinate by coordinate.
+#[derive(Debug, Clone, Copy)]
+pub struct RayLanes {
+    pub origin: Vec3x4,
+    pub dir: Vec3x4,
+}
+
+impl RayLanes {
+    #[inline]
+    pub fn new(rays: &[Ray; LANES]) -> Self {
+        RayLanes {
+            origin: Vec3x4::from_lanes(rays.map(|r| r.origin)),
+            dir: Vec3x4::from_lanes(rays.map(|r| r.dir)),
+        }
+    }
+
+    #[inline]
+    pub fn lane(&self, lane: usize) -> Ray {
+        Ray::new(self.origin.lane(lane), self.dir.lane(lane))
+    }
+
+    #[inline]
+    pub fn set_lane(&mut self, lane: usize, ray: &Ray) {
+        self.origin.set_lane(lane, ray.origin.into());
+        self.dir.set_lane(lane, ray.dir.into());
     }
 }
 

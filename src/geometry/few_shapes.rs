@@ -4,42 +4,15 @@
 //! traversing a hierarchy over them; the unbounded planes have no hierarchy to live in at all.
 //!
 //! Each kind computes the same expressions as its scalar test in `geometry::shape`, in the same
-//! order, so a shape has the same intersections here as there.
+//! order, so a shape has the same intersections here as there. (`scene::build` picks them for
+//! a scene whose bounded shapes are few and simple; planes are always here.)
 
 use glam::{BVec4A, Vec4};
 
-use crate::geometry::{
-    Hit, HitLanes, LANES, Lane, Planar, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error,
-    sphere_error,
-};
-
-/// Four rays, coordinate by coordinate.
-#[derive(Debug, Clone, Copy)]
-pub struct RayLanes {
-    pub origin: Vec3x4,
-    pub dir: Vec3x4,
-}
-
-impl RayLanes {
-    #[inline]
-    pub fn new(rays: &[Ray; LANES]) -> Self {
-        RayLanes {
-            origin: Vec3x4::from_lanes(rays.map(|r| r.origin)),
-            dir: Vec3x4::from_lanes(rays.map(|r| r.dir)),
-        }
-    }
-
-    #[inline]
-    pub fn lane(&self, lane: usize) -> Ray {
-        Ray::new(self.origin.lane(lane), self.dir.lane(lane))
-    }
-
-    #[inline]
-    pub fn set_lane(&mut self, lane: usize, ray: &Ray) {
-        self.origin.set_lane(lane, ray.origin.into());
-        self.dir.set_lane(lane, ray.dir.into());
-    }
-}
+use super::planar::{Planar, PlanarKind, planar_error};
+use super::shape::{REL_ERROR, Shape, sphere_error};
+use crate::lanes::{HitLanes, LANES, Lane, RayLanes, Vec3x4};
+use crate::ray::Hit;
 
 /// A simple shape with its parameters splatted over the lanes once, at build time.
 #[derive(Debug, Clone)]
@@ -272,7 +245,7 @@ impl Simple {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Cuboid;
+    use crate::geometry::{Cuboid, Ray};
     use crate::sampling::{Sampler, uniform_sphere};
     use glam::Vec3;
 
