@@ -1,9 +1,11 @@
 //! Lanes: paths, rays and hits traced together, one per SIMD lane. Each coordinate is a `Vec4`,
-//! so one SIMD operation does the work of four scalar ones. Operations round as glam's `Vec3`
-//! ones do (same operations in the same order), so a lane computes exactly what one path alone
-//! would. Below the shapes and the acceleration structures, which both work in lanes.
+//! so one SIMD operation does the work of four scalar ones. Kernels are written once over
+//! `Real` and `Vector`: `f32` is their one-ray instance and `Vec4` their lanes, so a lane
+//! computes exactly what one ray alone would. (`Vector<f32>` rounds as glam's `Vec3`: same
+//! operations in the same order.) Below the shapes and the acceleration structures, which both
+//! work in lanes.
 
-use std::ops::{Add, Div, Mul, Neg, Sub};
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::{BVec4A, Vec3, Vec4};
 
@@ -11,6 +13,139 @@ use crate::ray::{Hit, Ray};
 
 /// Paths, rays and shadow rays traced together.
 pub const LANES: usize = 4;
+
+/// The arithmetic of a kernel written once: one number (`f32`, `f64`, whose mask is a `bool`)
+/// or a number per lane (`Vec4`, whose mask has a bit per lane). Comparisons are IEEE's: false
+/// where a NaN takes part, so a NaN distance is never a hit.
+pub trait Real:
+    Copy
+    + Neg<Output = Self>
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+{
+    type Mask: Copy
+        + BitAnd<Output = Self::Mask>
+        + BitOr<Output = Self::Mask>
+        + Not<Output = Self::Mask>;
+    const ZERO: Self;
+    const ONE: Self;
+    const NAN: Self;
+    fn splat(value: f32) -> Self;
+    fn sqrt(self) -> Self;
+    fn abs(self) -> Self;
+    fn gt(self, rhs: Self) -> Self::Mask;
+    fn lt(self, rhs: Self) -> Self::Mask;
+    fn ge(self, rhs: Self) -> Self::Mask;
+    fn le(self, rhs: Self) -> Self::Mask;
+    fn eq(self, rhs: Self) -> Self::Mask;
+    fn ne(self, rhs: Self) -> Self::Mask;
+    /// Per lane, `if_true` where `mask` is set, else `if_false`.
+    fn select(mask: Self::Mask, if_true: Self, if_false: Self) -> Self;
+}
+
+/// `Real` for one number of a primitive float type.
+macro_rules! real_for_float {
+    ($t:ty) => {
+        impl Real for $t {
+            type Mask = bool;
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            const NAN: Self = <$t>::NAN;
+            #[inline]
+            fn splat(value: f32) -> Self {
+                value.into()
+            }
+            #[inline]
+            fn sqrt(self) -> Self {
+                <$t>::sqrt(self)
+            }
+            #[inline]
+            fn abs(self) -> Self {
+                <$t>::abs(self)
+            }
+            #[inline]
+            fn gt(self, rhs: Self) -> bool {
+                self > rhs
+            }
+            #[inline]
+            fn lt(self, rhs: Self) -> bool {
+                self < rhs
+            }
+            #[inline]
+            fn ge(self, rhs: Self) -> bool {
+                self >= rhs
+            }
+            #[inline]
+            fn le(self, rhs: Self) -> bool {
+                self <= rhs
+            }
+            #[inline]
+            fn eq(self, rhs: Self) -> bool {
+                self == rhs
+            }
+            #[inline]
+            fn ne(self, rhs: Self) -> bool {
+                self != rhs
+            }
+            #[inline]
+            fn select(mask: bool, if_true: Self, if_false: Self) -> Self {
+                if mask { if_true } else { if_false }
+            }
+        }
+    };
+}
+
+real_for_float!(f32);
+real_for_float!(f64);
+
+impl Real for Vec4 {
+    type Mask = BVec4A;
+    const ZERO: Self = Vec4::ZERO;
+    const ONE: Self = Vec4::ONE;
+    const NAN: Self = Vec4::NAN;
+    #[inline]
+    fn splat(value: f32) -> Self {
+        Vec4::splat(value)
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        Vec4::sqrt(self)
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        Vec4::abs(self)
+    }
+    #[inline]
+    fn gt(self, rhs: Self) -> BVec4A {
+        self.cmpgt(rhs)
+    }
+    #[inline]
+    fn lt(self, rhs: Self) -> BVec4A {
+        self.cmplt(rhs)
+    }
+    #[inline]
+    fn ge(self, rhs: Self) -> BVec4A {
+        self.cmpge(rhs)
+    }
+    #[inline]
+    fn le(self, rhs: Self) -> BVec4A {
+        self.cmple(rhs)
+    }
+    #[inline]
+    fn eq(self, rhs: Self) -> BVec4A {
+        self.cmpeq(rhs)
+    }
+    #[inline]
+    fn ne(self, rhs: Self) -> BVec4A {
+        self.cmpne(rhs)
+    }
+    #[inline]
+    fn select(mask: BVec4A, if_true: Self, if_false: Self) -> Self {
+        Vec4::select(mask, if_true, if_false)
+    }
+}
 
 /// One lane of a vector of lanes. It is read from memory at the lane's offset (glam's `Index`
 /// matches on the lane), and written by a select with the lane's mask, so the vector is
@@ -67,17 +202,18 @@ impl Lane<Vec3> for Vec3x4 {
     }
 }
 
-/// Three coordinates of four vectors, one per lane.
+/// Three coordinates, each a `Real`: one vector, or a vector per lane.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Vec3x4 {
-    pub x: Vec4,
-    pub y: Vec4,
-    pub z: Vec4,
+pub struct Vector<F> {
+    pub x: F,
+    pub y: F,
+    pub z: F,
 }
 
-impl Vec3x4 {
-    pub const ZERO: Self = Vec3x4 { x: Vec4::ZERO, y: Vec4::ZERO, z: Vec4::ZERO };
+/// Four vectors, one per lane.
+pub type Vec3x4 = Vector<Vec4>;
 
+impl Vec3x4 {
     #[inline]
     pub fn from_lanes<V: Into<Vec3>>(v: [V; LANES]) -> Self {
         let [a, b, c, d] = v.map(Into::into);
@@ -87,36 +223,54 @@ impl Vec3x4 {
             z: Vec4::new(a.z, b.z, c.z, d.z),
         }
     }
+}
+
+impl From<Vec3> for Vector<f32> {
+    #[inline]
+    fn from(v: Vec3) -> Self {
+        Vector { x: v.x, y: v.y, z: v.z }
+    }
+}
+
+impl From<Vector<f32>> for Vec3 {
+    #[inline]
+    fn from(v: Vector<f32>) -> Self {
+        Vec3::new(v.x, v.y, v.z)
+    }
+}
+
+impl<F: Real> Vector<F> {
+    pub const ZERO: Self = Vector { x: F::ZERO, y: F::ZERO, z: F::ZERO };
 
     #[inline]
     pub fn splat(v: Vec3) -> Self {
-        Vec3x4 { x: Vec4::splat(v.x), y: Vec4::splat(v.y), z: Vec4::splat(v.z) }
+        Vector { x: F::splat(v.x), y: F::splat(v.y), z: F::splat(v.z) }
     }
 
     /// Per lane, `if_true` where `mask` is set, else `if_false`.
     #[inline]
-    pub fn select(mask: BVec4A, if_true: Self, if_false: Self) -> Self {
-        Vec3x4 {
-            x: Vec4::select(mask, if_true.x, if_false.x),
-            y: Vec4::select(mask, if_true.y, if_false.y),
-            z: Vec4::select(mask, if_true.z, if_false.z),
+    pub fn select(mask: F::Mask, if_true: Self, if_false: Self) -> Self {
+        Vector {
+            x: F::select(mask, if_true.x, if_false.x),
+            y: F::select(mask, if_true.y, if_false.y),
+            z: F::select(mask, if_true.z, if_false.z),
         }
     }
 
     #[inline]
-    pub fn dot(self, rhs: Self) -> Vec4 {
+    pub fn dot(self, rhs: Self) -> F {
         self.x * rhs.x + self.y * rhs.y + self.z * rhs.z
     }
 
     #[inline]
-    pub fn length_squared(self) -> Vec4 {
+    pub fn length_squared(self) -> F {
         self.dot(self)
     }
 
-    /// In glam's order of operations, so the lanes round as `Vec3::cross` does.
+    /// In glam's order of operations, so it rounds as `Vec3::cross` does.
     #[inline]
     pub fn cross(self, rhs: Self) -> Self {
-        Vec3x4 {
+        Vector {
             x: self.y * rhs.z - rhs.y * self.z,
             y: self.z * rhs.x - rhs.z * self.x,
             z: self.x * rhs.y - rhs.x * self.y,
@@ -125,21 +279,21 @@ impl Vec3x4 {
 
     #[inline]
     pub fn abs(self) -> Self {
-        Vec3x4 { x: self.x.abs(), y: self.y.abs(), z: self.z.abs() }
+        Vector { x: self.x.abs(), y: self.y.abs(), z: self.z.abs() }
     }
 
-    /// The largest coordinate per lane, compared as `Vec3::max_element` does (`a > b`, in
-    /// its order), so lanes pick what it picks.
+    /// The largest coordinate, compared as `Vec3::max_element` does (`a > b`, in its order),
+    /// so it picks what that picks.
     #[inline]
-    pub fn max_element(self) -> Vec4 {
-        let max = |a: Vec4, b: Vec4| Vec4::select(a.cmpgt(b), a, b);
+    pub fn max_element(self) -> F {
+        let max = |a: F, b: F| F::select(a.gt(b), a, b);
         max(max(self.x, self.y), self.z)
     }
 
-    /// Per lane, whether all three coordinates are zero (as `v == Vec3::ZERO`).
+    /// Whether all three coordinates are zero (as `v == Vec3::ZERO`).
     #[inline]
-    pub fn is_zero(self) -> BVec4A {
-        self.x.cmpeq(Vec4::ZERO) & self.y.cmpeq(Vec4::ZERO) & self.z.cmpeq(Vec4::ZERO)
+    pub fn is_zero(self) -> F::Mask {
+        self.x.eq(F::ZERO) & self.y.eq(F::ZERO) & self.z.eq(F::ZERO)
     }
 }
 
@@ -211,68 +365,83 @@ impl RayLanes {
     }
 }
 
-impl Add for Vec3x4 {
+impl<F: Real> Add for Vector<F> {
     type Output = Self;
     #[inline]
     fn add(self, rhs: Self) -> Self {
-        Vec3x4 { x: self.x + rhs.x, y: self.y + rhs.y, z: self.z + rhs.z }
+        Vector { x: self.x + rhs.x, y: self.y + rhs.y, z: self.z + rhs.z }
     }
 }
 
-impl Sub for Vec3x4 {
+impl<F: Real> Sub for Vector<F> {
     type Output = Self;
     #[inline]
     fn sub(self, rhs: Self) -> Self {
-        Vec3x4 { x: self.x - rhs.x, y: self.y - rhs.y, z: self.z - rhs.z }
+        Vector { x: self.x - rhs.x, y: self.y - rhs.y, z: self.z - rhs.z }
     }
 }
 
-impl Neg for Vec3x4 {
+impl<F: Real> Neg for Vector<F> {
     type Output = Self;
     #[inline]
     fn neg(self) -> Self {
-        Vec3x4 { x: -self.x, y: -self.y, z: -self.z }
+        Vector { x: -self.x, y: -self.y, z: -self.z }
     }
 }
 
 /// Coordinate by coordinate (colours).
-impl Mul for Vec3x4 {
+impl<F: Real> Mul for Vector<F> {
     type Output = Self;
     #[inline]
     fn mul(self, rhs: Self) -> Self {
-        Vec3x4 { x: self.x * rhs.x, y: self.y * rhs.y, z: self.z * rhs.z }
+        Vector { x: self.x * rhs.x, y: self.y * rhs.y, z: self.z * rhs.z }
     }
 }
 
 /// Each lane's vector by that lane's scalar.
-impl Mul<Vec4> for Vec3x4 {
+impl<F: Real> Mul<F> for Vector<F> {
     type Output = Self;
     #[inline]
-    fn mul(self, s: Vec4) -> Self {
-        Vec3x4 { x: self.x * s, y: self.y * s, z: self.z * s }
-    }
-}
-
-impl Mul<Vec3x4> for Vec4 {
-    type Output = Vec3x4;
-    #[inline]
-    fn mul(self, v: Vec3x4) -> Vec3x4 {
-        Vec3x4 { x: self * v.x, y: self * v.y, z: self * v.z }
+    fn mul(self, s: F) -> Self {
+        Vector { x: self.x * s, y: self.y * s, z: self.z * s }
     }
 }
 
 /// Each lane's vector divided by that lane's scalar (a division per coordinate, as glam's).
-impl Div<Vec4> for Vec3x4 {
+impl<F: Real> Div<F> for Vector<F> {
     type Output = Self;
     #[inline]
-    fn div(self, s: Vec4) -> Self {
-        Vec3x4 { x: self.x / s, y: self.y / s, z: self.z / s }
+    fn div(self, s: F) -> Self {
+        Vector { x: self.x / s, y: self.y / s, z: self.z / s }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `Vector<f32>`, which the shapes' kernels use for one ray, rounds as glam's `Vec3`, which
+    /// the rest of the renderer uses: images do not depend on which one a shape computed with.
+    #[test]
+    fn one_vector_rounds_as_glam() {
+        let mut state = 0x2545_f491_u32;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            f32::from_bits(0x3f80_0000 | (state >> 9)) * 3.0 - 4.5
+        };
+        for _ in 0..1000 {
+            let (a, b) = (Vec3::new(next(), next(), next()), Vec3::new(next(), next(), next()));
+            let (va, vb) = (Vector::from(a), Vector::from(b));
+            assert_eq!(Vec3::from(va.cross(vb)), a.cross(b));
+            assert_eq!(va.dot(vb), a.dot(b));
+            assert_eq!(va.abs().max_element(), a.abs().max_element());
+            let normalized = va * (1.0 / va.length_squared().sqrt());
+            assert_eq!(Vec3::from(normalized), a.normalize());
+            assert_eq!(Vec3::from(va + vb * 0.5 - va / 3.0), a + b * 0.5 - a / 3.0);
+        }
+    }
 
     #[test]
     fn set_lane_writes_that_lane_alone_and_lane_reads_it() {

@@ -3,14 +3,17 @@
 //! at a time, a scene of a few shapes costs a quarter of a test per ray and shape, less than
 //! traversing a hierarchy over them; the unbounded planes have no hierarchy to live in at all.
 //!
-//! Each kind computes the same expressions as its scalar test in `geometry::shape`, in the same
-//! order, so a shape has the same intersections here as there. (`scene::build` picks them for
+//! Each kind's test is its one-ray test's kernel (`plane_distance`, `sphere_distance`,
+//! `planar_distance` and their points) run on lanes, so a shape has the same intersections
+//! here as there. (`scene::build` picks them for
 //! a scene whose bounded shapes are few and simple; planes are always here.)
 
 use glam::{BVec4A, Vec4};
 
-use super::planar::{Planar, PlanarKind, planar_error};
-use super::shape::{REL_ERROR, Shape, sphere_error};
+use super::planar::{Planar, PlanarKind, planar_distance, planar_error, planar_point};
+use super::shape::{
+    Shape, plane_distance, plane_point, sphere_distance, sphere_error, sphere_point,
+};
 use crate::lanes::{HitLanes, LANES, Lane, RayLanes, Vec3x4};
 use crate::ray::Hit;
 
@@ -24,7 +27,6 @@ enum Simple {
     Sphere {
         center: Vec3x4,
         radius: Vec4,
-        radius_squared: Vec4,
         error: Vec4,
     },
     Planar {
@@ -97,7 +99,6 @@ impl FewShapes {
                 Shape::Sphere { center, radius } => Simple::Sphere {
                     center: Vec3x4::splat(center),
                     radius: Vec4::splat(radius),
-                    radius_squared: Vec4::splat(radius * radius),
                     error: Vec4::splat(sphere_error(center, radius)),
                 },
                 Shape::Planar(Planar { kind, origin, edge1, edge2, normal }) => Simple::Planar {
@@ -170,73 +171,39 @@ impl FewShapes {
 
 impl Simple {
     /// Where the rays meet the shape at distance `t`, at coordinates `st` along the edges of a
-    /// planar shape: the point, normal and error bound of `Shape::hit`, by its operations in
-    /// its order.
+    /// planar shape: the point, normal and error bound of `Shape::hit`, by its kernels.
     #[inline]
     fn hit(&self, rays: &RayLanes, t: Vec4, [s, u]: [Vec4; 2]) -> (Vec3x4, Vec3x4, Vec4) {
-        let at = |t: Vec4| rays.origin + rays.dir * t;
-        let (point, normal, error) = match self {
-            // Projected back onto the plane, so its error is that of its coordinates alone.
+        let at = rays.origin + rays.dir * t;
+        match self {
             Simple::Plane { normal, offset } => {
-                let p = at(t);
-                let point = p - *normal * (normal.dot(p) + *offset);
-                let largest = point.abs().max_element();
-                (point, *normal, Vec4::splat(REL_ERROR) * (largest + offset.abs()))
+                let (point, error) = plane_point(*normal, *offset, at);
+                (point, *normal, error)
             }
-            Simple::Sphere { center, radius, error, .. } => {
-                let from_center = at(t) - *center;
-                let normal = from_center * (Vec4::ONE / from_center.length_squared().sqrt());
-                (*center + normal * *radius, normal, *error)
+            Simple::Sphere { center, radius, error } => {
+                let (point, normal) = sphere_point(*center, *radius, at);
+                (point, normal, *error)
             }
             Simple::Planar { origin, edge1, edge2, normal, error, .. } => {
-                (*origin + *edge1 * s + *edge2 * u, *normal, *error)
+                (planar_point(*origin, *edge1, *edge2, s, u), *normal, *error)
             }
-        };
-        (point, normal, error)
+        }
     }
 
-    /// The distances to the shape along the four rays (NaN or out of range where there is no
-    /// hit), and for planar shapes the coordinates along their edges.
+    /// The distances to the shape along the rays (NaN or out of range where there is no hit),
+    /// and for planar shapes the coordinates along their edges.
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
     fn distances(&self, rays: &RayLanes) -> (Vec4, Option<[Vec4; 2]>) {
         let (o, d) = (rays.origin, rays.dir);
         match self {
-            // As `plane_distance`.
-            Simple::Plane { normal, offset } => (-(normal.dot(o) + *offset) / normal.dot(d), None),
-            // As `sphere_distance`: r^2 - |oc - b d|^2, and the root far from cancellation.
-            Simple::Sphere { center, radius_squared, .. } => {
-                let oc = o - *center;
-                let b = oc.dot(d);
-                let perp = oc - d * b;
-                let disc = *radius_squared - perp.dot(perp);
-                let root = disc.sqrt(); // NaN where disc < 0: no comparison below holds
-                let q = Vec4::select(b.cmpgt(Vec4::ZERO), -b - root, -b + root);
-                let c = oc.dot(oc) - *radius_squared;
-                let other = c / q;
-                let in_order = q.cmplt(other);
-                let t0 = Vec4::select(in_order, q, other);
-                let t1 = Vec4::select(in_order, other, q);
-                (Vec4::select(t0.cmpgt(Vec4::ZERO), t0, t1), None)
+            Simple::Plane { normal, offset } => (plane_distance(*normal, *offset, o, d), None),
+            Simple::Sphere { center, radius, .. } => {
+                (sphere_distance(*center, *radius, o, d), None)
             }
-            // As `planar_distance` (Möller–Trumbore).
             Simple::Planar { kind, origin, edge1, edge2, .. } => {
-                let pvec = d.cross(*edge2);
-                let det = edge1.dot(pvec);
-                let inv_det = Vec4::ONE / det;
-                let tvec = o - *origin;
-                let s = tvec.dot(pvec) * inv_det;
-                let qvec = tvec.cross(*edge1);
-                let t = d.dot(qvec) * inv_det;
-                let (zero, one) = (Vec4::ZERO, Vec4::ONE);
-                let inside = match kind {
-                    PlanarKind::Triangle => s.cmpge(zero) & t.cmpge(zero) & (s + t).cmple(one),
-                    PlanarKind::Quad => s.cmpge(zero) & s.cmple(one) & t.cmpge(zero) & t.cmple(one),
-                    PlanarKind::Disk => (s * s + t * t).cmple(one),
-                };
-                let distance = edge2.dot(qvec) * inv_det;
-                let hit = inside & det.cmpne(zero);
-                (Vec4::select(hit, distance, Vec4::NAN), Some([s, t]))
+                let (t, st) = planar_distance(*kind, *origin, *edge1, *edge2, o, d);
+                (t, Some(st))
             }
         }
     }
@@ -249,6 +216,8 @@ mod tests {
     use crate::sampling::{Sampler, uniform_sphere};
     use glam::Vec3;
 
+    /// The kernels are the one-ray tests' by construction; this holds what is FewShapes' own:
+    /// the nearest per lane, the names, a box as its faces, `any` as `closest`.
     #[test]
     fn agrees_exactly_with_one_ray_and_one_shape_at_a_time() {
         // Planes of a box around the origin, spheres inside and across it, and each planar
