@@ -1,6 +1,6 @@
-//! Four rays at once against a few simple shapes (planes, spheres, planar shapes): each shape's
-//! test runs on the four rays' coordinates side by side in SIMD lanes. With paths traced four
-//! at a time, a scene of a few shapes costs a quarter of a test per ray and shape, less than
+//! Rays in lanes against a few simple shapes (planes, spheres, planar shapes): each shape's
+//! test runs on the rays' coordinates side by side in SIMD lanes. With paths traced `LANES`
+//! at a time, a scene of a few shapes costs a fraction of a test per ray and shape, less than
 //! traversing a hierarchy over them; the unbounded planes have no hierarchy to live in at all.
 //!
 //! Each kind's test is its one-ray test's kernel (`plane_distance`, `sphere_distance`,
@@ -8,34 +8,35 @@
 //! here as there. (`scene::build` picks them for
 //! a scene whose bounded shapes are few and simple; planes are always here.)
 
-use glam::{BVec4A, Vec4};
-
 use super::planar::{Planar, PlanarKind, planar_distance, planar_error, planar_point};
 use super::shape::{
     Shape, plane_distance, plane_point, sphere_distance, sphere_error, sphere_point,
 };
-use crate::lanes::{HitLanes, LANES, Lane, RayLanes, Vec3x4};
+use crate::lanes::{Floats, HitLanes, LANES, Lane, Mask, MaskLanes, RayLanes, Real, Vec3Lanes};
 use crate::ray::Hit;
 
 /// A simple shape with its parameters splatted over the lanes once, at build time.
+// Kept inline, though a planar shape is the largest: the tests read the few shapes in order,
+// and a box around each would add a load to every test.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Simple {
     Plane {
-        normal: Vec3x4,
-        offset: Vec4,
+        normal: Vec3Lanes,
+        offset: Floats,
     },
     Sphere {
-        center: Vec3x4,
-        radius: Vec4,
-        error: Vec4,
+        center: Vec3Lanes,
+        radius: Floats,
+        error: Floats,
     },
     Planar {
         kind: PlanarKind,
-        origin: Vec3x4,
-        edge1: Vec3x4,
-        edge2: Vec3x4,
-        normal: Vec3x4,
-        error: Vec4,
+        origin: Vec3Lanes,
+        edge1: Vec3Lanes,
+        edge2: Vec3Lanes,
+        normal: Vec3Lanes,
+        error: Floats,
     },
 }
 
@@ -44,7 +45,7 @@ enum Simple {
 #[derive(Debug, Clone, Copy)]
 pub struct Nearest {
     pub names: [Option<u32>; LANES],
-    pub t: Vec4,
+    pub t: Floats,
     pub hits: HitLanes,
 }
 
@@ -93,21 +94,22 @@ impl FewShapes {
         let shapes = shapes
             .iter()
             .map(|shape| match *shape {
-                Shape::Plane { normal, offset } => {
-                    Simple::Plane { normal: Vec3x4::splat(normal), offset: Vec4::splat(offset) }
-                }
+                Shape::Plane { normal, offset } => Simple::Plane {
+                    normal: Vec3Lanes::splat(normal),
+                    offset: Floats::splat(offset),
+                },
                 Shape::Sphere { center, radius } => Simple::Sphere {
-                    center: Vec3x4::splat(center),
-                    radius: Vec4::splat(radius),
-                    error: Vec4::splat(sphere_error(center, radius)),
+                    center: Vec3Lanes::splat(center),
+                    radius: Floats::splat(radius),
+                    error: Floats::splat(sphere_error(center, radius)),
                 },
                 Shape::Planar(Planar { kind, origin, edge1, edge2, normal }) => Simple::Planar {
                     kind,
-                    origin: Vec3x4::splat(origin),
-                    edge1: Vec3x4::splat(edge1),
-                    edge2: Vec3x4::splat(edge2),
-                    normal: Vec3x4::splat(normal),
-                    error: Vec4::splat(planar_error(origin, edge1, edge2)),
+                    origin: Vec3Lanes::splat(origin),
+                    edge1: Vec3Lanes::splat(edge1),
+                    edge2: Vec3Lanes::splat(edge2),
+                    normal: Vec3Lanes::splat(normal),
+                    error: Floats::splat(planar_error(origin, edge1, edge2)),
                 },
                 _ => panic!("`FewShapes::takes` does not take {shape:?}"),
             })
@@ -119,31 +121,31 @@ impl FewShapes {
     /// lanes: once per shape that is nearest in some lane.
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
-    pub fn closest(&self, rays: &RayLanes, t_max: Vec4) -> Nearest {
+    pub fn closest(&self, rays: &RayLanes, t_max: Floats) -> Nearest {
         let mut t_nearest = t_max;
         // Positions in the list as floats (exact below 2^24), so one select updates them.
-        let mut index = Vec4::splat(-1.0);
-        let mut st = [Vec4::ZERO; 2];
+        let mut index = Floats::splat(-1.0);
+        let mut st = [Floats::ZERO; 2];
         for (i, shape) in self.shapes.iter().enumerate() {
             let (t, shape_st) = shape.distances(rays);
-            let hits = t.cmpgt(Vec4::ZERO) & t.cmplt(t_nearest);
-            t_nearest = Vec4::select(hits, t, t_nearest);
-            index = Vec4::select(hits, Vec4::splat(i as f32), index);
+            let hits = t.gt(Floats::ZERO) & t.lt(t_nearest);
+            t_nearest = Floats::select(hits, t, t_nearest);
+            index = Floats::select(hits, Floats::splat(i as f32), index);
             // Only planar shapes have coordinates; the others' lanes keep stale ones, unread.
             if let Some([s, u]) = shape_st {
-                st = [Vec4::select(hits, s, st[0]), Vec4::select(hits, u, st[1])];
+                st = [Floats::select(hits, s, st[0]), Floats::select(hits, u, st[1])];
             }
         }
-        let (mut point, mut normal, mut error) = (Vec3x4::ZERO, Vec3x4::ZERO, Vec4::ZERO);
-        let mut pending = index.cmpge(Vec4::ZERO);
+        let (mut point, mut normal, mut error) = (Vec3Lanes::ZERO, Vec3Lanes::ZERO, Floats::ZERO);
+        let mut pending = index.ge(Floats::ZERO);
         while pending.any() {
             let i = index.lane(pending.bitmask().trailing_zeros() as usize);
-            let same = index.cmpeq(Vec4::splat(i));
+            let same = index.eq(Floats::splat(i));
             let (p, n, e) = self.shapes[i as usize].hit(rays, t_nearest, st);
-            point = Vec3x4::select(same, p, point);
-            normal = Vec3x4::select(same, n, normal);
-            error = Vec4::select(same, e, error);
-            pending &= !same;
+            point = Vec3Lanes::select(same, p, point);
+            normal = Vec3Lanes::select(same, n, normal);
+            error = Floats::select(same, e, error);
+            pending = pending & !same;
         }
         // Simple shapes shade with their geometric normal.
         let hits = HitLanes { point, normal, shading_normal: normal, error };
@@ -159,11 +161,11 @@ impl FewShapes {
     /// Per lane, whether any shape meets the ray in (0, t_max).
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
-    pub fn any(&self, rays: &RayLanes, t_max: Vec4) -> BVec4A {
-        let mut occluded = BVec4A::FALSE;
+    pub fn any(&self, rays: &RayLanes, t_max: Floats) -> Mask {
+        let mut occluded = Mask::none();
         for shape in &self.shapes {
             let t = shape.distances(rays).0;
-            occluded |= t.cmpgt(Vec4::ZERO) & t.cmplt(t_max);
+            occluded = occluded | (t.gt(Floats::ZERO) & t.lt(t_max));
         }
         occluded
     }
@@ -173,7 +175,12 @@ impl Simple {
     /// Where the rays meet the shape at distance `t`, at coordinates `st` along the edges of a
     /// planar shape: the point, normal and error bound of `Shape::hit`, by its kernels.
     #[inline]
-    fn hit(&self, rays: &RayLanes, t: Vec4, [s, u]: [Vec4; 2]) -> (Vec3x4, Vec3x4, Vec4) {
+    fn hit(
+        &self,
+        rays: &RayLanes,
+        t: Floats,
+        [s, u]: [Floats; 2],
+    ) -> (Vec3Lanes, Vec3Lanes, Floats) {
         let at = rays.origin + rays.dir * t;
         match self {
             Simple::Plane { normal, offset } => {
@@ -194,7 +201,7 @@ impl Simple {
     /// and for planar shapes the coordinates along their edges.
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
-    fn distances(&self, rays: &RayLanes) -> (Vec4, Option<[Vec4; 2]>) {
+    fn distances(&self, rays: &RayLanes) -> (Floats, Option<[Floats; 2]>) {
         let (o, d) = (rays.origin, rays.dir);
         match self {
             Simple::Plane { normal, offset } => (plane_distance(*normal, *offset, o, d), None),
@@ -213,6 +220,7 @@ impl Simple {
 mod tests {
     use super::*;
     use crate::geometry::{Cuboid, Ray};
+    use crate::lanes::Wide;
     use crate::sampling::{Sampler, uniform_sphere};
     use glam::Vec3;
 
@@ -262,7 +270,7 @@ mod tests {
                     Vec3::new(sampler.next_1d(), sampler.next_1d(), sampler.next_1d()) - 0.5;
                 Ray::new(origin, uniform_sphere(sampler.next_2d()))
             });
-            let t_max = Vec4::from_array(std::array::from_fn(|_| 4.0 * sampler.next_1d()));
+            let t_max = Floats::from_fn(|_| 4.0 * sampler.next_1d());
             let lanes = RayLanes::new(&rays);
             let nearest = few.closest(&lanes, t_max);
             let occluded = few.any(&lanes, t_max);
@@ -271,7 +279,7 @@ mod tests {
                     .iter()
                     .enumerate()
                     .filter_map(|(i, shape)| {
-                        let at = shape.intersection(ray, t_max[lane])?;
+                        let at = shape.intersection(ray, t_max.lane(lane))?;
                         Some(Hit { primitive: i as u32, ..shape.hit(ray, &at) })
                     })
                     .min_by(|a, b| a.t.total_cmp(&b.t));
@@ -280,7 +288,7 @@ mod tests {
                     hit.map(|h| (h.primitive, h.t, h.point, h.normal, h.shading_normal, h.error))
                 };
                 assert_eq!(key(nearest.hit(lane)), key(one_by_one));
-                assert_eq!(occluded.test(lane), one_by_one.is_some());
+                assert_eq!(occluded.lane(lane), one_by_one.is_some());
                 if let Some(i) = one_by_one.map(|h| h.primitive as usize) {
                     hits[match shapes[i] {
                         Shape::Plane { .. } => 0,

@@ -9,10 +9,10 @@ pub use direct::Direct;
 pub use path::{Path, Strategy};
 pub use photon::{PHOTON_TASK, PhotonMapping, trace_pass};
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3};
 
 use crate::geometry::{Hit, Ray};
-use crate::lanes::{LANES, RayLanes};
+use crate::lanes::{Floats, LANES, Lane, RayLanes, Wide};
 use crate::light::{Light, ShadowRay};
 use crate::material::Bsdf;
 use crate::sampling::Sampler;
@@ -141,9 +141,9 @@ impl ShadowLanes {
     fn open(&self, scene: &Scene) -> impl Iterator<Item = usize> + use<> {
         let mut open = [false; LANES];
         if self.found.contains(&true) {
-            let t_max = Vec4::from_array(self.t_max);
+            let t_max = Floats::from_fn(|lane| self.t_max[lane]);
             let occluded = scene.occluded_lanes(&RayLanes::new(&self.rays), t_max);
-            open = std::array::from_fn(|lane| self.found[lane] && !occluded.test(lane));
+            open = std::array::from_fn(|lane| self.found[lane] && !occluded.lane(lane));
         }
         (0..LANES).filter(move |&lane| open[lane])
     }
