@@ -18,6 +18,7 @@ pub mod image;
 pub mod input;
 pub mod integrator;
 pub mod job;
+pub mod lanes;
 pub mod lang;
 pub mod light;
 pub mod material;

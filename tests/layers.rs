@@ -6,12 +6,6 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-/// Imports left out of the graph, as (file under `src/`, top-level module it imports).
-// Lane types: being moved out of geometry by the core rework. `accel/lanes.rs` tests shapes in
-// lanes, `sampling/warp.rs` warps in lanes, and `light::sample_lanes` reads
-// `Scene::lights_in_lanes`; each entry must still be needed, so delete it with its import.
-const LANE_TYPES_ALLOWED: &[(&str, &str)] = &[("accel/lanes.rs", "geometry")];
-
 /// Which modules each top-level module imports, and in which of its files: `(from, to)` to the
 /// files of `from` that name `to`.
 type Imports = BTreeMap<(String, String), BTreeSet<String>>;
@@ -163,17 +157,7 @@ fn describe(cycle: &[String], imports: &Imports) -> String {
 fn top_level_modules_import_one_way() {
     let files = source_files();
     assert!(files.len() > 50, "the sources were found ({} files)", files.len());
-    let mut imports = imports_of(&files);
-    for &(file, to) in LANE_TYPES_ALLOWED {
-        let from = file.split('/').next().unwrap().trim_end_matches(".rs").to_string();
-        let key = (from, to.to_string());
-        let files = imports.get_mut(&key);
-        let present = files.is_some_and(|files| files.remove(file));
-        assert!(present, "{file} no longer imports {to}: delete its entry in LANE_TYPES_ALLOWED");
-        if imports[&key].is_empty() {
-            imports.remove(&key);
-        }
-    }
+    let imports = imports_of(&files);
     let mutual: Vec<String> = imports
         .iter()
         .filter(|((from, to), _)| from < to && imports.contains_key(&(to.clone(), from.clone())))

@@ -5,10 +5,9 @@
 mod common;
 
 use common::{LAB_BOX, scene};
-use glam::{Vec3, Vec4};
-use raydiance::accel::RayLanes;
-use raydiance::geometry::LANES;
+use glam::Vec3;
 use raydiance::geometry::{Hit, Ray};
+use raydiance::lanes::{Floats, LANES, Lane, RayLanes, Wide};
 use raydiance::sampling::{Sampler, uniform_sphere};
 use raydiance::scene::Scene;
 
@@ -26,7 +25,7 @@ fn assert_lanes_agree_with_single_rays(scene: &Scene) {
         let found = scene.intersect_lanes(&lanes, active);
         let t_max: [f32; LANES] =
             std::array::from_fn(|lane| if active[lane] { 2.0 * sampler.next_1d() } else { 0.0 });
-        let occluded = scene.occluded_lanes(&lanes, Vec4::from_array(t_max));
+        let occluded = scene.occluded_lanes(&lanes, Floats::from_fn(|lane| t_max[lane]));
         for (lane, ray) in rays.iter().enumerate() {
             let alone = scene.intersect(ray).filter(|_| active[lane]);
             // The whole hit record, made in lanes or one at a time, bit for bit.
@@ -35,7 +34,7 @@ fn assert_lanes_agree_with_single_rays(scene: &Scene) {
             };
             assert_eq!(key(found.hit(lane)), key(alone), "ray {ray:?}");
             let blocked = active[lane] && scene.occluded(ray, t_max[lane]);
-            assert_eq!(occluded.test(lane), blocked, "ray {ray:?} to {}", t_max[lane]);
+            assert_eq!(occluded.lane(lane), blocked, "ray {ray:?} to {}", t_max[lane]);
             let bounded = |h: &Hit| scene.primitives[h.primitive as usize].shape.bounds().is_some();
             hits += usize::from(alone.as_ref().is_some_and(bounded));
         }

@@ -613,8 +613,8 @@ fn torus_and_cone_area_samples_lie_on_them_and_lit_tori_render() {
 }
 
 #[test]
-fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time() {
-    use raydiance::accel::RayLanes;
+fn csg_in_a_scene_shadow_rays_and_ray_batches_agree_with_one_ray_at_a_time() {
+    use raydiance::lanes::{Floats, LANES, Lane, RayLanes, Wide};
     let mut graph = empty_graph();
     let mut rng = Rng(23);
     graph.objects = (0..4).map(|_| random_tree(&graph, &mut rng, 2)).collect();
@@ -628,15 +628,15 @@ fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time(
     let scene = build(&graph).unwrap();
     let mut hits = 0;
     for _ in 0..5000 {
-        let rays: [Ray; 4] = std::array::from_fn(|_| {
+        let rays: [Ray; LANES] = std::array::from_fn(|_| {
             let origin = rng.direction() * 4.0;
             Ray::new(origin, (rng.vec(-1.0, 1.0) - origin).normalize())
         });
-        let t_max: [f32; 4] = std::array::from_fn(|_| rng.range(0.5, 8.0));
+        let t_max: [f32; LANES] = std::array::from_fn(|_| rng.range(0.5, 8.0));
         let lanes = RayLanes::new(&rays);
-        let nearest = scene.intersect_lanes(&lanes, [true; 4]);
-        let occluded = scene.occluded_lanes(&lanes, glam::Vec4::from_array(t_max));
-        for lane in 0..4 {
+        let nearest = scene.intersect_lanes(&lanes, [true; LANES]);
+        let occluded = scene.occluded_lanes(&lanes, Floats::from_fn(|lane| t_max[lane]));
+        for lane in 0..LANES {
             let one = scene.intersect(&rays[lane]);
             let key = |h: Option<raydiance::geometry::Hit>| {
                 h.map(|h| (h.primitive, h.t, h.point, h.normal))
@@ -644,7 +644,7 @@ fn csg_in_a_scene_shadow_rays_and_four_ray_batches_agree_with_one_ray_at_a_time(
             assert_eq!(key(nearest.hit(lane)), key(one));
             let blocked = one.is_some_and(|h| h.t < t_max[lane]);
             assert_eq!(scene.occluded(&rays[lane], t_max[lane]), blocked);
-            assert_eq!(occluded.test(lane), blocked);
+            assert_eq!(occluded.lane(lane), blocked);
             // (Primitives 0 to 3 are the bounded CSG objects, 4 the plane, 5 the unbounded
             // CSG object, then their surfaces.)
             hits += usize::from(one.is_some_and(|h| h.primitive as usize >= 6));

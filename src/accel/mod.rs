@@ -1,14 +1,11 @@
-//! Acceleration structures: the BVH, the unbounded planes tested four at a time, and few simple
-//! shapes tested against four rays at once.
+//! Acceleration structures: the BVH, and the unbounded planes tested four at a time.
 
 mod bvh;
 mod huge_array;
-mod lanes;
 mod planes;
 
 pub use bvh::{Bvh, MAX_PRIMITIVES};
 pub use huge_array::HugeArray;
-pub use lanes::{FewShapes, Nearest, RayLanes};
 pub use planes::Planes;
 
 /// Asks the CPU to start loading the cache line that holds `value`, and goes on without waiting

@@ -5,7 +5,9 @@
 use glam::{Vec2, Vec3};
 
 use super::shape::{Intersection, REL_ERROR, SurfaceSample};
+use super::shape::{ahead, ray_vectors};
 use super::{Aabb, Hit, Ray};
+use crate::lanes::{Real, Vector};
 use crate::sampling::{concentric_disk, uniform_triangle};
 
 /// Which coordinates (s, t) along the edges of `origin + s * edge1 + t * edge2` are inside.
@@ -35,35 +37,21 @@ impl Planar {
         Planar { kind, origin, edge1, edge2, normal: edge1.cross(edge2).normalize() }
     }
 
-    /// Möller–Trumbore: the distance in (0, t_max) and the coordinates along the edges.
+    /// The distance in (0, t_max) and the coordinates along the edges.
     #[inline]
     pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
-        let dir = Vec3::from(ray.dir);
-        let pvec = dir.cross(self.edge2);
-        let det = self.edge1.dot(pvec);
-        if det == 0.0 {
-            return None;
-        }
-        let inv_det = 1.0 / det;
-        let tvec = Vec3::from(ray.origin) - self.origin;
-        let s = tvec.dot(pvec) * inv_det;
-        let qvec = tvec.cross(self.edge1);
-        let t = dir.dot(qvec) * inv_det;
-        let inside = match self.kind {
-            PlanarKind::Triangle => s >= 0.0 && t >= 0.0 && s + t <= 1.0,
-            PlanarKind::Quad => (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t),
-            PlanarKind::Disk => s * s + t * t <= 1.0,
-        };
-        if !inside {
-            return None;
-        }
-        let distance = self.edge2.dot(qvec) * inv_det;
-        (distance > 0.0 && distance < t_max).then_some(Intersection {
-            t: distance,
-            st: Vec2::new(s, t),
-            triangle: 0,
-            part: 0,
-        })
+        let (origin, dir) = ray_vectors(ray);
+        let at = |v: Vec3| v.into();
+        let (distance, [s, t]) = planar_distance(
+            self.kind,
+            at(self.origin),
+            at(self.edge1),
+            at(self.edge2),
+            origin,
+            dir,
+        );
+        let t_hit = ahead(distance, t_max)?;
+        Some(Intersection { t: t_hit, st: Vec2::new(s, t), triangle: 0, part: 0 })
     }
 
     /// The intersection of a ray known to cross this plane at `t` (found another way, by a
@@ -81,7 +69,14 @@ impl Planar {
     pub fn hit(&self, t: f32, st: Vec2) -> Hit {
         Hit {
             t,
-            point: self.origin + st.x * self.edge1 + st.y * self.edge2,
+            point: planar_point(
+                self.origin.into(),
+                self.edge1.into(),
+                self.edge2.into(),
+                st.x,
+                st.y,
+            )
+            .into(),
             normal: self.normal,
             shading_normal: self.normal,
             error: self.error(),
@@ -138,6 +133,46 @@ pub fn planar_coordinates(kind: PlanarKind, u: Vec2) -> Vec2 {
         PlanarKind::Quad => u,
         PlanarKind::Disk => concentric_disk(u),
     }
+}
+
+/// Möller–Trumbore: the distance along the ray to the planar shape of that kind (NaN where the
+/// ray's line misses it), and the coordinates along the edges where the line meets its plane.
+#[inline]
+pub(crate) fn planar_distance<F: Real>(
+    kind: PlanarKind,
+    origin: Vector<F>,
+    edge1: Vector<F>,
+    edge2: Vector<F>,
+    ray_origin: Vector<F>,
+    dir: Vector<F>,
+) -> (F, [F; 2]) {
+    let pvec = dir.cross(edge2);
+    let det = edge1.dot(pvec);
+    let inv_det = F::ONE / det;
+    let tvec = ray_origin - origin;
+    let s = tvec.dot(pvec) * inv_det;
+    let qvec = tvec.cross(edge1);
+    let t = dir.dot(qvec) * inv_det;
+    let (zero, one) = (F::ZERO, F::ONE);
+    let inside = match kind {
+        PlanarKind::Triangle => s.ge(zero) & t.ge(zero) & (s + t).le(one),
+        PlanarKind::Quad => s.ge(zero) & s.le(one) & t.ge(zero) & t.le(one),
+        PlanarKind::Disk => (s * s + t * t).le(one),
+    };
+    let distance = edge2.dot(qvec) * inv_det;
+    (F::select(inside & det.ne(zero), distance, F::NAN), [s, t])
+}
+
+/// The point at coordinates (s, t) along the edges.
+#[inline]
+pub(crate) fn planar_point<F: Real>(
+    origin: Vector<F>,
+    edge1: Vector<F>,
+    edge2: Vector<F>,
+    s: F,
+    t: F,
+) -> Vector<F> {
+    origin + edge1 * s + edge2 * t
 }
 
 /// Error bound of a point on a planar shape (its coordinates are at most

@@ -1,69 +1,55 @@
 //! The real roots of a quadratic, without cancellation: of the two roots, the textbook formula
 //! takes one as the difference of nearly equal numbers when b^2 >> 4ac; here it comes from
 //! the other by Vieta's c / q instead (Numerical Recipes, section 5.6). Written once, for the
-//! f32 of most shapes and the f64 of the cone.
+//! f32 of most shapes, the f64 of the cone and the lanes of spheres tested together.
 
-use std::ops::{Add, Div, Mul, Neg, Sub};
-
-/// The arithmetic the solver needs: f32 and f64.
-pub trait Real:
-    Copy
-    + PartialOrd
-    + Neg<Output = Self>
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
-{
-    const ZERO: Self;
-    fn sqrt(self) -> Self;
-}
-
-impl Real for f32 {
-    const ZERO: Self = 0.0;
-    #[inline]
-    fn sqrt(self) -> Self {
-        f32::sqrt(self)
-    }
-}
-
-impl Real for f64 {
-    const ZERO: Self = 0.0;
-    #[inline]
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-}
+use crate::lanes::Real;
 
 /// The roots of `a t^2 + 2 half_b t + c = 0`, smaller first. `None` when they are not real,
 /// and when `a = 0`: the equation is then at most linear, which for a quadric means a line
 /// along its degenerate direction (a tube's axis), a miss.
 #[inline]
-pub fn quadratic_roots<T: Real>(a: T, half_b: T, c: T) -> Option<(T, T)> {
+pub fn quadratic_roots<T: Real<Mask = bool>>(a: T, half_b: T, c: T) -> Option<(T, T)> {
     quadratic_roots_with(a, half_b, c, half_b * half_b - a * c)
 }
 
 /// `quadratic_roots` with the discriminant `half_b^2 - a c` computed by the caller, who may
 /// know a form of it that cancels less (a sphere's, Ray Tracing Gems, chapter 7).
 #[inline]
-pub fn quadratic_roots_with<T: Real>(a: T, half_b: T, c: T, discriminant: T) -> Option<(T, T)> {
-    if a == T::ZERO || discriminant < T::ZERO {
-        return None;
-    }
+pub fn quadratic_roots_with<T: Real<Mask = bool>>(
+    a: T,
+    half_b: T,
+    c: T,
+    discriminant: T,
+) -> Option<(T, T)> {
+    let (real, smaller, larger) = quadratic_roots_in_lanes(a, half_b, c, discriminant);
+    real.then_some((smaller, larger))
+}
+
+/// `quadratic_roots_with` in lanes: per lane, whether the roots are real, and the roots
+/// (smaller first) where they are.
+#[inline]
+pub fn quadratic_roots_in_lanes<T: Real>(
+    a: T,
+    half_b: T,
+    c: T,
+    discriminant: T,
+) -> (T::Mask, T, T) {
+    let real = a.ne(T::ZERO) & discriminant.ge(T::ZERO);
     let root = discriminant.sqrt();
     // The sum of two terms of one sign: the root of larger magnitude, a q.
-    let q = if half_b > T::ZERO { -half_b - root } else { -half_b + root };
-    if q == T::ZERO {
-        // half_b = 0 and a c = 0: the double root 0, not 0 / 0.
-        return Some((T::ZERO, T::ZERO));
-    }
-    let (x, y) = (q / a, c / q);
-    Some(if x < y { (x, y) } else { (y, x) })
+    let q = T::select(half_b.gt(T::ZERO), -half_b - root, -half_b + root);
+    // q = 0 where half_b = 0 and a c = 0: the double root 0, not 0 / 0.
+    let double_zero = q.eq(T::ZERO);
+    let (x, y) = (T::select(double_zero, T::ZERO, q / a), T::select(double_zero, T::ZERO, c / q));
+    let in_order = x.lt(y);
+    (real, T::select(in_order, x, y), T::select(in_order, y, x))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec4;
 
     /// Distance in units in the last place.
     fn ulps(x: f32, exact: f64) -> f64 {
@@ -117,5 +103,27 @@ mod tests {
         assert_eq!(quadratic_roots(1.0f32, -2.0, 3.0), Some((1.0, 3.0)));
         assert_eq!(quadratic_roots_with(1.0f32, -2.0, 3.0, 4.0), Some((0.75, 4.0)));
         assert_eq!(quadratic_roots_with(1.0f32, -2.0, 3.0, -1.0), None);
+    }
+
+    #[test]
+    fn lanes_solve_each_their_own_quadratic() {
+        // Two real roots, none, a = 0, the double root 0 (q = 0): one case per lane.
+        let (a, half_b, c) =
+            ([1.0f32, 1.0, 0.0, 1.0], [0.5, 0.0, 1.0, 0.0], [-6.0, 1.0, -4.0, 0.0]);
+        let lanes = quadratic_roots_in_lanes(
+            Vec4::from_array(a),
+            Vec4::from_array(half_b),
+            Vec4::from_array(c),
+            Vec4::from_array(std::array::from_fn(|i| half_b[i] * half_b[i] - a[i] * c[i])),
+        );
+        let (real, smaller, larger) = lanes;
+        for lane in 0..4 {
+            let alone = quadratic_roots(a[lane], half_b[lane], c[lane]);
+            assert_eq!(real.test(lane), alone.is_some(), "lane {lane}");
+            if let Some(roots) = alone {
+                assert_eq!((smaller[lane], larger[lane]), roots, "lane {lane}");
+            }
+        }
+        assert_eq!(quadratic_roots(1.0f32, 0.5, -6.0), Some((-3.0, 2.0)));
     }
 }

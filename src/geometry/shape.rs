@@ -11,11 +11,12 @@ use super::crossings::Crossings;
 use super::csg::Csg;
 use super::cuboid::Cuboid;
 use super::planar::Planar;
-use super::quadratic::quadratic_roots_with;
+use super::quadratic::quadratic_roots_in_lanes;
 use super::quadric::{QuadricFrame, QuadricKind};
 use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
 use super::{Aabb, Hit, Ray};
+use crate::lanes::{Real, Vector};
 use crate::sampling::uniform_sphere;
 
 /// Relative error allowance for computed hit points: a few hundred ulps of the coordinates'
@@ -99,10 +100,14 @@ impl Shape {
     pub fn intersection(&self, ray: &Ray, t_max: f32) -> Option<Intersection> {
         match self {
             Shape::Plane { normal, offset } => {
-                plane_distance(*normal, *offset, ray, t_max).map(Intersection::at)
+                let (origin, dir) = ray_vectors(ray);
+                ahead(plane_distance((*normal).into(), *offset, origin, dir), t_max)
+                    .map(Intersection::at)
             }
             Shape::Sphere { center, radius } => {
-                sphere_distance(*center, *radius, ray, t_max).map(Intersection::at)
+                let (origin, dir) = ray_vectors(ray);
+                ahead(sphere_distance((*center).into(), *radius, origin, dir), t_max)
+                    .map(Intersection::at)
             }
             Shape::Planar(planar) => planar.intersection(ray, t_max),
             Shape::Quadric { kind, frame } => {
@@ -132,15 +137,12 @@ impl Shape {
         };
         match self {
             Shape::Plane { normal, offset } => {
-                // Project the point back onto the plane: its error is then that of its
-                // coordinates alone.
-                let p = ray.at(t);
-                let point = p - *normal * (normal.dot(p) + offset);
-                surface(point, *normal, REL_ERROR * (point.abs().max_element() + offset.abs()))
+                let (point, error) = plane_point((*normal).into(), *offset, ray.at(t).into());
+                surface(point.into(), *normal, error)
             }
             Shape::Sphere { center, radius } => {
-                let normal = (ray.at(t) - *center).normalize();
-                surface(*center + *radius * normal, normal, sphere_error(*center, *radius))
+                let (point, normal) = sphere_point((*center).into(), *radius, ray.at(t).into());
+                surface(point.into(), normal.into(), sphere_error(*center, *radius))
             }
             Shape::Planar(planar) => planar.hit(t, at.st),
             Shape::Quadric { kind, frame } => kind.hit(frame, ray, t),
@@ -302,11 +304,37 @@ pub(super) fn choose_part(areas: impl Iterator<Item = f32>, total: f32, u: Vec2)
     (i, Vec2::new(((target - below) / area).clamp(0.0, 1.0 - f32::EPSILON / 2.0), u.y))
 }
 
+/// A ray's origin and direction as vectors of the kernels below, which are written once for
+/// one ray (`f32`) and for rays in lanes (`FewShapes`).
 #[inline]
-fn plane_distance(normal: Vec3, offset: f32, ray: &Ray, t_max: f32) -> Option<f32> {
-    let (origin, dir) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
-    let t = -(normal.dot(origin) + offset) / normal.dot(dir);
+pub(crate) fn ray_vectors(ray: &Ray) -> (Vector<f32>, Vector<f32>) {
+    (Vec3::from(ray.origin).into(), Vec3::from(ray.dir).into())
+}
+
+/// A distance from a kernel below if it is in (0, t_max) (never where it is NaN).
+#[inline]
+pub(crate) fn ahead(t: f32, t_max: f32) -> Option<f32> {
     (t > 0.0 && t < t_max).then_some(t)
+}
+
+/// The distance along the ray to the plane `normal . p + offset = 0` (negative or NaN where
+/// the ray does not meet it ahead).
+#[inline]
+pub(crate) fn plane_distance<F: Real>(
+    normal: Vector<F>,
+    offset: F,
+    origin: Vector<F>,
+    dir: Vector<F>,
+) -> F {
+    -(normal.dot(origin) + offset) / normal.dot(dir)
+}
+
+/// The point of the plane hit at `p`, and its error bound: projected back onto the plane, its
+/// error is that of its coordinates alone.
+#[inline]
+pub(crate) fn plane_point<F: Real>(normal: Vector<F>, offset: F, p: Vector<F>) -> (Vector<F>, F) {
+    let point = p - normal * (normal.dot(p) + offset);
+    (point, F::splat(REL_ERROR) * (point.abs().max_element() + offset.abs()))
 }
 
 /// The half-space `normal . p + offset < 0` along a ray.
@@ -327,24 +355,56 @@ pub fn sphere_error(center: Vec3, radius: f32) -> f32 {
     REL_ERROR * (center.abs().max_element() + radius)
 }
 
+/// The distance along the ray to the sphere: the nearer crossing ahead (negative or NaN where
+/// the ray does not meet it ahead).
 #[inline]
-fn sphere_distance(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f32> {
-    let (t0, t1) = sphere_roots(center, radius, ray)?;
-    let t = if t0 > 0.0 { t0 } else { t1 };
-    (t > 0.0 && t < t_max).then_some(t)
+pub(crate) fn sphere_distance<F: Real>(
+    center: Vector<F>,
+    radius: F,
+    origin: Vector<F>,
+    dir: Vector<F>,
+) -> F {
+    let (real, t0, t1) = sphere_roots_in_lanes(center, radius, origin, dir);
+    F::select(real, F::select(t0.gt(F::ZERO), t0, t1), F::NAN)
 }
 
 /// Both intersections of the sphere with the ray's line, in order.
 #[inline]
 fn sphere_roots(center: Vec3, radius: f32, ray: &Ray) -> Option<(f32, f32)> {
-    let dir = Vec3::from(ray.dir);
-    let oc = Vec3::from(ray.origin) - center;
+    let (origin, dir) = ray_vectors(ray);
+    let (real, t0, t1) = sphere_roots_in_lanes(center.into(), radius, origin, dir);
+    real.then_some((t0, t1))
+}
+
+/// Per lane, whether the ray's line meets the sphere, and where (in order).
+#[inline]
+fn sphere_roots_in_lanes<F: Real>(
+    center: Vector<F>,
+    radius: F,
+    origin: Vector<F>,
+    dir: Vector<F>,
+) -> (F::Mask, F, F) {
+    let oc = origin - center;
     let b = oc.dot(dir);
     // r^2 - |oc - b d|^2 instead of b^2 - (|oc|^2 - r^2): no cancellation for distant spheres
     // (Ray Tracing Gems, ch. 7).
-    let perp = oc - b * dir;
-    let discriminant = radius * radius - perp.length_squared();
-    quadratic_roots_with(1.0, b, oc.length_squared() - radius * radius, discriminant)
+    let perp = oc - dir * b;
+    let radius_squared = radius * radius;
+    let discriminant = radius_squared - perp.length_squared();
+    quadratic_roots_in_lanes(F::ONE, b, oc.length_squared() - radius_squared, discriminant)
+}
+
+/// The point of the sphere hit at `p`, and its unit normal there.
+#[inline]
+pub(crate) fn sphere_point<F: Real>(
+    center: Vector<F>,
+    radius: F,
+    p: Vector<F>,
+) -> (Vector<F>, Vector<F>) {
+    let from_center = p - center;
+    // As glam's `normalize`: by the reciprocal of the length.
+    let normal = from_center * (F::ONE / from_center.length_squared().sqrt());
+    (center + normal * radius, normal)
 }
 
 #[cfg(test)]

@@ -9,8 +9,9 @@ use glam::{Affine3A, BVec4A, Mat3A, Vec2, Vec3, Vec3A, Vec4};
 
 use super::crossings::Crossings;
 use super::shape::Intersection;
-use super::{Aabb, Hit, Ray, Vec3x4};
+use super::{Aabb, Hit, Ray};
 use crate::accel::{Bvh, HugeArray, prefetch};
+use crate::lanes::Vec3x4;
 use crate::mesh::Mesh;
 
 /// Four triangles side by side, coordinate by coordinate: a vertex and the two edges from it.

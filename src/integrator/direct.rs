@@ -6,7 +6,8 @@
 use glam::Vec3;
 
 use super::{Lanes, SampleIntegrator, ShadowLanes, direct_from_light};
-use crate::geometry::{Hit, LANES, Ray, offset_origin};
+use crate::geometry::{Hit, Ray, offset_origin};
+use crate::lanes::LANES;
 use crate::light::ShadowRay;
 use crate::material::{Bsdf, LobeFlags, NO_DIRECTION, TransportMode};
 use crate::sampling::Sampler;

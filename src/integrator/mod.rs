@@ -15,12 +15,12 @@ pub use photon::{PHOTON_TASK, PhotonMapping, STORED_PHOTON_BYTES, most_stored, t
 pub use samples::{SampleIntegrator, TASK_SAMPLES, render_samples, stopped_before_a_pass};
 pub use sppm::Sppm;
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3};
 
-use crate::accel::RayLanes;
 use crate::film::Film;
-use crate::geometry::{Hit, LANES, Ray};
+use crate::geometry::{Hit, Ray};
 use crate::graph::{IntegratorKind, Settings};
+use crate::lanes::{Floats, LANES, Lane, RayLanes, Wide};
 use crate::light::{Light, ShadowRay};
 use crate::material::Bsdf;
 use crate::progress::{Progress, RenderStats};
@@ -181,9 +181,9 @@ impl ShadowLanes {
     fn open(&self, scene: &Scene) -> impl Iterator<Item = usize> + use<> {
         let mut open = [false; LANES];
         if self.found.contains(&true) {
-            let t_max = Vec4::from_array(self.t_max);
+            let t_max = Floats::from_fn(|lane| self.t_max[lane]);
             let occluded = scene.occluded_lanes(&RayLanes::new(&self.rays), t_max);
-            open = std::array::from_fn(|lane| self.found[lane] && !occluded.test(lane));
+            open = std::array::from_fn(|lane| self.found[lane] && !occluded.lane(lane));
         }
         (0..LANES).filter(move |&lane| open[lane])
     }

@@ -5,7 +5,8 @@
 use glam::{Vec2, Vec3};
 
 use super::{Lanes, SampleIntegrator, ShadowLanes};
-use crate::geometry::{Hit, LANES, Ray, offset_origin};
+use crate::geometry::{Hit, Ray, offset_origin};
+use crate::lanes::LANES;
 use crate::light::ShadowRay;
 use crate::material::{Bsdf, LobeFlags, TransportMode};
 use crate::sampling::Sampler;

@@ -8,12 +8,12 @@ use std::sync::Arc;
 use glam::{Affine3A, Vec3};
 
 use super::{Primitive, Scene};
-use crate::accel::{Bvh, FewShapes, MAX_PRIMITIVES, Planes};
+use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
-    Cone, Csg, CsgNode, CsgOp, Cuboid, Placement, Planar, PlanarKind, QuadricFrame, QuadricKind,
-    Shape, Torus, TriangleMesh, similarity_scale,
+    Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Placement, Planar, PlanarKind, QuadricFrame,
+    QuadricKind, Shape, Torus, TriangleMesh, similarity_scale,
 };
 use crate::graph::{Below, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use crate::light::Light;

@@ -7,12 +7,13 @@ pub use build::build;
 
 use std::ops::Range;
 
-use glam::{Affine3A, BVec4A, Vec3, Vec4};
+use glam::{Affine3A, Vec3};
 
-use crate::accel::{Bvh, FewShapes, Nearest, Planes, RayLanes};
+use crate::accel::{Bvh, Planes};
 use crate::camera::Camera;
-use crate::geometry::{Csg, Hit, Intersection, LANES, Lane, Ray, Shape};
+use crate::geometry::{Csg, FewShapes, Hit, Intersection, Nearest, Ray, Shape};
 use crate::graph::Settings;
+use crate::lanes::{Floats, LANES, Lane, Mask, RayLanes, Wide};
 use crate::light::Light;
 use crate::material::Material;
 use crate::sampling::Sampler;
@@ -114,7 +115,7 @@ impl Scene {
         if !self.others.is_empty() {
             self.closest_others(rays, active, &mut closest, &mut t_max);
         }
-        let mut nearest = self.few.closest(rays, Vec4::from_array(t_max));
+        let mut nearest = self.few.closest(rays, Floats::from_fn(|lane| t_max[lane]));
         for (lane, found) in closest.iter().enumerate() {
             if nearest.names[lane].is_none()
                 && let Some(found) = found
@@ -173,12 +174,12 @@ impl Scene {
     /// lane with `t_max` 0 is never occluded.
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
-    pub fn occluded_lanes(&self, rays: &RayLanes, t_max: Vec4) -> BVec4A {
+    pub fn occluded_lanes(&self, rays: &RayLanes, t_max: Floats) -> Mask {
         let mut occluded = self.few.any(rays, t_max);
         if !self.others.is_empty() {
             let open = occluded;
-            for lane in (0..LANES).filter(|&lane| !open.lane(lane) && t_max[lane] > 0.0) {
-                let (ray, t_max) = (&rays.lane(lane), t_max[lane]);
+            for lane in (0..LANES).filter(|&lane| !open.lane(lane) && t_max.lane(lane) > 0.0) {
+                let (ray, t_max) = (&rays.lane(lane), t_max.lane(lane));
                 if self.others.clone().any(|i| self.primitives[i].shape.occludes(ray, t_max)) {
                     occluded.set_lane(lane, true);
                 }
@@ -187,8 +188,8 @@ impl Scene {
         if !self.few_holds_bounded {
             let bounded = &self.primitives[..self.bounded];
             let open = occluded;
-            for lane in (0..LANES).filter(|&lane| !open.lane(lane) && t_max[lane] > 0.0) {
-                let (ray, t_max) = (&rays.lane(lane), t_max[lane]);
+            for lane in (0..LANES).filter(|&lane| !open.lane(lane) && t_max.lane(lane) > 0.0) {
+                let (ray, t_max) = (&rays.lane(lane), t_max.lane(lane));
                 let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
                 if self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf)) {
                     occluded.set_lane(lane, true);

@@ -1,66 +1,42 @@
-//! Four rays at once against a few simple shapes (planes, spheres, planar shapes): each shape's
-//! test runs on the four rays' coordinates side by side in SIMD lanes. With paths traced four
-//! at a time, a scene of a few shapes costs a quarter of a test per ray and shape, less than
+//! Rays in lanes against a few simple shapes (planes, spheres, planar shapes): each shape's
+//! test runs on the rays' coordinates side by side in SIMD lanes. With paths traced `LANES`
+//! at a time, a scene of a few shapes costs a fraction of a test per ray and shape, less than
 //! traversing a hierarchy over them; the unbounded planes have no hierarchy to live in at all.
 //!
-//! Each kind computes the same expressions as its scalar test in `geometry::shape`, in the same
-//! order, so a shape has the same intersections here as there.
+//! Each kind's test is its one-ray test's kernel (`plane_distance`, `sphere_distance`,
+//! `planar_distance` and their points) run on lanes, so a shape has the same intersections
+//! here as there. (`scene::build` picks them for
+//! a scene whose bounded shapes are few and simple; planes are always here.)
 
-use glam::{BVec4A, Vec4};
-
-use crate::geometry::{
-    Hit, HitLanes, LANES, Lane, Planar, PlanarKind, REL_ERROR, Ray, Shape, Vec3x4, planar_error,
-    sphere_error,
+use super::planar::{Planar, PlanarKind, planar_distance, planar_error, planar_point};
+use super::shape::{
+    Shape, plane_distance, plane_point, sphere_distance, sphere_error, sphere_point,
 };
-
-/// Four rays, coordinate by coordinate.
-#[derive(Debug, Clone, Copy)]
-pub struct RayLanes {
-    pub origin: Vec3x4,
-    pub dir: Vec3x4,
-}
-
-impl RayLanes {
-    #[inline]
-    pub fn new(rays: &[Ray; LANES]) -> Self {
-        RayLanes {
-            origin: Vec3x4::from_lanes(rays.map(|r| r.origin)),
-            dir: Vec3x4::from_lanes(rays.map(|r| r.dir)),
-        }
-    }
-
-    #[inline]
-    pub fn lane(&self, lane: usize) -> Ray {
-        Ray::new(self.origin.lane(lane), self.dir.lane(lane))
-    }
-
-    #[inline]
-    pub fn set_lane(&mut self, lane: usize, ray: &Ray) {
-        self.origin.set_lane(lane, ray.origin.into());
-        self.dir.set_lane(lane, ray.dir.into());
-    }
-}
+use crate::lanes::{Floats, HitLanes, LANES, Lane, Mask, MaskLanes, RayLanes, Real, Vec3Lanes};
+use crate::ray::Hit;
 
 /// A simple shape with its parameters splatted over the lanes once, at build time.
+// Kept inline, though a planar shape is the largest: the tests read the few shapes in order,
+// and a box around each would add a load to every test.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Simple {
     Plane {
-        normal: Vec3x4,
-        offset: Vec4,
+        normal: Vec3Lanes,
+        offset: Floats,
     },
     Sphere {
-        center: Vec3x4,
-        radius: Vec4,
-        radius_squared: Vec4,
-        error: Vec4,
+        center: Vec3Lanes,
+        radius: Floats,
+        error: Floats,
     },
     Planar {
         kind: PlanarKind,
-        origin: Vec3x4,
-        edge1: Vec3x4,
-        edge2: Vec3x4,
-        normal: Vec3x4,
-        error: Vec4,
+        origin: Vec3Lanes,
+        edge1: Vec3Lanes,
+        edge2: Vec3Lanes,
+        normal: Vec3Lanes,
+        error: Floats,
     },
 }
 
@@ -69,7 +45,7 @@ enum Simple {
 #[derive(Debug, Clone, Copy)]
 pub struct Nearest {
     pub names: [Option<u32>; LANES],
-    pub t: Vec4,
+    pub t: Floats,
     pub hits: HitLanes,
 }
 
@@ -118,22 +94,22 @@ impl FewShapes {
         let shapes = shapes
             .iter()
             .map(|shape| match *shape {
-                Shape::Plane { normal, offset } => {
-                    Simple::Plane { normal: Vec3x4::splat(normal), offset: Vec4::splat(offset) }
-                }
+                Shape::Plane { normal, offset } => Simple::Plane {
+                    normal: Vec3Lanes::splat(normal),
+                    offset: Floats::splat(offset),
+                },
                 Shape::Sphere { center, radius } => Simple::Sphere {
-                    center: Vec3x4::splat(center),
-                    radius: Vec4::splat(radius),
-                    radius_squared: Vec4::splat(radius * radius),
-                    error: Vec4::splat(sphere_error(center, radius)),
+                    center: Vec3Lanes::splat(center),
+                    radius: Floats::splat(radius),
+                    error: Floats::splat(sphere_error(center, radius)),
                 },
                 Shape::Planar(Planar { kind, origin, edge1, edge2, normal }) => Simple::Planar {
                     kind,
-                    origin: Vec3x4::splat(origin),
-                    edge1: Vec3x4::splat(edge1),
-                    edge2: Vec3x4::splat(edge2),
-                    normal: Vec3x4::splat(normal),
-                    error: Vec4::splat(planar_error(origin, edge1, edge2)),
+                    origin: Vec3Lanes::splat(origin),
+                    edge1: Vec3Lanes::splat(edge1),
+                    edge2: Vec3Lanes::splat(edge2),
+                    normal: Vec3Lanes::splat(normal),
+                    error: Floats::splat(planar_error(origin, edge1, edge2)),
                 },
                 _ => panic!("`FewShapes::takes` does not take {shape:?}"),
             })
@@ -145,31 +121,31 @@ impl FewShapes {
     /// lanes: once per shape that is nearest in some lane.
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
-    pub fn closest(&self, rays: &RayLanes, t_max: Vec4) -> Nearest {
+    pub fn closest(&self, rays: &RayLanes, t_max: Floats) -> Nearest {
         let mut t_nearest = t_max;
         // Positions in the list as floats (exact below 2^24), so one select updates them.
-        let mut index = Vec4::splat(-1.0);
-        let mut st = [Vec4::ZERO; 2];
+        let mut index = Floats::splat(-1.0);
+        let mut st = [Floats::ZERO; 2];
         for (i, shape) in self.shapes.iter().enumerate() {
             let (t, shape_st) = shape.distances(rays);
-            let hits = t.cmpgt(Vec4::ZERO) & t.cmplt(t_nearest);
-            t_nearest = Vec4::select(hits, t, t_nearest);
-            index = Vec4::select(hits, Vec4::splat(i as f32), index);
+            let hits = t.gt(Floats::ZERO) & t.lt(t_nearest);
+            t_nearest = Floats::select(hits, t, t_nearest);
+            index = Floats::select(hits, Floats::splat(i as f32), index);
             // Only planar shapes have coordinates; the others' lanes keep stale ones, unread.
             if let Some([s, u]) = shape_st {
-                st = [Vec4::select(hits, s, st[0]), Vec4::select(hits, u, st[1])];
+                st = [Floats::select(hits, s, st[0]), Floats::select(hits, u, st[1])];
             }
         }
-        let (mut point, mut normal, mut error) = (Vec3x4::ZERO, Vec3x4::ZERO, Vec4::ZERO);
-        let mut pending = index.cmpge(Vec4::ZERO);
+        let (mut point, mut normal, mut error) = (Vec3Lanes::ZERO, Vec3Lanes::ZERO, Floats::ZERO);
+        let mut pending = index.ge(Floats::ZERO);
         while pending.any() {
             let i = index.lane(pending.bitmask().trailing_zeros() as usize);
-            let same = index.cmpeq(Vec4::splat(i));
+            let same = index.eq(Floats::splat(i));
             let (p, n, e) = self.shapes[i as usize].hit(rays, t_nearest, st);
-            point = Vec3x4::select(same, p, point);
-            normal = Vec3x4::select(same, n, normal);
-            error = Vec4::select(same, e, error);
-            pending &= !same;
+            point = Vec3Lanes::select(same, p, point);
+            normal = Vec3Lanes::select(same, n, normal);
+            error = Floats::select(same, e, error);
+            pending = pending & !same;
         }
         // Simple shapes shade with their geometric normal.
         let hits = HitLanes { point, normal, shading_normal: normal, error };
@@ -185,11 +161,11 @@ impl FewShapes {
     /// Per lane, whether any shape meets the ray in (0, t_max).
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
-    pub fn any(&self, rays: &RayLanes, t_max: Vec4) -> BVec4A {
-        let mut occluded = BVec4A::FALSE;
+    pub fn any(&self, rays: &RayLanes, t_max: Floats) -> Mask {
+        let mut occluded = Mask::none();
         for shape in &self.shapes {
             let t = shape.distances(rays).0;
-            occluded |= t.cmpgt(Vec4::ZERO) & t.cmplt(t_max);
+            occluded = occluded | (t.gt(Floats::ZERO) & t.lt(t_max));
         }
         occluded
     }
@@ -197,73 +173,44 @@ impl FewShapes {
 
 impl Simple {
     /// Where the rays meet the shape at distance `t`, at coordinates `st` along the edges of a
-    /// planar shape: the point, normal and error bound of `Shape::hit`, by its operations in
-    /// its order.
+    /// planar shape: the point, normal and error bound of `Shape::hit`, by its kernels.
     #[inline]
-    fn hit(&self, rays: &RayLanes, t: Vec4, [s, u]: [Vec4; 2]) -> (Vec3x4, Vec3x4, Vec4) {
-        let at = |t: Vec4| rays.origin + rays.dir * t;
-        let (point, normal, error) = match self {
-            // Projected back onto the plane, so its error is that of its coordinates alone.
+    fn hit(
+        &self,
+        rays: &RayLanes,
+        t: Floats,
+        [s, u]: [Floats; 2],
+    ) -> (Vec3Lanes, Vec3Lanes, Floats) {
+        let at = rays.origin + rays.dir * t;
+        match self {
             Simple::Plane { normal, offset } => {
-                let p = at(t);
-                let point = p - *normal * (normal.dot(p) + *offset);
-                let largest = point.abs().max_element();
-                (point, *normal, Vec4::splat(REL_ERROR) * (largest + offset.abs()))
+                let (point, error) = plane_point(*normal, *offset, at);
+                (point, *normal, error)
             }
-            Simple::Sphere { center, radius, error, .. } => {
-                let from_center = at(t) - *center;
-                let normal = from_center * (Vec4::ONE / from_center.length_squared().sqrt());
-                (*center + normal * *radius, normal, *error)
+            Simple::Sphere { center, radius, error } => {
+                let (point, normal) = sphere_point(*center, *radius, at);
+                (point, normal, *error)
             }
             Simple::Planar { origin, edge1, edge2, normal, error, .. } => {
-                (*origin + *edge1 * s + *edge2 * u, *normal, *error)
+                (planar_point(*origin, *edge1, *edge2, s, u), *normal, *error)
             }
-        };
-        (point, normal, error)
+        }
     }
 
-    /// The distances to the shape along the four rays (NaN or out of range where there is no
-    /// hit), and for planar shapes the coordinates along their edges.
+    /// The distances to the shape along the rays (NaN or out of range where there is no hit),
+    /// and for planar shapes the coordinates along their edges.
     // Inlined into both integrators' loops over lanes (see `Scene::intersect_lanes`).
     #[inline(always)]
-    fn distances(&self, rays: &RayLanes) -> (Vec4, Option<[Vec4; 2]>) {
+    fn distances(&self, rays: &RayLanes) -> (Floats, Option<[Floats; 2]>) {
         let (o, d) = (rays.origin, rays.dir);
         match self {
-            // As `plane_distance`.
-            Simple::Plane { normal, offset } => (-(normal.dot(o) + *offset) / normal.dot(d), None),
-            // As `sphere_distance`: r^2 - |oc - b d|^2, and the root far from cancellation.
-            Simple::Sphere { center, radius_squared, .. } => {
-                let oc = o - *center;
-                let b = oc.dot(d);
-                let perp = oc - d * b;
-                let disc = *radius_squared - perp.dot(perp);
-                let root = disc.sqrt(); // NaN where disc < 0: no comparison below holds
-                let q = Vec4::select(b.cmpgt(Vec4::ZERO), -b - root, -b + root);
-                let c = oc.dot(oc) - *radius_squared;
-                let other = c / q;
-                let in_order = q.cmplt(other);
-                let t0 = Vec4::select(in_order, q, other);
-                let t1 = Vec4::select(in_order, other, q);
-                (Vec4::select(t0.cmpgt(Vec4::ZERO), t0, t1), None)
+            Simple::Plane { normal, offset } => (plane_distance(*normal, *offset, o, d), None),
+            Simple::Sphere { center, radius, .. } => {
+                (sphere_distance(*center, *radius, o, d), None)
             }
-            // As `planar_distance` (Möller–Trumbore).
             Simple::Planar { kind, origin, edge1, edge2, .. } => {
-                let pvec = d.cross(*edge2);
-                let det = edge1.dot(pvec);
-                let inv_det = Vec4::ONE / det;
-                let tvec = o - *origin;
-                let s = tvec.dot(pvec) * inv_det;
-                let qvec = tvec.cross(*edge1);
-                let t = d.dot(qvec) * inv_det;
-                let (zero, one) = (Vec4::ZERO, Vec4::ONE);
-                let inside = match kind {
-                    PlanarKind::Triangle => s.cmpge(zero) & t.cmpge(zero) & (s + t).cmple(one),
-                    PlanarKind::Quad => s.cmpge(zero) & s.cmple(one) & t.cmpge(zero) & t.cmple(one),
-                    PlanarKind::Disk => (s * s + t * t).cmple(one),
-                };
-                let distance = edge2.dot(qvec) * inv_det;
-                let hit = inside & det.cmpne(zero);
-                (Vec4::select(hit, distance, Vec4::NAN), Some([s, t]))
+                let (t, st) = planar_distance(*kind, *origin, *edge1, *edge2, o, d);
+                (t, Some(st))
             }
         }
     }
@@ -272,10 +219,13 @@ impl Simple {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Cuboid;
+    use crate::geometry::{Cuboid, Ray};
+    use crate::lanes::Wide;
     use crate::sampling::{Sampler, uniform_sphere};
     use glam::Vec3;
 
+    /// The kernels are the one-ray tests' by construction; this holds what is FewShapes' own:
+    /// the nearest per lane, the names, a box as its faces, `any` as `closest`.
     #[test]
     fn agrees_exactly_with_one_ray_and_one_shape_at_a_time() {
         // Planes of a box around the origin, spheres inside and across it, and each planar
@@ -320,7 +270,7 @@ mod tests {
                     Vec3::new(sampler.next_1d(), sampler.next_1d(), sampler.next_1d()) - 0.5;
                 Ray::new(origin, uniform_sphere(sampler.next_2d()))
             });
-            let t_max = Vec4::from_array(std::array::from_fn(|_| 4.0 * sampler.next_1d()));
+            let t_max = Floats::from_fn(|_| 4.0 * sampler.next_1d());
             let lanes = RayLanes::new(&rays);
             let nearest = few.closest(&lanes, t_max);
             let occluded = few.any(&lanes, t_max);
@@ -329,7 +279,7 @@ mod tests {
                     .iter()
                     .enumerate()
                     .filter_map(|(i, shape)| {
-                        let at = shape.intersection(ray, t_max[lane])?;
+                        let at = shape.intersection(ray, t_max.lane(lane))?;
                         Some(Hit { primitive: i as u32, ..shape.hit(ray, &at) })
                     })
                     .min_by(|a, b| a.t.total_cmp(&b.t));
@@ -338,7 +288,7 @@ mod tests {
                     hit.map(|h| (h.primitive, h.t, h.point, h.normal, h.shading_normal, h.error))
                 };
                 assert_eq!(key(nearest.hit(lane)), key(one_by_one));
-                assert_eq!(occluded.test(lane), one_by_one.is_some());
+                assert_eq!(occluded.lane(lane), one_by_one.is_some());
                 if let Some(i) = one_by_one.map(|h| h.primitive as usize) {
                     hits[match shapes[i] {
                         Shape::Plane { .. } => 0,
