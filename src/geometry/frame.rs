@@ -20,11 +20,6 @@ impl Frame {
     }
 
     #[inline]
-    pub fn normal(&self) -> Vec3 {
-        self.normal
-    }
-
-    #[inline]
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.tangent), v.dot(self.bitangent), v.dot(self.normal))
     }
