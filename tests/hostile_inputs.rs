@@ -744,3 +744,49 @@ fn sppm_memory_does_not_grow_with_the_gather_radius() {
     let output = limited(&[&args[..], &["--max-memory", "0.01"]].concat(), 10);
     assert_refused(&output, "error: sppm: a 256x256 image needs");
 }
+
+/// A sphere flattened by `scale <1, s, 1>`, seen from above, is a disc of radius 1 (its quadric
+/// is solved in f64 from the ray's point nearest its centre: in f32 from the camera, |o|^2 - 1
+/// lost the disc, a noisy banded square at s = 0.001, nothing at 1e-12); flatter than a 32-bit
+/// matrix inverts, it is a located error.
+#[test]
+fn a_sphere_flattened_by_a_strong_scale_is_a_disc() {
+    let dir = tempfile::tempdir().unwrap();
+    let (size, half_extent) = (48, 1.25);
+    let scene = |scale: &str| {
+        format!(
+            "settings {{ resolution {size}, {size}  samples 4 }}
+camera {{ origin <0, 5, 0>  left <-{half_extent}, 0, 0>  up <0, 0, {half_extent}>  forward <0, -5, 0> }}
+sphere {{ 0, 1 scale <1, {scale}, 1>  material {{ emission rgb 1 }} }}
+"
+        )
+    };
+    for scale in ["0.001", "1e-6", "1e-12"] {
+        let path = dir.path().join("disc.scn");
+        std::fs::write(&path, scene(scale)).unwrap();
+        let out = dir.path().join("disc.exr");
+        let output = limited(&["render", path.to_str().unwrap(), "-o", out.to_str().unwrap()], 60);
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        let image = raydiance::image::exr::read(&out).unwrap();
+        let pixel = 2.0 * half_extent / size as f32;
+        let mut inside = 0;
+        for y in 0..size {
+            for x in 0..size {
+                let at = |i: usize| (i as f32 + 0.5) * pixel - half_extent;
+                let radius = at(x).hypot(at(y));
+                // Away from the rim by more than half a pixel's diagonal: all or nothing.
+                if (radius - 1.0).abs() > 0.75 * pixel {
+                    let expected = if radius < 1.0 { 1.0 } else { 0.0 };
+                    let value = image.pixels[y * size + x].x;
+                    assert_eq!(value, expected, "scale {scale}: pixel ({x}, {y}) at r {radius}");
+                    inside += usize::from(radius < 1.0);
+                }
+            }
+        }
+        assert!(inside > 1000, "scale {scale}: {inside} pixels inside the disc");
+    }
+    let path = dir.path().join("flat.scn");
+    std::fs::write(&path, scene("1e-13")).unwrap();
+    let output = limited(&["check", path.to_str().unwrap()], 10);
+    assert_refused(&output, "flat.scn:3:1: error: the transforms of this object are singular");
+}

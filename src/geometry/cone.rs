@@ -2,7 +2,7 @@
 //! disks, and its inside.
 
 use arrayvec::ArrayVec;
-use glam::{DMat3, DVec3, Vec2, Vec3, Vec3A};
+use glam::{DVec3, Vec2, Vec3, Vec3A};
 
 use super::crossings::Crossings;
 use super::planar::Planar;
@@ -22,12 +22,6 @@ pub struct Cone {
     pub open: bool,
     /// World area of the side when sampling it by its canonical parameters is uniform by area.
     pub side_area: Option<f32>,
-    /// The frame's origin in the world and the inverse of its linear part, in f64: a cone's
-    /// side and every crossing and inside test are computed relative to the origin, so that a
-    /// cone far from the world's origin loses nothing to cancellation. (A cylinder's closest
-    /// hit keeps the f32 arithmetic it has always had.)
-    origin: DVec3,
-    linear_to_object: DMat3,
 }
 
 /// Which part of a cone an intersection is on (`Intersection::triangle`).
@@ -41,15 +35,7 @@ impl Cone {
         open: bool,
         side_area: Option<f32>,
     ) -> Self {
-        let origin = Vec3::from(frame.to_world.translation).as_dvec3();
-        let linear = glam::Mat3::from(frame.to_world.matrix3).as_dmat3().inverse();
-        Cone { frame, radii, caps, open, side_area, origin, linear_to_object: linear }
-    }
-
-    /// A point and a vector in the cone's own space, in f64.
-    fn to_object(&self, p: Vec3, v: Vec3) -> (DVec3, DVec3) {
-        let m = &self.linear_to_object;
-        (*m * (p.as_dvec3() - self.origin), *m * v.as_dvec3())
+        Cone { frame, radii, caps, open, side_area }
     }
 
     /// The side's intersections along `o + t d` (own space) as (t0, t1) in order: any real
@@ -85,10 +71,9 @@ impl Cone {
         let mut closest = None;
         let side = if self.slope() == 0.0 {
             // As the cylinder's tube always has.
-            let (o, d) = self.frame.ray_to_object(ray);
-            QuadricKind::Tube.distance(o, d, t_max)
+            QuadricKind::Tube.intersection(&self.frame, ray, t_max)
         } else {
-            let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
+            let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
             self.side_roots(o, d).and_then(|(t0, t1)| {
                 let accept = |t: f64| {
                     t > 0.0 && (t as f32) < t_max && t as f32 > 0.0 && self.on_side(o, d, t)
@@ -113,24 +98,18 @@ impl Cone {
         if let Some(cap) = self.cap(at.triangle) {
             return cap.hit(at.t, at.st);
         }
-        let p = if self.slope() == 0.0 {
-            let (o, d) = self.frame.ray_to_object(ray);
-            o + at.t * d
-        } else {
-            let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
-            Vec3A::from((o + f64::from(at.t) * d).as_vec3())
-        };
+        if self.slope() == 0.0 {
+            return QuadricKind::Tube.hit(&self.frame, ray, at.t);
+        }
+        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
+        let p = Vec3A::from((o + f64::from(at.t) * d).as_vec3());
         // (`normalize`, not `normalize_or`: they round differently.)
         let radial = Vec3A::new(p.x, p.y, 0.0);
         let radial = if radial == Vec3A::ZERO { Vec3A::X } else { radial.normalize() };
-        let (point, normal) = if self.slope() == 0.0 {
-            // As the cylinder's tube always has.
-            (radial + Vec3A::new(0.0, 0.0, p.z), radial)
-        } else {
-            let z = p.z.clamp(0.0, 1.0);
-            let r = self.radii[0] + self.slope() * z;
-            (radial * r + Vec3A::new(0.0, 0.0, z), radial - Vec3A::new(0.0, 0.0, self.slope()))
-        };
+        let z = p.z.clamp(0.0, 1.0);
+        let r = self.radii[0] + self.slope() * z;
+        let (point, normal) =
+            (radial * r + Vec3A::new(0.0, 0.0, z), radial - Vec3A::new(0.0, 0.0, self.slope()));
         let frame = &self.frame;
         let normal: Vec3 = (frame.normal_to_world * normal).normalize().into();
         Hit {
@@ -154,7 +133,7 @@ impl Cone {
         if self.open {
             return Crossings::outside();
         }
-        let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
+        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
         let mut found = ArrayVec::<(f64, u32), 4>::new();
         if let Some((t0, t1)) = self.side_roots(o, d) {
             let on_side = |&t: &f64| self.on_side(o, d, t);
@@ -189,7 +168,7 @@ impl Cone {
         if self.open {
             return false;
         }
-        let (local, _) = self.to_object(p, Vec3::ZERO);
+        let (local, _) = self.frame.to_own_space(p, Vec3::ZERO);
         let r = f64::from(self.radii[0]) + f64::from(self.slope()) * local.z;
         local.z > 0.0 && local.z < 1.0 && local.x * local.x + local.y * local.y < r * r
     }

@@ -1,7 +1,7 @@
 //! The unit sphere, or the open tube x^2 + y^2 = 1, 0 <= z <= 1, under an affine map (a sphere
 //! under non-uniform scale, the side of a cylinder).
 
-use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
+use glam::{Affine3A, DMat3, DVec3, Mat3A, Vec2, Vec3, Vec3A};
 
 use super::crossings::Crossings;
 use super::quadratic::quadratic_roots;
@@ -19,7 +19,6 @@ pub enum QuadricKind {
 #[derive(Debug, Clone)]
 pub struct QuadricFrame {
     pub to_world: Affine3A,
-    pub to_object: Affine3A,
     /// Inverse transpose of `to_world`'s linear part: maps normals.
     pub normal_to_world: Mat3A,
     /// The world-space area, when uniform sampling of the canonical parameters (z and angle
@@ -28,6 +27,12 @@ pub struct QuadricFrame {
     pub area: Option<f32>,
     /// Magnitude of the world coordinates, for the hit point's error bound.
     pub magnitude: f32,
+    /// The canonical space's origin in the world and the inverse of the map's linear part, in
+    /// f64: points are taken relative to the origin first, so that a shape far from the
+    /// world's origin, or flattened by a strong non-uniform scale, loses nothing to
+    /// cancellation.
+    origin: DVec3,
+    linear_to_object: DMat3,
 }
 
 impl QuadricFrame {
@@ -35,16 +40,23 @@ impl QuadricFrame {
         let corners = Self::canonical_corners().map(|c| to_world.transform_point3(c).abs());
         QuadricFrame {
             to_world,
-            to_object: to_world.inverse(),
             normal_to_world: to_world.matrix3.inverse().transpose(),
             area,
             magnitude: corners.iter().fold(0.0f32, |m, c| m.max(c.max_element())),
+            origin: Vec3::from(to_world.translation).as_dvec3(),
+            linear_to_object: glam::Mat3::from(to_world.matrix3).as_dmat3().inverse(),
         }
     }
 
-    /// The ray in canonical space, direction not normalised (so distances are the world's).
-    pub(super) fn ray_to_object(&self, ray: &Ray) -> (Vec3A, Vec3A) {
-        (self.to_object.transform_point3a(ray.origin), self.to_object.transform_vector3a(ray.dir))
+    /// A point and a vector in canonical space, in f64.
+    pub(super) fn to_own_space(&self, p: Vec3, v: Vec3) -> (DVec3, DVec3) {
+        let m = &self.linear_to_object;
+        (*m * (p.as_dvec3() - self.origin), *m * v.as_dvec3())
+    }
+
+    /// The ray in canonical space, in f64, direction not normalised.
+    fn ray_to_own_space(&self, ray: &Ray) -> (DVec3, DVec3) {
+        self.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir))
     }
 
     /// Corners of a box holding both canonical quadrics.
@@ -64,10 +76,30 @@ impl QuadricFrame {
     }
 }
 
+/// Where a line meets a canonical quadric: the roots are solved from the line's point nearest
+/// the quadric's axis (or centre), where the constant coefficient is of the quadric's own size.
+/// From a far origin, |o|^2 - 1 loses that size to cancellation: a sphere scaled by 0.001 along
+/// y, seen from above, rendered as a noisy banded square.
+struct Roots {
+    /// The line's nearest point, and its distance along the line.
+    near: DVec3,
+    t_near: f64,
+    /// The roots from `near`, smaller first.
+    from_near: (f64, f64),
+}
+
+impl Roots {
+    /// The roots as distances along the whole line, in f32.
+    fn along(&self) -> (f32, f32) {
+        let (t0, t1) = self.from_near;
+        ((self.t_near + t0) as f32, (self.t_near + t1) as f32)
+    }
+}
+
 impl QuadricKind {
     /// The quadratic `a t^2 + 2 half_b t + c` (as `(a, half_b, c)`) that is 0 where `o + t d`
     /// meets the canonical quadric (the tube's whole infinite cylinder).
-    fn coefficients(self, o: Vec3A, d: Vec3A) -> (f32, f32, f32) {
+    fn coefficients(self, o: DVec3, d: DVec3) -> (f64, f64, f64) {
         match self {
             QuadricKind::Ellipsoid => (d.dot(d), o.dot(d), o.dot(o) - 1.0),
             QuadricKind::Tube => {
@@ -76,27 +108,53 @@ impl QuadricKind {
         }
     }
 
-    /// Distance along `o + t d` (canonical space, `d` not normalised, so t is the world
-    /// distance) in (0, t_max).
-    #[inline]
-    pub(super) fn distance(self, o: Vec3A, d: Vec3A, t_max: f32) -> Option<f32> {
-        let (a, half_b, c) = self.coefficients(o, d);
-        let (t0, t1) = quadratic_roots(a, half_b, c)?;
-        let accept = |t: f32| {
-            let in_range = t > 0.0 && t < t_max;
-            in_range && (self == QuadricKind::Ellipsoid || (0.0..=1.0).contains(&(o.z + t * d.z)))
-        };
-        [t0, t1].into_iter().find(|&t| accept(t))
+    /// The real roots along `o + t d` (canonical space, `d` not normalised, so t is the world
+    /// distance); none where `a = 0` (a line along the tube's axis).
+    fn roots(self, o: DVec3, d: DVec3) -> Option<Roots> {
+        let (a, half_b, _) = self.coefficients(o, d);
+        if a == 0.0 {
+            return None;
+        }
+        let t_near = -half_b / a;
+        let near = o + t_near * d;
+        let (a, half_b, c) = self.coefficients(near, d);
+        let from_near = quadratic_roots(a, half_b, c)?;
+        Some(Roots { near, t_near, from_near })
     }
 
+    /// Distance along the ray in (0, t_max) where it meets the quadric (the tube between z = 0
+    /// and 1), and the distance from the roots' nearest point.
+    fn first(self, roots: &Roots, d: DVec3, t_max: f32) -> Option<(f32, f64)> {
+        let (t0, t1) = roots.along();
+        let accept = |&(t, from_near): &(f32, f64)| {
+            let in_range = t > 0.0 && t < t_max;
+            let z = roots.near.z + from_near * d.z;
+            in_range && (self == QuadricKind::Ellipsoid || (0.0..=1.0).contains(&z))
+        };
+        [(t0, roots.from_near.0), (t1, roots.from_near.1)].into_iter().find(accept)
+    }
+
+    /// Distance along the ray in (0, t_max) where it meets the quadric.
+    #[inline]
     pub(super) fn intersection(self, frame: &QuadricFrame, ray: &Ray, t_max: f32) -> Option<f32> {
-        let (o, d) = frame.ray_to_object(ray);
-        self.distance(o, d, t_max)
+        let (o, d) = frame.ray_to_own_space(ray);
+        self.first(&self.roots(o, d)?, d, t_max).map(|(t, _)| t)
     }
 
     pub(super) fn hit(self, frame: &QuadricFrame, ray: &Ray, t: f32) -> Hit {
-        let (o, d) = frame.ray_to_object(ray);
-        let p = o + t * d;
+        let (o, d) = frame.ray_to_own_space(ray);
+        // The point from the root `t` was rounded from, nearest the quadric: `o + t d` would
+        // scale t's rounding by the map's strongest stretch.
+        let p = match self.roots(o, d) {
+            Some(roots) => {
+                let (t0, t1) = roots.along();
+                let (r0, r1) = roots.from_near;
+                let from_near = if (t0 - t).abs() <= (t1 - t).abs() { r0 } else { r1 };
+                roots.near + from_near * d
+            }
+            None => o + f64::from(t) * d,
+        };
+        let p = Vec3A::from(p.as_vec3());
         // Back onto the surface, then to the world.
         let (p, n) = match self {
             QuadricKind::Ellipsoid => {
@@ -144,9 +202,8 @@ impl QuadricKind {
     pub(super) fn crossings(self, frame: &QuadricFrame, ray: &Ray, t_max: f32) -> Crossings {
         match self {
             QuadricKind::Ellipsoid => {
-                let (o, d) = frame.ray_to_object(ray);
-                let (a, half_b, c) = self.coefficients(o, d);
-                Crossings::between(quadratic_roots(a, half_b, c), t_max)
+                let (o, d) = frame.ray_to_own_space(ray);
+                Crossings::between(self.roots(o, d).map(|roots| roots.along()), t_max)
             }
             QuadricKind::Tube => Crossings::outside(),
         }
@@ -155,7 +212,7 @@ impl QuadricKind {
     /// Whether `p` is inside the ellipsoid (never inside the open tube).
     pub(super) fn contains(self, frame: &QuadricFrame, p: Vec3) -> bool {
         match self {
-            QuadricKind::Ellipsoid => frame.to_object.transform_point3(p).length_squared() < 1.0,
+            QuadricKind::Ellipsoid => frame.to_own_space(p, Vec3::ZERO).0.length_squared() < 1.0,
             QuadricKind::Tube => false,
         }
     }

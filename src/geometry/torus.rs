@@ -8,7 +8,7 @@
 use std::f64::consts::PI as PI64;
 
 use arrayvec::ArrayVec;
-use glam::{Affine3A, DMat3, DVec3, Vec2, Vec3, Vec3A};
+use glam::{Affine3A, Vec2, Vec3, Vec3A};
 
 use super::crossings::Crossings;
 use super::quadric::QuadricFrame;
@@ -24,9 +24,6 @@ pub struct Torus {
     /// World area, when the map is a similarity (then uniform sampling of the torus' own
     /// space is uniform by area).
     pub area: Option<f32>,
-    /// The centre in the world and the inverse of the map's linear part, in f64.
-    center: DVec3,
-    linear_to_object: DMat3,
 }
 
 impl Torus {
@@ -41,9 +38,7 @@ impl Torus {
         frame.magnitude = Torus::local_corners(ratio, reach)
             .iter()
             .fold(0.0f32, |m, c| m.max(frame_map.transform_point3(*c).abs().max_element()));
-        let linear = glam::Mat3::from(frame_map.matrix3).as_dmat3();
-        let center = Vec3::from(frame_map.translation).as_dvec3();
-        Torus { frame, minor: ratio, area, center, linear_to_object: linear.inverse() }
+        Torus { frame, minor: ratio, area }
     }
 
     fn local_corners(minor: f32, reach: f32) -> [Vec3; 8] {
@@ -67,7 +62,7 @@ impl Torus {
 
     /// Every intersection of the ray's whole line with the torus, in order (world distances).
     pub fn roots(&self, ray: &Ray) -> ArrayVec<f32, 4> {
-        let (o, d) = self.to_object(Vec3::from(ray.origin), Vec3::from(ray.dir));
+        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
         let speed = d.length();
         let mut roots = ArrayVec::new();
         if speed == 0.0 || !speed.is_finite() {
@@ -121,8 +116,8 @@ impl Torus {
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
-        let (o, d) = self.frame.ray_to_object(ray);
-        let (point, normal) = self.project(o + at.t * d);
+        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
+        let (point, normal) = self.project(Vec3A::from((o + f64::from(at.t) * d).as_vec3()));
         let normal: Vec3 = (self.frame.normal_to_world * normal).normalize().into();
         Hit {
             t: at.t,
@@ -135,17 +130,10 @@ impl Torus {
     }
 
     pub fn contains(&self, p: Vec3) -> bool {
-        let (p, _) = self.to_object(p, Vec3::ZERO);
+        let (p, _) = self.frame.to_own_space(p, Vec3::ZERO);
         let ring = (p.x * p.x + p.z * p.z).sqrt() - 1.0;
         let minor = f64::from(self.minor);
         ring * ring + p.y * p.y < minor * minor
-    }
-
-    /// A point and a vector in the torus' own space, in f64, the point taken relative to the
-    /// torus' centre first: a torus far from the origin loses nothing to cancellation.
-    fn to_object(&self, p: Vec3, v: Vec3) -> (DVec3, DVec3) {
-        let m = &self.linear_to_object;
-        (*m * (p.as_dvec3() - self.center), *m * v.as_dvec3())
     }
 
     /// A point uniform by area: the angle about the y axis uniform, the angle about the tube
