@@ -790,3 +790,51 @@ sphere {{ 0, 1 scale <1, {scale}, 1>  material {{ emission rgb 1 }} }}
     let output = limited(&["check", path.to_str().unwrap()], 10);
     assert_refused(&output, "flat.scn:3:1: error: the transforms of this object are singular");
 }
+
+/// Scene names that are not UTF-8 keep their own snapshots (two names differing in a byte that
+/// is not UTF-8 became one name by the replacement character: each compared with the other's
+/// image); a linked scene is snapshotted as the file it names, and a snapshot linked to no file
+/// is an error naming it, not a scene without a snapshot.
+#[test]
+fn snapshot_names_are_taken_byte_for_byte_and_links_followed() {
+    use std::ffi::OsStr;
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("scenes");
+    std::fs::create_dir(&folder).unwrap();
+    let scene = |brightness: &str| {
+        format!(
+            "settings {{ resolution 8, 8 }}
+camera {{ location <0, 0, -3>  look_at <0, 0, 0> }}
+sphere {{ 0, 1  material {{ emission rgb {brightness} }} }}
+"
+        )
+    };
+    for (byte, brightness) in [(0xfe, "1"), (0xff, "3")] {
+        let name = [b'a', byte, b'.', b's', b'c', b'n'];
+        std::fs::write(folder.join(OsStr::from_bytes(&name)), scene(brightness)).unwrap();
+    }
+    let linked = dir.path().join("elsewhere.scn");
+    std::fs::write(&linked, scene("2")).unwrap();
+    std::os::unix::fs::symlink(&linked, folder.join("link.scn")).unwrap();
+    let snapshot = |more: &[&str]| {
+        let args = [&["snapshot", folder.to_str().unwrap(), "--samples", "4"][..], more].concat();
+        limited(&args, 60)
+    };
+    assert_eq!(snapshot(&[]).status.code(), Some(1), "new snapshots");
+    assert!(snapshot(&["--accept"]).status.success());
+    for name in [&b"a\xfe.exr"[..], b"a\xff.exr", b"link.exr"] {
+        let stored = folder.join("__snapshots__").join(OsStr::from_bytes(name));
+        assert!(stored.exists(), "{}", stored.display());
+    }
+    let output = snapshot(&[]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "each scene matches its own snapshot: {stdout}");
+    assert!(stdout.contains("3 scenes: 3 match"), "the linked scene is one: {stdout}");
+
+    let missing = folder.join("__snapshots__/link.exr");
+    std::fs::remove_file(&missing).unwrap();
+    std::os::unix::fs::symlink(dir.path().join("nowhere.exr"), &missing).unwrap();
+    let output = limited(&["snapshot", folder.join("link.scn").to_str().unwrap()], 60);
+    assert_refused(&output, "link.exr");
+}

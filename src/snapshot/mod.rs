@@ -75,10 +75,10 @@ impl SnapshotFiles {
     /// The files of `scene`; refused for a scene named `NAME.new.scn` or `NAME.diff.scn`, whose
     /// snapshot would be the new render or heat map of `NAME.scn`.
     pub fn checked(scene: &Path) -> Result<SnapshotFiles, String> {
-        let stem = scene.file_stem().unwrap_or_default().to_string_lossy();
-        match [".new", ".diff"].into_iter().find(|suffix| stem.ends_with(suffix)) {
+        let stem = Path::new(scene.file_stem().unwrap_or_default());
+        match ["new", "diff"].into_iter().find(|suffix| stem.extension() == Some(suffix.as_ref())) {
             Some(suffix) => Err(format!(
-                "error: {}: a scene named NAME{suffix}.scn cannot be snapshotted: its snapshot \
+                "error: {}: a scene named NAME.{suffix}.scn cannot be snapshotted: its snapshot \
                  would be the file NAME.scn's comparison writes (rename the scene)",
                 scene.display()
             )),
@@ -86,14 +86,17 @@ impl SnapshotFiles {
         }
     }
 
+    /// The files of `scene`, named from its name as the system gives it: two names that are
+    /// not UTF-8 do not become one name by the replacement character.
     pub fn of(scene: &Path) -> SnapshotFiles {
         let folder = scene.parent().unwrap_or(Path::new("")).join("__snapshots__");
-        let name = scene.file_stem().unwrap_or_default().to_string_lossy();
-        SnapshotFiles {
-            snapshot: folder.join(format!("{name}.exr")),
-            new: folder.join(format!("{name}.new.exr")),
-            diff: folder.join(format!("{name}.diff.png")),
-        }
+        let name = scene.file_stem().unwrap_or_default();
+        let file = |suffix: &str| {
+            let mut file = name.to_os_string();
+            file.push(suffix);
+            folder.join(file)
+        };
+        SnapshotFiles { snapshot: file(".exr"), new: file(".new.exr"), diff: file(".diff.png") }
     }
 }
 
@@ -167,7 +170,8 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, SnapshotEr
     if let Some((width, height)) = options.size {
         check_size(width as usize, height as usize).map_err(SnapshotError::Size)?;
     }
-    let reference = match files.snapshot.exists() {
+    // A symbolic link to a missing file is a snapshot that cannot be read, not no snapshot.
+    let reference = match std::fs::symlink_metadata(&files.snapshot).is_ok() {
         true => Some(read(&files.snapshot)?),
         false => None,
     };
@@ -280,12 +284,15 @@ pub fn accept(paths: &[PathBuf]) -> Result<Vec<PathBuf>, SnapshotError> {
         if path.is_dir() {
             walk(path, &mut |file| {
                 let folder = file.parent().filter(|p| p.ends_with("__snapshots__"));
-                let name = file.file_name().and_then(|n| n.to_str());
-                if let (Some(folder), Some(name)) = (folder, name) {
-                    if let Some(scene) = name.strip_suffix(".new.exr") {
-                        let scenes = folder.parent().unwrap_or(Path::new(""));
-                        pending.push(SnapshotFiles::of(&scenes.join(format!("{scene}.scn"))));
-                    }
+                // `NAME.new.exr`, NAME as the system gives it (perhaps not UTF-8).
+                let new = Path::new(file.file_stem().unwrap_or_default());
+                let is_new = file.extension() == Some("exr".as_ref())
+                    && new.extension() == Some("new".as_ref());
+                if let (Some(folder), Some(scene), true) = (folder, new.file_stem(), is_new) {
+                    let scenes = folder.parent().unwrap_or(Path::new(""));
+                    let mut scene = scene.to_os_string();
+                    scene.push(".scn");
+                    pending.push(SnapshotFiles::of(&scenes.join(scene)));
                 }
             })?;
         } else if SnapshotFiles::of(path).new.exists() {
@@ -306,6 +313,8 @@ pub fn accept(paths: &[PathBuf]) -> Result<Vec<PathBuf>, SnapshotError> {
 }
 
 /// Calls `visit` on every file below `folder`, passing over snapshot, build and hidden folders.
+/// A symbolic link is visited as the file it names (one naming no file too, so that reading it
+/// is the error); links to folders are not followed, as a link may lead back up the tree.
 fn walk(folder: &Path, visit: &mut dyn FnMut(&Path)) -> Result<(), SnapshotError> {
     let error = |e: std::io::Error| SnapshotError::io(folder)(e);
     let mut entries: Vec<_> =
@@ -320,7 +329,7 @@ fn walk(folder: &Path, visit: &mut dyn FnMut(&Path)) -> Result<(), SnapshotError
             if !(name.starts_with('.') || name == "target") {
                 walk(&path, visit)?;
             }
-        } else if file_type.is_file() {
+        } else if file_type.is_file() || (file_type.is_symlink() && !path.is_dir()) {
             visit(&path);
         }
     }
