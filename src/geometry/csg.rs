@@ -143,26 +143,54 @@ impl Csg {
     }
 }
 
+/// Crossings of the two operands closer than this, relative to their distance, are one
+/// crossing of coincident surfaces (about 32 units in the last place: what two transforms of one
+/// face round to).
+const COINCIDENT: f32 = 32.0 * f32::EPSILON;
+
 /// The crossings of `op(a, b)`: walk both lists in order, keeping the crossings where the
-/// result changes between inside and outside.
+/// result changes between inside and outside. Crossings of coincident surfaces (operands that
+/// share a face) are taken together, and count only if together they change the result: one
+/// after the other, in whatever order their rounding puts them, they made a sliver of the
+/// result between them (a box less a box sharing its faces showed those faces).
 fn combine(op: CsgOp, a: &Crossings, b: &Crossings) -> Crossings {
     let (mut in_a, mut in_b) = (a.inside_at_start, b.inside_at_start);
     let mut inside = op.combine(in_a, in_b);
     let mut out = Crossings { inside_at_start: inside, list: ArrayVec::new() };
     let (mut i, mut j) = (0, 0);
+    let next_t = |i: usize, j: usize| {
+        let t = |list: &[Crossing], k: usize| list.get(k).map_or(f32::INFINITY, |c| c.at.t);
+        t(&a.list, i).min(t(&b.list, j))
+    };
     while i < a.list.len() || j < b.list.len() {
-        let take_a = j == b.list.len() || (i < a.list.len() && a.list[i].at.t <= b.list[j].at.t);
-        let crossing: Crossing = if take_a {
-            in_a = a.list[i].entering;
-            i += 1;
-            a.list[i - 1]
-        } else {
-            in_b = b.list[j].entering;
-            j += 1;
-            b.list[j - 1]
-        };
+        let first = next_t(i, j);
+        let together = first + COINCIDENT * first.abs();
+        // The last crossing of the group that changed the result: its surface is the one seen.
+        let mut changed_by = None;
+        loop {
+            let before = op.combine(in_a, in_b);
+            let take_a =
+                j == b.list.len() || (i < a.list.len() && a.list[i].at.t <= b.list[j].at.t);
+            let crossing: Crossing = if take_a {
+                in_a = a.list[i].entering;
+                i += 1;
+                a.list[i - 1]
+            } else {
+                in_b = b.list[j].entering;
+                j += 1;
+                b.list[j - 1]
+            };
+            if op.combine(in_a, in_b) != before {
+                changed_by = Some(crossing);
+            }
+            // (At least one crossing a turn, so a NaN distance cannot stall the walk.)
+            let more = i < a.list.len() || j < b.list.len();
+            if !(more && next_t(i, j) <= together) {
+                break;
+            }
+        }
         let now = op.combine(in_a, in_b);
-        if now != inside {
+        if let (true, Some(crossing)) = (now != inside, changed_by) {
             inside = now;
             if out.list.try_push(Crossing { entering: now, ..crossing }).is_err() {
                 break;
