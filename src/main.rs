@@ -39,20 +39,20 @@ enum Command {
         output: Option<PathBuf>,
         /// Samples per pixel (`sppm`: iterations), 1 to 1000000 [default: the scene's
         /// `settings`, else 16]
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         samples: Option<u32>,
         /// Image width in pixels, 1 to 65536 [default: the scene's `settings`, else 256]
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         width: Option<u32>,
         /// Image height in pixels, 1 to 65536 [default: the scene's `settings`, else 256]
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         height: Option<u32>,
         /// Seed of the random numbers: the same seed gives the same image [default: the scene's
         /// `settings`, else 0]
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         seed: Option<u64>,
         /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         threads: Option<usize>,
         /// `direct` (the course's Lab 4: direct light, mirrors and glass followed), `path`
         /// (path tracing of the full rendering equation), `photon` (Jensen's photon mapping) or
@@ -61,17 +61,17 @@ enum Command {
         #[arg(long, value_parser = parse_integrator)]
         integrator: Option<IntegratorKind>,
         /// Longest path in bounces, 0 to 1024 [default: the scene's `settings`, else 32]
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         max_depth: Option<u32>,
         /// Time budget in seconds: render as many samples as fit, the last pass shortened to
         /// end near the budget (up to --samples if given).
         #[arg(long, allow_negative_numbers = true)]
         time: Option<f64>,
         /// The integer that MAX stands for in HDR .ppm output.
-        #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES)]
+        #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES, allow_negative_numbers = true)]
         ppm_res: u32,
         /// The most memory the film may take, in GiB (it takes 96 bytes a pixel).
-        #[arg(long, default_value_t = 8.0)]
+        #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
         max_memory: f64,
         /// Render share I (0-based) of N disjoint shares of the samples, into a part file
         /// (.exr) for `merge`; `auto` takes the share from a Slurm job array or a Kubernetes
@@ -80,17 +80,17 @@ enum Command {
         part: Option<PartChoice>,
         /// With --part auto under Kubernetes: the number of shares of each frame (the Job's
         /// completions divided by the frames).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", allow_negative_numbers = true)]
         parts: Option<u32>,
         /// Render only pixels X0 <= x < X1, Y0 <= y < Y1 of the image, into a part file (.exr).
-        #[arg(long, value_name = "X0,X1,Y0,Y1")]
+        #[arg(long, value_name = "X0,X1,Y0,Y1", allow_hyphen_values = true)]
         crop: Option<Crop>,
         /// Render frames F0 to F1 (inclusive) of an animation; a run of `#` in the output's
         /// name becomes the frame number (else it is appended before the extension).
-        #[arg(long, value_name = "F0..F1", value_parser = animation::parse_frames)]
+        #[arg(long, value_name = "F0..F1", value_parser = animation::parse_frames, allow_hyphen_values = true)]
         frames: Option<(u32, u32)>,
         /// Render only frame F of --frames.
-        #[arg(long, value_name = "F")]
+        #[arg(long, value_name = "F", allow_negative_numbers = true)]
         frame: Option<u32>,
         /// `clock` runs from C0 at the first frame to C1 at the last [default: 0..1].
         #[arg(long, value_name = "C0..C1", value_parser = animation::parse_clock, allow_hyphen_values = true)]
@@ -109,7 +109,7 @@ enum Command {
         #[arg(long)]
         allow_partial: bool,
         /// The integer that MAX stands for in HDR .ppm output.
-        #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES)]
+        #[arg(long, default_value_t = raydiance::image::ppm::HDR_RES, allow_negative_numbers = true)]
         ppm_res: u32,
     },
     /// Tone-map an HDR image (.exr or .ppm) to LDR .ppm (#MAX=1) or .png.
@@ -149,14 +149,14 @@ enum Command {
         #[arg(long)]
         accept: bool,
         /// Samples per pixel of each render (at least 2) [default: 64].
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         samples: Option<u32>,
         /// Image size WxH [default: the stored snapshot's, or the scene's scaled to 64 pixels
         /// on its longer side].
-        #[arg(long, value_parser = parse_size)]
+        #[arg(long, value_parser = parse_size, allow_hyphen_values = true)]
         size: Option<(u32, u32)>,
         /// Worker threads (default: one per core). The verdict does not depend on it.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         threads: Option<usize>,
     },
     /// Render scenes and print samples per second and seconds per frame.
@@ -167,10 +167,10 @@ enum Command {
         #[arg(long, default_value = "16")]
         samples: String,
         /// Timed renders of each scene after one warm-up (1 to 1000).
-        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000))]
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000), allow_negative_numbers = true)]
         repeats: u16,
         /// Worker threads, 1 to 1024 [default: one per core].
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         threads: Option<usize>,
     },
 }

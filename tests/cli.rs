@@ -318,9 +318,11 @@ fn dark_scenes_and_black_images_are_warned_about() {
     assert!(!stderr(&render).contains("warning"), "{}", stderr(&render));
 }
 
-/// Messages say what was given, not what an internal step met: a negative share is a bad
-/// share (not clap's "use '-- -1'"), `scale 1e30` is too large (not "singular"), and a folder
-/// where no file can be made is named by the output, not by a `.tmpXXXXXX` tried in it.
+/// Messages say what was given, not what an internal step met: a negative share or number is a
+/// bad value (not clap's "use '-- -1'", which would make it the scene), `scale 1e30` is too
+/// large (not "singular"), a folder where no file can be made is named by the output, not by a
+/// `.tmpXXXXXX` tried in it, a part given twice is one file (not two parts that overlap), and an
+/// include found nowhere says where it was looked for.
 #[test]
 fn messages_name_what_was_given() {
     let dir = tempfile::tempdir().unwrap();
@@ -342,4 +344,32 @@ fn messages_name_what_was_given() {
     assert_eq!(output.status.code(), Some(1));
     assert!(stderr(&output).starts_with("error: /proc/out.exr: "), "{}", stderr(&output));
     assert!(!stderr(&output).contains(".tmp"), "{}", stderr(&output));
+
+    for (option, value) in [("--samples", "-3"), ("--seed", "-1"), ("--width", "-8")] {
+        let output = raydiance(&["render", "scenes/lab4-direct.scn", "-o", out, option, value]);
+        let text = stderr(&output);
+        assert!(text.contains(&format!("invalid value '{value}' for '{option}")), "{text}");
+        assert!(!text.contains("-- "), "{text}");
+    }
+
+    let part = dir.path().join("part.exr");
+    let part = part.to_str().unwrap();
+    let args = ["render", "scenes/lab4-direct.scn", "-o", part, "--part", "0/2"];
+    assert!(raydiance(&[&args[..], &["--width", "4", "--height", "4"]].concat()).status.success());
+    let same = format!("{}/./part.exr", dir.path().display());
+    let output = raydiance(&["merge", part, &same, "-o", out, "--allow-partial"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("are the same file"), "{}", stderr(&output));
+
+    let scene = dir.path().join("include.scn");
+    std::fs::write(&scene, "#include \"colours.inc\"\n").unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["check", scene.to_str().unwrap()])
+        .env("RAYDIANCE_INCLUDE_PATH", "/nowhere")
+        .output()
+        .unwrap();
+    let expected = "include.scn:1:1: error: cannot read `colours.inc`: there is no file";
+    assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+    let expected = "nor in the folders of RAYDIANCE_INCLUDE_PATH (/nowhere)";
+    assert!(stderr(&output).contains(expected), "{}", stderr(&output));
 }

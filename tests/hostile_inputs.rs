@@ -536,6 +536,26 @@ fn merge_counts_missing_shares_without_listing_them() {
     assert!(stderr.len() < 2000, "{} bytes", stderr.len());
 }
 
+/// Missing work in many tiles is listed in a few lines: a share missing in each of 40 tiles
+/// (each line once listed every file of its tile, and there was a line for each).
+#[test]
+fn merge_lists_a_few_pieces_of_missing_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = vec!["merge".to_string()];
+    for x in 0..40 {
+        let part = dir.path().join(format!("part{x}.exr"));
+        forged_part(&part, (40, 1), &format!("{x},{},0,1", x + 1), "0/2", 2, 0.5);
+        args.push(part.to_str().unwrap().to_string());
+    }
+    let out = dir.path().join("out.exr");
+    args.extend(["-o".to_string(), out.to_str().unwrap().to_string()]);
+    let output = limited(&args.iter().map(String::as_str).collect::<Vec<_>>(), 20);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("and 32 more pieces of missing work"), "{stderr}");
+    assert_eq!(stderr.matches("missing shares of crop").count(), 8, "{stderr}");
+}
+
 /// A part whose means are not finite, or negative, is damaged: refused, never merged into the
 /// image; an integrator that does not render parts is refused with its name escaped.
 #[test]

@@ -143,8 +143,8 @@ fn merge_refuses_overlapping_missing_and_foreign_parts() {
         rendered(SCENE, &d.join(format!("half{i}{}.exr", extra.join("").replace(' ', ""))), &args)
     };
     let (a, b) = (half(0, &[]), half(1, &[]));
-    // Overlap: the same share twice, and a share inside another.
-    assert_refused(&merge(&[&a, &b, &a], &out, &[]), &out, &[&a], "overlap");
+    // The same file twice (not an overlap of two parts), and a share inside another.
+    assert_refused(&merge(&[&a, &b, &a], &out, &[]), &out, &[&a], "are the same file");
     let quarter = rendered(SCENE, &d.join("quarter.exr"), &["--part", "1/4"]);
     assert_refused(&merge(&[&a, &quarter, &b], &out, &[]), &out, &[&a, &quarter], "overlap");
     // Overlapping crops.

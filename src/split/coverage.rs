@@ -58,7 +58,8 @@ pub fn check_same_render(parts: &[PartHeader]) -> Result<(), MergeError> {
 }
 
 /// Refuses overlapping parts; returns what is missing (empty when the parts cover every sample
-/// of every pixel), one line each, saying how to render it.
+/// of every pixel), one line each, saying how to render it: the first `LISTED` lines, then how
+/// many more there are.
 pub fn missing_work(parts: &[PartHeader]) -> Result<Vec<String>, MergeError> {
     let mut tiles: BTreeMap<Crop, Vec<&PartHeader>> = BTreeMap::new();
     for part in parts {
@@ -95,6 +96,11 @@ pub fn missing_work(parts: &[PartHeader]) -> Result<Vec<String>, MergeError> {
             part.region.most_samples(),
             part.region.share
         ));
+    }
+    if missing.len() > LISTED {
+        let more = missing.len() - LISTED;
+        missing.truncate(LISTED);
+        missing.push(format!("and {more} more pieces of missing work"));
     }
     Ok(missing)
 }

@@ -66,6 +66,12 @@ pub enum MergeError {
     Incomplete { parts: usize, missing: Vec<String> },
     #[error("error: {}: pixel {pixel} of its crop is missing (the file is damaged)", part.display())]
     PixelMissing { part: PathBuf, pixel: usize },
+    #[error(
+        "error: {} and {} are the same file: each part is given once",
+        first.display(),
+        second.display()
+    )]
+    GivenTwice { first: PathBuf, second: PathBuf },
     #[error("error: {}: is one of the parts; merging would replace it", .0.display())]
     OutputIsAPart(PathBuf),
     #[error("error: {0}")]
@@ -85,9 +91,23 @@ pub struct Merged {
     pub samples: (u32, u32),
 }
 
+/// Refuses a part file named twice (perhaps by two paths): its shares would be said to overlap
+/// themselves. A name that cannot be resolved is left to reading it to report.
+fn check_given_once(paths: &[PathBuf]) -> Result<(), MergeError> {
+    let mut seen = std::collections::HashMap::new();
+    for path in paths {
+        let Ok(file) = std::fs::canonicalize(path) else { continue };
+        if let Some(first) = seen.insert(file, path) {
+            return Err(MergeError::GivenTwice { first: first.clone(), second: path.clone() });
+        }
+    }
+    Ok(())
+}
+
 /// Merges the part files; with `allow_partial`, missing shares, tiles and samples are not an
 /// error (the image is the mean of the samples there are, and records the fewest per pixel).
 pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, MergeError> {
+    check_given_once(paths)?;
     let mut parts =
         paths.iter().map(|path| part_file::read_header(path)).collect::<Result<Vec<_>, _>>()?;
     coverage::check_same_render(&parts)?;

@@ -803,8 +803,9 @@ impl Evaluator {
         }
         let text = match built_in {
             Some(text) => text.to_string(),
-            None => self.dialect.read(&path).map_err(|e| {
-                SceneError::at(at, format!("cannot read `{}`: {e}", path.display()))
+            None => self.dialect.read(&path).map_err(|e| match path.exists() {
+                true => SceneError::at(at, format!("cannot read `{}`: {e}", path.display())),
+                false => SceneError::at(at, not_found(&name, &path)),
             })?,
         };
         self.included_bytes += text.len() as u64;
@@ -850,6 +851,23 @@ impl Evaluator {
             _ => (local, None),
         }
     }
+}
+
+/// Where an included file was looked for, when it is nowhere: `local` (what a relative name
+/// means beside the including file), and the folders of `RAYDIANCE_INCLUDE_PATH`.
+fn not_found(name: &str, local: &Path) -> String {
+    let folders = std::env::var_os(INCLUDE_PATH_VARIABLE).unwrap_or_default();
+    let searched = match (Path::new(name).is_absolute(), folders.is_empty()) {
+        (true, _) => String::new(),
+        (false, true) => {
+            format!(" ({INCLUDE_PATH_VARIABLE}, which names more folders to search, is not set)")
+        }
+        (false, false) => format!(
+            " nor in the folders of {INCLUDE_PATH_VARIABLE} ({})",
+            folders.to_string_lossy()
+        ),
+    };
+    format!("cannot read `{name}`: there is no file `{}`{searched}", local.display())
 }
 
 /// The environment variable naming folders searched for included files (as `PATH` is written).
