@@ -321,8 +321,9 @@ fn dark_scenes_and_black_images_are_warned_about() {
 /// Messages say what was given, not what an internal step met: a negative share or number is a
 /// bad value (not clap's "use '-- -1'", which would make it the scene), `scale 1e30` is too
 /// large (not "singular"), a folder where no file can be made is named by the output, not by a
-/// `.tmpXXXXXX` tried in it, a part given twice is one file (not two parts that overlap), and an
-/// include found nowhere says where it was looked for.
+/// `.tmpXXXXXX` tried in it, a part given twice is one file (not two parts that overlap), an
+/// include found nowhere says where it was looked for, an empty scene is empty (not only
+/// missing its camera), and an EXR the decoder cannot read says so before the decoder's words.
 #[test]
 fn messages_name_what_was_given() {
     let dir = tempfile::tempdir().unwrap();
@@ -371,5 +372,15 @@ fn messages_name_what_was_given() {
     let expected = "include.scn:1:1: error: cannot read `colours.inc`: there is no file";
     assert!(stderr(&output).contains(expected), "{}", stderr(&output));
     let expected = "nor in the folders of RAYDIANCE_INCLUDE_PATH (/nowhere)";
+    assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+
+    std::fs::write(&scene, "\n").unwrap();
+    let output = raydiance(&["check", scene.to_str().unwrap()]);
+    assert!(stderr(&output).contains("error: the scene is empty"), "{}", stderr(&output));
+    let empty = dir.path().join("empty.exr");
+    std::fs::write(&empty, "").unwrap();
+    let png = dir.path().join("out.png");
+    let output = raydiance(&["tonemap", empty.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    let expected = "empty.exr: not a readable OpenEXR file (";
     assert!(stderr(&output).contains(expected), "{}", stderr(&output));
 }

@@ -64,7 +64,7 @@ fn without_a_camera_a_pov_scene_has_povray_s_default_camera() {
     assert!(close(towards(&camera, 0.5, 0.0), Vec3::new(0.0, 0.5, 1.0).normalize()));
     // A `.scn` scene still needs its camera.
     let scn = parse_scene(Path::new("tests/inline.scn"), "").unwrap_err().to_string();
-    assert!(scn.contains("missing camera"), "{scn}");
+    assert!(scn.contains("a scene needs one `camera"), "{scn}");
 }
 
 #[test]

@@ -53,8 +53,10 @@ pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
 
 /// Decodes an OpenEXR file's contents.
 pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
+    // The decoder's words ("reference to missing bytes") need saying what failed.
+    let unreadable = |e: ::exr::error::Error| format!("not a readable OpenEXR file ({e})");
     let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
-        .map_err(|e| e.to_string())?;
+        .map_err(unreadable)?;
     for header in &meta.headers {
         let (width, height) = (header.layer_size.width(), header.layer_size.height());
         if width.saturating_mul(height) > MAX_PIXELS {
@@ -76,7 +78,7 @@ pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
         .first_valid_layer()
         .all_attributes()
         .from_buffered(std::io::Cursor::new(bytes))
-        .map_err(|e| e.to_string())?;
+        .map_err(unreadable)?;
     Ok(image.layer_data.channel_data.pixels)
 }
 

@@ -93,10 +93,11 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
         (b - a).cross(c - a) != Vec3::ZERO
     };
     if !mesh.triangles.iter().any(has_area) {
-        return Err(format!(
-            "all {} triangles of the mesh are degenerate (of no area): it would be invisible",
-            mesh.triangles.len()
-        ));
+        let which = match mesh.triangles.len() {
+            1 => "its one triangle is".to_string(),
+            n => format!("all {n} triangles of the mesh are"),
+        };
+        return Err(format!("{which} degenerate (of no area): it would be invisible"));
     }
     Ok(())
 }

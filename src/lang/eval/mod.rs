@@ -249,10 +249,11 @@ impl Evaluator {
             // POV-Ray's default camera.
             (None, Dialect::Pov) => self.pov_camera(&CameraParams::new(), &at_end)?,
             (None, Dialect::Scn) => {
-                return Err(SceneError::at(
-                    &at_end,
-                    "missing camera: a scene needs one `camera { ... }`",
-                ));
+                let message = match items.is_empty() {
+                    true => "the scene is empty: a scene needs one `camera { ... }` and objects",
+                    false => "missing camera: a scene needs one `camera { ... }`",
+                };
+                return Err(SceneError::at(&at_end, message));
             }
         };
         self.light_powers_from_colours();
