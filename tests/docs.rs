@@ -267,3 +267,36 @@ fn the_command_line_page_lists_every_option_of_every_command() {
         assert_eq!(listed, &options_in_help(command), "`raydiance {command}` in docs/cli.md");
     }
 }
+
+/// Every bound the limits page cites by its path in the code (`module::NAME`, a constant, or
+/// `module::function` where the check is written) is declared there: the page names the code's
+/// own bounds.
+#[test]
+fn the_limits_page_cites_bounds_the_code_declares() {
+    let page = std::fs::read_to_string("docs/limits.md").unwrap();
+    let (mut cited, mut undeclared) = (0, Vec::new());
+    for path in page.split('`').skip(1).step_by(2).filter(|s| s.contains("::")) {
+        let (module, item) = path.rsplit_once("::").unwrap();
+        let folder = Path::new("src").join(module.replace("::", "/"));
+        let files = [folder.with_extension("rs"), folder.join("mod.rs")];
+        let module_file = folder.join(format!("{item}.rs"));
+        let declared = |text: &str| {
+            let is_const = item.chars().all(|c| c.is_ascii_uppercase() || c == '_');
+            let declaration =
+                if is_const { format!("const {item}: ") } else { format!("fn {item}(") };
+            text.contains(&declaration)
+        };
+        let found = module_file.exists()
+            || folder.join(item).is_dir()
+            || files.iter().any(|f| std::fs::read_to_string(f).is_ok_and(|text| declared(&text)));
+        if !found {
+            undeclared.push(path);
+        }
+        cited += 1;
+    }
+    assert!(
+        undeclared.is_empty(),
+        "docs/limits.md cites what src/ does not declare: {undeclared:?}"
+    );
+    assert!(cited > 30, "{cited} bounds cited");
+}
