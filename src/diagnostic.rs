@@ -67,8 +67,25 @@ pub struct Span {
 /// One macro call or include around a node, innermost first (`in macro Ball, called at ...`).
 #[derive(Debug)]
 pub struct Context {
-    pub note: String,
+    pub note: Note,
     pub outer: Option<Arc<Context>>,
+}
+
+/// What a context is; written out only when an error names it (a macro call formatting its
+/// note made up a tenth of the time of a million calls).
+#[derive(Debug)]
+pub enum Note {
+    MacroCall { name: String, at: Span },
+    Included { at: Span },
+}
+
+impl fmt::Display for Note {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Note::MacroCall { name, at } => write!(f, "in macro {name}, called at {at:?}"),
+            Note::Included { at } => write!(f, "included from {at:?}"),
+        }
+    }
 }
 
 /// Spans are equal where they point to the same place, however it was reached.
@@ -110,7 +127,7 @@ impl SceneError {
             SceneError { span: Some(span.clone()), message: message.into(), notes: Vec::new() };
         let mut context = span.context.as_deref();
         while let Some(c) = context {
-            error = error.noted(c.note.clone());
+            error = error.noted(c.note.to_string());
             context = c.outer.as_deref();
         }
         error

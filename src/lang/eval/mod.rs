@@ -20,7 +20,7 @@ use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind
 use super::value::Value;
 use super::{parser, tree};
 use crate::animation::Frame;
-use crate::diagnostic::{Context, SceneError, SourceFile, Span};
+use crate::diagnostic::{Context, Note, SceneError, SourceFile, Span};
 use crate::digest::Digest;
 use crate::graph::{
     CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
@@ -768,15 +768,14 @@ impl Evaluator {
         }
         self.scopes.push(scope);
         self.calls += 1;
-        let note = format!("in macro {}, called at {:?}", definition.name.name, call.span);
-        let outer = self.context.replace(Arc::new(Context { note, outer: self.context.clone() }));
+        let note = Note::MacroCall { name: definition.name.name.clone(), at: call.span.clone() };
+        let context = Arc::new(Context { note, outer: self.context.clone() });
+        let outer = self.context.replace(context.clone());
         let result = self.exec(&definition.body, body);
         self.context = outer;
         self.calls -= 1;
         self.scopes.pop();
-        result.map_err(|e| {
-            e.noted(format!("in macro {}, called at {:?}", definition.name.name, call.span))
-        })
+        result.map_err(|e| e.noted(context.note.to_string()))
     }
 
     fn include(
@@ -828,14 +827,15 @@ impl Evaluator {
         self.open_files.push((id, file.path.clone()));
         // The file's `#local`s end with it.
         self.scopes.push(Scope::default());
-        let note = format!("included from {at:?}");
-        let outer = self.context.replace(Arc::new(Context { note, outer: self.context.clone() }));
+        let note = Note::Included { at: at.clone() };
+        let context = Arc::new(Context { note, outer: self.context.clone() });
+        let outer = self.context.replace(context.clone());
         let result =
             tree::parse_file(&file, self.dialect).and_then(|items| self.exec(&items, body));
         self.context = outer;
         self.scopes.pop();
         self.open_files.pop();
-        result.map_err(|e| e.noted(format!("included from {at:?}")))
+        result.map_err(|e| e.noted(context.note.to_string()))
     }
 }
 
