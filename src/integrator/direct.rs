@@ -1,7 +1,7 @@
 //! The course's Lab 4 integrator: emission seen directly, direct light at surfaces with lobes
 //! that have a density (diffuse, glossy) with shadow rays (from point lights, area lights and
-//! the environment, by both its sample and the BSDF's), delta lobes (perfect mirrors and refraction) followed Whitted-style; no
-//! indirect light otherwise.
+//! the environment, by both its sample and the BSDF's), delta lobes (perfect mirrors and
+//! refraction) followed Whitted-style; no indirect light otherwise.
 
 use glam::Vec3;
 
@@ -176,8 +176,8 @@ fn light_samples<'a>(
 }
 
 /// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),
-/// the environment's light found by BSDF sampling and any `indirect` light; it follows a delta lobe if there is one.
-/// Whether it goes on.
+/// the environment's light found by BSDF sampling and any `indirect` light; it follows a delta
+/// lobe if there is one. Whether it goes on.
 fn leave(
     scene: &Scene,
     path: &mut WhittedPath,
