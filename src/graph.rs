@@ -16,6 +16,11 @@ pub struct SceneGraph {
     pub camera: CameraDesc,
     pub lights: Vec<PointLightDesc>,
     pub objects: Vec<ObjectNode>,
+    /// POV-Ray's `sky_sphere`: an environment light from a pigment (`.pov`).
+    pub sky: Option<SkyDesc>,
+    /// POV-Ray's `background { C }`: what rays the camera sees leave the scene towards where no
+    /// sky is; it does not light (`.pov`).
+    pub backdrop: Vec3,
     /// What the language found worth saying that is not an error (POV-Ray's `#version`).
     pub warnings: Vec<String>,
 }
@@ -133,6 +138,17 @@ pub struct CameraDesc {
     pub aperture: f32,
     /// Distance along the view direction that is in focus; `None` means the image plane's.
     pub focal_distance: Option<f32>,
+    pub span: Span,
+}
+
+/// POV-Ray's `sky_sphere { pigment { ... } transforms emission E }`: radiance towards
+/// direction d is the pigment at the unit vector T^-1 d (T's linear part: the sky is infinitely
+/// far, translations do not move it) times `emission`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SkyDesc {
+    pub pigment: TextureNode,
+    pub transforms: Vec<Transform>,
+    pub emission: Vec3,
     pub span: Span,
 }
 

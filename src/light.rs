@@ -1,5 +1,10 @@
-//! Lights: point lights and emissive primitives (area lights), each holding what it emits from;
-//! sampled towards a point (next-event estimation) and for emission (photon tracing).
+//! Lights: point lights, emissive primitives (area lights) and the environment, each holding
+//! what it emits from; sampled towards a point (next-event estimation) and for emission (photon
+//! tracing).
+
+mod environment;
+
+pub use environment::Environment;
 
 use std::f32::consts::PI;
 
@@ -15,6 +20,8 @@ pub enum Light {
     /// An emissive primitive: its shape, the radiance it emits towards its normal, its surface
     /// area, and its index in `Scene::primitives` (which names hits on it).
     Area { shape: Shape, emission: Vec3, area: f32, primitive: u32 },
+    /// Radiance arriving from infinitely far away (a sky): rays that leave the scene find it.
+    Environment(Box<Environment>),
 }
 
 /// Incident light at a point from one sampled light position, if nothing is in the way.
@@ -54,6 +61,7 @@ impl Light {
         match self {
             Light::Point { power, .. } => 4.0 * PI * *power,
             Light::Area { emission, area, .. } => PI * *area * *emission,
+            Light::Environment(sky) => sky.power_rgb(),
         }
     }
 
@@ -84,13 +92,26 @@ impl Light {
                 // Aim just off the light's surface, on the side we see, so it does not shadow itself.
                 (point + normal * error, wi, le, pdf, false)
             }
+            Light::Environment(sky) => {
+                let s = sky.sample(u).filter(|s| s.le != Vec3::ZERO)?;
+                let ray = Ray::new(offset_origin(hit, s.wi), s.wi);
+                let shadow = ShadowRay { ray, t_max: f32::INFINITY };
+                return Some(LightSample {
+                    wi: s.wi,
+                    li: s.le,
+                    pdf: s.pdf,
+                    is_delta: false,
+                    shadow,
+                });
+            }
         };
         let shadow = shadow_ray(hit, target, wi);
         Some(LightSample { wi, li, pdf, is_delta, shadow })
     }
 
     /// The solid-angle density with which `sample` from `from` returns the direction towards
-    /// `on_light`, a hit on this (area) light.
+    /// `on_light`, a hit on this (area) light. (The environment's is `Environment::pdf`, of a
+    /// direction.)
     pub fn pdf(&self, from: Vec3, on_light: &Hit) -> f32 {
         let Light::Area { ref shape, area, .. } = *self else {
             return 0.0;
@@ -104,7 +125,8 @@ impl Light {
 pub struct EmissionSample {
     pub ray: Ray,
     /// The light's power divided by the number of photons it emits: Le cos / (pdf_A pdf_w)
-    /// over them, which for these emitters is the same for every photon.
+    /// over them, which for point and area lights is the same for every photon (a textured
+    /// sky's photons carry it on average).
     pub power: Vec3,
 }
 
@@ -112,7 +134,8 @@ impl Light {
     /// One of `photons` photons from this light: a point light's uniform over the sphere
     /// (4 pi I / n each), an area light's from a point uniform by area, cosine-weighted over
     /// the hemisphere its emitting side faces (Le cos / (1/A cos/pi) = pi A Le, / n each). So
-    /// `photons` photons carry exactly `power_rgb`. `None` where the shape has no sample.
+    /// `photons` photons carry exactly `power_rgb`; the environment's from a disc facing a
+    /// direction it samples (`Environment::sample_photon`). `None` where there is no sample.
     pub fn sample_emission(
         &self,
         photons: u32,
@@ -131,6 +154,10 @@ impl Light {
                 // Leave just off the surface, on the side that emits.
                 let ray = Ray::new(s.point + s.normal * s.error, dir);
                 Some(EmissionSample { ray, power: PI * *area * *emission * share })
+            }
+            Light::Environment(sky) => {
+                let (origin, dir, power) = sky.sample_photon(u_point, u_direction, share)?;
+                Some(EmissionSample { ray: Ray::new(origin, dir), power })
             }
         }
     }

@@ -388,7 +388,7 @@ fn light_sampling(scene_text: &str, point: Vec3, normal: Vec3) {
     let index = (0..scene.lights.len())
         .find(|&i| match scene.lights[i] {
             Light::Area { ref shape, .. } => matches!(shape, Shape::Quadric { .. }),
-            Light::Point { .. } => false,
+            Light::Point { .. } | Light::Environment(_) => false,
         })
         .unwrap_or(0);
     let light = &scene.lights[index];
@@ -432,4 +432,31 @@ fn light_sampling_matches_light_pdf() {
         Vec3::new(0.8, 0.3, -0.5),
         Vec3::NEG_X,
     );
+}
+
+/// A sky that varies by direction (`sky_sphere`, turned so that its cells lie askew to the
+/// bins): the environment light's samples, as next-event estimation draws them, against its pdf;
+/// and the harness tells them from the constant sky's pdf.
+#[test]
+fn sky_sampling_matches_sky_pdf() {
+    let text = "camera { location <0, 0, -5>  look_at <0, 0, 0> }
+        sky_sphere {
+            pigment { gradient y  color_map { [0 rgb 0.02] [0.6 rgb <0.2, 0.3, 0.9>] [0.95 rgb 1] [1 rgb 20] }
+                      scale 2  translate -1 }
+            rotate <30, 0, 20>
+        }
+        sphere { <0, 0, 0>, 1 }";
+    let graph = raydiance::lang::parse_scene(std::path::Path::new("tests/inline.pov"), text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let scene = raydiance::scene::build(&graph).unwrap_or_else(|e| panic!("{e}"));
+    let Some(light @ Light::Environment(sky)) = scene.lights.last() else { panic!("no sky") };
+    let point = Vec3::new(0.0, 0.0, -3.0);
+    let hit =
+        Hit { t: 1.0, point, normal: Vec3::Y, shading_normal: Vec3::Y, error: 0.0, primitive: 0 };
+    let sample = |s: &mut Sampler| light.sample(&hit, s.next_2d()).map(|l| l.wi);
+    chi_square("a gradient sky", sample, |wi| sky.pdf(wi));
+    let uniform = std::panic::catch_unwind(|| {
+        chi_square("a gradient sky against uniform", sample, |_| 0.25 / PI)
+    });
+    assert!(uniform.is_err(), "the harness took the sky's samples for uniform ones");
 }

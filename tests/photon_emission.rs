@@ -101,6 +101,7 @@ fn photons_leave_the_emitting_side_cosine_weighted() {
                     assert!((origin.distance(sphere_centre) - 0.1).abs() < 1e-4, "{origin}");
                     (origin - sphere_centre).normalize()
                 }
+                Light::Environment(_) => panic!("the scene has no sky"),
             };
             let cos = normal.dot(dir);
             assert!(cos >= 0.0, "photon {i} leaves the back of its light: {origin} {dir}");
@@ -111,6 +112,7 @@ fn photons_leave_the_emitting_side_cosine_weighted() {
             Light::Area { .. } => {
                 assert!((mean_cos - 2.0 / 3.0).abs() < 0.01, "mean cosine {mean_cos}")
             }
+            Light::Environment(_) => panic!("the scene has no sky"),
         }
     }
 }

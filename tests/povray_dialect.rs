@@ -167,12 +167,13 @@ fn a_light_s_colour_may_follow_its_position_without_color() {
 }
 
 #[test]
-fn background_is_the_environment_with_a_warning_and_focal_blur_is_warned_about() {
+fn background_is_only_seen_and_focal_blur_is_warned_about() {
     let graph = pov("background { color rgb <0.1, 0.2, 0.3> }\n\
          camera { location <0, 0, -5> look_at 0 aperture 0.4 focal_point 0 blur_samples 20 }");
-    assert!(close(graph.settings.background, Vec3::new(0.1, 0.2, 0.3)));
+    assert!(close(graph.backdrop, Vec3::new(0.1, 0.2, 0.3)));
+    assert_eq!(graph.settings.background, Vec3::ZERO, "it does not light");
     assert_eq!((graph.settings.width, graph.settings.height), (320, 240));
-    assert!(graph.warnings.iter().any(|w| w.contains(":1:1: warning: POV-Ray's `background`")));
+    assert!(!graph.warnings.iter().any(|w| w.contains("`background`")), "as POV-Ray's");
     assert!(
         graph.warnings.iter().any(|w| w.contains(":2:40: warning: POV-Ray's focal blur")),
         "{:?}",
@@ -283,4 +284,27 @@ fn a_declared_camera_is_used_by_name_and_may_be_changed() {
         .unwrap_err()
         .to_string();
     assert!(scn.contains("cannot stand in a camera"), "{scn}");
+}
+
+#[test]
+fn sky_sphere_is_read_with_its_pigment_transforms_and_emission() {
+    let graph = pov("sky_sphere { pigment { gradient y color_map { [0 rgb 0] [1 rgb 1] } } \
+         rotate <0, 0, 30> scale 2 emission rgb <1, 0.5, 0.25> }");
+    let sky = graph.sky.expect("a sky");
+    assert!(matches!(sky.pigment.pattern, raydiance::graph::Pattern::Gradient { .. }));
+    assert_eq!(sky.transforms.len(), 2);
+    assert!(close(sky.emission, Vec3::new(1.0, 0.5, 0.25)));
+
+    let second = pov_error("sky_sphere { pigment { rgb 1 } }\nsky_sphere { pigment { rgb 1 } }");
+    assert!(second.contains(":2:1:") && second.contains("a second sky_sphere"), "{second}");
+    let misplaced = pov_error("sky_sphere { finish { diffuse 1 } }");
+    assert!(misplaced.contains(":1:14:") && misplaced.contains("in a sky_sphere"), "{misplaced}");
+    let layered = pov("sky_sphere { pigment { rgb 1 } pigment { rgb 0.5 } }");
+    assert!(layered.warnings.iter().any(|w| w.contains("2 pigment layers")), "{layered:?}");
+
+    let scn = parse_scene(Path::new("tests/inline.scn"), "sky_sphere { pigment { rgb 1 } }")
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(scn.contains(":1:1:") && scn.contains("settings { background"), "{scn}");
 }

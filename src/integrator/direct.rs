@@ -1,11 +1,11 @@
 //! The course's Lab 4 integrator: emission seen directly, direct light at surfaces with lobes
 //! that have a density (diffuse, glossy) with shadow rays (from point lights, area lights and
-//! the background), delta lobes (perfect mirrors and refraction) followed Whitted-style; no
-//! indirect light otherwise.
+//! the environment, by both its sample and the BSDF's), delta lobes (perfect mirrors and
+//! refraction) followed Whitted-style; no indirect light otherwise.
 
 use glam::Vec3;
 
-use super::{Lanes, SampleIntegrator, ShadowLanes, direct_from_light};
+use super::{Lanes, SampleIntegrator, ShadowLanes, direct_from_light, power_heuristic};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
 use crate::light::ShadowRay;
@@ -18,27 +18,30 @@ pub struct Direct {
     pub max_depth: u32,
 }
 
-/// Light of the background (an environment of constant radiance L all around) reflected towards
-/// `wo` by the non-delta lobes: one direction sampled from them with a shadow ray to infinity,
-/// whose estimate is f L cos / pdf (kd L for a diffuse lobe) where the sky is seen. A black
-/// background draws no sample, so the course's Lab 4 scenes render as they always have.
-pub(super) fn direct_from_background(
+/// Light of the environment reflected towards `wo` by the non-delta lobes, found by one
+/// direction sampled from them with a shadow ray to infinity: f L cos / pdf where the sky is
+/// seen, weighted against the environment's own sample (`direct_from_light`) by the power
+/// heuristic. A scene without an environment draws no sample, so the course's Lab 4 scenes
+/// render as they always have.
+pub(super) fn direct_from_environment(
     scene: &Scene,
     hit: &Hit,
     wo: Vec3,
     bsdf: &Bsdf,
     sampler: &mut Sampler,
 ) -> Vec3 {
-    let background = scene.background();
-    if background == Vec3::ZERO {
+    let Some((_, sky)) = scene.environment() else {
         return Vec3::ZERO;
-    }
+    };
     let u_lobe = sampler.next_1d_if(bsdf.flags().contains(LobeFlags::GLOSSY));
     let Some(sample) = bsdf.sample(wo, u_lobe, sampler.next_2d(), LobeFlags::NON_DELTA) else {
         return Vec3::ZERO;
     };
     let ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
-    if scene.occluded(&ray, f32::INFINITY) { Vec3::ZERO } else { sample.weight * background }
+    if scene.occluded(&ray, f32::INFINITY) {
+        return Vec3::ZERO;
+    }
+    sample.weight * sky.le(sample.wi) * power_heuristic(sample.pdf, sky.pdf(sample.wi))
 }
 
 impl SampleIntegrator for Direct {
@@ -137,7 +140,7 @@ impl Vertex {
 }
 
 /// The path arrives where its ray meets the scene (`hit`), or leaves it, and adds the emission
-/// seen there (the background where it leaves); the vertex where it scatters, unless it ends.
+/// seen there (what lies beyond where it leaves); the vertex where it scatters, unless it ends.
 pub(super) fn arrive(
     scene: &Scene,
     path: &mut WhittedPath,
@@ -145,7 +148,8 @@ pub(super) fn arrive(
     max_depth: u32,
 ) -> Option<Vertex> {
     let Some(hit) = hit else {
-        path.radiance += path.beta * scene.background();
+        // Only delta bounces lead here: the camera sees what lies beyond.
+        path.radiance += path.beta * scene.beyond(path.ray.dir.into(), true);
         return None;
     };
     let wo = -Vec3::from(path.ray.dir);
@@ -172,8 +176,8 @@ fn light_samples<'a>(
 }
 
 /// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),
-/// the background's light and any `indirect` light; it follows a delta lobe if there is one.
-/// Whether it goes on.
+/// the environment's light found by BSDF sampling and any `indirect` light; it follows a delta
+/// lobe if there is one. Whether it goes on.
 fn leave(
     scene: &Scene,
     path: &mut WhittedPath,
@@ -185,7 +189,7 @@ fn leave(
     let Vertex { hit, wo, bsdf } = vertex;
     if bsdf.flags().is_non_delta() {
         path.radiance += path.beta * lit;
-        path.radiance += path.beta * direct_from_background(scene, hit, *wo, bsdf, sampler);
+        path.radiance += path.beta * direct_from_environment(scene, hit, *wo, bsdf, sampler);
         if let Some(indirect) = indirect {
             path.radiance += path.beta * indirect(hit, *wo, bsdf);
         }

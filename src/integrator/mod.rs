@@ -22,7 +22,7 @@ use crate::geometry::{Hit, Ray};
 use crate::graph::{IntegratorKind, Settings};
 use crate::lanes::{Floats, LANES, Lane, RayLanes, Wide};
 use crate::light::{Light, ShadowRay};
-use crate::material::Bsdf;
+use crate::material::{Bsdf, LobeFlags};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
 use crate::sampling::Sampler;
@@ -78,7 +78,8 @@ pub fn of(settings: &Settings) -> Box<dyn Integrator> {
 
 /// Light from `light` scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, from
 /// its sample at `u`, if the shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point
-/// light exactly the course's Lab 4 p / r^2 f |n . wi|).
+/// light exactly the course's Lab 4 p / r^2 f |n . wi|). The environment's sample is weighted
+/// against the BSDF's sample of it (`direct::direct_from_environment`), by the power heuristic.
 fn direct_from_light(
     light: &Light,
     hit: &Hit,
@@ -88,7 +89,25 @@ fn direct_from_light(
 ) -> Option<(ShadowRay, Vec3)> {
     let sample = light.sample(hit, u)?;
     let f = bsdf.eval(wo, sample.wi);
-    Some((sample.shadow, f * sample.li * hit.shading_normal.dot(sample.wi).abs() / sample.pdf))
+    let weight = if matches!(light, Light::Environment(_)) {
+        power_heuristic(sample.pdf, bsdf.pdf(wo, sample.wi, LobeFlags::NON_DELTA))
+    } else {
+        1.0
+    };
+    let cos = hit.shading_normal.dot(sample.wi).abs();
+    Some((sample.shadow, f * sample.li * cos * weight / sample.pdf))
+}
+
+/// Veach's power heuristic with exponent 2, for one sample from each strategy:
+/// pdf² / (pdf² + other²), written as 1 / (1 + (other / pdf)²) because the squares overflow
+/// where a pdf is huge (an area light seen edge-on from far away: a solid-angle pdf of 1e20),
+/// and inf / inf is NaN. Both infinite: an even split.
+pub(super) fn power_heuristic(pdf: f32, other: f32) -> f32 {
+    if pdf == 0.0 {
+        return 0.0;
+    }
+    let ratio = other / pdf;
+    if ratio.is_nan() { 0.5 } else { 1.0 / (1.0 + ratio * ratio) }
 }
 
 /// A path traced in a lane: which camera sample it is (where its radiance goes), its own
@@ -186,5 +205,29 @@ impl ShadowLanes {
             open = std::array::from_fn(|lane| self.found[lane] && !occluded.lane(lane));
         }
         (0..LANES).filter(move |&lane| open[lane])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The NaN of depth of field (a floor ray at a grazing angle sampling an area light 10^7
+    /// units away: a light pdf near 1e20, squared to inf): every weight is a number in [0, 1],
+    /// and the two strategies' weights add up to 1.
+    #[test]
+    fn power_heuristic_weights_are_numbers_for_any_pdfs() {
+        assert_eq!(power_heuristic(1e20, 1.0), 1.0);
+        assert_eq!(power_heuristic(1.0, 1e20), 0.0);
+        let pdfs = [0.0, 1e-30, 1e-3, 0.5, 1.0, 3.0, 1e19, 1e20, 1e30, f32::MAX, f32::INFINITY];
+        for a in pdfs {
+            for b in pdfs {
+                let (w, v) = (power_heuristic(a, b), power_heuristic(b, a));
+                assert!((0.0..=1.0).contains(&w), "w({a}, {b}) = {w}");
+                if a > 0.0 || b > 0.0 {
+                    assert!((w + v - 1.0).abs() < 1e-6, "w({a}, {b}) + w({b}, {a}) = {}", w + v);
+                }
+            }
+        }
     }
 }

@@ -4,10 +4,10 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Lanes, SampleIntegrator, ShadowLanes};
+use super::{Lanes, SampleIntegrator, ShadowLanes, power_heuristic};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
-use crate::light::ShadowRay;
+use crate::light::{Light, ShadowRay};
 use crate::material::{Bsdf, LobeFlags, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -46,6 +46,9 @@ struct PathState {
     /// Where the last direction was sampled from a non-delta lobe, that vertex's point and the
     /// direction's solid-angle pdf (for MIS where the path meets an emitter).
     previous: Option<(Vec3, f32)>,
+    /// Whether every bounce so far was through a delta lobe: the camera sees what the path
+    /// finds (POV-Ray's `background` too, which does not light).
+    seen: bool,
     bounces: u32,
 }
 
@@ -57,6 +60,7 @@ impl PathState {
             beta: Vec3::ONE,
             eta_scale: 1.0,
             previous: None,
+            seen: true,
             bounces: 0,
         }
     }
@@ -140,7 +144,7 @@ impl Path {
     ) -> Bounce {
         let ends = Bounce { shadowed: None, continues: false };
         let Some(hit) = hit else {
-            path.radiance += path.beta * scene.background();
+            path.radiance += path.beta * self.beyond(scene, path);
             return ends;
         };
         let wo = -Vec3::from(path.ray.dir);
@@ -169,6 +173,7 @@ impl Path {
         path.beta *= sample.weight;
         path.eta_scale *= sample.eta * sample.eta;
         path.previous = (!sample.is_delta()).then_some((hit.point, sample.pdf));
+        path.seen &= sample.is_delta();
         path.ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
         // Russian roulette: go on with probability tied to the throughput and divide by it, so
         // the estimate stays unbiased.
@@ -185,20 +190,45 @@ impl Path {
         Bounce { shadowed, continues: true }
     }
 
+    /// Radiance the path finds where it leaves the scene: the environment's, weighted against
+    /// next-event estimation, and the backdrop if the camera sees it.
+    fn beyond(&self, scene: &Scene, path: &PathState) -> Vec3 {
+        let dir = Vec3::from(path.ray.dir);
+        let backdrop = if path.seen { scene.backdrop() } else { Vec3::ZERO };
+        let Some((light, sky)) = scene.environment() else {
+            return backdrop;
+        };
+        let weight = self.found_weight(scene, light, path.previous, |_, _| sky.pdf(dir));
+        backdrop + sky.le(dir) * weight
+    }
+
     /// The weight of emission found by a BSDF-sampled ray.
     fn emission_weight(&self, scene: &Scene, hit: &Hit, previous: Option<(Vec3, f32)>) -> f32 {
-        let Some((from, bsdf_pdf)) = previous else {
-            return 1.0; // seen by the camera or through delta bounces
-        };
         let Some(light) = scene.primitives[hit.primitive as usize].light else {
             return 1.0; // no light sample can find this emitter
+        };
+        self.found_weight(scene, light as usize, previous, |light, from| light.pdf(from, hit))
+    }
+
+    /// The weight of light from `light` found by a ray sampled after `previous` (see
+    /// `PathState::previous`); `light_pdf(light, from)` is the density with which a light
+    /// sample from `from` finds the same direction.
+    fn found_weight(
+        &self,
+        scene: &Scene,
+        light: usize,
+        previous: Option<(Vec3, f32)>,
+        light_pdf: impl FnOnce(&Light, Vec3) -> f32,
+    ) -> f32 {
+        let Some((from, bsdf_pdf)) = previous else {
+            return 1.0; // seen by the camera or through delta bounces
         };
         match self.strategy {
             Strategy::BsdfSampling => 1.0,
             Strategy::LightSampling => 0.0,
             Strategy::Mis => {
-                let light_pdf = scene.light_probability(light as usize)
-                    * scene.lights[light as usize].pdf(from, hit);
+                let light_pdf =
+                    scene.light_probability(light) * light_pdf(&scene.lights[light], from);
                 power_heuristic(bsdf_pdf, light_pdf)
             }
         }
@@ -240,41 +270,5 @@ impl Path {
         };
         let radiance = f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf;
         Some((sample.shadow, radiance))
-    }
-}
-
-/// Veach's power heuristic with exponent 2, for one sample from each strategy:
-/// pdf² / (pdf² + other²), written as 1 / (1 + (other / pdf)²) because the squares overflow
-/// where a pdf is huge (an area light seen edge-on from far away: a solid-angle pdf of 1e20),
-/// and inf / inf is NaN. Both infinite: an even split.
-fn power_heuristic(pdf: f32, other: f32) -> f32 {
-    if pdf == 0.0 {
-        return 0.0;
-    }
-    let ratio = other / pdf;
-    if ratio.is_nan() { 0.5 } else { 1.0 / (1.0 + ratio * ratio) }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The NaN of depth of field (a floor ray at a grazing angle sampling an area light 10^7
-    /// units away: a light pdf near 1e20, squared to inf): every weight is a number in [0, 1],
-    /// and the two strategies' weights add up to 1.
-    #[test]
-    fn power_heuristic_weights_are_numbers_for_any_pdfs() {
-        assert_eq!(power_heuristic(1e20, 1.0), 1.0);
-        assert_eq!(power_heuristic(1.0, 1e20), 0.0);
-        let pdfs = [0.0, 1e-30, 1e-3, 0.5, 1.0, 3.0, 1e19, 1e20, 1e30, f32::MAX, f32::INFINITY];
-        for a in pdfs {
-            for b in pdfs {
-                let (w, v) = (power_heuristic(a, b), power_heuristic(b, a));
-                assert!((0.0..=1.0).contains(&w), "w({a}, {b}) = {w}");
-                if a > 0.0 || b > 0.0 {
-                    assert!((w + v - 1.0).abs() < 1e-6, "w({a}, {b}) + w({b}, {a}) = {}", w + v);
-                }
-            }
-        }
     }
 }

@@ -18,7 +18,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::direct::{
-    Vertex, WhittedPath, arrive, direct_from_background, follow_delta, lit_one_at_a_time,
+    Vertex, WhittedPath, arrive, direct_from_environment, follow_delta, lit_one_at_a_time,
 };
 use super::{Integrator, PHOTON_TASK};
 use crate::film::{BYTES_PER_PIXEL, Film};
@@ -287,7 +287,7 @@ fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPat
                 path.radiance += path.beta * lit;
                 let Vertex { hit, wo, bsdf } = &vertex;
                 path.radiance +=
-                    path.beta * direct_from_background(scene, hit, *wo, bsdf, &mut sampler);
+                    path.beta * direct_from_environment(scene, hit, *wo, bsdf, &mut sampler);
                 return (path.radiance, Some(VisiblePoint { vertex, beta: path.beta }));
             }
             path.beta /= 1.0 - p;

@@ -317,6 +317,8 @@ fn describe(rule: Rule) -> &'static str {
         Rule::light_source => "`light_source`",
         Rule::light_colour | Rule::light_modifier => "a light's colour",
         Rule::pov_background => "`background`",
+        Rule::sky_sphere => "`sky_sphere`",
+        Rule::sky_emission => "a sky's `emission`",
         Rule::pigment => "`pigment`",
         Rule::finish => "`finish`",
         Rule::pov_texture => "`texture`",

@@ -47,8 +47,8 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
              `emission`, and light comes only from lights, emitters and the background"
         }
         "sky_sphere" => {
-            "POV-Ray's `sky_sphere` is here a constant colour: `settings { background rgb ... }` \
-             (it lights the scene)"
+            "POV-Ray's `sky_sphere` is read in `.pov` scenes; here the sky is a constant colour \
+             that lights the scene: `settings { background rgb ... }`"
         }
         "background" if inside.is_none() => {
             "POV-Ray's `background { color ... }` is here a setting: \

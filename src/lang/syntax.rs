@@ -107,6 +107,11 @@ pub enum Item {
     },
     /// POV-Ray's `pigment`, `finish`, `texture`, `interior` or `normal` (`.pov`).
     Appearance(Appearance),
+    /// POV-Ray's `sky_sphere { ... }` (`.pov`).
+    SkySphere {
+        items: Vec<Item>,
+        span: Span,
+    },
     /// A pigment's pattern (`checker Red, Blue`, `gradient y`, `marble`).
     Pattern {
         kind: PatternKind,
@@ -194,6 +199,7 @@ impl Item {
             Item::MapEntry { .. } => "a color_map entry",
             Item::Value(_) => "a value",
             Item::Default { .. } => "`#default`",
+            Item::SkySphere { .. } => "a sky_sphere",
             Item::Appearance(a) => match a.kind {
                 AppearanceKind::Pigment => "a pigment",
                 AppearanceKind::Finish => "a finish",
@@ -223,6 +229,7 @@ impl Item {
             | Item::Light { span, .. }
             | Item::ColorMap { span, .. }
             | Item::Default { span, .. }
+            | Item::SkySphere { span, .. }
             | Item::Pattern { span, .. } => span,
             Item::Appearance(a) => &a.span,
             Item::PovParam { key, .. } => &key.span,

@@ -297,6 +297,20 @@ impl Builder {
                 let colour = self.colour(pair.into_inner().nth(1).expect("the colour"))?;
                 Item::Setting(Setting { kind: SettingKind::Background(colour), span })
             }
+            Rule::sky_sphere => {
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::SkySphere { items, span }
+            }
+            Rule::sky_emission => {
+                let mut inner = pair.into_inner();
+                let key = inner.next().expect("the word");
+                let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };
+                let value = Some(self.colour(inner.next().expect("the colour"))?);
+                Item::PovParam { key, value, items: Vec::new() }
+            }
             Rule::camera => {
                 self.enter(&pair)?;
                 let items = self.items(pair.into_inner().skip(1))?;

@@ -111,12 +111,16 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             lights.push(Light::Area { shape, emission, area, primitive: i as u32 });
         }
     }
+    // The sky goes last: the lights before keep the indices their primitives name.
+    let environment = super::sky::environment(graph, &bounds, camera.origin)?.map(|sky| {
+        lights.push(Light::Environment(Box::new(sky)));
+        lights.len() - 1
+    });
+    let backdrop = if environment.is_some() { Vec3::ZERO } else { graph.backdrop };
     let mut warnings = graph.warnings.clone();
     warnings.extend(camera_warnings);
     warnings.extend(flat.warnings);
-    let emits = !lights.is_empty()
-        || settings.background.max_element() > 0.0
-        || flat.materials.iter().any(Material::is_emissive);
+    let emits = !lights.is_empty() || flat.materials.iter().any(Material::is_emissive);
     if !emits {
         warnings.push(
             "warning: the scene emits no light (no light_source, no material with `emission`, \
@@ -170,6 +174,8 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         textures: flat.textures,
         frames: flat.frames,
         lights,
+        environment,
+        backdrop,
         light_cdf: Vec::new(),
         warnings,
     };

@@ -2,6 +2,7 @@
 //! world-space primitives in flat arrays under a BVH, materials, lights and the camera.
 
 mod build;
+mod sky;
 
 pub use build::build;
 
@@ -14,7 +15,7 @@ use crate::camera::Camera;
 use crate::geometry::{Csg, FewShapes, Hit, Intersection, Nearest, Ray, Shape};
 use crate::graph::Settings;
 use crate::lanes::{Floats, LANES, Lane, Mask, RayLanes, Wide};
-use crate::light::Light;
+use crate::light::{Environment, Light};
 use crate::material::Material;
 use crate::sampling::Sampler;
 use crate::texture::Texture;
@@ -62,6 +63,11 @@ pub struct Scene {
     /// World to object space of each object, for textures.
     frames: Vec<Affine3A>,
     pub lights: Vec<Light>,
+    /// The index in `lights` of the environment light, if there is one.
+    environment: Option<usize>,
+    /// What rays the camera sees through delta bounces only find where they leave a scene
+    /// without an environment light: POV-Ray's `background`, which does not light.
+    backdrop: Vec3,
     /// Cumulative distribution for choosing a light in proportion to its power.
     light_cdf: Vec<f32>,
     /// Things the user should know that are not errors (e.g. the camera's aspect ratio).
@@ -223,9 +229,24 @@ impl Scene {
         material
     }
 
-    /// Radiance of rays that leave the scene.
-    pub fn background(&self) -> Vec3 {
-        self.settings.background
+    /// The environment light, if the scene has one, and its index in `lights`.
+    pub fn environment(&self) -> Option<(usize, &Environment)> {
+        let index = self.environment?;
+        let Light::Environment(sky) = &self.lights[index] else { return None };
+        Some((index, sky))
+    }
+
+    /// Radiance found along direction `dir` by a ray that leaves the scene: the environment's,
+    /// and the backdrop if the camera sees the ray through delta bounces only (`seen`).
+    pub fn beyond(&self, dir: Vec3, seen: bool) -> Vec3 {
+        let backdrop = if seen { self.backdrop } else { Vec3::ZERO };
+        backdrop + self.environment().map_or(Vec3::ZERO, |(_, sky)| sky.le(dir))
+    }
+
+    /// What rays the camera sees through delta bounces only find beyond a scene without an
+    /// environment light (`beyond`'s part that does not light).
+    pub fn backdrop(&self) -> Vec3 {
+        self.backdrop
     }
 
     /// A light chosen in proportion to its power, and the probability of that choice.

@@ -146,7 +146,11 @@ impl Evaluator {
         })
     }
 
-    fn pigment(&mut self, appearance: &Appearance, base: &Pigment) -> Result<Pigment, SceneError> {
+    pub(super) fn pigment(
+        &mut self,
+        appearance: &Appearance,
+        base: &Pigment,
+    ) -> Result<Pigment, SceneError> {
         let mut state = PigmentState {
             pigment: base.clone(),
             pattern: None,

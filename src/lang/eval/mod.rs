@@ -15,6 +15,7 @@ mod expression;
 mod material;
 mod object;
 mod scope;
+mod sky;
 
 use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind};
 use super::value::Value;
@@ -24,6 +25,7 @@ use crate::diagnostic::{Context, Note, SceneError, SourceFile, Span};
 use crate::digest::Digest;
 use crate::graph::{
     CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
+    SkyDesc,
 };
 use crate::lang::dialect::Dialect;
 use crate::pipeline::{MAX_DEPTH, MAX_SAMPLES};
@@ -145,6 +147,10 @@ pub struct Evaluator {
     looks: Vec<Option<Look>>,
     /// `.pov`: whether the warning that highlights are not rendered has been given.
     warned_highlight: bool,
+    /// `.pov`: `sky_sphere`, the environment light.
+    sky: Option<SkyDesc>,
+    /// `.pov`: `background`, seen and not lighting.
+    backdrop: Vec3,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).
@@ -174,6 +180,8 @@ pub enum Body<'a> {
     Finish(&'a mut Finish),
     Look(&'a mut Look),
     Interior(&'a mut f32),
+    /// POV-Ray's `sky_sphere` (`.pov`).
+    Sky(&'a mut SkyDesc),
     /// A macro called as a value: its body gives one.
     Value(&'a mut Option<Value>),
 }
@@ -209,6 +217,7 @@ impl Body<'_> {
             Body::Finish(_) => "in a finish",
             Body::Look(_) => "in a texture",
             Body::Interior(_) => "in an interior",
+            Body::Sky(_) => "in a sky_sphere",
             Body::Value(_) => "where a value is expected",
         }
     }
@@ -271,6 +280,8 @@ impl Evaluator {
             camera,
             lights: self.lights,
             objects: self.objects,
+            sky: self.sky,
+            backdrop: self.backdrop,
             warnings: self.warnings,
         };
         Ok((graph, self.sources))
@@ -364,6 +375,7 @@ impl Evaluator {
             | Item::ColorMap { .. }
             | Item::MapEntry { .. }
             | Item::Default { .. }
+            | Item::SkySphere { .. }
             | Item::Appearance(_)
             | Item::Pattern { .. }
             | Item::PovParam { .. }
@@ -381,6 +393,7 @@ impl Evaluator {
                 Body::Finish(finish) => self.finish_item(item, finish),
                 Body::Look(look) => self.look_item(item, look),
                 Body::Interior(ior) => self.interior_item(item, ior),
+                Body::Sky(sky) => self.sky_item(item, sky),
             },
         }
     }
@@ -410,18 +423,13 @@ impl Evaluator {
                 Ok(())
             }
             Item::Camera { items, span } => self.camera(items, span),
-            // POV-Ray's `background { C }` (only `.pov` gives a setting outside `settings`).
+            // POV-Ray's `background { C }` (only `.pov` gives a setting outside `settings`): seen,
+            // not lighting, as in POV-Ray.
             Item::Setting(setting) => {
                 let SettingKind::Background(colour) = &setting.kind else {
                     return Err(Self::misplaced(item, &Body::Scene));
                 };
-                let colour = self.colour(colour)?;
-                self.settings.get_or_insert_with(Settings::default).background = colour;
-                let at = self.here(&setting.span);
-                self.warnings.push(format!(
-                    "{at:?}: warning: POV-Ray's `background` is only seen; here it is the \
-                     environment, which also lights the scene"
-                ));
+                self.backdrop = self.colour(colour)?;
                 Ok(())
             }
             Item::Light { position, items, span } => {
@@ -464,6 +472,7 @@ impl Evaluator {
                 self.objects.push(node);
                 Ok(())
             }
+            Item::SkySphere { items, span } => self.sky_sphere(items, span),
             Item::Default { items, .. } => {
                 let mut look = self.default_look.clone();
                 self.exec(items, &mut Body::Look(&mut look))?;

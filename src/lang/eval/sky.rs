@@ -1,0 +1,58 @@
+//! POV-Ray's `sky_sphere` (`.pov`): the environment light, from its pigment on the unit
+//! direction (`docs/povray.md`, Sky).
+
+use glam::Vec3;
+
+use super::appearance::Pigment;
+use super::{Body, Evaluator};
+use crate::diagnostic::{SceneError, Span};
+use crate::graph::{SkyDesc, TextureNode};
+use crate::lang::syntax::{AppearanceKind, Item};
+
+impl Evaluator {
+    /// `sky_sphere { items }`: the scene's environment light (one a scene, as in POV-Ray).
+    pub(super) fn sky_sphere(&mut self, items: &[Item], span: &Span) -> Result<(), SceneError> {
+        if self.sky.is_some() {
+            return Err(SceneError::at(span, "a second sky_sphere (POV-Ray's scenes have one)"));
+        }
+        let mut sky = SkyDesc {
+            pigment: TextureNode::solid(Vec3::ZERO),
+            transforms: Vec::new(),
+            emission: Vec3::ONE,
+            span: self.here(span),
+        };
+        let mut layers = 0;
+        for item in items {
+            if matches!(item, Item::Appearance(a) if a.kind == AppearanceKind::Pigment) {
+                layers += 1;
+            }
+        }
+        if layers > 1 {
+            self.warnings.push(format!(
+                "{:?}: warning: this sky_sphere has {layers} pigment layers; only the top one \
+                 (the last) is the sky: the layers under it are not seen through it",
+                sky.span
+            ));
+        }
+        self.exec(items, &mut Body::Sky(&mut sky))?;
+        self.sky = Some(sky);
+        Ok(())
+    }
+
+    /// An item of a `sky_sphere`: a pigment (its filter and transmit ignored: nothing lies
+    /// behind the sky), a transform, `emission`.
+    pub(super) fn sky_item(&mut self, item: &Item, sky: &mut SkyDesc) -> Result<(), SceneError> {
+        match item {
+            Item::Appearance(a) if a.kind == AppearanceKind::Pigment => {
+                let base = Pigment { colour: sky.pigment.clone(), filter: 0.0, transmit: 0.0 };
+                sky.pigment = self.pigment(a, &base)?.colour;
+            }
+            Item::Transform(t) => sky.transforms.push(self.transform(t)?),
+            Item::PovParam { key, value: Some(colour), .. } if key.name == "emission" => {
+                sky.emission = self.pov_colour(colour)?.0;
+            }
+            _ => return Err(Self::misplaced(item, &Body::Sky(sky))),
+        }
+        Ok(())
+    }
+}
