@@ -9,6 +9,7 @@ use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
 pub use crate::geometry::CsgOp;
+use crate::material::Coat;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -158,6 +159,10 @@ pub struct MaterialDesc {
     pub fresnel: bool,
     /// GGX alpha of the `specular` and `transmission` lobes, in [0, 1]; 0: perfect lobes.
     pub roughness: f32,
+    /// The strength of a glossy coat over `diffuse`, in [0, 1]; 0: no coat.
+    pub coat: f32,
+    /// GGX alpha of the coat, in (0, 1].
+    pub coat_roughness: f32,
     pub span: Span,
 }
 
@@ -173,6 +178,8 @@ impl MaterialDesc {
             emission: Vec3::ZERO,
             fresnel: false,
             roughness: 0.0,
+            coat: 0.0,
+            coat_roughness: Coat::DEFAULT_ROUGHNESS,
             span,
         }
     }

@@ -17,7 +17,7 @@ use crate::geometry::{
 };
 use crate::graph::{Below, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use crate::light::Light;
-use crate::material::Material;
+use crate::material::{Coat, Material};
 use crate::texture::{ImageMap, Texture};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
@@ -430,6 +430,12 @@ impl Flattener {
             if d.roughness > 0.0 && !refracts && d.specular.max_element() <= 0.0 {
                 self.warnings.push(format!(
                     "{:?}: warning: `roughness` has no effect without `specular` or `transmission`",
+                    d.span
+                ));
+            }
+            if d.coat_roughness != Coat::DEFAULT_ROUGHNESS && d.coat == 0.0 {
+                self.warnings.push(format!(
+                    "{:?}: warning: `coat_roughness` has no effect without `coat`",
                     d.span
                 ));
             }
