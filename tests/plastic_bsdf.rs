@@ -273,3 +273,34 @@ fn plastic_reflects_four_percent_head_on_and_the_base_the_rest() {
     let expected = 0.5 / PI * (1.0 - f0) * (1.0 - fresnel(0.5));
     assert!((away - expected).abs() < 0.005 * expected, "{away} vs {expected}");
 }
+
+/// `.scn`'s `coat` and `coat_roughness` make the plastic lobe; `coat_roughness` alone is
+/// warned about; a coat with a mirror within the energy rule is accepted.
+#[test]
+fn scn_coat_makes_the_plastic_lobe() {
+    let parse = |text: &str| {
+        let text = format!("camera {{ location <0, 0, -3>  look_at <0, 0, 0> }}\n{text}");
+        raydiance::lang::parse_scene(std::path::Path::new("tests/inline.scn"), &text)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let graph = parse(
+        "sphere { 0, 1  material { diffuse rgb 0.5  coat 0.8  coat_roughness 0.3  specular rgb 0.2 } }",
+    );
+    let desc = graph.objects[0].material.as_ref().unwrap();
+    let material = Material::from(&**desc);
+    assert_eq!(material.coat, Some(Coat { strength: 0.8, roughness: 0.3 }));
+    let flags = material.bsdf(Vec3::Z, TransportMode::Radiance).flags();
+    let expected =
+        LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::DELTA | LobeFlags::REFLECTION;
+    assert_eq!(flags, expected);
+    let graph = parse("sphere { 0, 1  material { diffuse rgb 0.5  coat 1 } }");
+    let material = Material::from(&**graph.objects[0].material.as_ref().unwrap());
+    assert_eq!(material.coat, Some(Coat { strength: 1.0, roughness: Coat::DEFAULT_ROUGHNESS }));
+    let plain = parse("sphere { 0, 1  material { diffuse rgb 0.5  coat_roughness 0.3 } }");
+    assert_eq!(Material::from(&**plain.objects[0].material.as_ref().unwrap()).coat, None);
+    let scene_warnings = raydiance::scene::build(&plain).unwrap().warnings;
+    assert!(
+        scene_warnings.iter().any(|w| w.contains("`coat_roughness` has no effect without `coat`")),
+        "{scene_warnings:?}"
+    );
+}
