@@ -3,6 +3,8 @@
 //! a Lambertian base kd / pi (1 - F(n.o)) (1 - F(n.i)). The coat is integrated over microfacet
 //! normals as in `rough_bsdf.rs`, the base over a grid in (cos theta, phi).
 
+mod common;
+
 use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3};
@@ -303,4 +305,22 @@ fn scn_coat_makes_the_plastic_lobe() {
         scene_warnings.iter().any(|w| w.contains("`coat_roughness` has no effect without `coat`")),
         "{scene_warnings:?}"
     );
+}
+
+/// The integrators take the coat through `Bsdf` like any lobe: in a white furnace (a
+/// background of radiance 1, nothing else) a coated white sphere seen head-on shows the
+/// lobe's directional albedo there, by `path` and by `direct`.
+#[test]
+fn a_coated_sphere_in_a_white_furnace_shows_its_albedo() {
+    let (model_coat, model_base) = model_albedo(1.0, 1.0, 0.1, DVec3::Z);
+    let model = model_coat + model_base;
+    for integrator in ["path", "direct"] {
+        let scene = common::scene(&format!(
+            "settings {{ resolution 3, 3  samples 4096  integrator {integrator}  background rgb 1 }}\n\
+             camera {{ location <0, 0, -10>  look_at <0, 0, 0>  angle 2 }}\n\
+             sphere {{ 0, 1  material {{ diffuse rgb 1  coat 1  coat_roughness 0.1 }} }}"
+        ));
+        let middle = f64::from(common::render_image(&scene).get(1, 1).x);
+        assert!((middle - model).abs() < 0.01, "{integrator}: {middle} vs the model's {model}");
+    }
 }

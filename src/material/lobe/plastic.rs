@@ -62,7 +62,12 @@ impl Plastic {
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let side = side_of(wo);
-        let (wo, wi) = (on_side(wo, side), on_side(wi, side));
+        self.eval_turned(on_side(wo, side), on_side(wi, side))
+    }
+
+    /// `eval` of wo and wi already turned to wo's side.
+    #[inline]
+    fn eval_turned(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
@@ -84,6 +89,7 @@ impl Plastic {
         self.pdf_turned(wo, wi)
     }
 
+    /// `pdf` of wo and wi already turned to wo's side.
     #[inline]
     fn pdf_turned(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
@@ -116,10 +122,9 @@ impl Plastic {
         if pdf <= 0.0 {
             return None;
         }
-        let (wo_out, wi_out) = (on_side(wo, side), on_side(wi, side));
         Some(LobeSample {
-            wi: wi_out,
-            weight: self.eval(wo_out, wi_out) * (wi.z / pdf),
+            wi: on_side(wi, side),
+            weight: self.eval_turned(wo, wi) * (wi.z / pdf),
             pdf,
             flags: part.union(LobeFlags::REFLECTION),
             eta: 1.0,
