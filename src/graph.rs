@@ -9,7 +9,6 @@ use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
 pub use crate::geometry::CsgOp;
-use crate::material::Coat;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -167,6 +166,9 @@ pub struct MaterialDesc {
 }
 
 impl MaterialDesc {
+    /// `coat_roughness` when not given (Mitsuba's `roughplastic`'s default alpha).
+    pub const DEFAULT_COAT_ROUGHNESS: f32 = 0.1;
+
     /// `material { }`: the language's defaults, all zero and `ior 1`.
     pub fn new(span: Span) -> Self {
         MaterialDesc {
@@ -179,7 +181,7 @@ impl MaterialDesc {
             fresnel: false,
             roughness: 0.0,
             coat: 0.0,
-            coat_roughness: Coat::DEFAULT_ROUGHNESS,
+            coat_roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
             span,
         }
     }

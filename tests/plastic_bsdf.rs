@@ -8,6 +8,7 @@ mod common;
 use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3};
+use raydiance::graph::MaterialDesc;
 use raydiance::material::{Bsdf, Coat, LobeFlags, Material, TransportMode};
 use raydiance::sampling::Sampler;
 
@@ -297,7 +298,10 @@ fn scn_coat_makes_the_plastic_lobe() {
     assert_eq!(flags, expected);
     let graph = parse("sphere { 0, 1  material { diffuse rgb 0.5  coat 1 } }");
     let material = Material::from(&**graph.objects[0].material.as_ref().unwrap());
-    assert_eq!(material.coat, Some(Coat { strength: 1.0, roughness: Coat::DEFAULT_ROUGHNESS }));
+    assert_eq!(
+        material.coat,
+        Some(Coat { strength: 1.0, roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS })
+    );
     let plain = parse("sphere { 0, 1  material { diffuse rgb 0.5  coat_roughness 0.3 } }");
     assert_eq!(Material::from(&**plain.objects[0].material.as_ref().unwrap()).coat, None);
     let scene_warnings = raydiance::scene::build(&plain).unwrap().warnings;

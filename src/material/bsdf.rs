@@ -75,9 +75,9 @@ pub struct Bsdf {
 
 impl Material {
     /// The BSDF of this material where the shading normal is `n`, for `mode` transport: a
-    /// Lambertian lobe of `diffuse` (plastic under a `coat`); and `specular` and `transmission` as a mirror (no
-    /// transmission, no Fresnel) or a smooth dielectric, or where `roughness` > 0 their GGX
-    /// forms, a conductor or a dielectric.
+    /// Lambertian lobe of `diffuse` (plastic under a `coat`); and `specular` and `transmission`
+    /// as a mirror (no transmission, no Fresnel) or a smooth dielectric, or where `roughness`
+    /// > 0 their GGX forms, a conductor or a dielectric.
     #[inline]
     pub fn bsdf(&self, n: Vec3, mode: TransportMode) -> Bsdf {
         let mut lobes = ArrayVec::new();

@@ -33,8 +33,6 @@ pub struct Coat {
 impl Coat {
     /// Index of refraction of every coat: a typical plastic or varnish (F = 0.04 head-on).
     pub const IOR: f32 = 1.5;
-    /// `coat_roughness` when not given (Mitsuba's `roughplastic`'s default alpha).
-    pub const DEFAULT_ROUGHNESS: f32 = 0.1;
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -17,7 +17,7 @@ use crate::geometry::{
 };
 use crate::graph::{Below, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
 use crate::light::Light;
-use crate::material::{Coat, Material};
+use crate::material::Material;
 use crate::texture::{ImageMap, Texture};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
@@ -433,7 +433,7 @@ impl Flattener {
                     d.span
                 ));
             }
-            if d.coat_roughness != Coat::DEFAULT_ROUGHNESS && d.coat == 0.0 {
+            if d.coat_roughness != MaterialDesc::DEFAULT_COAT_ROUGHNESS && d.coat == 0.0 {
                 self.warnings.push(format!(
                     "{:?}: warning: `coat_roughness` has no effect without `coat`",
                     d.span

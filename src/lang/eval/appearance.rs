@@ -14,7 +14,6 @@ use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Ident, Item, PatternKind, TextureParamKind,
 };
 use crate::lang::value::Value;
-use crate::material::Coat;
 
 /// A pigment: a colour or a pattern of colours, and how much light passes through its colour
 /// (POV-Ray's filter, tinted by the colour, and transmit, not tinted).
@@ -442,7 +441,8 @@ impl Evaluator {
         let mut transmission = pigment.filter * colour + Vec3::splat(pigment.transmit);
         let refracts = transmission.max_element() > 0.0;
         // A metal's highlight is its own reflection's blur; elsewhere it is a coat.
-        let (mut coat, mut roughness, mut coat_roughness) = (0.0, 0.0, Coat::DEFAULT_ROUGHNESS);
+        let (mut coat, mut roughness, mut coat_roughness) =
+            (0.0, 0.0, MaterialDesc::DEFAULT_COAT_ROUGHNESS);
         match finish.highlight() {
             Some((amount, alpha)) if finish.metallic && !refracts => {
                 if reflection.max_element() <= 0.0 {
