@@ -174,10 +174,17 @@ pub struct MaterialDesc {
     pub fresnel: bool,
     /// GGX alpha of the `specular` and `transmission` lobes, in [0, 1]; 0: perfect lobes.
     pub roughness: f32,
+    /// The strength of a glossy coat over `diffuse`, in [0, 1]; 0: no coat.
+    pub coat: f32,
+    /// GGX alpha of the coat, in (0, 1].
+    pub coat_roughness: f32,
     pub span: Span,
 }
 
 impl MaterialDesc {
+    /// `coat_roughness` when not given (Mitsuba's `roughplastic`'s default alpha).
+    pub const DEFAULT_COAT_ROUGHNESS: f32 = 0.1;
+
     /// `material { }`: the language's defaults, all zero and `ior 1`.
     pub fn new(span: Span) -> Self {
         MaterialDesc {
@@ -189,6 +196,8 @@ impl MaterialDesc {
             emission: Vec3::ZERO,
             fresnel: false,
             roughness: 0.0,
+            coat: 0.0,
+            coat_roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
             span,
         }
     }

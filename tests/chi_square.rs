@@ -9,7 +9,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{Hit, Ray, Shape};
 use raydiance::light::Light;
-use raydiance::material::{LobeFlags, Material, TransportMode, refract};
+use raydiance::material::{Coat, LobeFlags, Material, TransportMode, refract};
 use raydiance::sampling::{Sampler, cosine_hemisphere};
 
 const COS_BINS: usize = 16;
@@ -163,6 +163,7 @@ fn material(diffuse: f32, specular: f32, transmission: f32, fresnel: bool) -> Ma
         emission: Vec3::ZERO,
         fresnel,
         roughness: 0.0,
+        coat: None,
     }
 }
 
@@ -373,6 +374,82 @@ fn rough_sampling_test_detects_a_wrong_pdf() {
             (sampled.bsdf(n, TransportMode::Radiance), wrong.bsdf(n, TransportMode::Radiance));
         let result = std::panic::catch_unwind(|| {
             rough_lobes_match_their_pdf("mutated", &bsdf, n, wo, 0.5, |wi| {
+                wrong.pdf(wo, wi, LobeFlags::ALL)
+            })
+        });
+        assert!(result.is_err(), "{sampled:?} passed against {wrong:?}");
+    }
+}
+
+fn plastic(diffuse: f32, specular: f32, alpha: f32) -> Material {
+    Material {
+        coat: Some(Coat { strength: 1.0, roughness: alpha }),
+        ..material(diffuse, specular, 0.0, false)
+    }
+}
+
+/// The directions `bsdf` draws from `wo` with a density (a mirror's left out) against its pdf
+/// under every lobe, in bins around the mirror direction fine enough for alpha.
+fn plastic_lobe_matches_pdf(
+    what: &str,
+    bsdf: &raydiance::material::Bsdf,
+    n: Vec3,
+    wo: Vec3,
+    alpha: f32,
+    pdf: impl Fn(Vec3) -> f32,
+) {
+    let facing = if n.dot(wo) < 0.0 { -n } else { n };
+    let mirror = 2.0 * wo.dot(facing) * facing - wo;
+    chi_square_in(
+        Bins { axis: mirror, zoom: zoom(alpha) },
+        10,
+        what,
+        |s| {
+            let sample = bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL)?;
+            (!sample.is_delta()).then_some(sample.wi)
+        },
+        pdf,
+    );
+}
+
+/// The coated plastic lobe (a glossy coat over a diffuse base), alone and beside a mirror
+/// (POV-Ray's `phong` with `reflection`): alpha from narrow to 1, incidence from normal to
+/// grazing, both sides.
+#[test]
+fn plastic_sampling_matches_its_pdf() {
+    let n = Vec3::new(0.3, -0.2, 0.9).normalize();
+    let (t, _) = n.any_orthonormal_pair();
+    for alpha in [0.03, 0.1, 0.4, 1.0] {
+        for (diffuse, specular) in [(0.5, 0.0), (0.0, 0.0), (0.4, 0.3)] {
+            let bsdf = plastic(diffuse, specular, alpha).bsdf(n, TransportMode::Radiance);
+            for theta in [0.0f32, 0.8, 1.45] {
+                let wo = theta.cos() * n + theta.sin() * t;
+                for wo in [wo, -wo] {
+                    let what = format!(
+                        "plastic kd {diffuse} + mirror {specular}, alpha {alpha}, theta {theta}, wo {wo}"
+                    );
+                    plastic_lobe_matches_pdf(&what, &bsdf, n, wo, alpha, |wi| {
+                        bsdf.pdf(wo, wi, LobeFlags::ALL)
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// The harness fails on the plastic's pdf with another coat alpha or another base.
+#[test]
+fn plastic_sampling_test_detects_a_wrong_pdf() {
+    let n = Vec3::new(0.3, -0.2, 0.9).normalize();
+    let wo = Vec3::new(-0.5, 0.4, 0.6).normalize();
+    for (sampled, wrong) in [
+        (plastic(0.5, 0.0, 0.3), plastic(0.5, 0.0, 0.33)),
+        (plastic(0.2, 0.0, 0.1), plastic(0.3, 0.0, 0.1)),
+    ] {
+        let (bsdf, wrong) =
+            (sampled.bsdf(n, TransportMode::Radiance), wrong.bsdf(n, TransportMode::Radiance));
+        let result = std::panic::catch_unwind(|| {
+            plastic_lobe_matches_pdf("mutated", &bsdf, n, wo, 0.3, |wi| {
                 wrong.pdf(wo, wi, LobeFlags::ALL)
             })
         });

@@ -3,9 +3,13 @@
 
 use std::path::Path;
 
+mod common;
+
 use glam::Vec3;
 use raydiance::graph::{MaterialDesc, Pattern, SceneGraph};
 use raydiance::lang::parse_scene;
+use raydiance::material::{LobeFlags, Material, TransportMode};
+use raydiance::scene::build;
 
 fn pov(text: &str) -> SceneGraph {
     parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"))
@@ -148,4 +152,118 @@ fn povray_s_appearance_is_refused_in_scn() {
     .unwrap_err()
     .to_string();
     assert!(error.contains(":1:56") && error.contains("`finish`: POV-Ray's"), "{error}");
+}
+
+/// The lobes a `.pov` object's material makes (`docs/povray.md`, finish).
+fn lobes(text: &str) -> LobeFlags {
+    Material::from(&material(text)).bsdf(Vec3::Z, TransportMode::Radiance).flags()
+}
+
+#[test]
+fn highlights_become_a_glossy_coat_over_the_diffuse_base() {
+    let m = material("sphere { 0, 1 pigment { rgb <1, 0.5, 0> } finish { phong 0.7 } }");
+    assert!(close(solid(&m), 0.6 * Vec3::new(1.0, 0.5, 0.0)), "the base keeps its albedo");
+    assert!((m.coat - 0.7).abs() < 1e-6, "{}", m.coat);
+    // Default phong_size 40: Blinn n = 160, alpha = sqrt(2 / 162).
+    assert!((m.coat_roughness - (2.0f32 / 162.0).sqrt()).abs() < 1e-6, "{}", m.coat_roughness);
+    assert_eq!((m.specular, m.roughness), (Vec3::ZERO, 0.0), "no mirror, no metal");
+    let glossy_diffuse = LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::REFLECTION;
+    assert_eq!(lobes("sphere { 0, 1 pigment { rgb 1 } finish { phong 1 } }"), glossy_diffuse);
+    // specular's roughness is 1 / n: roughness 0.02 is n = 50, alpha = sqrt(2 / 52).
+    let m = material("sphere { 0, 1 pigment { rgb 1 } finish { specular 0.5 roughness 0.02 } }");
+    assert!((m.coat - 0.5).abs() < 1e-6);
+    assert!((m.coat_roughness - (2.0f32 / 52.0).sqrt()).abs() < 1e-6);
+    // A wider phong is a rougher coat; both highlights add up, their widths averaged.
+    let narrow = material("sphere { 0, 1 finish { phong 1 phong_size 200 } }");
+    let wide = material("sphere { 0, 1 finish { phong 1 phong_size 5 } }");
+    assert!(narrow.coat_roughness < 0.06 && wide.coat_roughness > 0.3);
+    let both = material(
+        "sphere { 0, 1 finish { phong 0.3 phong_size 200  specular 0.3 roughness 0.05 } }",
+    );
+    let mean = 0.5 * ((2.0f32 / 802.0).sqrt() + (2.0f32 / 22.0).sqrt());
+    assert!((both.coat - 0.6).abs() < 1e-6 && (both.coat_roughness - mean).abs() < 1e-6);
+    // No highlight, no coat: the plain Lambertian lobe.
+    let plain = material("sphere { 0, 1 pigment { rgb 1 } }");
+    assert_eq!(plain.coat, 0.0);
+    assert_eq!(
+        lobes("sphere { 0, 1 pigment { rgb 1 } }"),
+        LobeFlags::DIFFUSE | LobeFlags::REFLECTION
+    );
+}
+
+#[test]
+fn a_highlight_with_reflection_is_a_coat_beside_a_mirror_scaled_to_conserve_energy() {
+    let m =
+        material("sphere { 0, 1 pigment { rgb 1 } finish { diffuse 0.9 phong 1 reflection 0.5 } }");
+    // The coated base counts max(0.9, coat 1) = 1, the mirror 0.5: all scaled by 1 / 1.5.
+    assert!(close(solid(&m), Vec3::splat(0.9 / 1.5)), "{}", solid(&m));
+    assert!((m.coat - 1.0 / 1.5).abs() < 1e-6, "{}", m.coat);
+    assert!(close(m.specular, Vec3::splat(0.5 / 1.5)));
+    assert_eq!(m.roughness, 0.0, "the reflection stays a mirror");
+    let flags = lobes("sphere { 0, 1 pigment { rgb 1 } finish { phong 1 reflection 0.3 } }");
+    assert!(flags.contains(LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::DELTA), "{flags:?}");
+}
+
+#[test]
+fn a_metallic_highlight_is_the_blur_of_a_metal_s_tinted_reflection() {
+    let gold = Vec3::new(1.0, 0.8, 0.3);
+    let m = material(
+        "sphere { 0, 1 pigment { rgb <1, 0.8, 0.3> } \
+         finish { diffuse 0.1 reflection 0.7 metallic specular 0.8 roughness 0.01 } }",
+    );
+    assert!(close(m.specular, 0.7 * gold), "{}", m.specular);
+    assert!((m.roughness - (2.0f32 / 102.0).sqrt()).abs() < 1e-6, "{}", m.roughness);
+    assert_eq!(m.coat, 0.0, "a metal has no dielectric coat");
+    let flags = lobes(
+        "sphere { 0, 1 pigment { rgb 1 } finish { diffuse 0.1 reflection 0.7 metallic phong 1 } }",
+    );
+    assert_eq!(flags, LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::REFLECTION);
+    // Without reflection, the metallic highlight's amount is the metal's reflectance.
+    let m = material(
+        "sphere { 0, 1 pigment { rgb <1, 0.8, 0.3> } finish { diffuse 0.5 phong 0.5 metallic } }",
+    );
+    assert!(close(m.specular, 0.5 * gold) && m.roughness > 0.0, "{} {}", m.specular, m.roughness);
+}
+
+#[test]
+fn finish_words_without_a_physical_meaning_are_warned_about_by_name() {
+    let graph =
+        pov("sphere { 0, 1 finish { brilliance 2 crand 0.1 irid { 0.3 thickness 0.2 } } }\n\
+         sphere { 0, 1 finish { reflection { 0, 1 falloff 2 } conserve_energy } }");
+    for (word, at) in
+        [("brilliance", ":1:24"), ("crand", ":1:37"), ("irid", ":1:47"), ("falloff", ":2:42")]
+    {
+        assert!(
+            graph.warnings.iter().any(|w| w.contains(&format!("`{word}`")) && w.contains(at)),
+            "{word}: {:?}",
+            graph.warnings
+        );
+    }
+    assert!(!graph.warnings.iter().any(|w| w.contains("conserve_energy")), "always conserved");
+    assert!(!graph.warnings.iter().any(|w| w.contains("phong")));
+}
+
+/// A grey sphere lit from the camera: with `phong` its middle (where the mirror direction meets
+/// the camera) shows the coat's highlight, several times brighter than without; away from it
+/// the coat lets through what it does not reflect, the base a little darker.
+#[test]
+fn a_phong_highlight_renders() {
+    let render = |finish: &str| {
+        let text = format!(
+            "camera {{ location <0, 0, -4> look_at 0 angle 30 }}\n\
+             light_source {{ <0, 0, -4> color rgb 1 }}\n\
+             sphere {{ 0, 1 pigment {{ rgb 0.5 }} finish {{ {finish} }} }}"
+        );
+        let mut graph = pov(&text);
+        graph.settings.width = 33;
+        graph.settings.height = 33;
+        graph.settings.samples = 16;
+        common::render_image(&build(&graph).unwrap_or_else(|e| panic!("{e}")))
+    };
+    let (plain, shiny) = (render("diffuse 0.6"), render("diffuse 0.6 phong 1"));
+    let middle = (shiny.get(16, 16).x, plain.get(16, 16).x);
+    assert!(middle.1 > 0.0 && middle.0 > 2.5 * middle.1, "middle {middle:?}");
+    let aside = (shiny.get(16, 8).x, plain.get(16, 8).x);
+    assert!(aside.1 > 0.0, "the sphere is lit off-centre: {aside:?}");
+    assert!(aside.0 < aside.1 && aside.0 > 0.85 * aside.1, "aside {aside:?}");
 }

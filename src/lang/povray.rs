@@ -26,7 +26,8 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
             "POV-Ray's `finish` is here the material itself: `material { diffuse rgb ... \
              specular rgb ...  roughness 0.2 }` (`specular` is mirror reflectance, `roughness` \
              blurs it, `fresnel` makes it depend on the angle); there is no `phong` or \
-             `ambient`: highlights are reflections of the lights"
+             `ambient`: highlights are reflections of the lights (`coat 1` puts a glossy plastic \
+             coat over `diffuse`)"
         }
         "texture" => {
             "POV-Ray's `texture` is here `material { ... }`: `diffuse` takes a colour or a \
@@ -43,8 +44,9 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         }
         "phong" | "ambient" | "reflection" | "brilliance" | "metallic" => {
             "that is an item of POV-Ray's `finish`; here a material has `diffuse`, `specular` \
-             (mirror reflectance), `transmission`, `ior`, `fresnel`, `roughness` and \
-             `emission`, and light comes only from lights, emitters and the background"
+             (mirror reflectance), `transmission`, `ior`, `fresnel`, `roughness`, `coat` (a \
+             glossy plastic coat), `coat_roughness` and `emission`, and light comes only from \
+             lights, emitters and the background"
         }
         "sky_sphere" => {
             "POV-Ray's `sky_sphere` is read in `.pov` scenes; here the sky is a constant colour \

@@ -463,6 +463,8 @@ pub enum MaterialParamKind {
     Ior(Expr),
     Fresnel,
     Roughness(Expr),
+    Coat(Expr),
+    CoatRoughness(Expr),
 }
 
 /// `rgb <r, g, b>`, `rgb s`, or an expression, where a colour is expected.

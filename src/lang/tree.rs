@@ -714,6 +714,8 @@ impl Builder {
             Rule::kw_fresnel => MaterialParamKind::Fresnel,
             Rule::kw_ior => MaterialParamKind::Ior(self.expr(value())?),
             Rule::kw_roughness => MaterialParamKind::Roughness(self.expr(value())?),
+            Rule::kw_coat => MaterialParamKind::Coat(self.expr(value())?),
+            Rule::kw_coat_roughness => MaterialParamKind::CoatRoughness(self.expr(value())?),
             Rule::kw_diffuse => MaterialParamKind::Diffuse(self.texture_arg(value())?),
             Rule::kw_specular => MaterialParamKind::Specular(self.colour(value())?),
             Rule::kw_transmission => MaterialParamKind::Transmission(self.colour(value())?),

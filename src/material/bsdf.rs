@@ -8,7 +8,7 @@ use arrayvec::ArrayVec;
 use glam::{Vec2, Vec3};
 
 use super::fresnel::Split;
-use super::lobe::{GgxConductor, GgxDielectric, Lambertian, Lobe, Mirror, SmoothDielectric};
+use super::lobe::{GgxConductor, GgxDielectric, Lobe, Mirror, SmoothDielectric};
 use super::microfacet::Ggx;
 use super::{LobeFlags, Material};
 use crate::geometry::Frame;
@@ -60,7 +60,7 @@ impl BsdfSample {
 /// none.
 pub const NO_DIRECTION: Vec2 = Vec2::ZERO;
 
-/// The most lobes a material makes: a diffuse base and one specular or glossy lobe.
+/// The most lobes a material makes: a diffuse (or coated) base and one specular or glossy lobe.
 const MAX_LOBES: usize = 2;
 
 /// The lobes of a material at a point, in its shading frame, for one kind of transport.
@@ -75,14 +75,14 @@ pub struct Bsdf {
 
 impl Material {
     /// The BSDF of this material where the shading normal is `n`, for `mode` transport: a
-    /// Lambertian lobe of `diffuse`; and `specular` and `transmission` as a mirror (no
-    /// transmission, no Fresnel) or a smooth dielectric, or where `roughness` > 0 their GGX
-    /// forms, a conductor or a dielectric.
+    /// Lambertian lobe of `diffuse` (plastic under a `coat`); and `specular` and `transmission`
+    /// as a mirror (no transmission, no Fresnel) or a smooth dielectric, or where `roughness`
+    /// > 0 their GGX forms, a conductor or a dielectric.
     #[inline]
     pub fn bsdf(&self, n: Vec3, mode: TransportMode) -> Bsdf {
         let mut lobes = ArrayVec::new();
-        if self.diffuse.max_element() > 0.0 {
-            lobes.push(Lobe::Lambertian(Lambertian { reflectance: self.diffuse }));
+        if let Some(base) = self.base_lobe() {
+            lobes.push(base);
         }
         let (ks, kt) = (self.specular, self.transmission);
         if ks.max_element() > 0.0 || kt.max_element() > 0.0 {
@@ -139,13 +139,13 @@ impl Bsdf {
         pdf
     }
 
-    /// The probability with which `sample` over every lobe takes the diffuse one, seen from
-    /// `wo`.
+    /// The probability with which `sample` over every lobe takes one with a density (the
+    /// diffuse one, or a coated base), seen from `wo`.
     #[inline]
     pub fn diffuse_probability(&self, wo: Vec3) -> f32 {
         let choice = self.choice(self.frame.to_local(wo), LobeFlags::ALL);
-        let diffuse = self.lobes.iter().position(|lobe| matches!(lobe, Lobe::Lambertian(_)));
-        diffuse.map_or(0.0, |index| choice[index])
+        let lobes = self.lobes.iter().zip(choice);
+        lobes.filter(|(lobe, _)| lobe.flags().is_non_delta()).map(|(_, p)| p).sum()
     }
 
     /// The probability of taking each lobe under `mask`, seen from `wo` (local): in proportion

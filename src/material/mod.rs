@@ -1,6 +1,7 @@
 //! Materials of the course's model — Lambertian `diffuse` (kd), mirror `specular` (ks),
 //! refractive `transmission` (kt) with `ior`, `emission`, and `roughness` that makes the mirror
-//! and refraction GGX microfacet lobes — and the BSDF each makes at a hit (`Material::bsdf`):
+//! and refraction GGX microfacet lobes, and a glossy `coat` over the diffuse base (plastic) — and
+//! the BSDF each makes at a hit (`Material::bsdf`):
 //! its lobes (`lobe/`, one file each) in a shading frame, `eval`, `sample`, `pdf` under a mask
 //! of lobes.
 
@@ -17,6 +18,22 @@ pub use fresnel::{Split, fresnel_dielectric, refract};
 use glam::Vec3;
 
 use crate::graph::{MaterialDesc, Pattern};
+use lobe::{Lambertian, Lobe, Plastic};
+use microfacet::Ggx;
+
+/// A glossy dielectric coat over the diffuse base: the plastic lobe (`lobe::Plastic`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coat {
+    /// The share of the coat's Fresnel reflection kept, in (0, 1]; 1 is a physical coat.
+    pub strength: f32,
+    /// GGX alpha of its microfacets, in (0, 1].
+    pub roughness: f32,
+}
+
+impl Coat {
+    /// Index of refraction of every coat: a typical plastic or varnish (F = 0.04 head-on).
+    pub const IOR: f32 = 1.5;
+}
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
@@ -29,6 +46,8 @@ pub struct Material {
     pub fresnel: bool,
     /// GGX alpha of the `specular` and `transmission` lobes; 0: perfect mirror and refraction.
     pub roughness: f32,
+    /// A glossy coat over `diffuse`, if any.
+    pub coat: Option<Coat>,
 }
 
 /// The language's defaults: black, reflecting nothing, `ior 1` (POV-Ray's default pigment is
@@ -43,6 +62,7 @@ impl Default for Material {
             emission: Vec3::ZERO,
             fresnel: false,
             roughness: 0.0,
+            coat: None,
         }
     }
 }
@@ -62,6 +82,7 @@ impl From<&MaterialDesc> for Material {
             emission: d.emission,
             fresnel: d.fresnel,
             roughness: d.roughness,
+            coat: (d.coat > 0.0).then_some(Coat { strength: d.coat, roughness: d.coat_roughness }),
         }
     }
 }
@@ -69,6 +90,24 @@ impl From<&MaterialDesc> for Material {
 impl Material {
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
+    }
+
+    /// The lobe of `diffuse` and `coat`: Lambertian, or plastic under a coat (even over a black
+    /// base); none where neither reflects.
+    #[inline]
+    fn base_lobe(&self) -> Option<Lobe> {
+        match self.coat {
+            Some(coat) => Some(Lobe::Plastic(Plastic {
+                base: self.diffuse,
+                coat: coat.strength,
+                ior: Coat::IOR,
+                ggx: Ggx { alpha: coat.roughness },
+            })),
+            None if self.diffuse.max_element() > 0.0 => {
+                Some(Lobe::Lambertian(Lambertian { reflectance: self.diffuse }))
+            }
+            None => None,
+        }
     }
 
     /// Radiance emitted towards `wo`: emission is one-sided, towards the normal.

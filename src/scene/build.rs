@@ -439,6 +439,12 @@ impl Flattener {
                     d.span
                 ));
             }
+            if d.coat_roughness != MaterialDesc::DEFAULT_COAT_ROUGHNESS && d.coat == 0.0 {
+                self.warnings.push(format!(
+                    "{:?}: warning: `coat_roughness` has no effect without `coat`",
+                    d.span
+                ));
+            }
             if d.fresnel && !refracts && d.specular.max_element() <= 0.0 {
                 self.warnings.push(format!(
                     "{:?}: warning: `fresnel` has no effect without `specular` or `transmission`",

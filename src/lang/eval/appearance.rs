@@ -11,7 +11,7 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, Pattern, TextureNode};
 use crate::lang::syntax::{
-    Appearance, AppearanceKind, Colour, Item, PatternKind, TextureParamKind,
+    Appearance, AppearanceKind, Colour, Ident, Item, PatternKind, TextureParamKind,
 };
 use crate::lang::value::Value;
 
@@ -36,11 +36,16 @@ pub struct Finish {
     pub metallic: bool,
     /// `reflection { ... fresnel }`: the reflection follows Fresnel's law.
     pub fresnel: bool,
-    /// POV-Ray's highlights (`phong`, `specular`): not rendered, warned about.
-    pub highlight: f32,
+    /// POV-Ray's Phong highlight, (R.L)^phong_size.
+    pub phong: f32,
+    pub phong_size: f32,
+    /// POV-Ray's Blinn highlight, (N.H)^(1 / roughness).
+    pub specular: f32,
+    pub roughness: f32,
 }
 
-/// POV-Ray's default finish: `ambient 0.1 diffuse 0.6`, no highlight, no reflection.
+/// POV-Ray's default finish: `ambient 0.1 diffuse 0.6`, no highlight (`phong_size 40`,
+/// `roughness 0.05` when one is given), no reflection.
 pub const POV_FINISH: Finish = Finish {
     ambient: Vec3::splat(0.1),
     diffuse: 0.6,
@@ -48,8 +53,35 @@ pub const POV_FINISH: Finish = Finish {
     reflection: Vec3::ZERO,
     metallic: false,
     fresnel: false,
-    highlight: 0.0,
+    phong: 0.0,
+    phong_size: 40.0,
+    specular: 0.0,
+    roughness: 0.05,
 };
+
+/// The narrowest highlight's GGX alpha: sharper ones are read as this (f32 keeps the visible
+/// normals' sampling accurate down to it).
+const MIN_HIGHLIGHT_ALPHA: f32 = 0.01;
+
+impl Finish {
+    /// The glossy reflection its highlights stand for: their amount (`phong` + `specular`)
+    /// and the GGX alpha of the same width, the amount-weighted mean of each highlight's.
+    /// A Blinn-Phong lobe (N.H)^n is about GGX of alpha = sqrt(2 / (n + 2)) (Walter et al.
+    /// 2007, sec. 5.2); POV-Ray's `specular` is Blinn's with n = 1 / `roughness`, and its
+    /// `phong` is Phong's (R.L)^s, close to Blinn's with n = 4 s. `None` without highlights.
+    pub fn highlight(&self) -> Option<(f32, f32)> {
+        let blinn_alpha = |n: f32| (2.0 / (n.max(0.0) + 2.0)).sqrt();
+        let (phong, specular) = (self.phong.max(0.0), self.specular.max(0.0));
+        let amount = phong + specular;
+        if amount <= 0.0 {
+            return None;
+        }
+        let phong_alpha = blinn_alpha(4.0 * self.phong_size);
+        let specular_alpha = blinn_alpha(1.0 / self.roughness.max(f32::MIN_POSITIVE));
+        let alpha = (phong * phong_alpha + specular * specular_alpha) / amount;
+        Some((amount, alpha.clamp(MIN_HIGHLIGHT_ALPHA, 1.0)))
+    }
+}
 
 /// A texture (POV-Ray's `texture { pigment finish normal }`) with the object's interior: what
 /// an object looks like.
@@ -276,7 +308,10 @@ impl Evaluator {
                     "ambient" => finish.ambient = colour(self)?,
                     "emission" => finish.emission = colour(self)?,
                     "diffuse" => finish.diffuse = colour(self)?.x,
-                    "phong" | "specular" => finish.highlight = colour(self)?.x,
+                    "phong" => finish.phong = colour(self)?.x,
+                    "phong_size" => finish.phong_size = colour(self)?.x,
+                    "specular" => finish.specular = colour(self)?.x,
+                    "roughness" => finish.roughness = colour(self)?.x,
                     "metallic" => {
                         finish.metallic = match value {
                             Some(v) => self.pov_colour(v)?.0.x > 0.0,
@@ -289,16 +324,30 @@ impl Evaluator {
                             self.reflection_item(item, finish)?;
                         }
                     }
-                    // Read without effect: POV-Ray's highlight's size and the diffuse falloff
-                    // (shading here is physically based), grain, and energy conservation
-                    // (always conserved here).
-                    "phong_size" | "roughness" | "brilliance" | "crand" | "conserve_energy" => {}
+                    // Energy is always conserved here.
+                    "conserve_energy" => {}
+                    // The diffuse falloff, grain and thin-film interference: shading here is
+                    // physically based and has none.
+                    "brilliance" | "crand" | "irid" => self.warn_unrendered(key),
                     other => unreachable!("no finish item `{other}`"),
                 }
             }
             _ => return Err(Self::misplaced(item, &Body::Finish(finish))),
         }
         Ok(())
+    }
+
+    /// A finish's word that changes nothing here: a warning naming it, once a scene.
+    fn warn_unrendered(&mut self, key: &Ident) {
+        if !self.warned_finish.insert(key.name.clone()) {
+            return;
+        }
+        let at = self.here(&key.span);
+        self.warnings.push(format!(
+            "{at:?}: warning: the finish's `{}` is read but not rendered (shading is physically \
+             based: docs/povray.md)",
+            key.name
+        ));
     }
 
     /// `reflection { min, max  fresnel  metallic }`: the largest reflection is kept.
@@ -317,7 +366,7 @@ impl Evaluator {
                 match key.name.as_str() {
                     "fresnel" => finish.fresnel = on,
                     "metallic" => finish.metallic = on,
-                    "falloff" | "exponent" => {}
+                    "falloff" | "exponent" => self.warn_unrendered(key),
                     other => unreachable!("no reflection item `{other}`"),
                 }
             }
@@ -376,10 +425,13 @@ impl Evaluator {
     }
 
     /// The material of a look (`docs/povray.md`): the pigment's opaque part × `diffuse` is the
-    /// Lambertian albedo, `reflection` a mirror (tinted by the pigment when `metallic`), filter
-    /// and transmit the transmission through the interior's `ior`; where the sum exceeds 1 all
-    /// three are scaled down together. `ambient` is light only where `diffuse` is 0 (the object
-    /// only glows); `emission` always is.
+    /// Lambertian albedo; the highlights (`phong`, `specular`) a glossy dielectric coat over it
+    /// of their amount and width, or, on a `metallic` finish, the width of a metal's reflection;
+    /// `reflection` a mirror (tinted by the pigment when `metallic`); filter and transmit the
+    /// transmission through the interior's `ior`. Where the coated base (which scatters at most
+    /// the larger of its albedo and the coat's strength) and the rest sum to more than 1, all
+    /// are scaled down together. `ambient` is light only where `diffuse` is 0 (the object only
+    /// glows); `emission` always is.
     pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
         let Look { pigment, finish, ior } = look;
         let colour = pigment.colour.max_value();
@@ -391,9 +443,25 @@ impl Evaluator {
             reflection *= colour;
         }
         let mut transmission = pigment.filter * colour + Vec3::splat(pigment.transmit);
-        let total = (diffuse * colour + reflection + transmission).max_element();
+        let refracts = transmission.max_element() > 0.0;
+        // A metal's highlight is its own reflection's blur; elsewhere it is a coat.
+        let (mut coat, mut roughness, mut coat_roughness) =
+            (0.0, 0.0, MaterialDesc::DEFAULT_COAT_ROUGHNESS);
+        match finish.highlight() {
+            Some((amount, alpha)) if finish.metallic && !refracts => {
+                if reflection.max_element() <= 0.0 {
+                    reflection = amount.min(1.0) * colour;
+                }
+                roughness = alpha;
+            }
+            Some((amount, alpha)) => (coat, coat_roughness) = (amount.min(1.0), alpha),
+            None => {}
+        }
+        let base = (diffuse * colour).max(Vec3::splat(coat));
+        let total = (base + reflection + transmission).max_element();
         if total > 1.0 {
             diffuse /= total;
+            coat /= total;
             reflection /= total;
             transmission /= total;
         }
@@ -405,13 +473,6 @@ impl Evaluator {
             self.warnings.push(format!(
                 "{at:?}: warning: a patterned pigment that glows emits its brightest colour \
                  everywhere"
-            ));
-        }
-        if finish.highlight > 0.0 && !self.warned_highlight {
-            self.warned_highlight = true;
-            self.warnings.push(format!(
-                "{at:?}: warning: POV-Ray's `phong` and `specular` highlights are not rendered: \
-                 the surface is diffuse (and a mirror where it has `reflection`)"
             ));
         }
         let diffuse_node = match &pigment.colour.pattern {
@@ -434,7 +495,9 @@ impl Evaluator {
             ior: *ior,
             emission,
             fresnel: finish.fresnel,
-            roughness: 0.0,
+            roughness,
+            coat,
+            coat_roughness,
             span: at,
         })
     }

@@ -98,6 +98,30 @@ impl Evaluator {
         single(alpha, &expr.span)
     }
 
+    /// `coat`: the share of the coat's reflection kept, 0 (none) to 1.
+    pub(super) fn coat(&mut self, expr: &Expr) -> Result<f32, SceneError> {
+        let strength = self.float(expr)?;
+        if !(0.0..=1.0).contains(&strength) {
+            return Err(SceneError::at(
+                &expr.span,
+                format!("coat {strength} must be between 0 (no coat) and 1 (a physical coat)"),
+            ));
+        }
+        single(strength, &expr.span)
+    }
+
+    /// `coat_roughness`: the coat's GGX alpha, above 0 (a coat is glossy) and at most 1.
+    pub(super) fn coat_roughness(&mut self, expr: &Expr) -> Result<f32, SceneError> {
+        let alpha = self.float(expr)?;
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(SceneError::at(
+                &expr.span,
+                format!("coat_roughness {alpha} must be above 0 and at most 1 (GGX alpha)"),
+            ));
+        }
+        single(alpha, &expr.span)
+    }
+
     pub(super) fn integer(&mut self, expr: &Expr, min: u64, max: u64) -> Result<u64, SceneError> {
         let f = self.float(expr)?;
         if f.fract() != 0.0 || f < min as f64 || f > max as f64 {

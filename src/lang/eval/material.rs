@@ -49,7 +49,13 @@ impl Evaluator {
         };
         material.name = name.map(str::to_string);
         self.exec(&m.items, &mut Body::Material(&mut material))?;
-        let total = material.diffuse.max_value() + material.specular + material.transmission;
+        // A coated base scatters at most the larger of its albedo and the coat's strength.
+        let (base, base_name) = if material.coat > 0.0 {
+            (material.diffuse.max_value().max(Vec3::splat(material.coat)), "max(diffuse, coat)")
+        } else {
+            (material.diffuse.max_value(), "diffuse")
+        };
+        let total = base + material.specular + material.transmission;
         if let Some(channel) = (0..3).find(|&c| total[c] > 1.0 + 1e-6) {
             let who = material
                 .name
@@ -58,7 +64,7 @@ impl Evaluator {
             return Err(SceneError::at(
                 &span,
                 format!(
-                    "{who} reflects more light than it receives: diffuse + specular + transmission = {} in the {} channel (at most 1)",
+                    "{who} reflects more light than it receives: {base_name} + specular + transmission = {} in the {} channel (at most 1)",
                     total[channel],
                     ["red", "green", "blue"][channel]
                 ),
@@ -79,6 +85,10 @@ impl Evaluator {
             MaterialParamKind::Fresnel => material.fresnel = true,
             MaterialParamKind::Ior(e) => material.ior = self.positive(e, "ior")?,
             MaterialParamKind::Roughness(e) => material.roughness = self.roughness(e)?,
+            MaterialParamKind::Coat(e) => material.coat = self.coat(e)?,
+            MaterialParamKind::CoatRoughness(e) => {
+                material.coat_roughness = self.coat_roughness(e)?
+            }
             MaterialParamKind::Diffuse(arg) => material.diffuse = self.texture_arg(arg)?,
             MaterialParamKind::Specular(c) => material.specular = self.colour(c)?,
             MaterialParamKind::Transmission(c) => material.transmission = self.colour(c)?,

@@ -3,6 +3,7 @@
 //! every other item goes to the body it stands in (the scene, an object, a material, ...), which
 //! says what it accepts. Every error points at the text.
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -145,12 +146,12 @@ pub struct Evaluator {
     /// `.pov`: the look of each object being evaluated, innermost last (`None` until one of its
     /// items gives it one).
     looks: Vec<Option<Look>>,
-    /// `.pov`: whether the warning that highlights are not rendered has been given.
-    warned_highlight: bool,
     /// `.pov`: `sky_sphere`, the environment light.
     sky: Option<SkyDesc>,
     /// `.pov`: `background`, seen and not lighting.
     backdrop: Vec3,
+    /// `.pov`: the finish's words warned about as not rendered (once each).
+    warned_finish: BTreeSet<String>,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).

@@ -6,12 +6,14 @@ mod ggx_conductor;
 mod ggx_dielectric;
 mod lambertian;
 mod mirror;
+mod plastic;
 mod smooth_dielectric;
 
 pub use ggx_conductor::GgxConductor;
 pub use ggx_dielectric::GgxDielectric;
 pub use lambertian::Lambertian;
 pub use mirror::Mirror;
+pub use plastic::Plastic;
 pub use smooth_dielectric::SmoothDielectric;
 
 use glam::{Vec2, Vec3};
@@ -39,6 +41,7 @@ pub enum Lobe {
     SmoothDielectric(SmoothDielectric),
     GgxConductor(GgxConductor),
     GgxDielectric(GgxDielectric),
+    Plastic(Plastic),
 }
 
 impl Lobe {
@@ -50,6 +53,7 @@ impl Lobe {
             Lobe::SmoothDielectric(_) => SmoothDielectric::FLAGS,
             Lobe::GgxConductor(_) => GgxConductor::FLAGS,
             Lobe::GgxDielectric(_) => GgxDielectric::FLAGS,
+            Lobe::Plastic(_) => Plastic::FLAGS,
         }
     }
 
@@ -63,6 +67,7 @@ impl Lobe {
             Lobe::SmoothDielectric(lobe) => lobe.albedo(wo),
             Lobe::GgxConductor(lobe) => lobe.albedo(),
             Lobe::GgxDielectric(lobe) => lobe.albedo(),
+            Lobe::Plastic(lobe) => lobe.albedo(wo),
         }
     }
 
@@ -74,6 +79,7 @@ impl Lobe {
             Lobe::Mirror(_) | Lobe::SmoothDielectric(_) => Vec3::ZERO,
             Lobe::GgxConductor(lobe) => lobe.eval(wo, wi),
             Lobe::GgxDielectric(lobe) => lobe.eval(wo, wi, mode),
+            Lobe::Plastic(lobe) => lobe.eval(wo, wi),
         }
     }
 
@@ -85,11 +91,12 @@ impl Lobe {
             Lobe::Mirror(_) | Lobe::SmoothDielectric(_) => 0.0,
             Lobe::GgxConductor(lobe) => lobe.pdf(wo, wi),
             Lobe::GgxDielectric(lobe) => lobe.pdf(wo, wi),
+            Lobe::Plastic(lobe) => lobe.pdf(wo, wi),
         }
     }
 
     /// A direction from the lobe: `u` draws it, `u_split` chooses between reflection and
-    /// refraction where the lobe has both.
+    /// refraction, or coat and base, where the lobe has both.
     #[inline]
     pub fn sample(
         &self,
@@ -104,6 +111,7 @@ impl Lobe {
             Lobe::SmoothDielectric(lobe) => lobe.sample(wo, u_split, mode),
             Lobe::GgxConductor(lobe) => lobe.sample(wo, u),
             Lobe::GgxDielectric(lobe) => lobe.sample(wo, u_split, u, mode),
+            Lobe::Plastic(lobe) => lobe.sample(wo, u_split, u),
         }
     }
 }
