@@ -9,8 +9,10 @@ use super::expression::colour_of;
 use super::{Body, Evaluator, resolve};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
+use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
-    self, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind, TextureParamKind,
+    self, Colour, Expr, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind,
+    TextureParamKind,
 };
 use crate::lang::value::Value;
 
@@ -256,12 +258,55 @@ impl Evaluator {
         item: &Item,
         entries: &mut Vec<(f32, Vec3)>,
     ) -> Result<(), SceneError> {
-        let Item::MapEntry { position, colour } = item else {
-            return Err(Self::misplaced(item, &Body::ColorMap(entries)));
+        let (position, colour, end) = match item {
+            Item::MapEntry { position, colour, end } => (position, colour, end),
+            // A declared map's name (`.pov`): its entries.
+            Item::Value(expr) => {
+                return match self.value(expr)? {
+                    Value::ColorMap(map) => {
+                        entries.extend(map.iter().copied());
+                        Ok(())
+                    }
+                    other => Err(SceneError::at(
+                        &expr.span,
+                        format!("a color_map names a declared color_map, not {}", other.kind()),
+                    )),
+                };
+            }
+            _ => return Err(Self::misplaced(item, &Body::ColorMap(entries))),
         };
+        self.map_stop(position, colour, entries)?;
+        if let Some((end, colour)) = end {
+            self.map_stop(end, colour, entries)?;
+        }
+        Ok(())
+    }
+
+    /// A colour at a position of a color_map, after those before it. In `.pov` a colour's
+    /// filter and transmit are dropped with a warning: a map's colours are opaque here.
+    fn map_stop(
+        &mut self,
+        position: &Expr,
+        colour: &Colour,
+        entries: &mut Vec<(f32, Vec3)>,
+    ) -> Result<(), SceneError> {
         let at = position.span.clone();
         let position = self.single(position)?;
-        let colour = self.colour(colour)?;
+        let colour = match self.dialect {
+            Dialect::Scn => self.colour(colour)?,
+            Dialect::Pov => {
+                let (rgb, filter, transmit) = self.pov_colour(colour)?;
+                if filter + transmit > 0.0 && !self.warned_map_filter {
+                    self.warned_map_filter = true;
+                    let at = self.here(&colour.span);
+                    self.warnings.push(format!(
+                        "{at:?}: warning: `filter` and `transmit` in a color_map are not \
+                         rendered: the map's colours are opaque"
+                    ));
+                }
+                rgb
+            }
+        };
         let previous = entries.last().map_or(0.0, |e| e.0);
         if !(previous..=1.0).contains(&position) {
             return Err(SceneError::at(

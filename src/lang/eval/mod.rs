@@ -16,7 +16,9 @@ mod material;
 mod object;
 mod scope;
 
-use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind};
+use super::syntax::{
+    Call, CaseTest, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind,
+};
 use super::value::Value;
 use super::{parser, tree};
 use crate::animation::Frame;
@@ -141,8 +143,13 @@ pub struct Evaluator {
     /// `.pov`: the look of each object being evaluated, innermost last (`None` until one of its
     /// items gives it one).
     looks: Vec<Option<Look>>,
+    /// `.pov`: the `inverse` and `clipped_by` of each object being evaluated, innermost last.
+    shapings: Vec<object::Shaping>,
     /// `.pov`: whether the warning that highlights are not rendered has been given.
     warned_highlight: bool,
+    /// `.pov`: whether the warning that a color_map's filter and transmit are not rendered has
+    /// been given.
+    warned_map_filter: bool,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).
@@ -188,6 +195,7 @@ impl Body<'_> {
                 ShapeNode::Csg { op: CsgOp::Intersection, .. } => "in an intersection",
                 ShapeNode::Csg { op: CsgOp::Difference, .. } => "in a difference",
                 ShapeNode::Csg { op: CsgOp::Merge, .. } => "in a merge",
+                ShapeNode::Csg { op: CsgOp::Inverse | CsgOp::Clip, .. } => "in this object",
                 ShapeNode::Plane { .. }
                 | ShapeNode::Sphere { .. }
                 | ShapeNode::Box { .. }
@@ -302,6 +310,27 @@ impl Evaluator {
                     None => Ok(()),
                 }
             }
+            Item::Switch { value, clauses, otherwise, .. } => {
+                let value = self.number(value, "`#switch`'s value")?;
+                let mut first = None;
+                for (i, clause) in clauses.iter().enumerate() {
+                    if self.case_holds(&clause.test, value)? {
+                        first = Some(i);
+                        break;
+                    }
+                }
+                let Some(first) = first else {
+                    return otherwise.as_ref().map_or(Ok(()), |items| self.exec(items, body));
+                };
+                // Clauses without `#break` fall through to the next, as in POV-Ray.
+                for clause in &clauses[first..] {
+                    self.exec(&clause.items, body)?;
+                    if clause.breaks {
+                        break;
+                    }
+                }
+                Ok(())
+            }
             Item::While { condition, body: items, span } => loop {
                 let go = self.number(condition, "`#while`'s condition")?;
                 if go == 0.0 {
@@ -364,6 +393,7 @@ impl Evaluator {
             | Item::Appearance(_)
             | Item::Pattern { .. }
             | Item::PovParam { .. }
+            | Item::ClippedBy { .. }
             | Item::Value(_) => match body {
                 Body::Scene => self.scene_item(item),
                 Body::Settings(settings) => self.setting_item(item, settings),
@@ -610,6 +640,11 @@ impl Evaluator {
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,
             Declared::Appearance(a) => self.declared_appearance(a)?,
+            Declared::ColorMap { entries, .. } => {
+                let mut map = Vec::new();
+                self.exec(entries, &mut Body::ColorMap(&mut map))?;
+                Value::ColorMap(Arc::new(map))
+            }
             Declared::Camera { items, .. } => {
                 let mut given = CameraParams::new();
                 self.exec(items, &mut Body::Camera(&mut given))?;
@@ -639,6 +674,19 @@ impl Evaluator {
             Condition::Expr(e) => Ok(self.number(e, "`#if`'s condition")? != 0.0),
             Condition::Defined { name, defined } => Ok(self.is_defined(&name.name) == *defined),
         }
+    }
+
+    /// Whether a `#switch`'s `value` meets a `#case` (equal within POV-Ray's tolerance) or a
+    /// `#range` (between its ends, inclusive).
+    fn case_holds(&mut self, test: &CaseTest, value: f64) -> Result<bool, SceneError> {
+        Ok(match test {
+            CaseTest::Case(expr) => (self.number(expr, "`#case`")? - value).abs() <= EPSILON,
+            CaseTest::Range(low, high) => {
+                let low = self.number(low, "`#range`")?;
+                let high = self.number(high, "`#range`")?;
+                low - value <= EPSILON && value - high <= EPSILON
+            }
+        })
     }
 
     fn count_turn(&mut self, span: &Span) -> Result<(), SceneError> {

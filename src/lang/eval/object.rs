@@ -159,9 +159,12 @@ impl Evaluator {
         }
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.looks.push(None);
+        self.shapings.push(Shaping::default());
         let items = self.exec(&object.items, &mut Body::Object(&mut node));
         let look = self.looks.pop().flatten();
+        let shaping = self.shapings.pop().unwrap_or_default();
         items?;
+        let mut node = shaping.shaped(node);
         if let Some(look) = look {
             node.material = Some(self.look_material(&look, &object.span));
         }
@@ -176,6 +179,8 @@ impl Evaluator {
                 CsgOp::Intersection => "an intersection",
                 CsgOp::Difference => "a difference",
                 CsgOp::Merge => "a merge",
+                CsgOp::Inverse => "an inverse",
+                CsgOp::Clip => "a clipped object",
             };
             if operands.is_empty() {
                 let message = format!("{what} of no operands: it would be empty");
@@ -260,6 +265,11 @@ impl Evaluator {
                 };
                 match key.name.as_str() {
                     "hollow" | "double_illuminate" | "bounded_by" => {}
+                    "inverse" => {
+                        if let Some(shaping) = self.shapings.last_mut() {
+                            shaping.inverse = !shaping.inverse;
+                        }
+                    }
                     "no_shadow" | "no_image" | "no_reflection" if on => {
                         let at = self.here(&key.span);
                         self.warnings.push(format!(
@@ -282,6 +292,23 @@ impl Evaluator {
                     *slot = Some(look);
                 }
                 result?;
+            }
+            Item::ClippedBy { items, .. } => {
+                let mut clip = ObjectNode {
+                    shape: ShapeNode::Union(Vec::new()),
+                    material: None,
+                    transforms: Vec::new(),
+                    depth: 1,
+                    span: self.here(item.span()),
+                };
+                self.exec(items, &mut Body::Object(&mut clip))?;
+                let ShapeNode::Union(by) = clip.shape else { unreachable!("made a union") };
+                if by.is_empty() {
+                    return Err(SceneError::at(item.span(), "`clipped_by` of no objects"));
+                }
+                if let Some(shaping) = self.shapings.last_mut() {
+                    shaping.clips.push((node.transforms.len(), by));
+                }
             }
             Item::Object(object) if children(&mut node.shape).is_some() => {
                 let child = self.object(object)?;
@@ -347,6 +374,48 @@ impl Evaluator {
                 Transform::Matrix { linear, translation: Vec3::new(m[9], m[10], m[11]) }
             }
         })
+    }
+}
+
+/// POV-Ray's `inverse` and `clipped_by` of an object, applied once its items are read.
+#[derive(Default)]
+pub struct Shaping {
+    inverse: bool,
+    /// Each `clipped_by`'s objects, with how many of the object's transforms stood before it:
+    /// those move the object alone, the later ones the object and its clipping objects.
+    clips: Vec<(usize, Vec<ObjectNode>)>,
+}
+
+impl Shaping {
+    /// The object clipped, then turned inside out, as written.
+    fn shaped(self, mut node: ObjectNode) -> ObjectNode {
+        let mut placed = 0;
+        for (before, by) in self.clips {
+            let after = node.transforms.split_off(before - placed);
+            placed = before;
+            let span = node.span.clone();
+            let depth = by.iter().map(|o| o.depth).max().unwrap_or(0).max(node.depth) + 1;
+            let mut operands = vec![node];
+            operands.extend(by);
+            node = ObjectNode {
+                shape: ShapeNode::Csg { op: CsgOp::Clip, operands },
+                material: None,
+                transforms: after,
+                depth,
+                span,
+            };
+        }
+        if self.inverse {
+            let (span, depth) = (node.span.clone(), node.depth + 1);
+            node = ObjectNode {
+                shape: ShapeNode::Csg { op: CsgOp::Inverse, operands: vec![node] },
+                material: None,
+                transforms: Vec::new(),
+                depth,
+                span,
+            };
+        }
+        node
     }
 }
 
