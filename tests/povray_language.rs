@@ -7,6 +7,7 @@ use std::path::Path;
 use glam::Vec3;
 use raydiance::graph::{CsgOp, Pattern, SceneGraph, ShapeNode, TextureNode};
 use raydiance::lang::parse_scene;
+use raydiance::texture::Texture;
 
 fn pov(text: &str) -> SceneGraph {
     parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"))
@@ -189,4 +190,96 @@ fn inverse_and_clipped_by_wrap_the_object_transforms_after_clipped_by_move_both(
     assert!(scn.starts_with("tests/inline.scn:2:15:") && scn.contains("`inverse`"), "{scn}");
     let empty = pov_error("sphere { 0, 1 clipped_by { } }");
     assert!(empty.starts_with("tests/inline.pov:1:15:") && empty.contains("no objects"), "{empty}");
+}
+
+#[test]
+fn a_pov_material_holds_a_texture_and_an_interior_and_may_be_declared() {
+    let graph = pov("#declare M = material { texture { pigment { rgbf <1, 1, 1, 1> } } \
+                     interior { ior 1.5 } }\n\
+                     sphere { 0, 1 material { M } }\n\
+                     sphere { 0, 1 material { texture { pigment { rgb <1, 0, 0> } } } }");
+    let glass = graph.objects[0].material.clone().expect("a material");
+    assert_eq!((glass.ior, glass.transmission), (1.5, Vec3::ONE));
+    let red = graph.objects[1].material.clone().expect("a material");
+    assert_eq!(red.diffuse.pattern, Pattern::Solid(Vec3::new(0.6, 0.0, 0.0)));
+    let wrong = pov_error("#declare N = 1;\nsphere { 0, 1 material { N } }");
+    assert!(
+        wrong.starts_with("tests/inline.pov:2:26:") && wrong.contains("not a material"),
+        "{wrong}"
+    );
+}
+
+#[test]
+fn layered_textures_show_the_lower_layer_through_the_upper_with_a_warning() {
+    let graph = pov("sphere { 0, 1 texture { pigment { rgb <1, 0, 0> } } \
+                     texture { pigment { rgbt <0, 0, 1, 0.25> } } }\n\
+                     sphere { 0, 1 texture { pigment { rgb <1, 0, 0> } } \
+                     texture { pigment { rgb <0, 0, 1> } } }\n\
+                     #declare T = texture { pigment { rgb <0, 1, 0> } } texture { pigment { rgbf <1, 1, 1, 1> } }\n\
+                     sphere { 0, 1 texture { T } }");
+    let albedo = |n: usize| {
+        let diffuse = graph.objects[n].material.clone().expect("a material").diffuse.clone();
+        let texture = Texture::new(&diffuse, &mut |_| unreachable!("no image")).unwrap();
+        texture.eval(Vec3::ZERO)
+    };
+    // A quarter of the red under the blue shows through: 0.6 × (0.25 red + 0.75 blue).
+    assert!((albedo(0) - Vec3::new(0.15, 0.0, 0.45)).abs().max_element() < 1e-6, "{}", albedo(0));
+    // An opaque top layer covers the one under it, as in POV-Ray.
+    assert_eq!(albedo(1), Vec3::new(0.0, 0.0, 0.6));
+    // A clear top layer shows all of the declared green under it.
+    assert_eq!(albedo(2), Vec3::new(0.0, 0.6, 0.0));
+    let layered: Vec<_> =
+        graph.warnings.iter().filter(|w| w.contains("layered `texture`")).collect();
+    assert_eq!(layered.len(), 2, "{:?}", graph.warnings);
+    assert!(layered[0].starts_with("tests/inline.pov:1:53:"), "{layered:?}");
+}
+
+#[test]
+fn commas_between_a_shape_s_arguments_are_optional_in_pov_only() {
+    let graph = pov("box { <-1, -1, -1> <1, 1, 1> }\nsphere { <0, 0, 0> 1 }\n\
+                     cylinder { <0, 0, 0> <0, 1, 0> 0.5 }");
+    assert!(matches!(graph.objects[0].shape, ShapeNode::Box { .. }));
+    assert_eq!(radius(&SceneGraph { objects: graph.objects[1..].to_vec(), ..graph.clone() }), 1.0);
+    let scn = scn_error("camera { location <0, 0, -1> look_at 0 }\nbox { <-1, -1, -1> <1, 1, 1> }");
+    assert!(scn.starts_with("tests/inline.scn:2:20:") && scn.contains("`,` is missing"), "{scn}");
+}
+
+/// Renders `scene` with `--include-path` folders and `RAYDIANCE_INCLUDE_PATH`; its stderr if it
+/// failed.
+fn render_with(scene: &Path, paths: &[&Path], variable: &Path) -> Option<String> {
+    let out = scene.with_extension("exr");
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"));
+    command.args(["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    command.args(["--width", "4", "--height", "4", "--samples", "1"]);
+    for path in paths {
+        command.arg("--include-path").arg(path);
+    }
+    let output = command.env("RAYDIANCE_INCLUDE_PATH", variable).output().unwrap();
+    (!output.status.success()).then(|| String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
+#[test]
+fn includes_are_found_beside_the_file_then_on_the_include_path_then_the_variable() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::create_dir_all(&path).unwrap();
+        std::fs::write(path.join("x.inc"), text).unwrap();
+        path
+    };
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    let scene = scenes.join("main.pov");
+    std::fs::write(&scene, "#include \"x.inc\"\nsphere { 0, 1 pigment { rgb 1 } }\n").unwrap();
+    let first = folder("first", "#declare A = 1;");
+    let second = folder("second", "#error \"from the second --include-path\"");
+    let variable = folder("variable", "#error \"from RAYDIANCE_INCLUDE_PATH\"");
+    let failed = render_with(&scene, &[], &variable).expect("the variable's file is read");
+    assert!(failed.contains("from RAYDIANCE_INCLUDE_PATH"), "{failed}");
+    assert_eq!(render_with(&scene, &[&first, &second], &variable), None, "--include-path first");
+    let failed = render_with(&scene, &[&second, &first], &variable).expect("in the order given");
+    assert!(failed.contains("from the second --include-path"), "{failed}");
+    std::fs::write(scenes.join("x.inc"), "#error \"beside the scene\"").unwrap();
+    let failed = render_with(&scene, &[&first], &variable).expect("the scene's folder first");
+    assert!(failed.contains("beside the scene"), "{failed}");
 }

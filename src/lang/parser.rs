@@ -327,7 +327,7 @@ fn describe(rule: Rule) -> &'static str {
         Rule::pov_background => "`background`",
         Rule::pigment => "`pigment`",
         Rule::finish => "`finish`",
-        Rule::pov_texture => "`texture`",
+        Rule::pov_texture | Rule::layered_texture => "`texture`",
         Rule::interior => "`interior`",
         Rule::normal => "`normal`",
         Rule::pattern => "a pattern (`checker`, `gradient`, `marble`, `wood`, `bozo`)",
@@ -336,6 +336,7 @@ fn describe(rule: Rule) -> &'static str {
         Rule::interior_item => "`ior`",
         Rule::light_option => "`fade_distance`, `fade_power` or `shadowless`",
         Rule::clipped_by => "`clipped_by`",
+        Rule::arg_comma => "`,`",
         Rule::object_modifier | Rule::truth_value | Rule::truth_word => {
             "an object modifier (`hollow`, `no_shadow`, ...)"
         }

@@ -306,6 +306,11 @@ pub enum Declared {
     Value(Expr),
     /// POV-Ray's declared `pigment`, `finish`, `texture` or `interior` (`.pov`).
     Appearance(Appearance),
+    /// POV-Ray's declared layered texture (`.pov`): each `texture` over the ones before it.
+    LayeredTexture {
+        layers: Vec<Appearance>,
+        span: Span,
+    },
     /// POV-Ray's declared `color_map` (`.pov`): its entries.
     ColorMap {
         entries: Vec<Item>,

@@ -641,6 +641,12 @@ impl Builder {
             Rule::texture => Declared::Texture(self.texture(pair)?),
             Rule::array => Declared::Array(self.array(pair)?),
             Rule::rgb_colour | Rule::expr => Declared::Value(self.value_expr(pair)?),
+            Rule::layered_texture => {
+                let span = self.span(&pair);
+                let layers =
+                    pair.into_inner().map(|p| self.appearance(p)).collect::<Result<_, _>>()?;
+                Declared::LayeredTexture { layers, span }
+            }
             Rule::color_map => {
                 let span = self.span(&pair);
                 self.pov_only(&inner_pair(&pair), None)?;
@@ -765,8 +771,25 @@ impl Builder {
         }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
-        let mut take =
-            |b: &mut Self| b.expr(inner.next().expect("the grammar gives the arguments"));
+        let mut first = true;
+        let mut take = |b: &mut Self| {
+            let comma = inner.next_if(|p| p.as_rule() == Rule::arg_comma).is_some();
+            let argument = inner.next().expect("the grammar gives the arguments");
+            if !comma && !first {
+                let text = argument.as_str();
+                let word = &text
+                    [..text.find(|c: char| !c.is_alphanumeric() && c != '_').unwrap_or(text.len())];
+                if keywords::lookup(word).is_some_and(|k| k.kind == KeywordKind::Syntax) {
+                    let message = format!("an argument of the shape is missing before `{word}`");
+                    return Err(b.error(&argument, message));
+                }
+                if b.dialect == Dialect::Scn {
+                    return Err(b.error(&argument, "a `,` is missing before this argument"));
+                }
+            }
+            first = false;
+            b.expr(argument)
+        };
         let mut shape = match rule {
             Rule::plane => Shape::Plane { normal: take(self)?, offset: take(self)? },
             Rule::sphere => Shape::Sphere { center: take(self)?, radius: take(self)? },

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::expression::colour_of;
-use super::{Body, Evaluator, resolve};
+use super::{Body, Evaluator, Look, resolve};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
 use crate::lang::dialect::Dialect;
@@ -67,6 +67,38 @@ impl Evaluator {
             ));
         }
         Ok(Arc::new(material))
+    }
+
+    /// A material as a value: raydiance's, or in `.pov` POV-Ray's (a look).
+    pub(super) fn material_value(
+        &mut self,
+        m: &syntax::Material,
+        name: Option<&str>,
+    ) -> Result<Value, SceneError> {
+        Ok(match self.dialect {
+            Dialect::Scn => Value::Material(self.material(m, name)?),
+            Dialect::Pov => Value::Look(Arc::new(self.pov_material(m)?)),
+        })
+    }
+
+    /// POV-Ray's `material { [M] texture { ... } interior { ... } }`: a look, from the declared
+    /// material `M` or else the default texture.
+    pub(super) fn pov_material(&mut self, m: &syntax::Material) -> Result<Look, SceneError> {
+        let mut look = match &m.base {
+            None => self.default_look.clone(),
+            Some(name) => match self.lookup(&name.name) {
+                Some(Value::Look(look)) => (**look).clone(),
+                Some(other) => {
+                    return Err(SceneError::at(
+                        &name.span,
+                        format!("`{}` is {}, not a material", name.name, other.kind()),
+                    ));
+                }
+                None => return Err(self.unknown(name)),
+            },
+        };
+        self.exec(&m.items, &mut Body::Look(&mut look))?;
+        Ok(look)
     }
 
     pub(super) fn material_item(

@@ -145,6 +145,8 @@ pub struct Evaluator {
     looks: Vec<Option<Look>>,
     /// `.pov`: the `inverse` and `clipped_by` of each object being evaluated, innermost last.
     shapings: Vec<object::Shaping>,
+    /// Folders searched for included files after the including file's (`--include-path`).
+    include_path: Vec<PathBuf>,
     /// `.pov`: whether the warning that highlights are not rendered has been given.
     warned_highlight: bool,
     /// `.pov`: whether the warning that a color_map's filter and transmit are not rendered has
@@ -225,6 +227,12 @@ impl Evaluator {
     /// `image_width` and `image_height`; `None`: the scene's own or POV-Ray's default).
     pub fn for_image(frame: Frame, dialect: Dialect, image: Option<(u32, u32)>) -> Self {
         Evaluator { frame, dialect, image: image.unwrap_or(POV_IMAGE), ..Evaluator::default() }
+    }
+
+    /// The evaluator, searching `include_path`'s folders for included files after the
+    /// including file's own.
+    pub fn searching(self, include_path: Vec<PathBuf>) -> Self {
+        Evaluator { include_path, ..self }
     }
 
     /// Evaluates the main file and returns the scene it describes.
@@ -600,7 +608,7 @@ impl Evaluator {
         let value = match item {
             Item::Value(expr) => self.value(expr)?,
             Item::Object(object) => Value::Object(Arc::new(self.object(object)?)),
-            Item::Material(material) => Value::Material(self.material(material, None)?),
+            Item::Material(material) => self.material_value(material, None)?,
             Item::Texture(texture) => Value::Texture(Arc::new(self.texture(texture)?)),
             _ => return Err(Self::misplaced(item, &Body::Value(slot))),
         };
@@ -634,12 +642,23 @@ impl Evaluator {
     /// A `#declare`d value; `name` (the declared name) names a material in messages.
     fn declared(&mut self, value: &Declared, name: Option<&str>) -> Result<Value, SceneError> {
         Ok(match value {
-            Declared::Material(m) => Value::Material(self.material(m, name)?),
+            Declared::Material(m) => self.material_value(m, name)?,
             Declared::Object(o) => Value::Object(Arc::new(self.object(o)?)),
             Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,
             Declared::Appearance(a) => self.declared_appearance(a)?,
+            Declared::LayeredTexture { layers, .. } => {
+                let mut look = self.default_look.clone();
+                for (n, layer) in layers.iter().enumerate() {
+                    let under = look.clone();
+                    self.apply_appearance(layer, &mut look)?;
+                    if n > 0 {
+                        self.layer(&under, &mut look, &layer.span);
+                    }
+                }
+                Value::Look(Arc::new(look))
+            }
             Declared::ColorMap { entries, .. } => {
                 let mut map = Vec::new();
                 self.exec(entries, &mut Body::ColorMap(&mut map))?;
@@ -879,18 +898,20 @@ impl Evaluator {
 }
 
 impl Evaluator {
-    /// Where `#include "name"` in `from` reads: `from`'s folder, then each folder of
-    /// `RAYDIANCE_INCLUDE_PATH`, then (`.pov`) raydiance's built-in library, whose text is
-    /// returned. An absolute name, or one found nowhere, is read where `from` names it.
+    /// Where `#include "name"` in `from` reads: `from`'s folder, then each `--include-path`
+    /// folder, then each folder of `RAYDIANCE_INCLUDE_PATH`, then (`.pov`) raydiance's built-in
+    /// library, whose text is returned. An absolute name, or one found nowhere, is read where
+    /// `from` names it.
     fn find_include(&self, from: &Path, name: &str) -> (PathBuf, Option<&'static str>) {
         let local = resolve(from, name);
         if local.is_file() || Path::new(name).is_absolute() {
             return (local, None);
         }
-        let folders = std::env::var_os(INCLUDE_PATH_VARIABLE)
+        let variable = std::env::var_os(INCLUDE_PATH_VARIABLE)
             .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
             .unwrap_or_default();
-        if let Some(found) = folders.iter().map(|f| f.join(name)).find(|p| p.is_file()) {
+        let mut folders = self.include_path.iter().chain(&variable);
+        if let Some(found) = folders.find_map(|f| Some(f.join(name)).filter(|p| p.is_file())) {
             return (found, None);
         }
         match (self.dialect, crate::lang::library::file(name)) {

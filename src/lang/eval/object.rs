@@ -9,10 +9,11 @@ use super::{
     Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE,
     as_vector, resolve,
 };
-use crate::diagnostic::SceneError;
-use crate::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform};
+use super::{Look, Pigment};
+use crate::diagnostic::{SceneError, Span};
+use crate::graph::{Below, CsgOp, ObjectNode, Pattern, ShapeNode, TextureNode, Transform};
 use crate::lang::dialect::Dialect;
-use crate::lang::syntax::{self, Item, Shape, TransformKind};
+use crate::lang::syntax::{self, AppearanceKind, Item, Shape, TransformKind};
 use crate::lang::value::Value;
 
 impl Evaluator {
@@ -253,6 +254,12 @@ impl Evaluator {
         node: &mut ObjectNode,
     ) -> Result<(), SceneError> {
         match item {
+            Item::Material(m) if self.dialect == Dialect::Pov => {
+                let look = self.pov_material(m)?;
+                if let Some(slot) = self.looks.last_mut() {
+                    *slot = Some(look);
+                }
+            }
             Item::Material(m) => node.material = Some(self.material(m, None)?),
             Item::MaterialName(name) => node.material = Some(self.material_named(name)?),
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
@@ -287,7 +294,16 @@ impl Evaluator {
                     Some(look) => look,
                     None => self.default_look.clone(),
                 };
+                let under = look.clone();
                 let result = self.apply_appearance(appearance, &mut look);
+                let texture = appearance.kind == AppearanceKind::Texture;
+                let layered = match self.shapings.last_mut() {
+                    Some(shaping) if texture => std::mem::replace(&mut shaping.textured, true),
+                    _ => false,
+                };
+                if layered && result.is_ok() {
+                    self.layer(&under, &mut look, &appearance.span);
+                }
                 if let Some(slot) = self.looks.last_mut() {
                     *slot = Some(look);
                 }
@@ -318,6 +334,11 @@ impl Evaluator {
                 // What a macro gives among an object's items: a material, or a child of a group
                 // or CSG object.
                 Value::Material(m) => node.material = Some(m),
+                Value::Look(look) => {
+                    if let Some(slot) = self.looks.last_mut() {
+                        *slot = Some((*look).clone());
+                    }
+                }
                 Value::Object(child) if children(&mut node.shape).is_some() => {
                     let child = super::instance(child, self.here(&expr.span));
                     add_child(node, child);
@@ -327,6 +348,34 @@ impl Evaluator {
             _ => return Err(Self::misplaced(item, &Body::Object(node))),
         }
         Ok(())
+    }
+
+    /// POV-Ray's layered textures: a `texture` over another shows the one under it through its
+    /// pigment's filter and transmit. Flattened into one look: the pigments are mixed by how
+    /// much the top lets through (with a warning), and the top's finish is kept; an opaque top
+    /// covers the layer under it, as in POV-Ray.
+    pub(super) fn layer(&mut self, under: &Look, over: &mut Look, span: &Span) {
+        let through = (over.pigment.filter + over.pigment.transmit).clamp(0.0, 1.0);
+        if through == 0.0 {
+            return;
+        }
+        let at = self.here(span);
+        self.warnings.push(format!(
+            "{at:?}: warning: layered `texture`: the layers' pigments are mixed by the top one's \
+             filter and transmit, and the top one's finish applies to both"
+        ));
+        over.pigment = Pigment {
+            colour: TextureNode {
+                pattern: Pattern::Mix {
+                    a: Box::new(under.pigment.colour.clone()),
+                    b: Box::new(over.pigment.colour.clone()),
+                    t: Box::new(TextureNode::solid(Vec3::splat(1.0 - through))),
+                },
+                transforms: Vec::new(),
+            },
+            filter: under.pigment.filter * through,
+            transmit: under.pigment.transmit * through,
+        };
     }
 
     pub(super) fn transform(&mut self, t: &syntax::Transform) -> Result<Transform, SceneError> {
@@ -381,6 +430,8 @@ impl Evaluator {
 #[derive(Default)]
 pub struct Shaping {
     inverse: bool,
+    /// A `texture` has been given: another is layered over it.
+    textured: bool,
     /// Each `clipped_by`'s objects, with how many of the object's transforms stood before it:
     /// those move the object alone, the later ones the object and its clipping objects.
     clips: Vec<(usize, Vec<ObjectNode>)>,
