@@ -54,7 +54,7 @@ mod tests {
 #include "shapes.inc"
 #include "shapes2.inc"
 #include "textures.inc"
-#include "golds.inc"
+#include "metals.inc"
 object { Round_Box(<-1, -1, -1>, <1, 1, 1>, 0.2, 1) texture { T_Gold_3C } }
 object { Wire_Box_Union(<-1, -1, -1>, <1, 1, 1>, 0.05) texture { Polished_Chrome } }
 object { Spheroid(<0, 1, 0>, <1, 2, 3>) pigment { Jade } finish { Shiny } }
