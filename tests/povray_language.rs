@@ -241,7 +241,10 @@ fn commas_between_a_shape_s_arguments_are_optional_in_pov_only() {
     assert!(matches!(graph.objects[0].shape, ShapeNode::Box { .. }));
     assert_eq!(radius(&SceneGraph { objects: graph.objects[1..].to_vec(), ..graph.clone() }), 1.0);
     let scn = scn_error("camera { location <0, 0, -1> look_at 0 }\nbox { <-1, -1, -1> <1, 1, 1> }");
-    assert!(scn.starts_with("tests/inline.scn:2:20:") && scn.contains("`,` is missing"), "{scn}");
+    assert!(
+        scn.starts_with("tests/inline.scn:2:20:") && scn.contains("is a `,` missing?"),
+        "{scn}"
+    );
 }
 
 /// Renders `scene` with `--include-path` folders and `RAYDIANCE_INCLUDE_PATH`; its stderr if it

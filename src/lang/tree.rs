@@ -784,7 +784,10 @@ impl Builder {
                     return Err(b.error(&argument, message));
                 }
                 if b.dialect == Dialect::Scn {
-                    return Err(b.error(&argument, "a `,` is missing before this argument"));
+                    return Err(b.error(
+                        &argument,
+                        "a `,` must separate the shape's arguments (is a `,` missing?)",
+                    ));
                 }
             }
             first = false;
