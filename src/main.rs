@@ -95,6 +95,10 @@ enum Command {
         /// `clock` runs from C0 at the first frame to C1 at the last [default: 0..1].
         #[arg(long, value_name = "C0..C1", value_parser = animation::parse_clock, allow_hyphen_values = true)]
         clock: Option<(f64, f64)>,
+        /// A folder searched for `#include`d files after the including file's own, before
+        /// RAYDIANCE_INCLUDE_PATH and the built-in library (may be repeated).
+        #[arg(long, value_name = "DIR")]
+        include_path: Vec<PathBuf>,
     },
     /// Merge part files (render --part / --crop) into the image one render would have made.
     Merge {
@@ -227,6 +231,7 @@ fn main() -> ExitCode {
             frames,
             frame,
             clock,
+            include_path,
         } => {
             let job = RenderJob {
                 scene,
@@ -239,6 +244,7 @@ fn main() -> ExitCode {
                     integrator,
                     max_depth,
                     frame: Default::default(),
+                    include_path,
                 },
                 time,
                 ppm_res,

@@ -27,6 +27,8 @@ pub struct RenderRequest {
     pub max_depth: Option<u32>,
     /// The animation frame to evaluate the scene at (`clock`, `frame_number`).
     pub frame: Frame,
+    /// Folders searched for included files (`--include-path`), after the including file's.
+    pub include_path: Vec<std::path::PathBuf>,
 }
 
 pub use crate::region::MAX_RESOLUTION;
@@ -91,8 +93,9 @@ pub fn load_with_digest(
     path: &Path,
     request: &RenderRequest,
 ) -> Result<(Scene, Digest), LoadError> {
+    let image = request.width.zip(request.height);
     let (mut graph, sources) =
-        crate::lang::load_scene_for_image(path, request.frame, request.width.zip(request.height))?;
+        crate::lang::load_scene_with(path, request.frame, image, &request.include_path)?;
     graph.settings = request.apply(&graph.settings)?;
     let frame = request.frame;
     let digest = sources

@@ -1,7 +1,7 @@
 //! POV-Ray 3.7 (Debian's `povray`, which CI installs) as the oracle for the `.pov` dialect's
 //! geometry: a scene in flat emissive colours rendered by both agrees pixel for pixel away from
 //! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`; orthographic), planes with
-//! offsets, `#default`.
+//! offsets, `#default`, `inverse` and `clipped_by`.
 
 mod common;
 
@@ -65,47 +65,76 @@ fn classes(pixels: &[f32]) -> Vec<[bool; 3]> {
     pixels.chunks(3).map(|p| [p[0] > 0.5, p[1] > 0.5, p[2] > 0.5]).collect()
 }
 
+/// Surfaces that only `inverse` and `clipped_by` make, each facing the camera (an emitter here
+/// glows on its outer side only): a box bitten by an inverted sphere, a sphere clipped to its
+/// upper half, a floor clipped to a rectangle.
+const SHAPED: &str = r#"
+camera { location <0, 2.5, -4.5> right x*image_width/image_height look_at <0, -0.2, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+intersection {
+  box { <0.3, -1, -1>, <2.3, 0.8, 1> }
+  sphere { <1.3, 0.8, -1>, 0.9 inverse }
+  pigment { rgb <0, 1, 0> }
+}
+sphere { <-1.5, 0, 0>, 1 pigment { rgb <1, 0, 0> } clipped_by { plane { -y, 0 } } }
+plane { y, -1 pigment { rgb <1, 1, 0> } clipped_by { box { <-3, -2, -1.5>, <3, 0, 3> } } }
+"#;
+
 #[test]
 fn flat_emissive_scenes_match_povray_away_from_edges() {
     let test = "flat_emissive_scenes_match_povray_away_from_edges";
     if !common::outside_tool("povray", "povray", test) {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
     for (n, camera) in CAMERAS.iter().enumerate() {
-        let scene = dir.path().join(format!("scene{n}.pov"));
-        std::fs::write(&scene, format!("{camera}\n{SCENE}")).unwrap();
-        let ours = dir.path().join(format!("ours{n}.ppm"));
-        let theirs = dir.path().join(format!("theirs{n}.ppm"));
-        let povray = Command::new("povray")
-            .arg(format!("+I{}", scene.display()))
-            .arg(format!("+O{}", theirs.display()))
-            .args(["+FP", &format!("+W{WIDTH}"), &format!("+H{HEIGHT}"), "-D", "-A"])
-            .output()
-            .expect("POV-Ray is the oracle: install Debian's `povray`");
-        assert!(povray.status.success(), "{}", String::from_utf8_lossy(&povray.stderr));
-        let size = [WIDTH.to_string(), HEIGHT.to_string()];
-        let status = Command::new(env!("CARGO_BIN_EXE_raydiance"))
-            .args(["render", scene.to_str().unwrap(), "-o", ours.to_str().unwrap()])
-            .args(["--width", &size[0], "--height", &size[1], "--samples", "16"])
-            .output()
-            .unwrap();
-        assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
-        let (a, b) = (classes(&ppm(&theirs)), classes(&ppm(&ours)));
-        assert_eq!((a.len(), b.len()), (WIDTH * HEIGHT, WIDTH * HEIGHT));
-        // A pixel differs only on an edge: where POV-Ray's own neighbours differ.
-        let edge = |k: usize| {
-            let (x, y) = ((k % WIDTH) as i64, (k / WIDTH) as i64);
-            [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
-                let (u, v) = (x + dx, y + dy);
-                (0..WIDTH as i64).contains(&u)
-                    && (0..HEIGHT as i64).contains(&v)
-                    && a[(v * WIDTH as i64 + u) as usize] != a[k]
-            })
-        };
-        let wrong: Vec<usize> = (0..a.len()).filter(|&k| a[k] != b[k] && !edge(k)).collect();
-        assert!(wrong.is_empty(), "camera {n}: pixels {wrong:?} differ from POV-Ray's");
-        let lit = a.iter().filter(|c| c.iter().any(|&l| l)).count();
-        assert!(lit > a.len() / 4, "camera {n}: the scene is in view ({lit} pixels lit)");
+        agree_with_povray(&format!("{camera}\n{SCENE}"), &format!("camera {n}"));
     }
+}
+
+#[test]
+fn inverse_and_clipped_by_match_povray_away_from_edges() {
+    let test = "inverse_and_clipped_by_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(SHAPED, "inverse and clipped_by");
+    }
+}
+
+/// Renders `text` with POV-Ray and with raydiance and compares which channels each pixel lights.
+fn agree_with_povray(text: &str, name: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.pov");
+    std::fs::write(&scene, text).unwrap();
+    let ours = dir.path().join("ours.ppm");
+    let theirs = dir.path().join("theirs.ppm");
+    let povray = Command::new("povray")
+        .arg(format!("+I{}", scene.display()))
+        .arg(format!("+O{}", theirs.display()))
+        .args(["+FP", &format!("+W{WIDTH}"), &format!("+H{HEIGHT}"), "-D", "-A"])
+        .output()
+        .expect("POV-Ray is the oracle: install Debian's `povray`");
+    assert!(povray.status.success(), "{}", String::from_utf8_lossy(&povray.stderr));
+    let size = [WIDTH.to_string(), HEIGHT.to_string()];
+    let status = Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["render", scene.to_str().unwrap(), "-o", ours.to_str().unwrap()])
+        .args(["--width", &size[0], "--height", &size[1], "--samples", "16"])
+        .output()
+        .unwrap();
+    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    let (a, b) = (classes(&ppm(&theirs)), classes(&ppm(&ours)));
+    assert_eq!((a.len(), b.len()), (WIDTH * HEIGHT, WIDTH * HEIGHT));
+    // A pixel differs only on an edge: where POV-Ray's own neighbours differ.
+    let edge = |k: usize| {
+        let (x, y) = ((k % WIDTH) as i64, (k / WIDTH) as i64);
+        [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
+            let (u, v) = (x + dx, y + dy);
+            (0..WIDTH as i64).contains(&u)
+                && (0..HEIGHT as i64).contains(&v)
+                && a[(v * WIDTH as i64 + u) as usize] != a[k]
+        })
+    };
+    let wrong: Vec<usize> = (0..a.len()).filter(|&k| a[k] != b[k] && !edge(k)).collect();
+    assert!(wrong.is_empty(), "{name}: pixels {wrong:?} differ from POV-Ray's");
+    let lit = a.iter().filter(|c| c.iter().any(|&l| l)).count();
+    assert!(lit > a.len() / 4, "{name}: the scene is in view ({lit} pixels lit)");
 }

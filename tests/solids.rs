@@ -300,10 +300,11 @@ fn inside_by_operands(
     match &tree.shape {
         ShapeNode::Csg { op, operands } => {
             let mut inside = operands.iter().map(|o| inside_by_operands(graph, o, &transforms, p));
-            let first = inside.next().unwrap();
+            // `Inverse` turns its first operand inside out, then subtracts the others.
+            let first = inside.next().unwrap() != (*op == CsgOp::Inverse);
             inside.fold(first, |a, b| match op {
-                CsgOp::Intersection => a && b,
-                CsgOp::Difference => a && !b,
+                CsgOp::Intersection | CsgOp::Clip => a && b,
+                CsgOp::Difference | CsgOp::Inverse => a && !b,
                 CsgOp::Merge => a || b,
             })
         }

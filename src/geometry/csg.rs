@@ -21,13 +21,21 @@ pub enum CsgOp {
     Difference,
     /// Inside any child (the union's outer surface only).
     Merge,
+    /// Outside every child: the complement of their merge (POV-Ray's `inverse`, which turns
+    /// inside out).
+    Inverse,
+    /// The first child's surface where it is inside all the others, whose own surfaces are not
+    /// part of it (POV-Ray's `clipped_by`: the result is open where they cut it).
+    Clip,
 }
 
 impl CsgOp {
+    /// Whether a point is inside `op(a, b)`, given that it is inside `a` (the children folded
+    /// so far: for `Inverse` the first child already turned inside out) and inside `b`.
     fn combine(self, a: bool, b: bool) -> bool {
         match self {
-            CsgOp::Intersection => a && b,
-            CsgOp::Difference => a && !b,
+            CsgOp::Intersection | CsgOp::Clip => a && b,
+            CsgOp::Difference | CsgOp::Inverse => a && !b,
             CsgOp::Merge => a || b,
         }
     }
@@ -111,7 +119,7 @@ impl Csg {
             CsgNode::Operand(i) => self.operands[*i as usize].contains(p),
             CsgNode::Operation { op, children } => {
                 let mut inside = children.iter().map(|c| self.node_contains(c, p));
-                let first = inside.next().unwrap_or(false);
+                let first = inside.next().unwrap_or(false) != (*op == CsgOp::Inverse);
                 inside.fold(first, |acc, b| op.combine(acc, b))
             }
         }
@@ -130,6 +138,12 @@ impl Csg {
                 let mut children = children.iter();
                 let Some(first) = children.next() else { return Crossings::outside() };
                 let mut acc = self.node_crossings(first, ray, t_max);
+                if *op == CsgOp::Inverse {
+                    acc.inside_at_start = !acc.inside_at_start;
+                    for c in &mut acc.list {
+                        c.entering = !c.entering;
+                    }
+                }
                 for child in children {
                     // Nothing more can enter an intersection or a difference that is empty.
                     if *op != CsgOp::Merge && !acc.inside_at_start && acc.list.is_empty() {
@@ -192,7 +206,9 @@ fn combine(op: CsgOp, a: &Crossings, b: &Crossings) -> Crossings {
         let now = op.combine(in_a, in_b);
         if let (true, Some(crossing)) = (now != inside, changed_by) {
             inside = now;
-            if out.list.try_push(Crossing { entering: now, ..crossing }).is_err() {
+            // A clipping solid's surface is not the result's: the result is open there.
+            let surface = take_a || op != CsgOp::Clip;
+            if surface && out.list.try_push(Crossing { entering: now, ..crossing }).is_err() {
                 break;
             }
         }
@@ -208,7 +224,9 @@ fn node_bounds(node: &CsgNode, operands: &[Shape]) -> Option<Aabb> {
             match op {
                 CsgOp::Difference => bounds.next().flatten(),
                 CsgOp::Merge => bounds.try_fold(Aabb::EMPTY, |acc, b| Some(acc.union(b?))),
-                CsgOp::Intersection => bounds
+                // Everything outside a bounded solid is unbounded.
+                CsgOp::Inverse => None,
+                CsgOp::Intersection | CsgOp::Clip => bounds
                     .flatten()
                     .reduce(|a, b| Aabb { min: a.min.max(b.min), max: a.max.min(b.max) }),
             }

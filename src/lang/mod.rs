@@ -19,7 +19,7 @@ pub use eval::{
 };
 pub use parser::MAX_NESTING;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::animation::Frame;
@@ -46,10 +46,22 @@ pub fn load_scene_for_image(
     frame: Frame,
     image: Option<(u32, u32)>,
 ) -> Result<(SceneGraph, Digest), SceneError> {
+    load_scene_with(path, frame, image, &[])
+}
+
+/// As `load_scene_for_image`, searching `include_path`'s folders for included files after the
+/// including file's own (before `RAYDIANCE_INCLUDE_PATH` and the built-in library).
+pub fn load_scene_with(
+    path: &Path,
+    frame: Frame,
+    image: Option<(u32, u32)>,
+    include_path: &[PathBuf],
+) -> Result<(SceneGraph, Digest), SceneError> {
     let dialect = Dialect::of(path);
     let text = read_scene_text(path, dialect)?;
     let file = Arc::new(SourceFile::new(path.to_path_buf(), text));
-    eval::Evaluator::for_image(frame, dialect, image).scene_and_sources(file)
+    let evaluator = eval::Evaluator::for_image(frame, dialect, image);
+    evaluator.searching(include_path.to_vec()).scene_and_sources(file)
 }
 
 /// Whether the scene file can be read: checked before work that only the scene can make worth

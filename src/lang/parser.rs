@@ -187,7 +187,7 @@ fn unclosed_block(
 }
 
 /// The directives, each with its parse rule and the form it takes, for messages.
-const DIRECTIVES: [(&str, Rule, &str); 16] = [
+const DIRECTIVES: [(&str, Rule, &str); 20] = [
     ("#declare", Rule::declare, "#declare Name = value"),
     ("#local", Rule::local, "#local Name = value"),
     ("#undef", Rule::undef, "#undef Name"),
@@ -201,6 +201,10 @@ const DIRECTIVES: [(&str, Rule, &str); 16] = [
     ("#for", Rule::for_start, "#for (Name, start, end) or #for (Name, start, end, step)"),
     ("#macro", Rule::macro_start, "#macro Name(Parameter, ...)"),
     ("#end", Rule::end, "#end"),
+    ("#switch", Rule::switch_start, "#switch (value)"),
+    ("#case", Rule::case, "#case (value)"),
+    ("#range", Rule::range, "#range (low, high)"),
+    ("#break", Rule::break_, "#break"),
     ("#debug", Rule::message, "#debug \"text\""),
     ("#warning", Rule::message, "#warning \"text\""),
     ("#error", Rule::message, "#error \"text\""),
@@ -298,6 +302,10 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::end
         | Rule::message
         | Rule::default
+        | Rule::switch_start
+        | Rule::case
+        | Rule::range
+        | Rule::break_
         | Rule::message_kind => "a directive (`#declare`, `#if`, ...)",
         Rule::settings => "`settings`",
         Rule::resolution => "`resolution`",
@@ -321,7 +329,7 @@ fn describe(rule: Rule) -> &'static str {
         Rule::sky_emission => "a sky's `emission`",
         Rule::pigment => "`pigment`",
         Rule::finish => "`finish`",
-        Rule::pov_texture => "`texture`",
+        Rule::pov_texture | Rule::layered_texture => "`texture`",
         Rule::interior => "`interior`",
         Rule::normal => "`normal`",
         Rule::pattern => "a pattern (`checker`, `gradient`, `marble`, `wood`, `bozo`)",
@@ -329,6 +337,8 @@ fn describe(rule: Rule) -> &'static str {
         Rule::reflection_item => "`fresnel`, `metallic`, `falloff` or `exponent`",
         Rule::interior_item => "`ior`",
         Rule::light_option => "`fade_distance`, `fade_power` or `shadowless`",
+        Rule::clipped_by => "`clipped_by`",
+        Rule::arg_comma => "`,`",
         Rule::object_modifier | Rule::truth_value | Rule::truth_word => {
             "an object modifier (`hollow`, `no_shadow`, ...)"
         }
@@ -368,7 +378,10 @@ fn describe(rule: Rule) -> &'static str {
         Rule::mix => "`mix`",
         Rule::texture_parameter => "a texture parameter (`axis`, `octaves`, `turbulence`)",
         Rule::color_map => "`color_map`",
-        Rule::map_entry => "a color_map entry (`[position colour]`)",
+        Rule::map_entry | Rule::map_end => "a color_map entry (`[position colour]`)",
+        Rule::colour_part | Rule::colour_channel => {
+            "a colour's component (`red`, `green`, `blue`, `filter`, `transmit`)"
+        }
         Rule::colour | Rule::rgb_colour | Rule::kw_rgb | Rule::colour_word => {
             "a colour (`rgb <r, g, b>`)"
         }

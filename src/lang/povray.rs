@@ -75,13 +75,14 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
             "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
              quad, disk, cylinder, cone, torus, mesh (.ply, .obj) and CSG"
         }
-        "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse" => {
+        "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
+        | "clipped_by" => {
             "this POV-Ray object modifier is not supported (an object here takes a material and \
              transforms)"
         }
         "#switch" | "#case" | "#range" | "#break" => {
-            "POV-Ray's `#switch` is not supported; write `#if (...) ... #elseif (...) ... #else \
-             ... #end`"
+            "POV-Ray's `#switch` is read in `.pov` scenes only; here write `#if (...) ... \
+             #elseif (...) ... #else ... #end`"
         }
         _ => return None,
     })

@@ -29,6 +29,14 @@ pub enum Item {
         otherwise: Option<Vec<Item>>,
         span: Span,
     },
+    /// POV-Ray's `#switch` (`.pov`): the first clause whose test holds runs, and those after it
+    /// until one that ends in `#break`; `otherwise` (`#else`) runs when none holds.
+    Switch {
+        value: Expr,
+        clauses: Vec<SwitchClause>,
+        otherwise: Option<Vec<Item>>,
+        span: Span,
+    },
     While {
         condition: Expr,
         body: Vec<Item>,
@@ -94,12 +102,20 @@ pub enum Item {
         entries: Vec<Item>,
         span: Span,
     },
+    /// `[position colour]`, or (`.pov`) `[position, end colour colour]`: the colour goes to
+    /// the second at `end`.
     MapEntry {
         position: Expr,
         colour: Colour,
+        end: Option<(Expr, Colour)>,
     },
     /// A value standing alone (a macro's body such as `(X * X)`).
     Value(Expr),
+    /// POV-Ray's `clipped_by { objects }` (`.pov`): its items.
+    ClippedBy {
+        items: Vec<Item>,
+        span: Span,
+    },
     /// POV-Ray's `#default { ... }` (`.pov`).
     Default {
         items: Vec<Item>,
@@ -174,6 +190,7 @@ impl Item {
             Item::Undef(_) => "`#undef`",
             Item::Include { .. } => "`#include`",
             Item::If { .. } => "`#if`",
+            Item::Switch { .. } => "`#switch`",
             Item::While { .. } => "`#while`",
             Item::For { .. } => "`#for`",
             Item::Macro(_) => "`#macro`",
@@ -198,6 +215,7 @@ impl Item {
             Item::ColorMap { .. } => "a color_map",
             Item::MapEntry { .. } => "a color_map entry",
             Item::Value(_) => "a value",
+            Item::ClippedBy { .. } => "`clipped_by`",
             Item::Default { .. } => "`#default`",
             Item::SkySphere { .. } => "a sky_sphere",
             Item::Appearance(a) => match a.kind {
@@ -219,6 +237,7 @@ impl Item {
             Item::Undef(name) => &name.span,
             Item::Include { span, .. }
             | Item::If { span, .. }
+            | Item::Switch { span, .. }
             | Item::While { span, .. }
             | Item::For { span, .. }
             | Item::Message { span, .. }
@@ -230,6 +249,7 @@ impl Item {
             | Item::ColorMap { span, .. }
             | Item::Default { span, .. }
             | Item::SkySphere { span, .. }
+            | Item::ClippedBy { span, .. }
             | Item::Pattern { span, .. } => span,
             Item::Appearance(a) => &a.span,
             Item::PovParam { key, .. } => &key.span,
@@ -293,6 +313,16 @@ pub enum Declared {
     Value(Expr),
     /// POV-Ray's declared `pigment`, `finish`, `texture` or `interior` (`.pov`).
     Appearance(Appearance),
+    /// POV-Ray's declared layered texture (`.pov`): each `texture` over the ones before it.
+    LayeredTexture {
+        layers: Vec<Appearance>,
+        span: Span,
+    },
+    /// POV-Ray's declared `color_map` (`.pov`): its entries.
+    ColorMap {
+        entries: Vec<Item>,
+        span: Span,
+    },
     /// POV-Ray's declared camera (`.pov`): its items.
     Camera {
         items: Vec<Item>,
@@ -304,6 +334,24 @@ pub enum Declared {
         otherwise: Option<Box<Declared>>,
         span: Span,
     },
+}
+
+/// A `#case (v)` or `#range (low, high)` of a `#switch`, with its items up to the next clause
+/// or its `#break`.
+#[derive(Debug, Clone)]
+pub struct SwitchClause {
+    pub test: CaseTest,
+    pub items: Vec<Item>,
+    /// Ends in `#break`: the clauses after it do not run.
+    pub breaks: bool,
+}
+
+#[derive(Debug, Clone)]
+pub enum CaseTest {
+    /// `#case (v)`: the switch's value equals v (within POV-Ray's tolerance).
+    Case(Expr),
+    /// `#range (low, high)`: low ≤ value ≤ high.
+    Range(Expr, Expr),
 }
 
 #[derive(Debug, Clone)]
@@ -560,6 +608,12 @@ pub enum ExprKind {
     Rgb(Box<Expr>),
     /// POV-Ray's `rgbf`, `rgbt`, `rgbft` or `srgb` colour (`.pov`).
     PovColour(PovColourKind, Box<Expr>),
+    /// POV-Ray's colour by components (`color red 1 green 0.5`), or a colour with some of
+    /// them changed (`Red filter 0.3`) (`.pov`).
+    ColourParts {
+        base: Option<Box<Expr>>,
+        parts: Vec<(ColourChannel, Expr)>,
+    },
     Unary {
         op: UnaryOp,
         operand: Box<Expr>,
@@ -587,6 +641,16 @@ pub enum ExprKind {
     },
     Function(Function, Vec<Expr>),
     Call(Call),
+}
+
+/// A component of POV-Ray's colour `<red, green, blue, filter, transmit>`, its index there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColourChannel {
+    Red = 0,
+    Green = 1,
+    Blue = 2,
+    Filter = 3,
+    Transmit = 4,
 }
 
 /// How a POV-Ray colour's components are written.

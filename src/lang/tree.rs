@@ -55,6 +55,17 @@ enum Open {
         parameters: Vec<Ident>,
         span: Span,
     },
+    Switch {
+        value: Expr,
+        clauses: Vec<SwitchClause>,
+        /// The test of the clause being gathered (`None` before the first and after a `#break`).
+        current: Option<CaseTest>,
+        /// After a `#break`: items up to the next clause are skipped, as POV-Ray skips them.
+        skipping: bool,
+        /// The items after `#else`, once it is seen.
+        otherwise: Option<Vec<Item>>,
+        span: Span,
+    },
 }
 
 impl Open {
@@ -64,6 +75,7 @@ impl Open {
             Open::While { .. } => "`#while`",
             Open::For { .. } => "`#for`",
             Open::Macro { .. } => "`#macro`",
+            Open::Switch { .. } => "`#switch`",
         }
     }
 
@@ -72,7 +84,8 @@ impl Open {
             Open::If { span, .. }
             | Open::While { span, .. }
             | Open::For { span, .. }
-            | Open::Macro { span, .. } => span,
+            | Open::Macro { span, .. }
+            | Open::Switch { span, .. } => span,
         }
     }
 }
@@ -167,6 +180,25 @@ impl Builder {
                     let parameters = inner.map(|p| self.name(p)).collect::<Result<_, _>>()?;
                     Some(Open::Macro { name, parameters, span })
                 }
+                Rule::switch_start => {
+                    self.pov_directive(&pair, "#switch")?;
+                    Some(Open::Switch {
+                        value: self.first_expr(&pair)?,
+                        clauses: Vec::new(),
+                        current: None,
+                        skipping: false,
+                        otherwise: None,
+                        span: self.span(&pair),
+                    })
+                }
+                Rule::case | Rule::range | Rule::break_ => {
+                    self.switch_clause(&pair, stack.last_mut().expect("the body"))?;
+                    continue;
+                }
+                Rule::else_ if matches!(stack.last(), Some((Some(Open::Switch { .. }), _))) => {
+                    self.switch_clause(&pair, stack.last_mut().expect("the body"))?;
+                    continue;
+                }
                 Rule::elseif | Rule::else_ => {
                     let (open, items) = stack.last_mut().expect("the body");
                     let Some(Open::If { branches, condition, otherwise, .. }) = open else {
@@ -196,6 +228,14 @@ impl Builder {
                 }
                 Rule::end => {
                     let (open, items) = stack.pop().expect("the body");
+                    if let (Some(Open::Switch { current: None, skipping: false, .. }), Some(item)) =
+                        (&open, items.first())
+                    {
+                        return Err(SceneError::at(
+                            item.span(),
+                            "this stands in a `#switch` before its first `#case` or `#range`",
+                        ));
+                    }
                     let Some(open) = open else {
                         return Err(self.error(
                             &pair,
@@ -233,6 +273,75 @@ impl Builder {
                 Err(SceneError::at(open.span(), format!("{} without its `#end`", open.describe())))
             }
         }
+    }
+
+    /// Refuses POV-Ray's directive `word` outside a `.pov` scene, with what to write instead.
+    fn pov_directive(&self, pair: &Pair<'_, Rule>, word: &str) -> Result<(), SceneError> {
+        match self.dialect {
+            Dialect::Pov => Ok(()),
+            Dialect::Scn => Err(self.error(
+                pair,
+                povray::message(word, None)
+                    .unwrap_or_else(|| format!("`{word}` is POV-Ray's (a `.pov` scene's) word")),
+            )),
+        }
+    }
+
+    /// A `#case`, `#range`, `#break` or (in a `#switch`) `#else`: the clause gathered so far is
+    /// complete, and the next one starts.
+    fn switch_clause(
+        &mut self,
+        pair: &Pair<'_, Rule>,
+        (open, items): &mut (Option<Open>, Vec<Item>),
+    ) -> Result<(), SceneError> {
+        let word = match pair.as_rule() {
+            Rule::case => "#case",
+            Rule::range => "#range",
+            Rule::break_ => "#break",
+            _ => "#else",
+        };
+        self.pov_directive(pair, word)?;
+        let Some(Open::Switch { clauses, current, skipping, otherwise, .. }) = open else {
+            return Err(self.error(
+                pair,
+                format!(
+                    "`{word}` stands only among a `#switch`'s clauses (not inside an `#if` or a \
+                     loop within them)"
+                ),
+            ));
+        };
+        if otherwise.is_some() && pair.as_rule() != Rule::break_ {
+            return Err(self.error(pair, "this comes after the `#else` of its `#switch`"));
+        }
+        let gathered = std::mem::take(items);
+        match current.take() {
+            Some(test) => {
+                let breaks = pair.as_rule() == Rule::break_;
+                clauses.push(SwitchClause { test, items: gathered, breaks });
+            }
+            None if !*skipping && otherwise.is_none() && !gathered.is_empty() => {
+                return Err(SceneError::at(
+                    gathered[0].span(),
+                    "this stands in a `#switch` before its first `#case` or `#range`",
+                ));
+            }
+            None if pair.as_rule() == Rule::break_ && otherwise.is_none() && !*skipping => {
+                return Err(self.error(pair, "`#break` before the `#switch`'s first `#case`"));
+            }
+            None => {}
+        }
+        *skipping = pair.as_rule() == Rule::break_;
+        let mut inner = pair.clone().into_inner();
+        match pair.as_rule() {
+            Rule::case => *current = Some(CaseTest::Case(self.expr(inner.next().expect("v"))?)),
+            Rule::range => {
+                let low = self.expr(inner.next().expect("the low end"))?;
+                *current = Some(CaseTest::Range(low, self.expr(inner.next().expect("high"))?));
+            }
+            Rule::break_ => {}
+            _ => *otherwise = Some(Vec::new()),
+        }
+        Ok(())
     }
 
     fn first_expr(&mut self, pair: &Pair<'_, Rule>) -> Result<Expr, SceneError> {
@@ -389,9 +498,33 @@ impl Builder {
                 Item::ColorMap { entries: items, span }
             }
             Rule::map_entry => {
-                let mut inner = pair.into_inner();
+                let mut inner = pair.into_inner().peekable();
                 let position = self.arithmetic(inner.next().expect("the position"))?;
-                Item::MapEntry { position, colour: self.colour(inner.next().expect("the colour"))? }
+                let end = inner.next_if(|p| p.as_rule() == Rule::map_end);
+                let colour = self.colour(inner.next().expect("the colour"))?;
+                let second = inner.next();
+                let end = match (end, second) {
+                    (None, None) => None,
+                    (Some(end), Some(second)) => {
+                        self.pov_only(&end, Some("color_map"))?;
+                        Some((self.arithmetic(inner_pair(&end))?, self.colour(second)?))
+                    }
+                    (Some(end), None) => {
+                        return Err(self.error(
+                            &end,
+                            "a color_map entry with a range (`[start, end colour colour]`) \
+                             needs two colours",
+                        ));
+                    }
+                    (None, Some(second)) => {
+                        return Err(self.error(
+                            &second,
+                            "a second colour in a color_map entry needs the range's end \
+                             (`[start, end colour colour]`)",
+                        ));
+                    }
+                };
+                Item::MapEntry { position, colour, end }
             }
             Rule::rgb_colour | Rule::expr | Rule::colour => Item::Value(self.value_expr(pair)?),
             Rule::default => {
@@ -424,6 +557,13 @@ impl Builder {
                     arguments.push(Colour { value, span });
                 }
                 Item::Pattern { kind, arguments, span }
+            }
+            Rule::clipped_by => {
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::ClippedBy { items, span }
             }
             Rule::object_modifier => {
                 let mut inner = pair.into_inner();
@@ -515,6 +655,20 @@ impl Builder {
             Rule::texture => Declared::Texture(self.texture(pair)?),
             Rule::array => Declared::Array(self.array(pair)?),
             Rule::rgb_colour | Rule::expr => Declared::Value(self.value_expr(pair)?),
+            Rule::layered_texture => {
+                let span = self.span(&pair);
+                let layers =
+                    pair.into_inner().map(|p| self.appearance(p)).collect::<Result<_, _>>()?;
+                Declared::LayeredTexture { layers, span }
+            }
+            Rule::color_map => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let entries = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Declared::ColorMap { entries, span }
+            }
             Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
                 Declared::Appearance(self.appearance(pair)?)
             }
@@ -631,8 +785,28 @@ impl Builder {
         }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
-        let mut take =
-            |b: &mut Self| b.expr(inner.next().expect("the grammar gives the arguments"));
+        let mut first = true;
+        let mut take = |b: &mut Self| {
+            let comma = inner.next_if(|p| p.as_rule() == Rule::arg_comma).is_some();
+            let argument = inner.next().expect("the grammar gives the arguments");
+            if !comma && !first {
+                let text = argument.as_str();
+                let word = &text
+                    [..text.find(|c: char| !c.is_alphanumeric() && c != '_').unwrap_or(text.len())];
+                if keywords::lookup(word).is_some_and(|k| k.kind == KeywordKind::Syntax) {
+                    let message = format!("an argument of the shape is missing before `{word}`");
+                    return Err(b.error(&argument, message));
+                }
+                if b.dialect == Dialect::Scn {
+                    return Err(b.error(
+                        &argument,
+                        "a `,` must separate the shape's arguments (is a `,` missing?)",
+                    ));
+                }
+            }
+            first = false;
+            b.expr(argument)
+        };
         let mut shape = match rule {
             Rule::plane => Shape::Plane { normal: take(self)?, offset: take(self)? },
             Rule::sphere => Shape::Sphere { center: take(self)?, radius: take(self)? },
@@ -794,21 +968,51 @@ impl Builder {
                 if let Some(word) = inner.next_if(|p| p.as_rule() == Rule::colour_word) {
                     self.pov_only(&inner_pair(&word), None)?;
                 }
-                let first = inner.next().expect("a value");
-                let pov_kind = match first.as_rule() {
-                    Rule::kw_rgb => {
-                        let value = self.expr(inner.next().expect("the colour's value"))?;
-                        return Ok(Expr { kind: ExprKind::Rgb(Box::new(value)), span });
-                    }
-                    Rule::kw_rgbf => PovColourKind::Rgbf,
-                    Rule::kw_rgbt => PovColourKind::Rgbt,
-                    Rule::kw_rgbft => PovColourKind::Rgbft,
-                    Rule::kw_srgb => PovColourKind::Srgb,
-                    _ => return self.value_expr(first),
+                let first = inner.next_if(|p| p.as_rule() != Rule::colour_part);
+                let base = match first {
+                    None => None,
+                    Some(first) => Some(match first.as_rule() {
+                        Rule::kw_rgb => {
+                            let value = self.expr(inner.next().expect("the colour's value"))?;
+                            Expr { kind: ExprKind::Rgb(Box::new(value)), span: span.clone() }
+                        }
+                        Rule::kw_rgbf | Rule::kw_rgbt | Rule::kw_rgbft | Rule::kw_srgb => {
+                            let pov_kind = match first.as_rule() {
+                                Rule::kw_rgbf => PovColourKind::Rgbf,
+                                Rule::kw_rgbt => PovColourKind::Rgbt,
+                                Rule::kw_rgbft => PovColourKind::Rgbft,
+                                _ => PovColourKind::Srgb,
+                            };
+                            self.pov_only(&first, None)?;
+                            let value = self.expr(inner.next().expect("the colour's value"))?;
+                            let kind = ExprKind::PovColour(pov_kind, Box::new(value));
+                            Expr { kind, span: span.clone() }
+                        }
+                        _ => self.value_expr(first)?,
+                    }),
                 };
-                self.pov_only(&first, None)?;
-                let value = self.expr(inner.next().expect("the colour's value"))?;
-                Ok(Expr { kind: ExprKind::PovColour(pov_kind, Box::new(value)), span })
+                let mut parts = Vec::new();
+                for part in inner {
+                    let mut pieces = part.into_inner();
+                    let channel = pieces.next().expect("the component");
+                    self.pov_only(&channel, None)?;
+                    let which = match channel.as_str() {
+                        "red" => ColourChannel::Red,
+                        "green" => ColourChannel::Green,
+                        "blue" => ColourChannel::Blue,
+                        "filter" => ColourChannel::Filter,
+                        "transmit" => ColourChannel::Transmit,
+                        other => unreachable!("no colour component `{other}`"),
+                    };
+                    parts.push((which, self.expr(pieces.next().expect("its value"))?));
+                }
+                match (base, parts.is_empty()) {
+                    (Some(base), true) => Ok(base),
+                    (base, _) => Ok(Expr {
+                        kind: ExprKind::ColourParts { base: base.map(Box::new), parts },
+                        span,
+                    }),
+                }
             }
             rule => unreachable!("no value {rule:?}"),
         }
@@ -921,11 +1125,16 @@ impl Builder {
             value = Some(match (rule, value) {
                 (Rule::component, Some(v)) => {
                     let axis = match part.as_str() {
-                        ".x" => 0,
-                        ".y" => 1,
-                        ".z" => 2,
+                        ".x" | ".u" | ".red" => 0,
+                        ".y" | ".v" | ".green" => 1,
+                        ".z" | ".blue" => 2,
+                        ".filter" | ".t" => 3,
+                        ".transmit" => 4,
                         other => unreachable!("no component `{other}`"),
                     };
+                    if !matches!(part.as_str(), ".x" | ".y" | ".z") {
+                        self.pov_only(&part, None)?;
+                    }
                     let span = v.span.clone();
                     Expr {
                         kind: ExprKind::Component {
@@ -1077,7 +1286,10 @@ impl Builder {
 fn gather(stack: &mut [(Option<Open>, Vec<Item>)], item: Item) {
     let (open, items) = stack.last_mut().expect("the body");
     match open {
-        Some(Open::If { otherwise: Some(rest), .. }) => rest.push(item),
+        Some(Open::Switch { skipping: true, .. }) => {}
+        Some(
+            Open::If { otherwise: Some(rest), .. } | Open::Switch { otherwise: Some(rest), .. },
+        ) => rest.push(item),
         _ => items.push(item),
     }
 }
@@ -1099,6 +1311,12 @@ fn close(open: Open, items: Vec<Item>) -> Item {
         }
         Open::Macro { name, parameters, span } => {
             Item::Macro(Arc::new(MacroDef { name, parameters, body: items, span }))
+        }
+        Open::Switch { value, mut clauses, current, otherwise, span, .. } => {
+            if let Some(test) = current {
+                clauses.push(SwitchClause { test, items, breaks: false });
+            }
+            Item::Switch { value, clauses, otherwise, span }
         }
     }
 }

@@ -33,6 +33,8 @@ pub enum Value {
     Look(Arc<Look>),
     Interior(f32),
     Normal,
+    /// A declared `color_map` (`.pov`): positions and colours.
+    ColorMap(Arc<Vec<(f32, glam::Vec3)>>),
     /// A declared camera's parameters (`.pov`).
     Camera(Arc<super::eval::CameraParams>),
 }
@@ -57,6 +59,7 @@ impl Value {
             Value::Interior(_) => "an interior",
             Value::Normal => "a normal",
             Value::Camera(_) => "a camera",
+            Value::ColorMap(_) => "a color_map",
         }
     }
 }

@@ -33,6 +33,7 @@ impl Evaluator {
             | Value::Look(_)
             | Value::Interior(_)
             | Value::Normal
+            | Value::ColorMap(_)
             | Value::Camera(_) => true,
         };
         if !finite {
@@ -272,6 +273,19 @@ impl Evaluator {
                 Value::Vector(colour)
             }
             ExprKind::PovColour(kind, inner) => pov_colour_value(*kind, self.eval(inner)?, at)?,
+            ExprKind::ColourParts { base, parts } => {
+                let mut colour = match base {
+                    None => [0.0; 5],
+                    Some(base) => colour_components(self.eval(base)?, &base.span)?,
+                };
+                for (channel, value) in parts {
+                    colour[*channel as usize] = self.number(value, "a colour's component")?;
+                }
+                match colour {
+                    [r, g, b, 0.0, 0.0] => Value::Vector(DVec3::new(r, g, b)),
+                    _ => Value::Numbers(colour.to_vec()),
+                }
+            }
             ExprKind::Unary { op, operand } => {
                 let v = self.eval(operand)?;
                 match op {
@@ -294,12 +308,15 @@ impl Evaluator {
                 }
             }
             ExprKind::Component { value, axis, span } => match self.eval(value)? {
-                Value::Vector(v) => Value::Float(v[*axis]),
+                Value::Vector(v) if *axis < 3 => Value::Float(v[*axis]),
+                // A colour without filter and transmit has them 0, as in POV-Ray.
+                Value::Vector(_) => Value::Float(0.0),
+                Value::Numbers(n) if *axis < n.len() => Value::Float(n[*axis]),
+                Value::Numbers(n) if n.len() == 4 && *axis == 4 => Value::Float(0.0),
                 other => {
-                    let c = [".x", ".y", ".z"][*axis];
                     return Err(SceneError::at(
                         span,
-                        format!("`{c}` needs a vector, not {}", other.kind()),
+                        format!("{} has no component {}", other.kind(), axis + 1),
                     ));
                 }
             },
@@ -567,6 +584,20 @@ fn pov_colour_value(kind: PovColourKind, value: Value, at: &Span) -> Result<Valu
     })
 }
 
+/// A POV-Ray colour's `<red, green, blue, filter, transmit>`: a number is grey, a vector has no
+/// filter or transmit, four numbers are `rgbf`.
+fn colour_components(value: Value, at: &Span) -> Result<[f64; 5], SceneError> {
+    Ok(match value {
+        Value::Float(f) => [f, f, f, 0.0, 0.0],
+        Value::Vector(v) => [v.x, v.y, v.z, 0.0, 0.0],
+        Value::Numbers(n) if n.len() == 4 => [n[0], n[1], n[2], n[3], 0.0],
+        Value::Numbers(n) if n.len() == 5 => [n[0], n[1], n[2], n[3], n[4]],
+        other => {
+            return Err(SceneError::at(at, format!("expected a colour, found {}", other.kind())));
+        }
+    })
+}
+
 /// A value where a colour is expected: a number (grey) or a vector, not negative.
 pub(super) fn colour_of(value: Value, at: &Span) -> Result<Vec3, SceneError> {
     let colour = match value {
@@ -643,7 +674,9 @@ fn binary(op: BinaryOp, at: &Span, a: Value, b: Value) -> Result<Value, SceneErr
     }
 }
 
-/// `+ - * /` on numbers and vectors: a number meets a vector component-wise (promotion).
+/// `+ - * /` on numbers and vectors: a number meets a vector component-wise (promotion); so do
+/// lists of numbers of one length (POV-Ray's colours with filter and transmit, which a vector
+/// meets as a colour without them).
 fn arithmetic(
     at: &Span,
     symbol: &str,
@@ -656,6 +689,21 @@ fn arithmetic(
         Value::Vector(v) => Some(*v),
         _ => None,
     };
+    let numbers = |v: &Value, n: usize| match v {
+        Value::Float(x) => Some(vec![*x; n]),
+        Value::Vector(v) if n == 5 => Some(vec![v.x, v.y, v.z, 0.0, 0.0]),
+        Value::Numbers(m) if m.len() == n => Some(m.clone()),
+        _ => None,
+    };
+    let length = match (&a, &b) {
+        (Value::Numbers(n), _) | (_, Value::Numbers(n)) => Some(n.len()),
+        _ => None,
+    };
+    if let Some(n) = length {
+        if let (Some(x), Some(y)) = (numbers(&a, n), numbers(&b, n)) {
+            return Ok(Value::Numbers(x.iter().zip(&y).map(|(x, y)| f(*x, *y)).collect()));
+        }
+    }
     match (&a, &b) {
         (Value::Float(x), Value::Float(y)) => Ok(Value::Float(f(*x, *y))),
         _ => match (vector(&a), vector(&b)) {

@@ -6,11 +6,13 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::expression::colour_of;
-use super::{Body, Evaluator, resolve};
+use super::{Body, Evaluator, Look, resolve};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
+use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
-    self, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind, TextureParamKind,
+    self, Colour, Expr, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind,
+    TextureParamKind,
 };
 use crate::lang::value::Value;
 
@@ -71,6 +73,38 @@ impl Evaluator {
             ));
         }
         Ok(Arc::new(material))
+    }
+
+    /// A material as a value: raydiance's, or in `.pov` POV-Ray's (a look).
+    pub(super) fn material_value(
+        &mut self,
+        m: &syntax::Material,
+        name: Option<&str>,
+    ) -> Result<Value, SceneError> {
+        Ok(match self.dialect {
+            Dialect::Scn => Value::Material(self.material(m, name)?),
+            Dialect::Pov => Value::Look(Arc::new(self.pov_material(m)?)),
+        })
+    }
+
+    /// POV-Ray's `material { [M] texture { ... } interior { ... } }`: a look, from the declared
+    /// material `M` or else the default texture.
+    pub(super) fn pov_material(&mut self, m: &syntax::Material) -> Result<Look, SceneError> {
+        let mut look = match &m.base {
+            None => self.default_look.clone(),
+            Some(name) => match self.lookup(&name.name) {
+                Some(Value::Look(look)) => (**look).clone(),
+                Some(other) => {
+                    return Err(SceneError::at(
+                        &name.span,
+                        format!("`{}` is {}, not a material", name.name, other.kind()),
+                    ));
+                }
+                None => return Err(self.unknown(name)),
+            },
+        };
+        self.exec(&m.items, &mut Body::Look(&mut look))?;
+        Ok(look)
     }
 
     pub(super) fn material_item(
@@ -266,12 +300,55 @@ impl Evaluator {
         item: &Item,
         entries: &mut Vec<(f32, Vec3)>,
     ) -> Result<(), SceneError> {
-        let Item::MapEntry { position, colour } = item else {
-            return Err(Self::misplaced(item, &Body::ColorMap(entries)));
+        let (position, colour, end) = match item {
+            Item::MapEntry { position, colour, end } => (position, colour, end),
+            // A declared map's name (`.pov`): its entries.
+            Item::Value(expr) => {
+                return match self.value(expr)? {
+                    Value::ColorMap(map) => {
+                        entries.extend(map.iter().copied());
+                        Ok(())
+                    }
+                    other => Err(SceneError::at(
+                        &expr.span,
+                        format!("a color_map names a declared color_map, not {}", other.kind()),
+                    )),
+                };
+            }
+            _ => return Err(Self::misplaced(item, &Body::ColorMap(entries))),
         };
+        self.map_stop(position, colour, entries)?;
+        if let Some((end, colour)) = end {
+            self.map_stop(end, colour, entries)?;
+        }
+        Ok(())
+    }
+
+    /// A colour at a position of a color_map, after those before it. In `.pov` a colour's
+    /// filter and transmit are dropped with a warning: a map's colours are opaque here.
+    fn map_stop(
+        &mut self,
+        position: &Expr,
+        colour: &Colour,
+        entries: &mut Vec<(f32, Vec3)>,
+    ) -> Result<(), SceneError> {
         let at = position.span.clone();
         let position = self.single(position)?;
-        let colour = self.colour(colour)?;
+        let colour = match self.dialect {
+            Dialect::Scn => self.colour(colour)?,
+            Dialect::Pov => {
+                let (rgb, filter, transmit) = self.pov_colour(colour)?;
+                if filter + transmit > 0.0 && !self.warned_map_filter {
+                    self.warned_map_filter = true;
+                    let at = self.here(&colour.span);
+                    self.warnings.push(format!(
+                        "{at:?}: warning: `filter` and `transmit` in a color_map are not \
+                         rendered: the map's colours are opaque"
+                    ));
+                }
+                rgb
+            }
+        };
         let previous = entries.last().map_or(0.0, |e| e.0);
         if !(previous..=1.0).contains(&position) {
             return Err(SceneError::at(

@@ -18,7 +18,9 @@ mod object;
 mod scope;
 mod sky;
 
-use super::syntax::{Call, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind};
+use super::syntax::{
+    Call, CaseTest, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind,
+};
 use super::value::Value;
 use super::{parser, tree};
 use crate::animation::Frame;
@@ -152,6 +154,13 @@ pub struct Evaluator {
     backdrop: Vec3,
     /// `.pov`: the finish's words warned about as not rendered (once each).
     warned_finish: BTreeSet<String>,
+    /// `.pov`: the `inverse` and `clipped_by` of each object being evaluated, innermost last.
+    shapings: Vec<object::Shaping>,
+    /// Folders searched for included files after the including file's (`--include-path`).
+    include_path: Vec<PathBuf>,
+    /// `.pov`: whether the warning that a color_map's filter and transmit are not rendered has
+    /// been given.
+    warned_map_filter: bool,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).
@@ -199,6 +208,7 @@ impl Body<'_> {
                 ShapeNode::Csg { op: CsgOp::Intersection, .. } => "in an intersection",
                 ShapeNode::Csg { op: CsgOp::Difference, .. } => "in a difference",
                 ShapeNode::Csg { op: CsgOp::Merge, .. } => "in a merge",
+                ShapeNode::Csg { op: CsgOp::Inverse | CsgOp::Clip, .. } => "in this object",
                 ShapeNode::Plane { .. }
                 | ShapeNode::Sphere { .. }
                 | ShapeNode::Box { .. }
@@ -229,6 +239,12 @@ impl Evaluator {
     /// `image_width` and `image_height`; `None`: the scene's own or POV-Ray's default).
     pub fn for_image(frame: Frame, dialect: Dialect, image: Option<(u32, u32)>) -> Self {
         Evaluator { frame, dialect, image: image.unwrap_or(POV_IMAGE), ..Evaluator::default() }
+    }
+
+    /// The evaluator, searching `include_path`'s folders for included files after the
+    /// including file's own.
+    pub fn searching(self, include_path: Vec<PathBuf>) -> Self {
+        Evaluator { include_path, ..self }
     }
 
     /// Evaluates the main file and returns the scene it describes.
@@ -317,6 +333,27 @@ impl Evaluator {
                     None => Ok(()),
                 }
             }
+            Item::Switch { value, clauses, otherwise, .. } => {
+                let value = self.number(value, "`#switch`'s value")?;
+                let mut first = None;
+                for (i, clause) in clauses.iter().enumerate() {
+                    if self.case_holds(&clause.test, value)? {
+                        first = Some(i);
+                        break;
+                    }
+                }
+                let Some(first) = first else {
+                    return otherwise.as_ref().map_or(Ok(()), |items| self.exec(items, body));
+                };
+                // Clauses without `#break` fall through to the next, as in POV-Ray.
+                for clause in &clauses[first..] {
+                    self.exec(&clause.items, body)?;
+                    if clause.breaks {
+                        break;
+                    }
+                }
+                Ok(())
+            }
             Item::While { condition, body: items, span } => loop {
                 let go = self.number(condition, "`#while`'s condition")?;
                 if go == 0.0 {
@@ -380,6 +417,7 @@ impl Evaluator {
             | Item::Appearance(_)
             | Item::Pattern { .. }
             | Item::PovParam { .. }
+            | Item::ClippedBy { .. }
             | Item::Value(_) => match body {
                 Body::Scene => self.scene_item(item),
                 Body::Settings(settings) => self.setting_item(item, settings),
@@ -588,7 +626,7 @@ impl Evaluator {
         let value = match item {
             Item::Value(expr) => self.value(expr)?,
             Item::Object(object) => Value::Object(Arc::new(self.object(object)?)),
-            Item::Material(material) => Value::Material(self.material(material, None)?),
+            Item::Material(material) => self.material_value(material, None)?,
             Item::Texture(texture) => Value::Texture(Arc::new(self.texture(texture)?)),
             _ => return Err(Self::misplaced(item, &Body::Value(slot))),
         };
@@ -622,12 +660,28 @@ impl Evaluator {
     /// A `#declare`d value; `name` (the declared name) names a material in messages.
     fn declared(&mut self, value: &Declared, name: Option<&str>) -> Result<Value, SceneError> {
         Ok(match value {
-            Declared::Material(m) => Value::Material(self.material(m, name)?),
+            Declared::Material(m) => self.material_value(m, name)?,
             Declared::Object(o) => Value::Object(Arc::new(self.object(o)?)),
             Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,
             Declared::Appearance(a) => self.declared_appearance(a)?,
+            Declared::LayeredTexture { layers, .. } => {
+                let mut look = self.default_look.clone();
+                for (n, layer) in layers.iter().enumerate() {
+                    let under = look.clone();
+                    self.apply_appearance(layer, &mut look)?;
+                    if n > 0 {
+                        self.layer(&under, &mut look, &layer.span);
+                    }
+                }
+                Value::Look(Arc::new(look))
+            }
+            Declared::ColorMap { entries, .. } => {
+                let mut map = Vec::new();
+                self.exec(entries, &mut Body::ColorMap(&mut map))?;
+                Value::ColorMap(Arc::new(map))
+            }
             Declared::Camera { items, .. } => {
                 let mut given = CameraParams::new();
                 self.exec(items, &mut Body::Camera(&mut given))?;
@@ -657,6 +711,19 @@ impl Evaluator {
             Condition::Expr(e) => Ok(self.number(e, "`#if`'s condition")? != 0.0),
             Condition::Defined { name, defined } => Ok(self.is_defined(&name.name) == *defined),
         }
+    }
+
+    /// Whether a `#switch`'s `value` meets a `#case` (equal within POV-Ray's tolerance) or a
+    /// `#range` (between its ends, inclusive).
+    fn case_holds(&mut self, test: &CaseTest, value: f64) -> Result<bool, SceneError> {
+        Ok(match test {
+            CaseTest::Case(expr) => (self.number(expr, "`#case`")? - value).abs() <= EPSILON,
+            CaseTest::Range(low, high) => {
+                let low = self.number(low, "`#range`")?;
+                let high = self.number(high, "`#range`")?;
+                low - value <= EPSILON && value - high <= EPSILON
+            }
+        })
     }
 
     fn count_turn(&mut self, span: &Span) -> Result<(), SceneError> {
@@ -850,18 +917,20 @@ impl Evaluator {
 }
 
 impl Evaluator {
-    /// Where `#include "name"` in `from` reads: `from`'s folder, then each folder of
-    /// `RAYDIANCE_INCLUDE_PATH`, then (`.pov`) raydiance's built-in library, whose text is
-    /// returned. An absolute name, or one found nowhere, is read where `from` names it.
+    /// Where `#include "name"` in `from` reads: `from`'s folder, then each `--include-path`
+    /// folder, then each folder of `RAYDIANCE_INCLUDE_PATH`, then (`.pov`) raydiance's built-in
+    /// library, whose text is returned. An absolute name, or one found nowhere, is read where
+    /// `from` names it.
     fn find_include(&self, from: &Path, name: &str) -> (PathBuf, Option<&'static str>) {
         let local = resolve(from, name);
         if local.is_file() || Path::new(name).is_absolute() {
             return (local, None);
         }
-        let folders = std::env::var_os(INCLUDE_PATH_VARIABLE)
+        let variable = std::env::var_os(INCLUDE_PATH_VARIABLE)
             .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
             .unwrap_or_default();
-        if let Some(found) = folders.iter().map(|f| f.join(name)).find(|p| p.is_file()) {
+        let mut folders = self.include_path.iter().chain(&variable);
+        if let Some(found) = folders.find_map(|f| Some(f.join(name)).filter(|p| p.is_file())) {
             return (found, None);
         }
         match (self.dialect, crate::lang::library::file(name)) {

@@ -9,10 +9,11 @@ use super::{
     Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE,
     as_vector, resolve,
 };
-use crate::diagnostic::SceneError;
-use crate::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform};
+use super::{Look, Pigment};
+use crate::diagnostic::{SceneError, Span};
+use crate::graph::{Below, CsgOp, ObjectNode, Pattern, ShapeNode, TextureNode, Transform};
 use crate::lang::dialect::Dialect;
-use crate::lang::syntax::{self, Item, Shape, TransformKind};
+use crate::lang::syntax::{self, AppearanceKind, Item, Shape, TransformKind};
 use crate::lang::value::Value;
 
 impl Evaluator {
@@ -159,9 +160,12 @@ impl Evaluator {
         }
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.looks.push(None);
+        self.shapings.push(Shaping::default());
         let items = self.exec(&object.items, &mut Body::Object(&mut node));
         let look = self.looks.pop().flatten();
+        let shaping = self.shapings.pop().unwrap_or_default();
         items?;
+        let mut node = shaping.shaped(node);
         if let Some(look) = look {
             node.material = Some(self.look_material(&look, &object.span));
         }
@@ -176,6 +180,8 @@ impl Evaluator {
                 CsgOp::Intersection => "an intersection",
                 CsgOp::Difference => "a difference",
                 CsgOp::Merge => "a merge",
+                CsgOp::Inverse => "an inverse",
+                CsgOp::Clip => "a clipped object",
             };
             if operands.is_empty() {
                 let message = format!("{what} of no operands: it would be empty");
@@ -248,6 +254,12 @@ impl Evaluator {
         node: &mut ObjectNode,
     ) -> Result<(), SceneError> {
         match item {
+            Item::Material(m) if self.dialect == Dialect::Pov => {
+                let look = self.pov_material(m)?;
+                if let Some(slot) = self.looks.last_mut() {
+                    *slot = Some(look);
+                }
+            }
             Item::Material(m) => node.material = Some(self.material(m, None)?),
             Item::MaterialName(name) => node.material = Some(self.material_named(name)?),
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
@@ -260,6 +272,11 @@ impl Evaluator {
                 };
                 match key.name.as_str() {
                     "hollow" | "double_illuminate" | "bounded_by" => {}
+                    "inverse" => {
+                        if let Some(shaping) = self.shapings.last_mut() {
+                            shaping.inverse = !shaping.inverse;
+                        }
+                    }
                     "no_shadow" | "no_image" | "no_reflection" if on => {
                         let at = self.here(&key.span);
                         self.warnings.push(format!(
@@ -277,11 +294,37 @@ impl Evaluator {
                     Some(look) => look,
                     None => self.default_look.clone(),
                 };
+                let under = look.clone();
                 let result = self.apply_appearance(appearance, &mut look);
+                let texture = appearance.kind == AppearanceKind::Texture;
+                let layered = match self.shapings.last_mut() {
+                    Some(shaping) if texture => std::mem::replace(&mut shaping.textured, true),
+                    _ => false,
+                };
+                if layered && result.is_ok() {
+                    self.layer(&under, &mut look, &appearance.span);
+                }
                 if let Some(slot) = self.looks.last_mut() {
                     *slot = Some(look);
                 }
                 result?;
+            }
+            Item::ClippedBy { items, .. } => {
+                let mut clip = ObjectNode {
+                    shape: ShapeNode::Union(Vec::new()),
+                    material: None,
+                    transforms: Vec::new(),
+                    depth: 1,
+                    span: self.here(item.span()),
+                };
+                self.exec(items, &mut Body::Object(&mut clip))?;
+                let ShapeNode::Union(by) = clip.shape else { unreachable!("made a union") };
+                if by.is_empty() {
+                    return Err(SceneError::at(item.span(), "`clipped_by` of no objects"));
+                }
+                if let Some(shaping) = self.shapings.last_mut() {
+                    shaping.clips.push((node.transforms.len(), by));
+                }
             }
             Item::Object(object) if children(&mut node.shape).is_some() => {
                 let child = self.object(object)?;
@@ -291,6 +334,11 @@ impl Evaluator {
                 // What a macro gives among an object's items: a material, or a child of a group
                 // or CSG object.
                 Value::Material(m) => node.material = Some(m),
+                Value::Look(look) => {
+                    if let Some(slot) = self.looks.last_mut() {
+                        *slot = Some((*look).clone());
+                    }
+                }
                 Value::Object(child) if children(&mut node.shape).is_some() => {
                     let child = super::instance(child, self.here(&expr.span));
                     add_child(node, child);
@@ -300,6 +348,34 @@ impl Evaluator {
             _ => return Err(Self::misplaced(item, &Body::Object(node))),
         }
         Ok(())
+    }
+
+    /// POV-Ray's layered textures: a `texture` over another shows the one under it through its
+    /// pigment's filter and transmit. Flattened into one look: the pigments are mixed by how
+    /// much the top lets through (with a warning), and the top's finish is kept; an opaque top
+    /// covers the layer under it, as in POV-Ray.
+    pub(super) fn layer(&mut self, under: &Look, over: &mut Look, span: &Span) {
+        let through = (over.pigment.filter + over.pigment.transmit).clamp(0.0, 1.0);
+        if through == 0.0 {
+            return;
+        }
+        let at = self.here(span);
+        self.warnings.push(format!(
+            "{at:?}: warning: layered `texture`: the layers' pigments are mixed by the top one's \
+             filter and transmit, and the top one's finish applies to both"
+        ));
+        over.pigment = Pigment {
+            colour: TextureNode {
+                pattern: Pattern::Mix {
+                    a: Box::new(under.pigment.colour.clone()),
+                    b: Box::new(over.pigment.colour.clone()),
+                    t: Box::new(TextureNode::solid(Vec3::splat(1.0 - through))),
+                },
+                transforms: Vec::new(),
+            },
+            filter: under.pigment.filter * through,
+            transmit: under.pigment.transmit * through,
+        };
     }
 
     pub(super) fn transform(&mut self, t: &syntax::Transform) -> Result<Transform, SceneError> {
@@ -347,6 +423,50 @@ impl Evaluator {
                 Transform::Matrix { linear, translation: Vec3::new(m[9], m[10], m[11]) }
             }
         })
+    }
+}
+
+/// POV-Ray's `inverse` and `clipped_by` of an object, applied once its items are read.
+#[derive(Default)]
+pub struct Shaping {
+    inverse: bool,
+    /// A `texture` has been given: another is layered over it.
+    textured: bool,
+    /// Each `clipped_by`'s objects, with how many of the object's transforms stood before it:
+    /// those move the object alone, the later ones the object and its clipping objects.
+    clips: Vec<(usize, Vec<ObjectNode>)>,
+}
+
+impl Shaping {
+    /// The object clipped, then turned inside out, as written.
+    fn shaped(self, mut node: ObjectNode) -> ObjectNode {
+        let mut placed = 0;
+        for (before, by) in self.clips {
+            let after = node.transforms.split_off(before - placed);
+            placed = before;
+            let span = node.span.clone();
+            let depth = by.iter().map(|o| o.depth).max().unwrap_or(0).max(node.depth) + 1;
+            let mut operands = vec![node];
+            operands.extend(by);
+            node = ObjectNode {
+                shape: ShapeNode::Csg { op: CsgOp::Clip, operands },
+                material: None,
+                transforms: after,
+                depth,
+                span,
+            };
+        }
+        if self.inverse {
+            let (span, depth) = (node.span.clone(), node.depth + 1);
+            node = ObjectNode {
+                shape: ShapeNode::Csg { op: CsgOp::Inverse, operands: vec![node] },
+                material: None,
+                transforms: Vec::new(),
+                depth,
+                span,
+            };
+        }
+        node
     }
 }
 

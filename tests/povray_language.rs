@@ -1,0 +1,288 @@
+//! POV-Ray's language in `.pov` scenes (`docs/povray.md`): `#switch`, colours by components and
+//! their arithmetic, every form of `color_map`, `inverse` and `clipped_by` — each read, and each
+//! misuse refused where it is written.
+
+use std::path::Path;
+
+use glam::Vec3;
+use raydiance::graph::{CsgOp, Pattern, SceneGraph, ShapeNode, TextureNode};
+use raydiance::lang::parse_scene;
+use raydiance::texture::Texture;
+
+fn pov(text: &str) -> SceneGraph {
+    parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn pov_error(text: &str) -> String {
+    parse_scene(Path::new("tests/inline.pov"), text).map(|_| ()).unwrap_err().to_string()
+}
+
+fn scn_error(text: &str) -> String {
+    parse_scene(Path::new("tests/inline.scn"), text).map(|_| ()).unwrap_err().to_string()
+}
+
+/// The radius of the scene's first object, a sphere: where a test puts the number it computes.
+fn radius(graph: &SceneGraph) -> f32 {
+    match graph.objects[0].shape {
+        ShapeNode::Sphere { radius, .. } => radius,
+        ref other => panic!("not a sphere: {other:?}"),
+    }
+}
+
+fn sphere_of(value: &str, declarations: &str) -> f32 {
+    radius(&pov(&format!("{declarations}\nsphere {{ 0, {value} }}")))
+}
+
+const SWITCH: &str = "
+#switch (V)
+  #case (1)
+    #declare R = 1;
+  #break
+  #range (2, 3)
+    #declare R = 2;
+  #case (4)
+    #declare R = R + 10;
+  #break
+  #case (5)
+    #declare R = 5;
+    #break
+    #declare R = 50;
+  #else
+    #declare R = 100;
+#end";
+
+#[test]
+fn switch_runs_the_first_clause_that_holds_and_falls_through_until_break() {
+    let r = |v: f64| sphere_of("R", &format!("#declare V = {v};\n#declare R = 0;\n{SWITCH}"));
+    assert_eq!(r(1.0), 1.0);
+    // A `#range` holds at its ends; without `#break` the next clause runs too.
+    assert_eq!(r(2.0), 12.0);
+    assert_eq!(r(3.0), 12.0);
+    assert_eq!(r(4.0), 10.0);
+    // What follows a `#break` up to the next clause is skipped.
+    assert_eq!(r(5.0), 5.0);
+    assert_eq!(r(7.0), 100.0);
+    assert_eq!(r(3.5), 100.0);
+}
+
+#[test]
+fn switch_misuse_is_refused_where_it_stands() {
+    let outside = pov_error("#case (1)\nsphere { 0, 1 }");
+    assert!(outside.starts_with("tests/inline.pov:1:1:"), "{outside}");
+    assert!(outside.contains("`#case` stands only among a `#switch`'s clauses"), "{outside}");
+    let nested = pov_error("#switch (1)\n#case (1)\n#if (1)\n#break\n#end\n#end");
+    assert!(nested.starts_with("tests/inline.pov:4:1:"), "{nested}");
+    let before = pov_error("#switch (1)\nsphere { 0, 1 }\n#case (1)\n#end");
+    assert!(before.starts_with("tests/inline.pov:2:1:"), "{before}");
+    assert!(before.contains("before its first `#case`"), "{before}");
+    let after_else = pov_error("#switch (1)\n#else\n#case (1)\n#end");
+    assert!(after_else.contains("after the `#else`"), "{after_else}");
+    let open = pov_error("#switch (1)\n#case (1)\n");
+    assert!(open.contains("`#switch` without its `#end`"), "{open}");
+    let scn = scn_error("#switch (1)\n#end");
+    assert!(scn.contains("`#switch`") && scn.contains("#elseif"), "{scn}");
+}
+
+#[test]
+fn colours_have_components_keywords_and_arithmetic() {
+    let c = "#declare C = color red 0.5 green 0.25 filter 0.5;";
+    assert_eq!(sphere_of("C.red + C.green", c), 0.75);
+    assert_eq!(sphere_of("C.filter + C.transmit + 1", c), 1.5);
+    // A colour times a number scales every component; a vector adds as a colour without filter.
+    assert_eq!(
+        sphere_of("D.red + D.filter", &format!("{c}\n#declare D = C * 0.5 + <0.1, 0, 0>;")),
+        0.6
+    );
+    // A component changes a declared colour; an rgb colour has no filter or transmit.
+    assert_eq!(
+        sphere_of("E.blue + E.transmit + 1", "#declare E = color rgb <1, 1, 0.5> transmit 0.25;"),
+        1.75
+    );
+    assert_eq!(sphere_of("F.filter + F.transmit + F.x", "#declare F = rgb <0.5, 0, 0>;"), 0.5);
+    assert_eq!(sphere_of("G.t + G.transmit", "#declare G = rgbf <0, 0, 0, 0.5>;"), 0.5);
+    let component = scn_error("#declare V = <1, 2, 3>;\n#declare W = V.red;");
+    assert!(component.starts_with("tests/inline.scn:2:15:"), "{component}");
+    let word = scn_error("#declare C = rgb 1 filter 0.5;");
+    assert!(word.contains("`filter`"), "{word}");
+    let missing = pov_error("#declare V = <1, 2>;\nsphere { 0, V.z }");
+    assert!(missing.starts_with("tests/inline.pov:2:14:"), "{missing}");
+    assert!(missing.contains("a 2-vector has no component 3"), "{missing}");
+}
+
+/// The colour map of the first object's gradient pigment.
+fn gradient_map(graph: &SceneGraph) -> Vec<(f32, Vec3)> {
+    fn find(node: &TextureNode) -> Option<Vec<(f32, Vec3)>> {
+        match &node.pattern {
+            Pattern::Gradient { map, .. } => Some(map.clone()),
+            Pattern::Mix { a, .. } => find(a),
+            _ => None,
+        }
+    }
+    let material = graph.objects[0].material.clone().expect("a material");
+    find(&material.diffuse).expect("a gradient")
+}
+
+#[test]
+fn color_maps_take_every_form_povray_writes() {
+    let graph =
+        pov("#declare M = color_map { [0, 0.5 color rgb 0 color rgb 1] [0.5 rgb <1, 0, 0>] \
+                     [1.0 color red 1 blue 0.5] }\n\
+                     sphere { 0, 1 pigment { gradient y color_map { M } } }");
+    let expected = [
+        (0.0, Vec3::ZERO),
+        (0.5, Vec3::ONE),
+        (0.5, Vec3::new(1.0, 0.0, 0.0)),
+        (1.0, Vec3::new(1.0, 0.0, 0.5)),
+    ];
+    assert_eq!(gradient_map(&graph), expected);
+    // An entry's filter or transmit is dropped with a warning naming it.
+    let graph = pov(
+        "sphere { 0, 1 pigment { gradient y color_map { [0 rgbt <1, 1, 1, 0.5>] [1 rgb 0] } } }",
+    );
+    assert_eq!(gradient_map(&graph)[0], (0.0, Vec3::ONE));
+    assert!(
+        graph
+            .warnings
+            .iter()
+            .any(|w| w.starts_with("tests/inline.pov:1:51:") && w.contains("`transmit`")),
+        "{:?}",
+        graph.warnings
+    );
+}
+
+#[test]
+fn color_map_misuse_is_refused_where_it_stands() {
+    let one = pov_error("sphere { 0, 1 pigment { gradient y color_map { [0, 1 color rgb 1] } } }");
+    assert!(
+        one.starts_with("tests/inline.pov:1:52:") && one.contains("needs two colours"),
+        "{one}"
+    );
+    let two = pov_error("sphere { 0, 1 pigment { gradient y color_map { [0 rgb 1 rgb 0] } } }");
+    assert!(two.starts_with("tests/inline.pov:1:57:") && two.contains("range's end"), "{two}");
+    let name = pov_error("#declare N = 3;\nsphere { 0, 1 pigment { gradient y color_map { N } } }");
+    assert!(name.starts_with("tests/inline.pov:2:48:") && name.contains("not a number"), "{name}");
+    let scn = scn_error("#declare M = color_map { [0 rgb 1] }");
+    assert!(scn.contains("`color_map`"), "{scn}");
+}
+
+#[test]
+fn inverse_and_clipped_by_wrap_the_object_transforms_after_clipped_by_move_both() {
+    let graph = pov("sphere { 0, 1 inverse pigment { rgb 1 } }\n\
+                     sphere { 0, 1 translate x clipped_by { plane { y, 0 } } scale 2 }");
+    match &graph.objects[0].shape {
+        ShapeNode::Csg { op: CsgOp::Inverse, operands } => {
+            assert!(matches!(operands[0].shape, ShapeNode::Sphere { .. }));
+            assert!(graph.objects[0].material.is_some(), "the look is on the whole");
+        }
+        other => panic!("not inverted: {other:?}"),
+    }
+    let clipped = &graph.objects[1];
+    match &clipped.shape {
+        ShapeNode::Csg { op: CsgOp::Clip, operands } => {
+            assert_eq!(operands.len(), 2);
+            assert_eq!(operands[0].transforms.len(), 1, "translate moves the sphere alone");
+            assert!(matches!(operands[1].shape, ShapeNode::Plane { .. }));
+        }
+        other => panic!("not clipped: {other:?}"),
+    }
+    assert_eq!(clipped.transforms.len(), 1, "scale moves the sphere and its clip");
+    let scn = scn_error("camera { location <0, 0, -1> look_at 0 }\nsphere { 0, 1 inverse }");
+    assert!(scn.starts_with("tests/inline.scn:2:15:") && scn.contains("`inverse`"), "{scn}");
+    let empty = pov_error("sphere { 0, 1 clipped_by { } }");
+    assert!(empty.starts_with("tests/inline.pov:1:15:") && empty.contains("no objects"), "{empty}");
+}
+
+#[test]
+fn a_pov_material_holds_a_texture_and_an_interior_and_may_be_declared() {
+    let graph = pov("#declare M = material { texture { pigment { rgbf <1, 1, 1, 1> } } \
+                     interior { ior 1.5 } }\n\
+                     sphere { 0, 1 material { M } }\n\
+                     sphere { 0, 1 material { texture { pigment { rgb <1, 0, 0> } } } }");
+    let glass = graph.objects[0].material.clone().expect("a material");
+    assert_eq!((glass.ior, glass.transmission), (1.5, Vec3::ONE));
+    let red = graph.objects[1].material.clone().expect("a material");
+    assert_eq!(red.diffuse.pattern, Pattern::Solid(Vec3::new(0.6, 0.0, 0.0)));
+    let wrong = pov_error("#declare N = 1;\nsphere { 0, 1 material { N } }");
+    assert!(
+        wrong.starts_with("tests/inline.pov:2:26:") && wrong.contains("not a material"),
+        "{wrong}"
+    );
+}
+
+#[test]
+fn layered_textures_show_the_lower_layer_through_the_upper_with_a_warning() {
+    let graph = pov("sphere { 0, 1 texture { pigment { rgb <1, 0, 0> } } \
+                     texture { pigment { rgbt <0, 0, 1, 0.25> } } }\n\
+                     sphere { 0, 1 texture { pigment { rgb <1, 0, 0> } } \
+                     texture { pigment { rgb <0, 0, 1> } } }\n\
+                     #declare T = texture { pigment { rgb <0, 1, 0> } } texture { pigment { rgbf <1, 1, 1, 1> } }\n\
+                     sphere { 0, 1 texture { T } }");
+    let albedo = |n: usize| {
+        let diffuse = graph.objects[n].material.clone().expect("a material").diffuse.clone();
+        let texture = Texture::new(&diffuse, &mut |_| unreachable!("no image")).unwrap();
+        texture.eval(Vec3::ZERO)
+    };
+    // A quarter of the red under the blue shows through: 0.6 × (0.25 red + 0.75 blue).
+    assert!((albedo(0) - Vec3::new(0.15, 0.0, 0.45)).abs().max_element() < 1e-6, "{}", albedo(0));
+    // An opaque top layer covers the one under it, as in POV-Ray.
+    assert_eq!(albedo(1), Vec3::new(0.0, 0.0, 0.6));
+    // A clear top layer shows all of the declared green under it.
+    assert_eq!(albedo(2), Vec3::new(0.0, 0.6, 0.0));
+    let layered: Vec<_> =
+        graph.warnings.iter().filter(|w| w.contains("layered `texture`")).collect();
+    assert_eq!(layered.len(), 2, "{:?}", graph.warnings);
+    assert!(layered[0].starts_with("tests/inline.pov:1:53:"), "{layered:?}");
+}
+
+#[test]
+fn commas_between_a_shape_s_arguments_are_optional_in_pov_only() {
+    let graph = pov("box { <-1, -1, -1> <1, 1, 1> }\nsphere { <0, 0, 0> 1 }\n\
+                     cylinder { <0, 0, 0> <0, 1, 0> 0.5 }");
+    assert!(matches!(graph.objects[0].shape, ShapeNode::Box { .. }));
+    assert_eq!(radius(&SceneGraph { objects: graph.objects[1..].to_vec(), ..graph.clone() }), 1.0);
+    let scn = scn_error("camera { location <0, 0, -1> look_at 0 }\nbox { <-1, -1, -1> <1, 1, 1> }");
+    assert!(
+        scn.starts_with("tests/inline.scn:2:20:") && scn.contains("is a `,` missing?"),
+        "{scn}"
+    );
+}
+
+/// Renders `scene` with `--include-path` folders and `RAYDIANCE_INCLUDE_PATH`; its stderr if it
+/// failed.
+fn render_with(scene: &Path, paths: &[&Path], variable: &Path) -> Option<String> {
+    let out = scene.with_extension("exr");
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"));
+    command.args(["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    command.args(["--width", "4", "--height", "4", "--samples", "1"]);
+    for path in paths {
+        command.arg("--include-path").arg(path);
+    }
+    let output = command.env("RAYDIANCE_INCLUDE_PATH", variable).output().unwrap();
+    (!output.status.success()).then(|| String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
+#[test]
+fn includes_are_found_beside_the_file_then_on_the_include_path_then_the_variable() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::create_dir_all(&path).unwrap();
+        std::fs::write(path.join("x.inc"), text).unwrap();
+        path
+    };
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    let scene = scenes.join("main.pov");
+    std::fs::write(&scene, "#include \"x.inc\"\nsphere { 0, 1 pigment { rgb 1 } }\n").unwrap();
+    let first = folder("first", "#declare A = 1;");
+    let second = folder("second", "#error \"from the second --include-path\"");
+    let variable = folder("variable", "#error \"from RAYDIANCE_INCLUDE_PATH\"");
+    let failed = render_with(&scene, &[], &variable).expect("the variable's file is read");
+    assert!(failed.contains("from RAYDIANCE_INCLUDE_PATH"), "{failed}");
+    assert_eq!(render_with(&scene, &[&first, &second], &variable), None, "--include-path first");
+    let failed = render_with(&scene, &[&second, &first], &variable).expect("in the order given");
+    assert!(failed.contains("from the second --include-path"), "{failed}");
+    std::fs::write(scenes.join("x.inc"), "#error \"beside the scene\"").unwrap();
+    let failed = render_with(&scene, &[&first], &variable).expect("the scene's folder first");
+    assert!(failed.contains("beside the scene"), "{failed}");
+}
