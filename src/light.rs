@@ -198,7 +198,10 @@ impl Light {
             }
             Light::Modified { light, bulb, .. } => {
                 let mut sample = light.sample_emission(photons, u_point, u_direction)?;
-                sample.ray = Ray::new(sample.ray.at(*bulb), sample.ray.dir.into());
+                // An unbounded object (a plane) has no outside to start from.
+                if bulb.is_finite() {
+                    sample.ray = Ray::new(sample.ray.at(*bulb), sample.ray.dir.into());
+                }
                 Some(sample)
             }
         }

@@ -11,9 +11,10 @@ use crate::geometry::Frame;
 /// Bins of the tabulated profile over cos(theta) in [0, 1].
 const BINS: usize = 512;
 
-/// Simpson intervals integrating the profile over each bin (the spline and cos^tightness are
-/// smooth within a bin except at the two edges of the falloff, where Simpson's error is tiny).
-const SIMPSON: usize = 8;
+/// Midpoints integrating the profile over each bin (the spline and cos^tightness are smooth but
+/// for a hard edge where `falloff` = `radius`; no endpoint is taken, so a cone of zero width,
+/// lit only exactly on its axis, has no power).
+const MIDPOINTS: usize = 8;
 
 /// POV-Ray's spotlight profile as a function of cos(theta), theta from the axis:
 /// cos^tightness theta times the cubic spline from 0 at `falloff` to 1 at `radius`
@@ -85,17 +86,13 @@ pub struct SpotDirection {
 
 impl Spot {
     pub fn new(position: Vec3, axis: Vec3, intensity: Vec3, profile: SpotProfile) -> Self {
-        let width = 1.0 / BINS as f64;
-        let h = width / SIMPSON as f64;
+        let h = 1.0 / (BINS * MIDPOINTS) as f64;
         let p = |mu: f64| f64::from(profile.eval(mu as f32));
         let mut cdf = Vec::with_capacity(BINS);
         let mut sum = 0.0;
         for bin in 0..BINS {
-            let start = bin as f64 * width;
-            let inner: f64 = (1..SIMPSON)
-                .map(|k| if k % 2 == 1 { 4.0 } else { 2.0 } * p(start + k as f64 * h))
-                .sum();
-            sum += h / 3.0 * (p(start) + inner + p(start + width));
+            let first = bin * MIDPOINTS;
+            sum += (first..first + MIDPOINTS).map(|k| h * p((k as f64 + 0.5) * h)).sum::<f64>();
             cdf.push(sum);
         }
         let cdf = cdf.iter().map(|c| if sum > 0.0 { (c / sum) as f32 } else { 0.0 }).collect();
