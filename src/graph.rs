@@ -9,12 +9,13 @@ use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
 pub use crate::geometry::CsgOp;
+pub use crate::light::SpotProfile;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
     pub settings: Settings,
     pub camera: CameraDesc,
-    pub lights: Vec<PointLightDesc>,
+    pub lights: Vec<LightDesc>,
     pub objects: Vec<ObjectNode>,
     /// POV-Ray's `sky_sphere`: an environment light from a pigment (`.pov`).
     pub sky: Option<SkyDesc>,
@@ -152,12 +153,29 @@ pub struct SkyDesc {
     pub span: Span,
 }
 
-/// `light_source { <c> power rgb p }`: p acts as radiant intensity (the course's Lab 4 formula).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PointLightDesc {
+/// `light_source { <c> power rgb p form }`: p acts as radiant intensity (the course's Lab 4
+/// formula; a spotlight's on its axis), a parallel light's as irradiance on a surface facing it.
+#[derive(Debug, Clone)]
+pub struct LightDesc {
     pub position: Vec3,
     pub power: Vec3,
+    pub form: LightForm,
+    /// POV-Ray's `shadowless`: the light's direct light is never blocked.
+    pub shadowless: bool,
+    /// POV-Ray's `looks_like`: an object, placed at the light, seen but not blocking it.
+    pub looks_like: Option<Arc<ObjectNode>>,
     pub span: Span,
+}
+
+/// How a light sends its power out.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LightForm {
+    /// The same intensity in every direction.
+    Point,
+    /// Towards `point_at`, with POV-Ray's spotlight profile.
+    Spot { point_at: Vec3, profile: SpotProfile },
+    /// From infinitely far away, along the direction from the light's position to `point_at`.
+    Parallel { point_at: Vec3 },
 }
 
 /// `material { ... }`, all fields explicit (defaults filled in by `lang`).

@@ -1,17 +1,19 @@
-//! Lights: point lights, emissive primitives (area lights) and the environment, each holding
-//! what it emits from; sampled towards a point (next-event estimation) and for emission (photon
-//! tracing).
+//! Lights: point lights, spotlights, distant lights, emissive primitives (area lights) and the
+//! environment, each holding what it emits from; sampled towards a point (next-event
+//! estimation) and for emission (photon tracing).
 
 mod environment;
+mod spot;
 
 pub use environment::Environment;
+pub use spot::{Spot, SpotProfile};
 
 use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
 use crate::geometry::{DirectionSample, Frame, Hit, Ray, Shape, offset_origin};
-use crate::sampling::{cosine_hemisphere, uniform_sphere};
+use crate::sampling::{concentric_disk, cosine_hemisphere, uniform_sphere};
 
 #[derive(Debug, Clone)]
 pub enum Light {
@@ -22,6 +24,16 @@ pub enum Light {
     Area { shape: Shape, emission: Vec3, area: f32, primitive: u32 },
     /// Radiance arriving from infinitely far away (a sky): rays that leave the scene find it.
     Environment(Box<Environment>),
+    /// A point light with an angular profile (`light::spot`).
+    Spot(Spot),
+    /// A light from infinitely far away, travelling along unit `direction`, giving `irradiance`
+    /// on a surface facing it; its photons leave a disk covering the sphere (`centre`,
+    /// `radius`) that bounds the scene's finite objects.
+    Distant { direction: Vec3, irradiance: Vec3, centre: Vec3, radius: f32 },
+    /// A delta light with POV-Ray's modifiers: what lies within `bulb` of it (`looks_like`'s
+    /// object) does not block it, so shadow rays stop and photons start that far from it; a
+    /// `shadowless` light's direct light is never blocked.
+    Modified { light: Box<Light>, bulb: f32, shadowless: bool },
 }
 
 /// Incident light at a point from one sampled light position, if nothing is in the way.
@@ -46,7 +58,11 @@ pub struct ShadowRay {
 
 impl Light {
     pub fn is_delta(&self) -> bool {
-        matches!(self, Light::Point { .. })
+        match self {
+            Light::Point { .. } | Light::Spot(_) | Light::Distant { .. } => true,
+            Light::Area { .. } | Light::Environment(_) => false,
+            Light::Modified { light, .. } => light.is_delta(),
+        }
     }
 
     /// Emitted power (mean over RGB), for choosing lights in proportion to it: 4 pi I for a
@@ -62,6 +78,9 @@ impl Light {
             Light::Point { power, .. } => 4.0 * PI * *power,
             Light::Area { emission, area, .. } => PI * *area * *emission,
             Light::Environment(sky) => sky.power_rgb(),
+            Light::Spot(spot) => spot.power_rgb(),
+            Light::Distant { irradiance, radius, .. } => PI * radius * radius * *irradiance,
+            Light::Modified { light, .. } => light.power_rgb(),
         }
     }
 
@@ -104,6 +123,28 @@ impl Light {
                     shadow,
                 });
             }
+            Light::Spot(spot) => {
+                let to_light = spot.position - hit.point;
+                let distance_squared = to_light.length_squared();
+                let wi = to_light / distance_squared.sqrt();
+                let li = spot.intensity_towards(-wi) / distance_squared;
+                if li == Vec3::ZERO {
+                    return None;
+                }
+                (spot.position, wi, li, 1.0, true)
+            }
+            &Light::Distant { direction, irradiance, .. } => {
+                let wi = -direction;
+                let ray = Ray::new(offset_origin(hit, wi), wi);
+                let shadow = ShadowRay { ray, t_max: f32::INFINITY };
+                return Some(LightSample { wi, li: irradiance, pdf: 1.0, is_delta: true, shadow });
+            }
+            Light::Modified { light, bulb, shadowless } => {
+                let mut sample = light.sample(hit, u)?;
+                sample.shadow.t_max =
+                    if *shadowless { 0.0 } else { (sample.shadow.t_max - bulb).max(0.0) };
+                return Some(sample);
+            }
         };
         let shadow = shadow_ray(hit, target, wi);
         Some(LightSample { wi, li, pdf, is_delta, shadow })
@@ -113,10 +154,16 @@ impl Light {
     /// `on_light`, a hit on this (area) light. (The environment's is `Environment::pdf`, of a
     /// direction.)
     pub fn pdf(&self, from: Vec3, on_light: &Hit) -> f32 {
-        let Light::Area { ref shape, area, .. } = *self else {
-            return 0.0;
-        };
-        shape.pdf_from(from, area, on_light.point, on_light.normal)
+        match self {
+            Light::Area { shape, area, .. } => {
+                shape.pdf_from(from, *area, on_light.point, on_light.normal)
+            }
+            Light::Point { .. }
+            | Light::Spot(_)
+            | Light::Distant { .. }
+            | Light::Environment(_) => 0.0,
+            Light::Modified { light, .. } => light.pdf(from, on_light),
+        }
     }
 }
 
@@ -124,9 +171,9 @@ impl Light {
 #[derive(Debug, Clone, Copy)]
 pub struct EmissionSample {
     pub ray: Ray,
-    /// The light's power divided by the number of photons it emits: Le cos / (pdf_A pdf_w)
-    /// over them, which for point and area lights is the same for every photon (a textured
-    /// sky's photons carry it on average).
+    /// Le cos / (pdf_A pdf_w) over the number of photons the light emits: its power over that
+    /// number, the same for every photon but a spotlight's (whose density follows its profile
+    /// bin by bin) and a textured sky's, whose mean it is.
     pub power: Vec3,
 }
 
@@ -134,8 +181,10 @@ impl Light {
     /// One of `photons` photons from this light: a point light's uniform over the sphere
     /// (4 pi I / n each), an area light's from a point uniform by area, cosine-weighted over
     /// the hemisphere its emitting side faces (Le cos / (1/A cos/pi) = pi A Le, / n each). So
-    /// `photons` photons carry exactly `power_rgb`; the environment's from a disc facing a
-    /// direction it samples (`Environment::sample_photon`). `None` where there is no sample.
+    /// `photons` photons carry exactly `power_rgb`; a spotlight's leave with density following
+    /// its profile, a distant light's from a disk across the scene's bounding sphere, the
+    /// environment's from a disc facing a direction it samples (`Environment::sample_photon`).
+    /// `None` where the shape or profile has no sample.
     pub fn sample_emission(
         &self,
         photons: u32,
@@ -158,6 +207,28 @@ impl Light {
             Light::Environment(sky) => {
                 let (origin, dir, power) = sky.sample_photon(u_point, u_direction, share)?;
                 Some(EmissionSample { ray: Ray::new(origin, dir), power })
+            }
+            Light::Spot(spot) => {
+                let sampled = spot.sample_direction(u_direction)?;
+                let ray = Ray::new(spot.position, sampled.direction);
+                let power = spot.intensity_towards(sampled.direction) / sampled.pdf * share;
+                Some(EmissionSample { ray, power })
+            }
+            &Light::Distant { direction, irradiance, centre, radius } => {
+                let across = concentric_disk(u_point) * radius;
+                let frame = Frame::from_normal(direction);
+                // Upstream of the bounding sphere: the disk is outside it.
+                let origin = centre + frame.to_world(across.extend(-radius));
+                let power = PI * radius * radius * irradiance * share;
+                Some(EmissionSample { ray: Ray::new(origin, direction), power })
+            }
+            Light::Modified { light, bulb, .. } => {
+                let mut sample = light.sample_emission(photons, u_point, u_direction)?;
+                // An unbounded object (a plane) has no outside to start from.
+                if bulb.is_finite() {
+                    sample.ray = Ray::new(sample.ray.at(*bulb), sample.ray.dir.into());
+                }
+                Some(sample)
             }
         }
     }

@@ -465,7 +465,11 @@ fn light_sampling(scene_text: &str, point: Vec3, normal: Vec3) {
     let index = (0..scene.lights.len())
         .find(|&i| match scene.lights[i] {
             Light::Area { ref shape, .. } => matches!(shape, Shape::Quadric { .. }),
-            Light::Point { .. } | Light::Environment(_) => false,
+            Light::Point { .. }
+            | Light::Environment(_)
+            | Light::Spot(_)
+            | Light::Distant { .. }
+            | Light::Modified { .. } => false,
         })
         .unwrap_or(0);
     let light = &scene.lights[index];

@@ -179,7 +179,8 @@ fn combine(op: CsgOp, a: &Crossings, b: &Crossings) -> Crossings {
     while i < a.list.len() || j < b.list.len() {
         let first = next_t(i, j);
         let together = first + COINCIDENT * first.abs();
-        // The last crossing of the group that changed the result: its surface is the one seen.
+        // The last crossing of the group that changed the result (and whether it is a's): its
+        // surface is the one seen.
         let mut changed_by = None;
         loop {
             let before = op.combine(in_a, in_b);
@@ -195,7 +196,7 @@ fn combine(op: CsgOp, a: &Crossings, b: &Crossings) -> Crossings {
                 b.list[j - 1]
             };
             if op.combine(in_a, in_b) != before {
-                changed_by = Some(crossing);
+                changed_by = Some((crossing, take_a));
             }
             // (At least one crossing a turn, so a NaN distance cannot stall the walk.)
             let more = i < a.list.len() || j < b.list.len();
@@ -204,10 +205,10 @@ fn combine(op: CsgOp, a: &Crossings, b: &Crossings) -> Crossings {
             }
         }
         let now = op.combine(in_a, in_b);
-        if let (true, Some(crossing)) = (now != inside, changed_by) {
+        if let (true, Some((crossing, of_a))) = (now != inside, changed_by) {
             inside = now;
             // A clipping solid's surface is not the result's: the result is open there.
-            let surface = take_a || op != CsgOp::Clip;
+            let surface = of_a || op != CsgOp::Clip;
             if surface && out.list.try_push(Crossing { entering: now, ..crossing }).is_err() {
                 break;
             }

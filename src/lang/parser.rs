@@ -336,7 +336,15 @@ fn describe(rule: Rule) -> &'static str {
         Rule::finish_item => "a finish item (`ambient`, `diffuse`, `reflection`, ...)",
         Rule::reflection_item => "`fresnel`, `metallic`, `falloff` or `exponent`",
         Rule::interior_item => "`ior`",
-        Rule::light_option => "`fade_distance`, `fade_power` or `shadowless`",
+        Rule::light_option
+        | Rule::light_number
+        | Rule::light_flag
+        | Rule::light_area
+        | Rule::looks_like
+        | Rule::looks_like_key => {
+            "a light's modifier (`spotlight`, `parallel`, `radius`, `falloff`, `tightness`, \
+             `point_at`, ...)"
+        }
         Rule::clipped_by => "`clipped_by`",
         Rule::arg_comma => "`,`",
         Rule::object_modifier | Rule::truth_value | Rule::truth_word => {

@@ -56,9 +56,9 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
             "POV-Ray's `background { color ... }` is here a setting: \
              `settings { background rgb <r, g, b> }` (it lights the scene)"
         }
-        "area_light" | "spotlight" | "fade_distance" | "fade_power" | "parallel" => {
-            "raydiance's light_source is a point light only; an area light is any object whose \
-             material has `emission rgb <...>`"
+        "area_light" | "fade_distance" | "fade_power" | "looks_like" => {
+            "raydiance's light_source is a point light, a `spotlight` or a `parallel` light; an \
+             area light is any object whose material has `emission rgb <...>`"
         }
         "radiosity" => "global illumination is `settings { integrator path }`, the default",
         "photons" if inside != Some("settings") => {

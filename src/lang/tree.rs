@@ -586,12 +586,27 @@ impl Builder {
                 };
                 Item::PovParam { key, value, items: Vec::new() }
             }
+            Rule::light_option if inner_pair(&pair).as_rule() == Rule::looks_like => {
+                let looks_like = inner_pair(&pair);
+                self.pov_only(&looks_like, Some("light_source"))?;
+                let key = Ident { name: "looks_like".to_string(), span: self.span(&looks_like) };
+                let object = Item::Object(self.object(looks_like)?);
+                Item::PovParam { key, value: None, items: vec![object] }
+            }
             Rule::finish_item
             | Rule::reflection_item
             | Rule::interior_item
             | Rule::light_option => {
                 if rule == Rule::light_option {
-                    self.pov_only(&inner_pair(&pair), Some("light_source"))?;
+                    let word = inner_pair(&pair);
+                    // The spotlight and the parallel light are raydiance's own lights too.
+                    let shared = matches!(
+                        word.as_str(),
+                        "spotlight" | "parallel" | "radius" | "falloff" | "tightness" | "point_at"
+                    );
+                    if !shared {
+                        self.pov_only(&word, Some("light_source"))?;
+                    }
                 }
                 let mut inner = pair.into_inner();
                 let key = inner.next().expect("the key");
@@ -772,7 +787,7 @@ impl Builder {
         };
         let span = self.span(&pair);
         let rule = pair.as_rule();
-        if rule == Rule::instance
+        if matches!(rule, Rule::instance | Rule::looks_like)
             && pair.clone().into_inner().nth(1).is_some_and(|p| p.as_rule() == Rule::object)
         {
             // `object { shape ... items }`: the shape, with the items after it added to its own.
@@ -833,7 +848,7 @@ impl Builder {
             },
             Rule::torus => Shape::Torus { major: take(self)?, minor: take(self)? },
             Rule::mesh => Shape::Mesh { file: take(self)? },
-            Rule::instance => Shape::Instance { of: take(self)? },
+            Rule::instance | Rule::looks_like => Shape::Instance { of: take(self)? },
             Rule::union => Shape::Union,
             Rule::intersection => Shape::Intersection,
             Rule::difference => Shape::Difference,

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Vec3};
 
 use super::{Primitive, Scene};
+use crate::aabb::Aabb;
 use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
@@ -15,8 +16,10 @@ use crate::geometry::{
     Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Placement, Planar, PlanarKind, QuadricFrame,
     QuadricKind, Shape, Torus, TriangleMesh, similarity_scale,
 };
-use crate::graph::{Below, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose};
-use crate::light::Light;
+use crate::graph::{
+    Below, LightDesc, LightForm, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose,
+};
+use crate::light::{Light, Spot};
 use crate::material::Material;
 use crate::texture::{ImageMap, Texture};
 
@@ -49,6 +52,42 @@ fn primitive_count(node: &ObjectNode, counts: &mut HashMap<*const ObjectNode, u6
     }
 }
 
+/// The core light of a described light, unblocked within `bulb` of it; a parallel light's
+/// photons cover the sphere (`centre`, `radius`) around the scene.
+fn light(desc: &LightDesc, bulb: f32, centre: Vec3, radius: f32) -> Light {
+    let LightDesc { position, power, ref form, shadowless, .. } = *desc;
+    let light = match *form {
+        LightForm::Point => Light::Point { position, power },
+        LightForm::Spot { point_at, profile } => {
+            let axis = (point_at - position).normalize();
+            Light::Spot(Spot::new(position, axis, power, profile))
+        }
+        LightForm::Parallel { point_at } => {
+            let direction = (point_at - position).normalize();
+            Light::Distant { direction, irradiance: power, centre, radius }
+        }
+    };
+    if shadowless || bulb > 0.0 {
+        Light::Modified { light: Box::new(light), bulb, shadowless }
+    } else {
+        light
+    }
+}
+
+/// The distance from `point` to the farthest corner of `bounds`.
+fn farthest(bounds: &Aabb, point: Vec3) -> f32 {
+    (bounds.min - point).abs().max((bounds.max - point).abs()).length()
+}
+
+/// A sphere around the finite objects' boxes and the camera (the part of the scene a distant
+/// light's photons must reach).
+fn bounding_sphere(bounds: &[Aabb], camera: Vec3) -> (Vec3, f32) {
+    let (min, max) =
+        bounds.iter().fold((camera, camera), |(min, max), b| (min.min(b.min), max.max(b.max)));
+    let centre = 0.5 * (min + max);
+    (centre, (0.5 * (max - min).length()).max(1e-3))
+}
+
 /// Builds the render-ready scene. `graph.settings` are final (command-line overrides applied).
 pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     let settings = graph.settings.clone();
@@ -74,6 +113,19 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     for node in &graph.objects {
         flat.add(node, Affine3A::IDENTITY, None)?;
     }
+    // Each light's `looks_like` object, moved to the light: the distance to its farthest
+    // point is where the light's shadow rays stop and its photons start.
+    let mut bulbs = Vec::with_capacity(graph.lights.len());
+    for light in &graph.lights {
+        let first = flat.primitives.len();
+        if let Some(node) = &light.looks_like {
+            flat.add(node, Affine3A::from_translation(light.position), None)?;
+        }
+        let bulb = flat.primitives[first..].iter().fold(0.0f32, |bulb, p| {
+            p.shape.bounds().map_or(f32::INFINITY, |b| bulb.max(farthest(&b, light.position)))
+        });
+        bulbs.push(bulb);
+    }
 
     let (mut bounded, unbounded): (Vec<Primitive>, Vec<Primitive>) =
         flat.primitives.into_iter().partition(|p| p.shape.bounds().is_some());
@@ -97,11 +149,9 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
     let others_start = primitives.len();
     primitives.extend(others);
 
-    let mut lights: Vec<Light> = graph
-        .lights
-        .iter()
-        .map(|l| Light::Point { position: l.position, power: l.power })
-        .collect();
+    let (centre, radius) = bounding_sphere(&bounds, camera.origin);
+    let mut lights: Vec<Light> =
+        graph.lights.iter().zip(bulbs).map(|(l, bulb)| light(l, bulb, centre, radius)).collect();
     for (i, prim) in primitives.iter_mut().enumerate() {
         let area = prim.shape.area();
         let material = &flat.materials[prim.material as usize];

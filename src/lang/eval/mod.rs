@@ -13,6 +13,7 @@ mod appearance;
 mod array;
 mod camera;
 mod expression;
+mod light;
 mod material;
 mod object;
 mod scope;
@@ -27,7 +28,7 @@ use crate::animation::Frame;
 use crate::diagnostic::{Context, Note, SceneError, SourceFile, Span};
 use crate::digest::Digest;
 use crate::graph::{
-    CameraDesc, CsgOp, IntegratorKind, ObjectNode, PointLightDesc, SceneGraph, Settings, ShapeNode,
+    CameraDesc, CsgOp, IntegratorKind, LightDesc, ObjectNode, SceneGraph, Settings, ShapeNode,
     SkyDesc,
 };
 use crate::lang::dialect::Dialect;
@@ -38,6 +39,7 @@ use appearance::PigmentState;
 pub use appearance::{Finish, Look, Pigment};
 use array::element_index;
 pub use camera::CameraParams;
+use light::{LightState, PovLight};
 pub use material::TextureState;
 use scope::{Scope, Slot};
 
@@ -104,7 +106,7 @@ pub struct Evaluator {
     scopes: Vec<Scope>,
     settings: Option<Settings>,
     camera: Option<CameraDesc>,
-    lights: Vec<PointLightDesc>,
+    lights: Vec<LightDesc>,
     objects: Vec<ObjectNode>,
     /// The files being read, outermost first: their identity (canonical path) and their path
     /// as named.
@@ -140,9 +142,8 @@ pub struct Evaluator {
     image: (u32, u32),
     /// `.pov`: the point the camera looks at, where POV-Ray's lights are matched.
     pov_look_at: Option<Vec3>,
-    /// `.pov`: the lights given a POV-Ray colour (their index in `lights`), whose power is set
-    /// once the camera is known.
-    light_colours: Vec<(usize, Option<(f32, f32)>)>,
+    /// `.pov`: the lights given a POV-Ray colour, whose power is set once the camera is known.
+    pov_lights: Vec<PovLight>,
     /// `.pov`: what `#default` has made POV-Ray's default texture.
     default_look: Look,
     /// `.pov`: the look of each object being evaluated, innermost last (`None` until one of its
@@ -165,15 +166,6 @@ pub struct Evaluator {
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).
 pub const POV_IMAGE: (u32, u32) = (320, 240);
-
-/// A light's items as they are read.
-#[derive(Default)]
-pub struct LightState {
-    power: Option<Vec3>,
-    /// `.pov`: `fade_distance` and `fade_power`.
-    fade_distance: f32,
-    fade_power: f32,
-}
 
 /// Where items stand, which decides what they may be.
 pub enum Body<'a> {
@@ -471,36 +463,7 @@ impl Evaluator {
                 self.backdrop = self.colour(colour)?;
                 Ok(())
             }
-            Item::Light { position, items, span } => {
-                let at = position.span.clone();
-                let position = as_vector(&self.value(position)?, &at, "this value")?;
-                let mut state = LightState::default();
-                self.exec(items, &mut Body::Light(&mut state))?;
-                let power = match (state.power, self.dialect) {
-                    (Some(power), Dialect::Pov) => {
-                        let fade = (state.fade_distance > 0.0 && state.fade_power > 0.0)
-                            .then_some((state.fade_distance, state.fade_power));
-                        self.light_colours.push((self.lights.len(), fade));
-                        power
-                    }
-                    (Some(power), Dialect::Scn) => power,
-                    (None, Dialect::Pov) => {
-                        return Err(SceneError::at(span, "the light_source needs a colour"));
-                    }
-                    (None, Dialect::Scn) => {
-                        return Err(SceneError::at(
-                            span,
-                            "the light_source needs `power rgb <r, g, b>`",
-                        ));
-                    }
-                };
-                self.lights.push(PointLightDesc {
-                    position: expression::single_vector(position, &at)?,
-                    power,
-                    span: self.here(span),
-                });
-                Ok(())
-            }
+            Item::Light { position, items, span } => self.light(position, items, span),
             Item::Object(object) => {
                 let mut node = self.object(object)?;
                 if self.dialect == Dialect::Pov && node.material.is_none() {
@@ -572,51 +535,6 @@ impl Evaluator {
             SettingKind::PhotonRadius(e) => {
                 settings.photon_radius = self.positive(e, "`photon_radius`")?;
             }
-        }
-        Ok(())
-    }
-
-    /// POV-Ray's light colours as power (`docs/povray.md`): a POV-Ray light gives a surface
-    /// facing it `colour` × cos θ at every distance; a point light of intensity π·C·d² gives a
-    /// Lambertian surface at distance d the same radiance, so d is taken as the distance from the
-    /// light to where the camera looks. A fading light (`fade_distance` f, `fade_power` p) is
-    /// POV-Ray's colour × 2 / (1 + (d/f)^p) there.
-    fn light_powers_from_colours(&mut self) {
-        let look_at = self.pov_look_at.unwrap_or(Vec3::Z);
-        for &(i, fade) in &self.light_colours {
-            let light = &mut self.lights[i];
-            let d = light.position.distance(look_at);
-            let faded = fade.map_or(1.0, |(f, p)| 2.0 / (1.0 + (d / f).powf(p)));
-            light.power *= std::f32::consts::PI * d * d * faded;
-        }
-    }
-
-    fn light_item(&mut self, item: &Item, state: &mut LightState) -> Result<(), SceneError> {
-        match item {
-            Item::LightPower { key, colour } => {
-                if state.power.is_some() {
-                    return Err(SceneError::at(key, "the light's power is given twice"));
-                }
-                state.power = Some(self.colour(colour)?);
-            }
-            Item::PovParam { key, value, .. } => match key.name.as_str() {
-                "fade_distance" | "fade_power" => {
-                    let v = value.as_ref().expect("the grammar gives the value");
-                    let v = self.non_negative(&v.value, &format!("`{}`", key.name))?;
-                    match key.name.as_str() {
-                        "fade_distance" => state.fade_distance = v,
-                        _ => state.fade_power = v,
-                    }
-                }
-                "shadowless" => {
-                    let at = self.here(&key.span);
-                    self.warnings.push(format!(
-                        "{at:?}: warning: `shadowless` is not honoured: a light here casts shadows"
-                    ));
-                }
-                other => unreachable!("no light item `{other}`"),
-            },
-            _ => return Err(Self::misplaced(item, &Body::Light(state))),
         }
         Ok(())
     }

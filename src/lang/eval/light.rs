@@ -1,0 +1,345 @@
+//! `light_source`: a point light, a `spotlight` or a `parallel` light (both dialects), and in
+//! `.pov` POV-Ray's light colour, `area_light`, `fade_distance`/`fade_power`, `shadowless` and
+//! `looks_like` (`docs/povray.md`, Lights).
+
+use std::f32::consts::PI;
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use super::expression::single_vector;
+use super::{Body, Evaluator, as_vector};
+use crate::diagnostic::{SceneError, Span};
+use crate::graph::{LightDesc, LightForm, MaterialDesc, ObjectNode, ShapeNode, SpotProfile};
+use crate::lang::dialect::Dialect;
+use crate::lang::syntax::{Expr, Item};
+
+/// POV-Ray's spotlight defaults: `radius 30 falloff 45 tightness 0`, `point_at <0, 0, 1>`.
+const SPOT_RADIUS: f32 = 30.0;
+const SPOT_FALLOFF: f32 = 45.0;
+const SPOT_POINT_AT: Vec3 = Vec3::Z;
+
+/// A light's items as they are read.
+#[derive(Default)]
+pub struct LightState {
+    power: Option<Vec3>,
+    /// `.pov`: `fade_distance` and `fade_power`.
+    fade_distance: f32,
+    fade_power: f32,
+    spotlight: Option<Span>,
+    parallel: Option<Span>,
+    radius: Option<(f32, Span)>,
+    falloff: Option<(f32, Span)>,
+    tightness: Option<(f32, Span)>,
+    point_at: Option<(Vec3, Span)>,
+    area: Option<AreaAxes>,
+    circular: bool,
+    orient: bool,
+    shadowless: bool,
+    looks_like: Option<Arc<ObjectNode>>,
+}
+
+/// `area_light <axis1>, <axis2>, n1, n2`: the grid's sides (its counts only say how POV-Ray
+/// samples it).
+struct AreaAxes {
+    axis1: Vec3,
+    axis2: Vec3,
+    span: Span,
+}
+
+/// A `.pov` light whose power waits for the camera: matched at the distance d from the light
+/// to where the camera looks (`docs/povray.md`).
+pub struct PovLight {
+    target: PovTarget,
+    /// `fade_distance` and `fade_power`, when both are positive.
+    fade: Option<(f32, f32)>,
+}
+
+enum PovTarget {
+    /// A light of `Evaluator::lights`, given POV-Ray's colour as its power.
+    Light(usize),
+    /// An `area_light`, made an emitter once its power is known.
+    Area { position: Vec3, colour: Vec3, axis1: Vec3, axis2: Vec3, shape: AreaShape, span: Span },
+}
+
+/// The emitter an `area_light` becomes.
+#[derive(Clone, Copy)]
+enum AreaShape {
+    Quad,
+    /// `circular`: a disk of the grid's area.
+    Disk,
+    /// `circular orient`: POV-Ray's disk turned to face every point it lights, a sphere.
+    Sphere,
+}
+
+impl Evaluator {
+    /// `light_source { position items }`.
+    pub(super) fn light(
+        &mut self,
+        position: &Expr,
+        items: &[Item],
+        span: &Span,
+    ) -> Result<(), SceneError> {
+        let at = position.span.clone();
+        let position = single_vector(as_vector(&self.value(position)?, &at, "this value")?, &at)?;
+        let mut state = LightState::default();
+        self.exec(items, &mut Body::Light(&mut state))?;
+        let Some(power) = state.power else {
+            let message = match self.dialect {
+                Dialect::Pov => "the light_source needs a colour",
+                Dialect::Scn => "the light_source needs `power rgb <r, g, b>`",
+            };
+            return Err(SceneError::at(span, message));
+        };
+        let form = light_form(&state, position)?;
+        let fade = (state.fade_distance > 0.0 && state.fade_power > 0.0)
+            .then_some((state.fade_distance, state.fade_power));
+        if let Some(area) = &state.area {
+            let plain = form == LightForm::Point && !state.shadowless && state.looks_like.is_none();
+            let spans_area = area.axis1.cross(area.axis2).length() > 0.0;
+            if plain && spans_area {
+                let shape = match (state.circular, state.orient) {
+                    (false, _) => AreaShape::Quad,
+                    (true, false) => AreaShape::Disk,
+                    (true, true) => AreaShape::Sphere,
+                };
+                let (axis1, axis2) = (area.axis1, area.axis2);
+                let span = self.here(span);
+                let target = PovTarget::Area { position, colour: power, axis1, axis2, shape, span };
+                self.pov_lights.push(PovLight { target, fade });
+                return Ok(());
+            }
+            let at = self.here(&area.span);
+            self.warnings.push(format!(
+                "{at:?}: warning: this `area_light` is read as a point light: {}",
+                if spans_area {
+                    "a spotlight, a parallel, shadowless or looks_like light has no area here"
+                } else {
+                    "its sides span no area"
+                }
+            ));
+        }
+        if self.dialect == Dialect::Pov {
+            self.pov_lights.push(PovLight { target: PovTarget::Light(self.lights.len()), fade });
+        }
+        self.lights.push(LightDesc {
+            position,
+            power,
+            form,
+            shadowless: state.shadowless,
+            looks_like: state.looks_like,
+            span: self.here(span),
+        });
+        Ok(())
+    }
+
+    pub(super) fn light_item(
+        &mut self,
+        item: &Item,
+        state: &mut LightState,
+    ) -> Result<(), SceneError> {
+        match item {
+            Item::LightPower { key, colour } => {
+                if state.power.is_some() {
+                    return Err(SceneError::at(key, "the light's power is given twice"));
+                }
+                state.power = Some(self.colour(colour)?);
+            }
+            Item::PovParam { key, value, items } => {
+                let value = value.as_ref().map(|v| &v.value);
+                let span = key.span.clone();
+                let word = key.name.as_str();
+                let what = format!("`{word}`");
+                match word {
+                    "fade_distance" => {
+                        state.fade_distance = self.non_negative(given(value), &what)?
+                    }
+                    "fade_power" => state.fade_power = self.non_negative(given(value), &what)?,
+                    "radius" => state.radius = Some((self.angle(given(value), word)?, span)),
+                    "falloff" => state.falloff = Some((self.angle(given(value), word)?, span)),
+                    "tightness" => {
+                        state.tightness = Some((self.non_negative(given(value), &what)?, span));
+                    }
+                    "point_at" => state.point_at = Some((self.vec3(given(value))?, span)),
+                    "spotlight" => state.spotlight = Some(span),
+                    "parallel" => state.parallel = Some(span),
+                    "shadowless" => state.shadowless = true,
+                    "circular" => state.circular = true,
+                    "orient" => state.orient = true,
+                    // How POV-Ray samples an area light; raydiance samples it continuously.
+                    "jitter" => {}
+                    "adaptive" => {
+                        self.non_negative(given(value), &what)?;
+                    }
+                    "area_light" => {
+                        let [Item::Value(axis2), Item::Value(n1), Item::Value(n2)] = &items[..]
+                        else {
+                            unreachable!("the grammar gives area_light's four values")
+                        };
+                        let axis1 = self.vec3(given(value))?;
+                        let axis2 = self.vec3(axis2)?;
+                        self.integer(n1, 1, 1 << 16)?;
+                        self.integer(n2, 1, 1 << 16)?;
+                        state.area = Some(AreaAxes { axis1, axis2, span });
+                    }
+                    "looks_like" => {
+                        let [Item::Object(object)] = &items[..] else {
+                            unreachable!("the grammar gives looks_like's object")
+                        };
+                        let mut node = self.object(object)?;
+                        if node.material.is_none() {
+                            let look = self.default_look.clone();
+                            node.material = Some(self.look_material(&look, &object.span));
+                        }
+                        state.looks_like = Some(Arc::new(node));
+                    }
+                    other => unreachable!("no light item `{other}`"),
+                }
+            }
+            _ => return Err(Self::misplaced(item, &Body::Light(state))),
+        }
+        Ok(())
+    }
+
+    /// A spotlight's angle in degrees, from 0 to 90.
+    fn angle(&mut self, expr: &Expr, word: &str) -> Result<f32, SceneError> {
+        let degrees = self.non_negative(expr, &format!("`{word}`"))?;
+        if degrees > 90.0 {
+            return Err(SceneError::at(
+                &expr.span,
+                format!("`{word}` {degrees} is more than 90 degrees from the spotlight's axis"),
+            ));
+        }
+        Ok(degrees)
+    }
+
+    /// POV-Ray's light colours as power (`docs/povray.md`): a POV-Ray light gives a surface
+    /// facing it `colour` × cos θ at every distance; a point light of intensity π·C·d² gives a
+    /// Lambertian surface at distance d the same radiance, so d is taken as the distance from the
+    /// light to where the camera looks (a parallel light's irradiance is π·C at any distance).
+    /// A fading light (`fade_distance` f, `fade_power` p) is POV-Ray's colour × 2 / (1 + (d/f)^p)
+    /// there. An area light becomes an emitter of the point light's power.
+    pub(super) fn light_powers_from_colours(&mut self) {
+        let look_at = self.pov_look_at.unwrap_or(Vec3::Z);
+        for PovLight { target, fade } in std::mem::take(&mut self.pov_lights) {
+            let position = match &target {
+                PovTarget::Light(i) => self.lights[*i].position,
+                PovTarget::Area { position, .. } => *position,
+            };
+            let d = position.distance(look_at);
+            let faded = fade.map_or(1.0, |(f, p)| 2.0 / (1.0 + (d / f).powf(p)));
+            match target {
+                PovTarget::Light(i) => {
+                    let light = &mut self.lights[i];
+                    let reach = match light.form {
+                        LightForm::Point | LightForm::Spot { .. } => d * d,
+                        LightForm::Parallel { .. } => 1.0,
+                    };
+                    light.power *= PI * reach * faded;
+                }
+                PovTarget::Area { position, colour, axis1, axis2, shape, span } => {
+                    let intensity = PI * d * d * faded * colour;
+                    let node =
+                        area_emitter(position, axis1, axis2, shape, intensity, look_at, span);
+                    self.objects.push(node);
+                }
+            }
+        }
+    }
+}
+
+/// The value the grammar gives with this word.
+fn given(value: Option<&Expr>) -> &Expr {
+    value.expect("the grammar gives the value")
+}
+
+/// The light's form from its items: a spotlight's or parallel light's numbers without the word
+/// that needs them are errors, where they are written.
+fn light_form(state: &LightState, position: Vec3) -> Result<LightForm, SceneError> {
+    if let (Some(_), Some(parallel)) = (&state.spotlight, &state.parallel) {
+        return Err(SceneError::at(parallel, "a parallel spotlight is not supported"));
+    }
+    if state.spotlight.is_none() {
+        for (word, given) in [
+            ("radius", &state.radius),
+            ("falloff", &state.falloff),
+            ("tightness", &state.tightness),
+        ] {
+            if let Some((_, span)) = given {
+                return Err(SceneError::at(
+                    span,
+                    format!("`{word}` shapes a spotlight: add `spotlight` to the light"),
+                ));
+            }
+        }
+    }
+    let point_at = |default: Vec3| -> Result<Vec3, SceneError> {
+        let Some((point_at, span)) = &state.point_at else {
+            return Ok(default);
+        };
+        if *point_at == position {
+            return Err(SceneError::at(span, "`point_at` is the light's position: no direction"));
+        }
+        Ok(*point_at)
+    };
+    Ok(match (&state.spotlight, &state.parallel) {
+        (Some(_), _) => {
+            let radius = state.radius.as_ref().map_or(SPOT_RADIUS, |r| r.0);
+            let falloff = state.falloff.as_ref().map_or(SPOT_FALLOFF, |f| f.0);
+            let tightness = state.tightness.as_ref().map_or(0.0, |t| t.0);
+            let profile = SpotProfile::from_degrees(radius, falloff, tightness);
+            LightForm::Spot { point_at: point_at(SPOT_POINT_AT)?, profile }
+        }
+        (None, Some(_)) => LightForm::Parallel { point_at: point_at(Vec3::ZERO)? },
+        (None, None) => {
+            if let Some((_, span)) = &state.point_at {
+                return Err(SceneError::at(
+                    span,
+                    "`point_at` aims a spotlight or a parallel light: add `spotlight` or \
+                     `parallel` to the light",
+                ));
+            }
+            LightForm::Point
+        }
+    })
+}
+
+/// An `area_light` as an emitter of the same power as a point light of `intensity` (4π times
+/// it), centred on the light and facing `look_at` (`docs/povray.md`, Lights).
+fn area_emitter(
+    position: Vec3,
+    axis1: Vec3,
+    axis2: Vec3,
+    shape: AreaShape,
+    intensity: Vec3,
+    look_at: Vec3,
+    span: Span,
+) -> ObjectNode {
+    let power = 4.0 * PI * intensity;
+    let area = axis1.cross(axis2).length();
+    let mut normal = axis1.cross(axis2) / area;
+    if normal.dot(look_at - position) < 0.0 {
+        normal = -normal;
+    }
+    // A circular light as a disk or sphere of the grid's area.
+    let radius = (area / PI).sqrt();
+    let (shape, emitting_area) = match shape {
+        AreaShape::Quad => {
+            let (edge1, edge2) =
+                if axis1.cross(axis2).dot(normal) > 0.0 { (axis1, axis2) } else { (axis2, axis1) };
+            (ShapeNode::Quad { corner: position - 0.5 * (axis1 + axis2), edge1, edge2 }, area)
+        }
+        AreaShape::Disk => (ShapeNode::Disk { center: position, normal, radius }, area),
+        AreaShape::Sphere => {
+            (ShapeNode::Sphere { center: position, radius }, 4.0 * PI * radius * radius)
+        }
+    };
+    // A one-sided diffuse emitter of radiance Le and area A emits π A Le.
+    let emission = power / (PI * emitting_area);
+    let material = MaterialDesc {
+        emission,
+        diffuse: crate::graph::TextureNode::solid(Vec3::ZERO),
+        ..MaterialDesc::new(span.clone())
+    };
+    ObjectNode { shape, material: Some(Arc::new(material)), transforms: Vec::new(), depth: 1, span }
+}
