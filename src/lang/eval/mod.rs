@@ -32,7 +32,6 @@ use crate::graph::{
     SkyDesc,
 };
 use crate::lang::dialect::Dialect;
-use crate::pipeline::{MAX_DEPTH, MAX_SAMPLES};
 use crate::region::MAX_RESOLUTION;
 
 use appearance::PigmentState;
@@ -503,12 +502,9 @@ impl Evaluator {
                 settings.width = self.integer(w, 1, most)? as u32;
                 settings.height = self.integer(h, 1, most)? as u32;
             }
-            SettingKind::Samples(e) => {
-                settings.samples = self.integer(e, 1, MAX_SAMPLES.into())? as u32;
-            }
-            SettingKind::MaxDepth(e) => {
-                settings.max_depth = self.integer(e, 0, MAX_DEPTH.into())? as u32;
-            }
+            // (`pipeline::MAX_SAMPLES` and `MAX_DEPTH`, which this layer does not import.)
+            SettingKind::Samples(e) => settings.samples = self.integer(e, 1, 1_000_000)? as u32,
+            SettingKind::MaxDepth(e) => settings.max_depth = self.integer(e, 0, 1024)? as u32,
             SettingKind::Seed(e) => settings.seed = self.integer(e, 0, u32::MAX.into())?,
             SettingKind::Background(c) => settings.background = self.colour(c)?,
             SettingKind::Integrator(name) => {
