@@ -18,7 +18,7 @@ impl Scope {
     /// The slot `name` names here. A lookup walks every scope from the innermost, and a macro
     /// calling itself nests a scope of a parameter or two per call: those few names are
     /// compared directly, not hashed once per scope with the scope's own keys (which took half
-    /// the time of a million macro calls).
+    /// the time of a million macro calls, nested 40 deep).
     fn get(&self, name: &str) -> Option<&Slot> {
         const FEW: usize = 8;
         match self.names.len() <= FEW {
