@@ -43,6 +43,15 @@ pub fn read(path: &Path, max_bytes: u64) -> Result<Vec<u8>, InputError> {
     Ok(bytes)
 }
 
+/// At most the first `max_bytes` of a regular file (what a header needs, read before the rest).
+pub fn read_prefix(path: &Path, max_bytes: u64) -> Result<Vec<u8>, InputError> {
+    let metadata = std::fs::metadata(path)?;
+    check(&metadata, u64::MAX)?;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?.take(max_bytes).read_to_end(&mut bytes)?;
+    Ok(bytes)
+}
+
 /// The file's text, as `read`, which must be UTF-8.
 pub fn read_text(path: &Path, max_bytes: u64) -> Result<String, InputError> {
     String::from_utf8(read(path, max_bytes)?)

@@ -12,8 +12,13 @@ const MEMORY_CAP: &str = "--as=2147483648";
 /// Runs raydiance with `args` under the memory cap; fails the test if it takes longer than
 /// `seconds` (and then kills it).
 fn limited(args: &[&str], seconds: u64) -> Output {
+    limited_to(MEMORY_CAP, args, seconds)
+}
+
+/// `limited` under another address-space cap (prlimit's `--as=BYTES`).
+fn limited_to(memory_cap: &str, args: &[&str], seconds: u64) -> Output {
     let mut child = Command::new("prlimit")
-        .args([MEMORY_CAP, "--", env!("CARGO_BIN_EXE_raydiance")])
+        .args([memory_cap, "--", env!("CARGO_BIN_EXE_raydiance")])
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -166,7 +171,9 @@ fn a_ppm_declaring_too_many_pixels_is_refused_from_its_header() {
     std::io::Write::write_all(&mut &file, header).unwrap();
     file.set_len(header.len() as u64 + 18000 * 18000 * 3).unwrap();
     let out = dir.path().join("out.png");
-    let output = limited(&["tonemap", path.to_str().unwrap(), "-o", out.to_str().unwrap()], 20);
+    // Under a cap smaller than the file: refused from the header, before the rest is read.
+    let args = ["tonemap", path.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    let output = limited_to("--as=536870912", &args, 20);
     let expected = "the image is 18000 x 18000 pixels, more than raydiance reads (33554432)";
     assert_refused(&output, expected);
     assert!(!out.exists());

@@ -61,31 +61,63 @@ fn write(
     })
 }
 
+/// How much of a file `check_size` reads: a header with a `#MAX` comment fits many times over.
+pub const HEADER_BYTES: u64 = 4096;
+
+/// The header: P3 or P6, width, height and the largest stored integer (`res`).
+struct Header {
+    binary: bool,
+    width: u64,
+    height: u64,
+    res: u64,
+}
+
+impl Header {
+    fn read(reader: &mut Reader) -> Result<Header, String> {
+        let magic = reader.token()?.ok_or("the file is empty")?;
+        let binary = match magic.text {
+            "P3" => false,
+            "P6" => true,
+            _ => {
+                let place = reader.place(magic.at);
+                return Err(format!(
+                    "{place}: expected `P3` or `P6`, found `{}`",
+                    printable(magic.text)
+                ));
+            }
+        };
+        let width = reader.number("the width", 1, u32::MAX.into())?;
+        let height = reader.number("the height", 1, u32::MAX.into())?;
+        // The course's HDR files use res 10000000; binary samples hold at most 16 bits.
+        let res =
+            reader.number("the maximum value", 1, if binary { 65535 } else { u32::MAX.into() })?;
+        Ok(Header { binary, width, height, res })
+    }
+
+    fn check_size(&self) -> Result<(), String> {
+        let Header { width, height, .. } = *self;
+        if width.saturating_mul(height) > MAX_PIXELS as u64 {
+            return Err(format!(
+                "the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Refuses, from the start of a file, an image larger than raydiance reads. A header cut off
+/// by the end of `start` passes (a number cut short only reads smaller): `parse` decides.
+pub fn check_size(start: &[u8]) -> Result<(), String> {
+    let mut reader = Reader { bytes: start, at: 0, max: None };
+    Header::read(&mut reader).map_or(Ok(()), |header| header.check_size())
+}
+
 /// Decodes a PPM: real value = stored * MAX / res (MAX = 1 without `#MAX`). Errors say where.
 pub fn parse(bytes: &[u8]) -> Result<Image, String> {
     let mut reader = Reader { bytes, at: 0, max: None };
-    let magic = reader.token()?.ok_or("the file is empty")?;
-    let binary = match magic.text {
-        "P3" => false,
-        "P6" => true,
-        _ => {
-            let place = reader.place(magic.at);
-            return Err(format!(
-                "{place}: expected `P3` or `P6`, found `{}`",
-                printable(magic.text)
-            ));
-        }
-    };
-    let width = reader.number("the width", 1, u32::MAX.into())?;
-    let height = reader.number("the height", 1, u32::MAX.into())?;
-    // The course's HDR files use res 10000000; binary samples hold at most 16 bits.
-    let res =
-        reader.number("the maximum value", 1, if binary { 65535 } else { u32::MAX.into() })?;
-    if width.saturating_mul(height) > MAX_PIXELS as u64 {
-        return Err(format!(
-            "the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})"
-        ));
-    }
+    let header = Header::read(&mut reader)?;
+    header.check_size()?;
+    let Header { binary, width, height, res } = header;
     let count = width * height * 3;
     let mut samples = Vec::with_capacity((count as usize).min(bytes.len()));
     if binary {
