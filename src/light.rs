@@ -86,6 +86,7 @@ impl Light {
 
     /// Samples light arriving at `hit` from this light, unless something is in the way (see
     /// `LightSample::shadow`); `None` if it arrives from behind the emitter or carries nothing.
+    #[inline]
     pub fn sample(&self, hit: &Hit, u: Vec2) -> Option<LightSample> {
         let (target, wi, li, pdf, is_delta) = match self {
             &Light::Point { position, power } => {
@@ -236,11 +237,13 @@ impl Light {
 
 /// Radiance an emitter sends towards `wo` from a point with normal `n`: `Material::emitted`'s
 /// one-sided rule, towards the normal.
+#[inline]
 fn emitted(emission: Vec3, n: Vec3, wo: Vec3) -> Vec3 {
     if n.dot(wo) > 0.0 { emission } else { Vec3::ZERO }
 }
 
 /// The segment from `hit` to `target`.
+#[inline]
 fn shadow_ray(hit: &Hit, target: Vec3, wi: Vec3) -> ShadowRay {
     let origin = offset_origin(hit, wi);
     let to_target = target - origin;

@@ -110,6 +110,7 @@ impl Planar {
     }
 
     /// A point distributed uniformly by area, from a point `u` of the unit square.
+    #[inline]
     pub fn sample(&self, u: Vec2) -> SurfaceSample {
         let (s, t) = planar_coordinates(self.kind, u).into();
         SurfaceSample {
@@ -120,6 +121,7 @@ impl Planar {
     }
 
     /// Error bound of its points.
+    #[inline]
     pub fn error(&self) -> f32 {
         planar_error(self.origin, self.edge1, self.edge2)
     }
@@ -127,6 +129,7 @@ impl Planar {
 
 /// The coordinates along the edges of a point uniform in the area of a planar shape, from a
 /// point `u` of the unit square.
+#[inline]
 pub fn planar_coordinates(kind: PlanarKind, u: Vec2) -> Vec2 {
     match kind {
         PlanarKind::Triangle => uniform_triangle(u),
@@ -177,6 +180,7 @@ pub(crate) fn planar_point<F: Real>(
 
 /// Error bound of a point on a planar shape (its coordinates are at most
 /// |origin| + |edge1| + |edge2|).
+#[inline]
 pub fn planar_error(origin: Vec3, edge1: Vec3, edge2: Vec3) -> f32 {
     REL_ERROR * (origin.abs() + edge1.abs() + edge2.abs()).max_element()
 }

@@ -220,6 +220,7 @@ impl Shape {
     }
 
     /// A point distributed uniformly by area (pdf 1 / area); `None` where `area` is `None`.
+    #[inline]
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
             Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) => None,

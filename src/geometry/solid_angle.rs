@@ -22,6 +22,7 @@ pub struct DirectionSample {
 impl Shape {
     /// A point of the shape, of surface `area`, drawn by direction from `from`; `None` where
     /// the shape has no area sample.
+    #[inline]
     pub fn sample_from(&self, from: Vec3, area: f32, u: Vec2) -> Option<DirectionSample> {
         match *self {
             Shape::Sphere { center, radius } if center.distance(from) > radius => {
@@ -41,6 +42,7 @@ impl Shape {
 
     /// The solid-angle density with which `sample_from(from, area, ·)` returns the direction
     /// towards `point`, on the shape where its normal is `normal`.
+    #[inline]
     pub fn pdf_from(&self, from: Vec3, area: f32, point: Vec3, normal: Vec3) -> f32 {
         match *self {
             Shape::Sphere { center, radius } if center.distance(from) > radius => {

@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::{Lanes, SampleIntegrator, ShadowLanes, direct_from_light, power_heuristic};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
-use crate::light::ShadowRay;
+use crate::light::{Light, ShadowRay};
 use crate::material::{Bsdf, LobeFlags, NO_DIRECTION, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -23,6 +23,7 @@ pub struct Direct {
 /// seen, weighted against the environment's own sample (`direct_from_light`) by the power
 /// heuristic. A scene without an environment draws no sample, so the course's Lab 4 scenes
 /// render as they always have.
+#[inline]
 pub(super) fn direct_from_environment(
     scene: &Scene,
     hit: &Hit,
@@ -52,7 +53,7 @@ impl SampleIntegrator for Direct {
 
     /// Traces `LANES` paths at a time, bounce by bounce: their rays meet the scene together,
     /// and so do the shadow rays towards each light in turn. Each path's vertex is `arrive`,
-    /// `light_samples` and `leave`, as in `whitted`, with the lights' contributions added in
+    /// a sample of each light (`light_sample`) and `leave`, as in `whitted`, with the lights' contributions added in
     /// the same order, so it gets the same radiance, bit for bit.
     fn radiance_of_all(
         &self,
@@ -62,26 +63,24 @@ impl SampleIntegrator for Direct {
     ) {
         let mut samples = samples.enumerate();
         let mut lanes: Lanes<WhittedLane> = Lanes::new();
-        // Each lane's light samples this bounce, in light order (kept across paths: no
-        // allocation per camera sample).
-        let mut lights: [Vec<Option<(ShadowRay, Vec3)>>; LANES] = Default::default();
         let start = |ray| WhittedLane { path: WhittedPath::new(ray), vertex: None };
         while let Some(active) = lanes.fill(&mut samples, start) {
             let found = scene.intersect_lanes(&lanes.rays(|lane| lane.path.ray), active);
             for (lane, path) in lanes.paths_mut() {
                 let state = &mut path.state;
                 state.vertex = arrive(scene, &mut state.path, found.hit(lane), self.max_depth);
-                lights[lane].clear();
-                if let Some(vertex) = state.vertex.as_ref().filter(|v| v.is_lit()) {
-                    lights[lane].extend(light_samples(scene, vertex, &mut path.sampler));
-                }
             }
+            // Each light in turn, sampled at every lit vertex: a lane's sampler draws for the
+            // lights in their order, as in `light_samples`.
             let mut lit = [Vec3::ZERO; LANES];
-            for light in 0..scene.lights.len() {
+            for light in &scene.lights {
                 let mut shadows = ShadowLanes::new();
-                for (lane, _) in lanes.paths_mut() {
-                    if let Some(Some(shadowed)) = lights[lane].get(light) {
-                        shadows.set_lane(lane, *shadowed);
+                for (lane, path) in lanes.paths_mut() {
+                    let Some(vertex) = path.state.vertex.as_ref().filter(|v| v.is_lit()) else {
+                        continue;
+                    };
+                    if let Some(shadowed) = light_sample(light, vertex, &mut path.sampler) {
+                        shadows.set_lane(lane, shadowed);
                     }
                 }
                 for lane in shadows.open(scene) {
@@ -169,10 +168,18 @@ fn light_samples<'a>(
     vertex: &'a Vertex,
     sampler: &'a mut Sampler,
 ) -> impl Iterator<Item = Option<(ShadowRay, Vec3)>> + 'a {
-    scene.lights.iter().map(move |light| {
-        let u = sampler.next_2d();
-        direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, u)
-    })
+    scene.lights.iter().map(move |light| light_sample(light, vertex, sampler))
+}
+
+/// A sample of `light` at a lit vertex (`direct_from_light`), from the sampler's next point.
+#[inline]
+fn light_sample(
+    light: &Light,
+    vertex: &Vertex,
+    sampler: &mut Sampler,
+) -> Option<(ShadowRay, Vec3)> {
+    let u = sampler.next_2d();
+    direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, u)
 }
 
 /// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),

@@ -20,7 +20,7 @@ use glam::{Vec2, Vec3};
 use crate::film::Film;
 use crate::geometry::{Hit, Ray};
 use crate::graph::{IntegratorKind, Settings};
-use crate::lanes::{Floats, LANES, Lane, RayLanes, Wide};
+use crate::lanes::{Floats, LANES, Lane, Mask, MaskLanes, RayLanes, Vec3Lanes};
 use crate::light::{Light, ShadowRay};
 use crate::material::{Bsdf, LobeFlags};
 use crate::progress::{Progress, RenderStats};
@@ -171,40 +171,43 @@ impl<S> Lanes<S> {
 const IDLE: Ray = Ray { origin: glam::Vec3A::ZERO, dir: glam::Vec3A::Z };
 
 /// Shadow rays of next-event estimation, one per lane at most, tested together, and the
-/// radiance each brings if it is unoccluded.
+/// radiance each brings if it is unoccluded. Held in lanes as they are set, so testing them
+/// transposes nothing.
 struct ShadowLanes {
-    found: [bool; LANES],
-    rays: [Ray; LANES],
-    t_max: [f32; LANES],
+    found: Mask,
+    rays: RayLanes,
+    /// Each ray's `t_max`; 0 in lanes without one (never occluded).
+    t_max: Floats,
     radiance: [Vec3; LANES],
 }
 
 impl ShadowLanes {
     fn new() -> Self {
         ShadowLanes {
-            found: [false; LANES],
-            rays: [IDLE; LANES],
-            t_max: [0.0; LANES],
+            found: Mask::none(),
+            rays: RayLanes {
+                origin: Vec3Lanes::splat(IDLE.origin.into()),
+                dir: Vec3Lanes::splat(IDLE.dir.into()),
+            },
+            t_max: Floats::ZERO,
             radiance: [Vec3::ZERO; LANES],
         }
     }
 
     fn set_lane(&mut self, lane: usize, (shadow, radiance): (ShadowRay, Vec3)) {
-        self.found[lane] = true;
-        self.rays[lane] = shadow.ray;
-        self.t_max[lane] = shadow.t_max;
+        self.found.set_lane(lane, true);
+        self.rays.set_lane(lane, &shadow.ray);
+        self.t_max.set_lane(lane, shadow.t_max);
         self.radiance[lane] = radiance;
     }
 
     /// The lanes whose shadow ray is unoccluded.
     fn open(&self, scene: &Scene) -> impl Iterator<Item = usize> + use<> {
-        let mut open = [false; LANES];
-        if self.found.contains(&true) {
-            let t_max = Floats::from_fn(|lane| self.t_max[lane]);
-            let occluded = scene.occluded_lanes(&RayLanes::new(&self.rays), t_max);
-            open = std::array::from_fn(|lane| self.found[lane] && !occluded.lane(lane));
+        let mut open = 0;
+        if self.found.any() {
+            open = (self.found & !scene.occluded_lanes(&self.rays, self.t_max)).bitmask();
         }
-        (0..LANES).filter(move |&lane| open[lane])
+        (0..LANES).filter(move |&lane| open & (1 << lane) != 0)
     }
 }
 

@@ -258,16 +258,17 @@ impl Path {
         u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
         let sample = scene.lights[light].sample(hit, u)?;
-        let f = bsdf.eval(wo, sample.wi);
+        let weighed = !sample.is_delta && self.strategy != Strategy::LightSampling;
+        let (f, bsdf_pdf) = if weighed {
+            bsdf.eval_pdf(wo, sample.wi, LobeFlags::ALL)
+        } else {
+            (bsdf.eval(wo, sample.wi), 0.0)
+        };
         if f == Vec3::ZERO {
             return None;
         }
         let light_pdf = probability * sample.pdf;
-        let weight = if sample.is_delta || self.strategy == Strategy::LightSampling {
-            1.0
-        } else {
-            power_heuristic(light_pdf, bsdf.pdf(wo, sample.wi, LobeFlags::ALL))
-        };
+        let weight = if weighed { power_heuristic(light_pdf, bsdf_pdf) } else { 1.0 };
         let radiance = f * sample.li * hit.shading_normal.dot(sample.wi).abs() * weight / light_pdf;
         Some((sample.shadow, radiance))
     }

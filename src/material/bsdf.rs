@@ -115,7 +115,11 @@ impl Bsdf {
     /// f(wo, wi) of the lobes with a density.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi))
+    }
+
+    #[inline]
+    fn eval_local(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let mut lobes = self.lobes.iter().map(|lobe| lobe.eval(wo, wi, self.mode));
         let first = lobes.next().unwrap_or(Vec3::ZERO);
         lobes.fold(first, |f, lobe| f + lobe)
@@ -125,8 +129,28 @@ impl Bsdf {
     /// a density: each lobe's, times the probability of taking it.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> f32 {
+        self.pdf_of(self.frame.to_local(wo), self.frame.to_local(wi), mask)
+    }
+
+    /// `eval` and `pdf` together (next-event estimation weighs the light sample by both): the
+    /// directions taken to the shading frame once.
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> (Vec3, f32) {
         let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        self.pdf_local(wo, wi, &self.choice(wo, mask))
+        (self.eval_local(wo, wi), self.pdf_of(wo, wi, mask))
+    }
+
+    /// `pdf` in the shading frame: for a lone lobe, its own density where it is taken
+    /// (`pdf_local` with the choice of one lobe, bit for bit).
+    #[inline]
+    fn pdf_of(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> f32 {
+        match self.lobes.as_slice() {
+            [lobe] => {
+                let taken = lobe.flags().is_in(mask) && lobe.albedo(wo) > 0.0;
+                if taken && lobe.flags().is_non_delta() { 0.0 + lobe.pdf(wo, wi) } else { 0.0 }
+            }
+            _ => self.pdf_local(wo, wi, &self.choice(wo, mask)),
+        }
     }
 
     fn pdf_local(&self, wo: Vec3, wi: Vec3, choice: &[f32; MAX_LOBES]) -> f32 {
@@ -177,6 +201,40 @@ impl Bsdf {
     #[inline]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mask: LobeFlags) -> Option<BsdfSample> {
         let wo = self.frame.to_local(wo);
+        let sample = match self.lobes.as_slice() {
+            [lobe] => self.sample_lone(lobe, wo, u_lobe, u, mask),
+            _ => self.sample_among(wo, u_lobe, u, mask),
+        }?;
+        Some(BsdfSample { wi: self.frame.to_world(sample.wi), ..sample })
+    }
+
+    /// `sample_among` for a BSDF of one lobe (most materials), without the choice among lobes:
+    /// it is taken with probability 1 where `mask` asks for it and it scatters light, and all of
+    /// `u_lobe` is left for its own choices; the same result, bit for bit (tested).
+    #[inline]
+    fn sample_lone(
+        &self,
+        lobe: &Lobe,
+        wo: Vec3,
+        u_lobe: f32,
+        u: Vec2,
+        mask: LobeFlags,
+    ) -> Option<BsdfSample> {
+        if !(lobe.flags().is_in(mask) && lobe.albedo(wo) > 0.0) {
+            return None;
+        }
+        let sample = lobe.sample(wo, u_lobe.clamp(0.0, ONE_MINUS_EPSILON), u, self.mode)?;
+        (sample.pdf > 0.0).then_some(BsdfSample {
+            wi: sample.wi,
+            weight: sample.weight,
+            pdf: sample.pdf,
+            flags: sample.flags,
+            eta: sample.eta,
+        })
+    }
+
+    /// `sample` in the shading frame (`wi` too), over any number of lobes.
+    fn sample_among(&self, wo: Vec3, u_lobe: f32, u: Vec2, mask: LobeFlags) -> Option<BsdfSample> {
         let choice = self.choice(wo, mask);
         let (index, u_split) = take(&choice, u_lobe)?;
         let (lobe, p) = (&self.lobes[index], choice[index]);
@@ -194,8 +252,8 @@ impl Bsdf {
         } else {
             self.pdf_local(wo, sample.wi, &choice)
         };
-        (pdf > 0.0).then(|| BsdfSample {
-            wi: self.frame.to_world(sample.wi),
+        (pdf > 0.0).then_some(BsdfSample {
+            wi: sample.wi,
             weight: sample.weight / p,
             pdf,
             flags: sample.flags,
@@ -221,3 +279,78 @@ fn take(choice: &[f32; MAX_LOBES], u: f32) -> Option<(usize, f32)> {
 
 /// The largest f32 below 1.
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Materials of one lobe each: Lambertian, mirror, smooth and rough dielectrics (fixed
+    /// split and Fresnel's), rough conductor.
+    fn lone_lobe_materials() -> Vec<Material> {
+        let kd = Vec3::new(0.7, 0.2, 0.4);
+        let base = Material::default();
+        vec![
+            Material { diffuse: kd, ..base.clone() },
+            Material { specular: kd, ..base.clone() },
+            Material { transmission: kd, ior: 1.5, ..base.clone() },
+            Material { specular: kd, transmission: kd, ior: 1.3, fresnel: true, ..base.clone() },
+            Material { specular: kd, roughness: 0.3, ..base.clone() },
+            Material { transmission: Vec3::ONE, ior: 1.5, fresnel: true, roughness: 0.2, ..base },
+        ]
+    }
+
+    /// A fixed spread of unit directions and sample values (a low-discrepancy walk).
+    fn spread(i: u32) -> (Vec3, Vec3, f32, Vec2) {
+        let f = |k: f32| (i as f32 * k).fract();
+        let dir = |a: f32, b: f32| {
+            let z = 1.0 - 2.0 * a;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let phi = std::f32::consts::TAU * b;
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        };
+        let wo = dir(f(0.618_034), f(0.754_877_7));
+        let wi = dir(f(0.569_840_3), f(0.314_159_3));
+        (wo, wi, f(0.414_213_6), Vec2::new(f(0.732_050_8), f(0.236_068)))
+    }
+
+    fn bits(s: Option<BsdfSample>) -> Option<([u32; 7], f32, LobeFlags)> {
+        s.map(|s| {
+            let (wi, w) =
+                (s.wi.to_array().map(f32::to_bits), s.weight.to_array().map(f32::to_bits));
+            ([wi[0], wi[1], wi[2], w[0], w[1], w[2], s.pdf.to_bits()], s.eta, s.flags)
+        })
+    }
+
+    /// The lone lobe's short ways through `sample` and `pdf` give what the choice among lobes
+    /// gives, bit for bit, under every mask.
+    #[test]
+    fn a_lone_lobe_samples_and_weighs_as_the_choice_among_lobes() {
+        let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let masks = [
+            LobeFlags::ALL,
+            LobeFlags::NON_DELTA,
+            LobeFlags::DELTA,
+            LobeFlags::DIFFUSE,
+            LobeFlags::GLOSSY,
+        ];
+        for material in lone_lobe_materials() {
+            for mode in [TransportMode::Radiance, TransportMode::Importance] {
+                let bsdf = material.bsdf(n, mode);
+                assert_eq!(bsdf.lobes.len(), 1, "{material:?}");
+                for i in 0..2000 {
+                    let (wo, wi, u_lobe, u) = spread(i);
+                    for mask in masks {
+                        let among = bsdf
+                            .sample_among(bsdf.frame.to_local(wo), u_lobe, u, mask)
+                            .map(|s| BsdfSample { wi: bsdf.frame.to_world(s.wi), ..s });
+                        assert_eq!(bits(bsdf.sample(wo, u_lobe, u, mask)), bits(among));
+                        let (wo, wi) = (bsdf.frame.to_local(wo), bsdf.frame.to_local(wi));
+                        let choice = bsdf.choice(wo, mask);
+                        let pdf = bsdf.pdf_local(wo, wi, &choice);
+                        assert_eq!(bsdf.pdf_of(wo, wi, mask).to_bits(), pdf.to_bits());
+                    }
+                }
+            }
+        }
+    }
+}

@@ -5,6 +5,7 @@ use std::f32::consts::{FRAC_PI_4, PI};
 use glam::{Vec2, Vec3};
 
 /// Shirley–Chiu concentric map onto the unit disk (area-preserving up to a constant).
+#[inline]
 pub fn concentric_disk(u: Vec2) -> Vec2 {
     let o = 2.0 * u - Vec2::ONE;
     if o == Vec2::ZERO {
@@ -41,6 +42,7 @@ pub fn uniform_sphere(u: Vec2) -> Vec3 {
 }
 
 /// Cosine-weighted on the hemisphere around +z (Malley's method); pdf cos(theta) / pi.
+#[inline]
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
     let d = concentric_disk(u);
     Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
@@ -48,6 +50,7 @@ pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
 
 /// Barycentric coordinates (b1, b2) uniform over a triangle: the point is
 /// `a + b1 (b - a) + b2 (c - a)` (the square-root warp).
+#[inline]
 pub fn uniform_triangle(u: Vec2) -> Vec2 {
     let su = u.x.sqrt();
     Vec2::new(1.0 - su, u.y * su)

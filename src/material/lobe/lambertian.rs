@@ -18,6 +18,7 @@ pub struct Lambertian {
 impl Lambertian {
     pub const FLAGS: LobeFlags = LobeFlags::DIFFUSE.union(LobeFlags::REFLECTION);
 
+    #[inline]
     pub fn albedo(&self) -> f32 {
         mean(self.reflectance)
     }
