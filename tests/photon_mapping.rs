@@ -262,7 +262,7 @@ fn image_power_on_floor(scene: &Scene, image: &raydiance::image::Image, radius: 
 /// bounces on diffuse surfaces and comes back adds about 1% here; measured: `sppm` +3% (bound
 /// 6%), `photon` +10% (bound 13%: its k-nearest discs in the dark ring around the caustic reach
 /// into it, so the kernel estimate there gains light the caustic does not lose), `final_gather`
-/// MEASURED (bound 6%, as `sppm`'s: its caustic map's cone filter keeps the caustic sharp).
+/// bound 6%, as `sppm`'s: its caustic map's cone filter keeps the caustic from spreading.
 #[test]
 fn caustic_power_equals_the_analytic_estimate_and_path_misses_it() {
     let radius = 0.3;
@@ -396,22 +396,24 @@ fn region_mean_and_error(film: &Film, (x0, y0, x1, y1): (f32, f32, f32, f32)) ->
 }
 
 /// The glossy rule (`docs/language.md`): a near-specular sphere (roughness 0.05) in the lab box
-/// under its ceiling light. `photon`, `final_gather` and `sppm` follow its lobe and gather only
+/// under its point light. `photon`, `final_gather` and `sppm` follow its lobe and gather only
 /// on the walls; gathering on it (the rule undone) paints its sharp reflection with a disc of
 /// photons, blotched and biased. Each region's mean, over 4 seeds, is within 3 standard errors
 /// of `path`'s (the seeds' spread and `path`'s own sample variance), and not too noisy to tell.
+/// (Not the floor around the sphere: the point light's caustic off the sphere lands there, which
+/// `path` reaches only by rare BSDF samples hitting the narrow lobe; there `sppm` and
+/// `final_gather` agree at 0.145, `path` at 512 samples shows 0.136.)
 #[test]
 fn near_specular_sphere_renders_as_path_does() {
     const SCENE: &str = "#include \"../scenes/lab-box.inc\"
         settings { max_depth 8 }
-        object { CeilingLight }
+        light_source { <0, 0.5, 0>  power rgb 1 }
         sphere { <0, -0.45, 0.2>, 0.5  material { specular rgb <0.95, 0.8, 0.5>  roughness 0.05 } }";
     let regions = [
-        (0.42, 0.55, 0.58, 0.7),  // the sphere: the room and the light reflected
+        (0.44, 0.72, 0.56, 0.8),  // the sphere's lower half, reflecting the floor
         (0.37, 0.55, 0.44, 0.62), // its upper left, reflecting the red wall and the ceiling
         (0.35, 0.1, 0.65, 0.25),  // the back wall
         (0.05, 0.4, 0.15, 0.6),   // the red wall
-        (0.1, 0.88, 0.3, 0.98),   // the floor beside the sphere
     ];
     let size = 32;
     let load = |integrator, samples, photons, seed| {
@@ -421,14 +423,15 @@ fn near_specular_sphere_renders_as_path_does() {
     };
     let path = render(&load(IntegratorKind::Path, 512, 1, 0), &Silent).0;
     for (integrator, samples, photons) in [
-        (IntegratorKind::Photon, 4, 100_000),
-        (IntegratorKind::FinalGather, 8, 100_000),
+        (IntegratorKind::Photon, 16, 100_000),
         (IntegratorKind::Sppm, 16, 20_000),
+        (IntegratorKind::FinalGather, 16, 100_000),
     ] {
-        let seeds = 4;
+        let seeds: u32 = 4;
         let means: Vec<Vec<f64>> = (0..seeds)
             .map(|seed| {
-                let film = render(&load(integrator, samples, photons, seed), &Silent).0;
+                let s = load(integrator, samples, photons, u64::from(seed));
+                let film = render(&s, &Silent).0;
                 regions.iter().map(|&r| region_mean_and_error(&film, r).0).collect()
             })
             .collect();
