@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use raydiance::integrator::trace_pass;
-use raydiance::photon::{Emission, Photon, PhotonMap};
+use raydiance::photon::{Arrival, Deposit, Emission, Photon, PhotonMap};
 use raydiance::progress::Silent;
 
 fn main() {
@@ -18,7 +18,9 @@ fn main() {
     .unwrap_or_else(|e| panic!("{e}"));
     let emission = Emission::new(&scene.lights, photons);
     let start = Instant::now();
-    let stored = trace_pass(&scene, &emission, 0, &Silent).expect("not stopped");
+    // `photon`'s map: every photon after one bounce or more.
+    let kept = |d: &Deposit| [d.arrival != Arrival::Direct];
+    let [stored] = trace_pass(&scene, &emission, 0, &Silent, kept).expect("not stopped");
     let tracing = start.elapsed().as_secs_f64();
     let count = stored.len();
     let start = Instant::now();

@@ -30,8 +30,11 @@ pub struct SceneGraph {
 pub enum IntegratorKind {
     Direct,
     Path,
-    /// Jensen's two-pass photon mapping (`docs/language.md`, Photon mapping).
+    /// Jensen's two-pass photon mapping, the course's one map (`docs/language.md`, Photon
+    /// mapping).
     Photon,
+    /// Jensen's photon mapping with a caustic map and final gathering from a global map.
+    FinalGather,
     /// Stochastic progressive photon mapping (Hachisuka and Jensen 2009).
     Sppm,
 }
@@ -42,15 +45,17 @@ impl IntegratorKind {
             IntegratorKind::Direct => "direct",
             IntegratorKind::Path => "path",
             IntegratorKind::Photon => "photon",
+            IntegratorKind::FinalGather => "final_gather",
             IntegratorKind::Sppm => "sppm",
         }
     }
 
     /// Every integrator, for parsing names and listing them in messages.
-    pub const ALL: [IntegratorKind; 4] = [
+    pub const ALL: [IntegratorKind; 5] = [
         IntegratorKind::Direct,
         IntegratorKind::Path,
         IntegratorKind::Photon,
+        IntegratorKind::FinalGather,
         IntegratorKind::Sppm,
     ];
 
@@ -70,9 +75,10 @@ pub struct Settings {
     pub max_depth: u32,
     pub seed: u64,
     pub background: Vec3,
-    /// Photons per pass (`photon`) or iteration (`sppm`); `None`: the integrator's default.
+    /// Photons per pass (`photon`, `final_gather`) or iteration (`sppm`); `None`: the
+    /// integrator's default.
     pub photons: Option<u32>,
-    /// `photon`: photons in each density estimate.
+    /// `photon`: photons in each density estimate (`final_gather`: in each global one).
     pub photon_k: u32,
     /// `sppm`: the initial gather radius, in scene units.
     pub photon_radius: f32,
@@ -85,7 +91,7 @@ impl Settings {
         let photons = ("photons", self.photons().to_string());
         match self.integrator {
             IntegratorKind::Direct | IntegratorKind::Path => vec![depth],
-            IntegratorKind::Photon => {
+            IntegratorKind::Photon | IntegratorKind::FinalGather => {
                 vec![depth, photons, ("photon_k", self.photon_k.to_string())]
             }
             IntegratorKind::Sppm => {
@@ -99,7 +105,10 @@ impl Settings {
     pub fn photons(&self) -> u32 {
         self.photons.unwrap_or(match self.integrator {
             IntegratorKind::Sppm => 200_000,
-            IntegratorKind::Direct | IntegratorKind::Path | IntegratorKind::Photon => 1_000_000,
+            IntegratorKind::Direct
+            | IntegratorKind::Path
+            | IntegratorKind::Photon
+            | IntegratorKind::FinalGather => 1_000_000,
         })
     }
 }

@@ -55,7 +55,8 @@ enum Command {
         #[arg(long, allow_negative_numbers = true)]
         threads: Option<usize>,
         /// `direct` (the course's Lab 4: direct light, mirrors and glass followed), `path`
-        /// (path tracing of the full rendering equation), `photon` (Jensen's photon mapping) or
+        /// (path tracing of the full rendering equation), `photon` (Jensen's photon mapping, one
+        /// map), `final_gather` (photon mapping with a caustic map and final gathering) or
         /// `sppm` (stochastic progressive photon mapping) [default: the scene's `settings`,
         /// else path]
         #[arg(long, value_parser = parse_integrator)]
@@ -181,7 +182,7 @@ enum Command {
 
 fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
     IntegratorKind::named(s).ok_or_else(|| {
-        format!("unknown integrator `{s}` (expected `direct`, `path`, `photon` or `sppm`)")
+        format!("unknown integrator `{s}` (expected `direct`, `path`, `photon`, `final_gather` or `sppm`)")
     })
 }
 

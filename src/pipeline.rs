@@ -204,7 +204,7 @@ pub fn check_render_memory(scene: &Scene, max_bytes: u64) -> Result<(), RenderTo
     let pixels = u64::from(s.width) * u64::from(s.height);
     match s.integrator {
         IntegratorKind::Direct | IntegratorKind::Path => Ok(()),
-        IntegratorKind::Photon => {
+        IntegratorKind::Photon | IntegratorKind::FinalGather => {
             let stored = integrator::most_stored(scene);
             let needed_bytes = pixels * BYTES_PER_PIXEL + stored * integrator::STORED_PHOTON_BYTES;
             if needed_bytes <= max_bytes {

@@ -18,24 +18,26 @@ pub struct Direct {
     pub max_depth: u32,
 }
 
-/// Light of the environment reflected towards `wo` by the non-delta lobes, found by one
-/// direction sampled from them with a shadow ray to infinity: f L cos / pdf where the sky is
-/// seen, weighted against the environment's own sample (`direct_from_light`) by the power
-/// heuristic. A scene without an environment draws no sample, so the course's Lab 4 scenes
-/// render as they always have.
+/// Light of the environment reflected towards `wo` by the lobes with a density that `mask` asks
+/// for, found by one direction sampled from them with a shadow ray to infinity: f L cos / pdf
+/// where the sky is seen, weighted against the environment's own sample (`direct_from_light`)
+/// by the power heuristic. A scene without an environment draws no sample, so the course's Lab
+/// 4 scenes render as they always have.
 #[inline]
 pub(super) fn direct_from_environment(
     scene: &Scene,
     hit: &Hit,
     wo: Vec3,
     bsdf: &Bsdf,
+    mask: LobeFlags,
     sampler: &mut Sampler,
 ) -> Vec3 {
     let Some((_, sky)) = scene.environment() else {
         return Vec3::ZERO;
     };
     let u_lobe = sampler.next_1d_if(bsdf.flags().contains(LobeFlags::GLOSSY));
-    let Some(sample) = bsdf.sample(wo, u_lobe, sampler.next_2d(), LobeFlags::NON_DELTA) else {
+    let Some(sample) = bsdf.sample(wo, u_lobe, sampler.next_2d(), mask & LobeFlags::NON_DELTA)
+    else {
         return Vec3::ZERO;
     };
     let ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
@@ -79,7 +81,8 @@ impl SampleIntegrator for Direct {
                     let Some(vertex) = path.state.vertex.as_ref().filter(|v| v.is_lit()) else {
                         continue;
                     };
-                    if let Some(shadowed) = light_sample(light, vertex, &mut path.sampler) {
+                    let mask = vertex.lit_lobes(light);
+                    if let Some(shadowed) = light_sample(light, vertex, mask, &mut path.sampler) {
                         shadows.set_lane(lane, shadowed);
                     }
                 }
@@ -109,6 +112,9 @@ struct WhittedLane {
 
 /// A path of `whitted` (or of sppm's camera pass) between bounces.
 pub(super) struct WhittedPath {
+    /// Whether it follows near-specular lobes as it does delta lobes, and gathers only at the
+    /// others (photon mapping's glossy rule, `Bsdf::gathered_lobes`).
+    follows_near_specular: bool,
     /// Its next ray.
     pub ray: Ray,
     /// Radiance gathered so far.
@@ -119,8 +125,20 @@ pub(super) struct WhittedPath {
 }
 
 impl WhittedPath {
+    /// A path of `direct`: it gathers light at every lobe with a density.
     pub fn new(ray: Ray) -> Self {
-        WhittedPath { ray, radiance: Vec3::ZERO, beta: Vec3::ONE, bounces: 0 }
+        WhittedPath {
+            follows_near_specular: false,
+            ray,
+            radiance: Vec3::ZERO,
+            beta: Vec3::ONE,
+            bounces: 0,
+        }
+    }
+
+    /// A camera path of photon mapping: it follows near-specular lobes too.
+    pub fn photon_mapping(ray: Ray) -> Self {
+        WhittedPath { follows_near_specular: true, ..WhittedPath::new(ray) }
     }
 }
 
@@ -129,12 +147,28 @@ pub(super) struct Vertex {
     pub hit: Hit,
     pub wo: Vec3,
     pub bsdf: Bsdf,
+    /// The lobes whose light is estimated here (light samples, the background, a photon
+    /// map's estimate); the path follows the others.
+    pub gathered: LobeFlags,
 }
 
 impl Vertex {
     /// Whether it has lobes with a density, which light samples light.
     fn is_lit(&self) -> bool {
         self.bsdf.flags().is_non_delta()
+    }
+
+    /// The lobes through which next-event estimation lights it from `light`: for a point
+    /// light every lobe with a density (no followed ray can meet it), for other lights the
+    /// gathered ones (a followed ray meets them).
+    pub fn lit_lobes(&self, light: &Light) -> LobeFlags {
+        if light.is_delta() { LobeFlags::NON_DELTA } else { self.gathered }
+    }
+
+    /// The lobes the path follows onward: delta lobes, and near-specular ones under the
+    /// glossy rule.
+    pub fn followed(&self) -> LobeFlags {
+        (self.bsdf.flags() & (LobeFlags::NON_DELTA | LobeFlags::DELTA)).without(self.gathered)
     }
 }
 
@@ -158,33 +192,44 @@ pub(super) fn arrive(
         return None;
     }
     let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
-    Some(Vertex { hit, wo, bsdf })
+    let gathered = if path.follows_near_specular {
+        bsdf.gathered_lobes()
+    } else {
+        bsdf.flags() & LobeFlags::NON_DELTA
+    };
+    Some(Vertex { hit, wo, bsdf, gathered })
 }
 
 /// A sample of every light at a lit vertex, in order: its shadow ray and the light it reflects
-/// towards wo if unoccluded (`direct_from_light`).
+/// towards wo through the lobes `lobes` names for it, if unoccluded (`direct_from_light`).
 fn light_samples<'a>(
     scene: &'a Scene,
     vertex: &'a Vertex,
+    lobes: impl Fn(&Light) -> LobeFlags + 'a,
     sampler: &'a mut Sampler,
 ) -> impl Iterator<Item = Option<(ShadowRay, Vec3)>> + 'a {
-    scene.lights.iter().map(move |light| light_sample(light, vertex, sampler))
+    scene.lights.iter().map(move |light| light_sample(light, vertex, lobes(light), sampler))
 }
 
-/// A sample of `light` at a lit vertex (`direct_from_light`), from the sampler's next point.
+/// A sample of `light` at a lit vertex through the lobes `mask` (`direct_from_light`), from the
+/// sampler's next point, drawn where `mask` is empty too (each light's draws stay in place).
 #[inline]
 fn light_sample(
     light: &Light,
     vertex: &Vertex,
+    mask: LobeFlags,
     sampler: &mut Sampler,
 ) -> Option<(ShadowRay, Vec3)> {
     let u = sampler.next_2d();
-    direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, u)
+    if mask.is_empty() {
+        return None;
+    }
+    direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, mask, u)
 }
 
 /// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),
-/// the environment's light found by BSDF sampling and any `indirect` light; it follows a delta
-/// lobe if there is one. Whether it goes on.
+/// where it gathers the environment's light found by BSDF sampling and any `indirect` light; it
+/// follows a delta (or near-specular) lobe if there is one. Whether it goes on.
 fn leave(
     scene: &Scene,
     path: &mut WhittedPath,
@@ -193,26 +238,31 @@ fn leave(
     sampler: &mut Sampler,
     indirect: Option<&Indirect>,
 ) -> bool {
-    let Vertex { hit, wo, bsdf } = vertex;
-    if bsdf.flags().is_non_delta() {
-        path.radiance += path.beta * lit;
-        path.radiance += path.beta * direct_from_environment(scene, hit, *wo, bsdf, sampler);
+    let Vertex { hit, wo, bsdf, gathered } = vertex;
+    path.radiance += path.beta * lit;
+    if !gathered.is_empty() {
+        let environment = direct_from_environment(scene, hit, *wo, bsdf, *gathered, sampler);
+        path.radiance += path.beta * environment;
         if let Some(indirect) = indirect {
-            path.radiance += path.beta * indirect(hit, *wo, bsdf);
+            path.radiance += path.beta * indirect(vertex, sampler);
         }
     }
-    follow_delta(path, vertex, sampler)
+    follow(path, vertex, sampler)
 }
 
-/// The path goes on through the vertex's delta lobes, if it has some: with both mirror and
-/// refraction one of them is followed, chosen at random with its weight divided by its
-/// probability (one ray, no branching, no bias). Whether it goes on.
-pub(super) fn follow_delta(path: &mut WhittedPath, vertex: &Vertex, sampler: &mut Sampler) -> bool {
-    let Vertex { hit, wo, bsdf } = vertex;
-    if !bsdf.flags().is_delta() {
+/// The path goes on through the vertex's followed lobes (`Vertex::followed`), if it has some:
+/// with both reflection and refraction one of them is followed, chosen at random with its
+/// weight divided by its probability (one ray, no branching, no bias). Whether it goes on.
+pub(super) fn follow(path: &mut WhittedPath, vertex: &Vertex, sampler: &mut Sampler) -> bool {
+    let Vertex { hit, wo, bsdf, .. } = vertex;
+    let followed = vertex.followed();
+    if followed.is_empty() {
         return false;
     }
-    let Some(sample) = bsdf.sample(*wo, sampler.next_1d(), NO_DIRECTION, LobeFlags::DELTA) else {
+    let u_lobe = sampler.next_1d();
+    // Delta lobes read no direction sample: `direct` draws none.
+    let u = if followed.is_non_delta() { sampler.next_2d() } else { NO_DIRECTION };
+    let Some(sample) = bsdf.sample(*wo, u_lobe, u, followed) else {
         return false;
     };
     path.beta *= sample.weight;
@@ -221,11 +271,17 @@ pub(super) fn follow_delta(path: &mut WhittedPath, vertex: &Vertex, sampler: &mu
     true
 }
 
-/// Light from every light reflected towards wo at a lit vertex, each sample's shadow ray
-/// traced at once: what the lanes of `Direct` find together, one path at a time.
-pub(super) fn lit_one_at_a_time(scene: &Scene, vertex: &Vertex, sampler: &mut Sampler) -> Vec3 {
+/// Light from every light reflected towards wo at a lit vertex through the lobes `lobes` names
+/// for it, each sample's shadow ray traced at once: what the lanes of `Direct` find together,
+/// one path at a time.
+pub(super) fn lit_one_at_a_time(
+    scene: &Scene,
+    vertex: &Vertex,
+    lobes: impl Fn(&Light) -> LobeFlags,
+    sampler: &mut Sampler,
+) -> Vec3 {
     let mut lit = Vec3::ZERO;
-    for (shadow, reflected) in light_samples(scene, vertex, sampler).flatten() {
+    for (shadow, reflected) in light_samples(scene, vertex, lobes, sampler).flatten() {
         if !scene.occluded(&shadow.ray, shadow.t_max) {
             lit += reflected;
         }
@@ -233,13 +289,14 @@ pub(super) fn lit_one_at_a_time(scene: &Scene, vertex: &Vertex, sampler: &mut Sa
     lit
 }
 
-/// Light from other surfaces scattered towards `wo` by `bsdf` at a hit, from some estimator
-/// (a photon map's).
-pub(super) type Indirect<'a> = dyn Fn(&Hit, Vec3, &Bsdf) -> Vec3 + 'a;
+/// Light from other surfaces scattered towards `wo` by the gathered lobes at a vertex, from
+/// some estimator (a photon map's).
+pub(super) type Indirect<'a> = dyn Fn(&Vertex, &mut Sampler) -> Vec3 + 'a;
 
-/// `Direct`'s estimate along `ray`, plus any `indirect(hit, wo, bsdf)` (light from other surfaces)
-/// at each vertex with a non-delta lobe: emission seen on the way, next-event estimation at
-/// those vertices, delta lobes followed, for at most `max_depth` bounces.
+/// `Direct`'s estimate along `ray`, plus any `indirect(vertex)` (light from other surfaces) at
+/// each vertex with gathered lobes: emission seen on the way, next-event estimation at those
+/// vertices, delta lobes followed, for at most `max_depth` bounces. With `indirect`, a photon
+/// map's, the path follows near-specular lobes too (`WhittedPath::photon_mapping`).
 pub(super) fn whitted(
     scene: &Scene,
     ray: Ray,
@@ -247,12 +304,16 @@ pub(super) fn whitted(
     max_depth: u32,
     indirect: Option<&Indirect>,
 ) -> Vec3 {
-    let mut path = WhittedPath::new(ray);
+    let mut path =
+        if indirect.is_some() { WhittedPath::photon_mapping(ray) } else { WhittedPath::new(ray) };
     loop {
         let hit = scene.intersect(&path.ray);
         let Some(vertex) = arrive(scene, &mut path, hit, max_depth) else { break };
-        let lit =
-            if vertex.is_lit() { lit_one_at_a_time(scene, &vertex, sampler) } else { Vec3::ZERO };
+        let lit = if vertex.is_lit() {
+            lit_one_at_a_time(scene, &vertex, |light| vertex.lit_lobes(light), sampler)
+        } else {
+            Vec3::ZERO
+        };
         if !leave(scene, &mut path, &vertex, lit, sampler, indirect) {
             break;
         }

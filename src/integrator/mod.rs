@@ -4,12 +4,14 @@
 //! its own.
 
 mod direct;
+mod final_gather;
 mod path;
 mod photon;
 mod samples;
 pub mod sppm;
 
 pub use direct::Direct;
+pub use final_gather::{CAUSTIC_K, FinalGather};
 pub use path::{Path, Strategy};
 pub use photon::{PHOTON_TASK, PhotonMapping, STORED_PHOTON_BYTES, most_stored, trace_pass};
 pub use samples::{SampleIntegrator, TASK_SAMPLES, render_samples, stopped_before_a_pass};
@@ -72,11 +74,15 @@ pub fn of(settings: &Settings) -> Box<dyn Integrator> {
         IntegratorKind::Photon => {
             Box::new(PhotonMapping { max_depth, k: settings.photon_k as usize })
         }
+        IntegratorKind::FinalGather => {
+            Box::new(FinalGather { max_depth, k: settings.photon_k as usize })
+        }
         IntegratorKind::Sppm => Box::new(Sppm),
     }
 }
 
-/// Light from `light` scattered towards `wo` by the non-delta lobes of `bsdf` at `hit`, from
+/// Light from `light` scattered towards `wo` by the lobes of `bsdf` at `hit` that `mask` asks for
+/// (those with a density among them), from
 /// its sample at `u`, if the shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point
 /// light exactly the course's Lab 4 p / r^2 f |n . wi|). The environment's sample is weighted
 /// against the BSDF's sample of it (`direct::direct_from_environment`), by the power heuristic.
@@ -85,12 +91,13 @@ fn direct_from_light(
     hit: &Hit,
     wo: Vec3,
     bsdf: &Bsdf,
+    mask: LobeFlags,
     u: Vec2,
 ) -> Option<(ShadowRay, Vec3)> {
     let sample = light.sample(hit, u)?;
-    let f = bsdf.eval(wo, sample.wi);
+    let f = bsdf.eval_lobes(wo, sample.wi, mask);
     let weight = if matches!(light, Light::Environment(_)) {
-        power_heuristic(sample.pdf, bsdf.pdf(wo, sample.wi, LobeFlags::NON_DELTA))
+        power_heuristic(sample.pdf, bsdf.pdf(wo, sample.wi, mask))
     } else {
         1.0
     };

@@ -13,12 +13,12 @@ use std::f32::consts::PI;
 
 use std::time::Instant;
 
-use super::direct::whitted;
+use super::direct::{Vertex, whitted};
 use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
 use crate::film::Film;
-use crate::geometry::{Hit, Ray};
-use crate::material::Bsdf;
-use crate::photon::{Emission, Photon, PhotonMap, trace_photon};
+use crate::geometry::Ray;
+use crate::graph::IntegratorKind;
+use crate::photon::{Arrival, Deposit, Emission, Photon, PhotonMap, trace_photon};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
 use crate::sampling::Sampler;
@@ -33,12 +33,21 @@ pub const PHOTON_TASK: u32 = 4096;
 /// (measured: 64.4 bytes a stored photon at the peak, 16 M photons in a closed room).
 pub const STORED_PHOTON_BYTES: u64 = 72;
 
-/// The most photons `scene`'s pass stores: one at each bounce after leaving the light, up to
-/// `max_depth` per photon emitted (every photon, in a closed room of white walls).
+/// The most photons `scene`'s pass stores: for `photon` one at each bounce after leaving the
+/// light, up to `max_depth` per photon emitted (every photon, in a closed room of white walls);
+/// for `final_gather` one more where it first lands, and each caustic photon twice (in both
+/// maps).
 pub fn most_stored(scene: &Scene) -> u64 {
     let settings = &scene.settings;
-    let emitted = Emission::new(&scene.lights, settings.photons()).total();
-    u64::from(emitted) * u64::from(settings.max_depth)
+    let emitted = u64::from(Emission::new(&scene.lights, settings.photons()).total());
+    let depth = u64::from(settings.max_depth);
+    match settings.integrator {
+        IntegratorKind::FinalGather => emitted * (2 * depth + 1),
+        IntegratorKind::Direct
+        | IntegratorKind::Path
+        | IntegratorKind::Photon
+        | IntegratorKind::Sppm => emitted * depth,
+    }
 }
 
 /// Photon mapping with `k` photons in each density estimate, paths of at most `max_depth`
@@ -60,7 +69,9 @@ impl Integrator for PhotonMapping {
     ) -> (Film, RenderStats) {
         let start = Instant::now();
         let emission = Emission::new(&scene.lights, scene.settings.photons());
-        let Some(photons) = trace_pass(scene, &emission, 0, progress) else {
+        // Direct light comes from next-event estimation.
+        let maps = |d: &Deposit| [d.arrival != Arrival::Direct];
+        let Some([photons]) = trace_pass(scene, &emission, 0, progress, maps) else {
             return stopped_before_a_pass(scene, start);
         };
         let estimate = PhotonEstimate { mapping: self, map: PhotonMap::build(photons) };
@@ -80,8 +91,10 @@ struct PhotonEstimate<'a> {
 }
 
 impl PhotonEstimate<'_> {
-    /// Light from other surfaces scattered towards `wo` at `hit`, from the nearest photons.
-    fn indirect(&self, hit: &Hit, wo: Vec3, bsdf: &Bsdf) -> Vec3 {
+    /// Light from other surfaces scattered towards `wo` by the gathered lobes at `vertex`, from
+    /// the nearest photons.
+    fn indirect(&self, vertex: &Vertex) -> Vec3 {
+        let Vertex { hit, wo, bsdf, gathered } = vertex;
         let found = self.map.nearest(hit.point, self.mapping.k);
         let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
             return Vec3::ZERO;
@@ -93,7 +106,7 @@ impl PhotonEstimate<'_> {
             .iter()
             .map(|n| {
                 let photon = self.map.photon(n.index);
-                bsdf.eval(wo, photon.wi()) * photon.power
+                bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power
             })
             .sum();
         flux / (PI * radius_squared)
@@ -102,38 +115,44 @@ impl PhotonEstimate<'_> {
 
 impl SampleIntegrator for PhotonEstimate<'_> {
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
-        let indirect = |hit: &Hit, wo: Vec3, bsdf: &Bsdf| self.indirect(hit, wo, bsdf);
+        let indirect = |vertex: &Vertex, _: &mut Sampler| self.indirect(vertex);
         whitted(scene, ray, sampler, self.mapping.max_depth, Some(&indirect))
     }
 }
 
-/// The photons of pass `pass` where they land after one bounce or more, in photon order
-/// whatever the thread count; `None` if `progress` asks to stop first.
-pub fn trace_pass(
+/// The photons of pass `pass` where they land, in `MAPS` maps: each map `m` keeps the deposits
+/// `d` for which `maps(d)[m]`; in photon order whatever the thread count; `None` if `progress`
+/// asks to stop first.
+pub fn trace_pass<const MAPS: usize>(
     scene: &Scene,
     emission: &Emission,
     pass: u64,
     progress: &dyn Progress,
-) -> Option<Vec<Photon>> {
+    maps: impl Fn(&Deposit) -> [bool; MAPS] + Sync,
+) -> Option<[Vec<Photon>; MAPS]> {
     let total = emission.total();
-    let tasks: Vec<Option<Vec<Photon>>> = (0..total.div_ceil(PHOTON_TASK))
+    let tasks: Vec<Option<[Vec<Photon>; MAPS]>> = (0..total.div_ceil(PHOTON_TASK))
         .into_par_iter()
         .map(|task| {
             if progress.should_abandon() {
                 return None;
             }
-            let mut stored = Vec::new();
+            let mut stored: [Vec<Photon>; MAPS] = std::array::from_fn(|_| Vec::new());
             let first = task * PHOTON_TASK;
             for index in first..(first + PHOTON_TASK).min(total) {
                 trace_photon(scene, emission, scene.settings.max_depth, pass, index, |d| {
-                    stored.push(Photon::new(d.hit.point, d.wi, d.power));
+                    for (map, kept) in stored.iter_mut().zip(maps(d)) {
+                        if kept {
+                            map.push(Photon::new(d.hit.point, d.wi, d.power));
+                        }
+                    }
                 });
             }
             // Only what is stored counts against the memory (`STORED_PHOTON_BYTES`).
-            stored.shrink_to_fit();
+            stored.iter_mut().for_each(Vec::shrink_to_fit);
             Some(stored)
         })
         .collect();
-    let tasks: Option<Vec<Vec<Photon>>> = tasks.into_iter().collect();
-    Some(tasks?.concat())
+    let tasks: Vec<[Vec<Photon>; MAPS]> = tasks.into_iter().collect::<Option<_>>()?;
+    Some(std::array::from_fn(|m| tasks.iter().flat_map(|t| t[m].iter().copied()).collect()))
 }

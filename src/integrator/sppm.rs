@@ -18,11 +18,13 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::direct::{
-    Vertex, WhittedPath, arrive, direct_from_environment, follow_delta, lit_one_at_a_time,
+    Vertex, WhittedPath, arrive, direct_from_environment, follow, lit_one_at_a_time,
 };
 use super::{Integrator, PHOTON_TASK};
 use crate::film::{BYTES_PER_PIXEL, Film};
-use crate::photon::{Emission, HashGrid, trace_photon};
+use crate::light::Light;
+use crate::material::LobeFlags;
+use crate::photon::{Arrival, Emission, HashGrid, trace_photon};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
 use crate::scene::{Scene, camera_sample};
@@ -88,7 +90,7 @@ pub fn radius_warning(scene: &Scene) -> Option<String> {
     })
 }
 
-/// Where a camera path stopped on a non-delta lobe, the BSDF there, and the throughput it
+/// Where a camera path stopped on a gathered lobe, the BSDF there, and the throughput it
 /// brought there.
 struct VisiblePoint {
     vertex: Vertex,
@@ -98,7 +100,8 @@ struct VisiblePoint {
 impl VisiblePoint {
     /// Light a photon arriving from `wi` with `power` sends along the camera path.
     fn flux(&self, wi: Vec3, power: Vec3) -> Vec3 {
-        self.beta * self.vertex.bsdf.eval(self.vertex.wo, wi) * power
+        let Vertex { bsdf, wo, gathered, .. } = &self.vertex;
+        self.beta * bsdf.eval_lobes(*wo, wi, *gathered) * power
     }
 }
 
@@ -231,6 +234,10 @@ fn iterate(
                 for index in first..(first + PHOTON_TASK).min(emission.total()) {
                     let max_depth = scene.settings.max_depth;
                     trace_photon(scene, emission, max_depth, u64::from(iteration), index, |d| {
+                        // Direct light comes from next-event estimation.
+                        if d.arrival == Arrival::Direct {
+                            return;
+                        }
                         for pixel in grid.holding(d.hit.point) {
                             let Some(vp) = &points[pixel as usize].1 else { continue };
                             let sum = &mut sums[pixel as usize];
@@ -272,27 +279,41 @@ fn iterate(
 /// at its visible point (weighted by the path's throughput), and the visible point if any.
 fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPath {
     let (ray, mut sampler) = camera_sample(scene, x, y, iteration);
-    let mut path = WhittedPath::new(ray);
+    let mut path = WhittedPath::photon_mapping(ray);
     loop {
         let hit = scene.intersect(&path.ray);
         let Some(vertex) = arrive(scene, &mut path, hit, scene.settings.max_depth) else { break };
-        let flags = vertex.bsdf.flags();
-        if flags.is_non_delta() {
-            // With delta lobes too, the path stops here with the non-delta lobes' probability
-            // p and goes on through a delta lobe otherwise, each divided by its probability.
-            let p = if flags.is_delta() { vertex.bsdf.diffuse_probability(vertex.wo) } else { 1.0 };
-            if sampler.next_1d_if(flags.is_delta()) < p {
+        let (gathered, followed) = (vertex.gathered, vertex.followed());
+        if followed.is_non_delta() {
+            // Point lights seen in a near-specular lobe: only next-event estimation finds
+            // them, whichever way the path goes on.
+            let point_lights =
+                |light: &Light| if light.is_delta() { followed } else { LobeFlags::NONE };
+            path.radiance +=
+                path.beta * lit_one_at_a_time(scene, &vertex, point_lights, &mut sampler);
+        }
+        if !gathered.is_empty() {
+            // With followed lobes too, the path stops here with the gathered lobes'
+            // probability p and goes on through a followed lobe otherwise, each divided by its
+            // probability.
+            let p = if followed.is_empty() {
+                1.0
+            } else {
+                vertex.bsdf.probability_of(vertex.wo, gathered)
+            };
+            if sampler.next_1d_if(!followed.is_empty()) < p {
                 path.beta /= p;
-                let lit = lit_one_at_a_time(scene, &vertex, &mut sampler);
+                let lit = lit_one_at_a_time(scene, &vertex, |_| gathered, &mut sampler);
                 path.radiance += path.beta * lit;
-                let Vertex { hit, wo, bsdf } = &vertex;
-                path.radiance +=
-                    path.beta * direct_from_environment(scene, hit, *wo, bsdf, &mut sampler);
+                let Vertex { hit, wo, bsdf, .. } = &vertex;
+                let environment =
+                    direct_from_environment(scene, hit, *wo, bsdf, gathered, &mut sampler);
+                path.radiance += path.beta * environment;
                 return (path.radiance, Some(VisiblePoint { vertex, beta: path.beta }));
             }
             path.beta /= 1.0 - p;
         }
-        if !follow_delta(&mut path, &vertex, &mut sampler) {
+        if !follow(&mut path, &vertex, &mut sampler) {
             break;
         }
     }

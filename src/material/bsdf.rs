@@ -60,6 +60,14 @@ impl BsdfSample {
 /// none.
 pub const NO_DIRECTION: Vec2 = Vec2::ZERO;
 
+/// GGX alpha (`roughness`) below which photon mapping treats a glossy lobe as near-specular: its
+/// light is not estimated from photons (a density estimate blurs a lobe narrower than the
+/// gather disc into blotches) but followed by sampling the lobe, as a delta lobe is
+/// (`Bsdf::gathered_lobes`, `docs/language.md`). 0.2 follows rough.scn's blotched lobes (0.02
+/// and 0.1 gold, 0.08 copper, 0.15 frosted glass) and gathers its 0.3 and 0.7 gold, whose
+/// lobes are broader than the gather discs.
+pub const NEAR_SPECULAR_ROUGHNESS: f32 = 0.2;
+
 /// The most lobes a material makes: a diffuse (or coated) base and one specular or glossy lobe.
 const MAX_LOBES: usize = 2;
 
@@ -112,6 +120,25 @@ impl Bsdf {
         self.flags
     }
 
+    /// The lobes photon mapping estimates from photons here: the diffuse (or coated) lobe, and
+    /// a glossy one at least `NEAR_SPECULAR_ROUGHNESS` rough. The others (delta and near-specular lobes)
+    /// photon mapping follows by sampling, and photons are stored only where this is not empty.
+    #[inline]
+    pub fn gathered_lobes(&self) -> LobeFlags {
+        let broad = |lobe: &Lobe| match lobe {
+            // A coated base is gathered whole, its coat too: the coat's highlight of lights is
+            // next-event estimation's, only its reflection of other surfaces is the photons'.
+            Lobe::Lambertian(_) | Lobe::Plastic(_) => true,
+            Lobe::Mirror(_) | Lobe::SmoothDielectric(_) => false,
+            Lobe::GgxConductor(GgxConductor { ggx, .. })
+            | Lobe::GgxDielectric(GgxDielectric { ggx, .. }) => {
+                ggx.alpha >= NEAR_SPECULAR_ROUGHNESS
+            }
+        };
+        let gathered = self.lobes.iter().filter(|lobe| broad(lobe));
+        gathered.fold(LobeFlags::NONE, |flags, lobe| flags | lobe.flags())
+    }
+
     /// f(wo, wi) of the lobes with a density.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
@@ -123,6 +150,14 @@ impl Bsdf {
         let mut lobes = self.lobes.iter().map(|lobe| lobe.eval(wo, wi, self.mode));
         let first = lobes.next().unwrap_or(Vec3::ZERO);
         lobes.fold(first, |f, lobe| f + lobe)
+    }
+
+    /// f(wo, wi) of the lobes with a density that `mask` asks for.
+    #[inline]
+    pub fn eval_lobes(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
+        let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let taking = self.lobes.iter().filter(|lobe| lobe.flags().is_in(mask));
+        taking.map(|lobe| lobe.eval(wo, wi, self.mode)).fold(Vec3::ZERO, |f, lobe| f + lobe)
     }
 
     /// Solid-angle density with which `sample` under `mask` returns `wi` through its lobes with
@@ -163,13 +198,13 @@ impl Bsdf {
         pdf
     }
 
-    /// The probability with which `sample` over every lobe takes one with a density (the
-    /// diffuse one, or a coated base), seen from `wo`.
+    /// The probability with which `sample` over every lobe takes one of those `mask` asks
+    /// for, seen from `wo`.
     #[inline]
-    pub fn diffuse_probability(&self, wo: Vec3) -> f32 {
+    pub fn probability_of(&self, wo: Vec3, mask: LobeFlags) -> f32 {
         let choice = self.choice(self.frame.to_local(wo), LobeFlags::ALL);
-        let lobes = self.lobes.iter().zip(choice);
-        lobes.filter(|(lobe, _)| lobe.flags().is_non_delta()).map(|(_, p)| p).sum()
+        let taking = self.lobes.iter().zip(choice).filter(|(lobe, _)| lobe.flags().is_in(mask));
+        taking.map(|(_, p)| p).sum()
     }
 
     /// The probability of taking each lobe under `mask`, seen from `wo` (local): in proportion

@@ -27,6 +27,18 @@ impl LobeFlags {
         LobeFlags(self.0 | other.0)
     }
 
+    /// These flags but those of `other`.
+    #[inline]
+    pub fn without(self, other: Self) -> Self {
+        LobeFlags(self.0 & !other.0)
+    }
+
+    /// Whether no flag is set.
+    #[inline]
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
     /// Whether every flag of `other` is set.
     #[inline]
     pub fn contains(self, other: Self) -> bool {

@@ -11,7 +11,7 @@ mod fresnel;
 pub mod lobe;
 mod microfacet;
 
-pub use bsdf::{Bsdf, BsdfSample, NO_DIRECTION, TransportMode};
+pub use bsdf::{Bsdf, BsdfSample, NEAR_SPECULAR_ROUGHNESS, NO_DIRECTION, TransportMode};
 pub use flags::LobeFlags;
 pub use fresnel::{Split, fresnel_dielectric, refract};
 

@@ -10,7 +10,7 @@ mod trace;
 pub use emission::{Emission, MAX_PHOTONS};
 pub use hash_grid::HashGrid;
 pub use kd_tree::{Neighbour, PhotonMap};
-pub use trace::{Deposit, trace_photon};
+pub use trace::{Arrival, Deposit, trace_photon};
 
 use glam::{Vec2, Vec3};
 

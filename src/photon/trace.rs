@@ -1,7 +1,7 @@
 //! Photon tracing: photon `index` of pass `pass` leaves its light (`Emission`) and scatters
 //! through the scene by BSDF sampling in importance mode, with Russian roulette on its
-//! throughput, depositing where it lands on a surface with a non-delta lobe after at least one
-//! bounce. Its random numbers are a pure function of (seed, pass, index).
+//! throughput, depositing where it lands on a surface with gathered lobes (diffuse, or glossy and
+//! not near-specular: `Bsdf::gathered_lobes`) after at least one bounce. Its random numbers are a pure function of (seed, pass, index).
 
 use glam::Vec3;
 
@@ -16,17 +16,30 @@ use crate::scene::Scene;
 /// numbers.
 const PHOTON_STREAMS: u64 = 1 << 40;
 
-/// Where a photon landed after one bounce or more: the hit, the direction back towards where
-/// it came from, and its power there.
+/// Where a photon landed: the hit, the direction back towards where it came from, its power
+/// there, and the way it came.
 #[derive(Debug, Clone, Copy)]
 pub struct Deposit {
     pub hit: Hit,
     pub wi: Vec3,
     pub power: Vec3,
+    pub arrival: Arrival,
 }
 
-/// Traces photon `index` of pass `pass`, calling `deposit` at every surface with a non-delta
-/// lobe it reaches after one bounce or more, for at most `max_depth` bounces.
+/// The bounces a photon took from its light to where it lands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Arrival {
+    /// None: the light lit the surface directly.
+    Direct,
+    /// Delta and near-specular ones only (light -> specular -> here): a caustic.
+    Caustic,
+    /// At least one on a gathered lobe (diffuse or broad glossy).
+    Indirect,
+}
+
+/// Traces photon `index` of pass `pass`, calling `deposit` at every surface with gathered lobes
+/// it reaches (straight from the light too: callers keep the arrivals they estimate from), for
+/// at most `max_depth` bounces.
 pub fn trace_photon(
     scene: &Scene,
     emission: &Emission,
@@ -41,14 +54,15 @@ pub fn trace_photon(
     let Some(start) = scene.lights[light].sample_emission(photons, u_point, u_direction) else {
         return;
     };
-    let (mut ray, mut power) = (start.ray, start.power);
+    let (mut ray, mut power, mut arrival) = (start.ray, start.power, Arrival::Direct);
     for bounces in 0.. {
         let Some(hit) = scene.intersect(&ray) else { break };
         let wo = -Vec3::from(ray.dir);
         let material = scene.material(hit.primitive, hit.point);
         let bsdf = material.bsdf(hit.shading_normal, TransportMode::Importance);
-        if bounces > 0 && bsdf.flags().is_non_delta() {
-            deposit(&Deposit { hit, wi: wo, power });
+        let gathered = bsdf.gathered_lobes();
+        if !gathered.is_empty() {
+            deposit(&Deposit { hit, wi: wo, power, arrival });
         }
         if bounces == max_depth {
             break;
@@ -63,6 +77,10 @@ pub fn trace_photon(
             break;
         }
         power = scattered / survive;
+        arrival = match arrival {
+            Arrival::Direct | Arrival::Caustic if !sample.flags.is_in(gathered) => Arrival::Caustic,
+            Arrival::Direct | Arrival::Caustic | Arrival::Indirect => Arrival::Indirect,
+        };
         ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
     }
 }

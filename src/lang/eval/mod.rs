@@ -511,7 +511,7 @@ impl Evaluator {
             SettingKind::Integrator(name) => {
                 let Some(kind) = IntegratorKind::named(&name.name) else {
                     let mut message = format!(
-                        "unknown integrator `{}` (expected `direct`, `path`, `photon` or `sppm`)",
+                        "unknown integrator `{}` (expected `direct`, `path`, `photon`, `final_gather` or `sppm`)",
                         name.name
                     );
                     let names = IntegratorKind::ALL.map(IntegratorKind::name);

@@ -1,0 +1,171 @@
+//! Jensen's photon mapping with a caustic map and final gathering (`docs/language.md`,
+//! `final_gather`; Jensen 2001, 9.1). One pass of photons fills two maps: the caustic map,
+//! photons that came from a light through delta and near-specular bounces only, and the global
+//! map, every photon where it lands on a gathered lobe. Camera rays go as `photon`'s do; at
+//! each vertex with gathered lobes the light arriving there is split four ways:
+//! - emission and direct light: next-event estimation, as `direct`;
+//! - caustics (light -> specular -> here): the caustic map's `CAUSTIC_K` nearest photons,
+//!   weighted by a cone filter, which keeps thin bright caustics from spreading a halo into
+//!   their dark surroundings (Jensen 2001, eq. 7.7);
+//! - the rest, light reflected by other gathered lobes: one final-gather ray sampled from the
+//!   gathered lobes, followed through delta and near-specular lobes to a vertex with gathered
+//!   lobes, where the global map's `photon_k` nearest photons estimate the light leaving it.
+//!
+//! The global estimate's blur is seen only through a bounce, so `photon_k` may be large; the
+//! caustic estimate is seen directly, so it is kept small and sharp.
+
+use glam::Vec3;
+use std::f32::consts::PI;
+use std::time::Instant;
+
+use super::direct::{Vertex, WhittedPath, arrive, follow, whitted};
+use super::photon::trace_pass;
+use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
+use crate::film::Film;
+use crate::geometry::{Ray, offset_origin};
+use crate::photon::{Arrival, Deposit, Emission, PhotonMap};
+use crate::progress::{Progress, RenderStats};
+use crate::region::Region;
+use crate::sampling::Sampler;
+use crate::scene::Scene;
+
+/// Photons in each caustic estimate.
+pub const CAUSTIC_K: usize = 20;
+
+/// The cone filter's constant: a photon at distance d of the k-th nearest's r weighs
+/// 1 - d / (CONE r), and the estimate is divided by 1 - 2 / (3 CONE) (Jensen 2001, eq. 7.7).
+const CONE: f32 = 1.0;
+
+/// Photon mapping with a caustic map and final gathering from a global map of `k` photons an
+/// estimate, paths of at most `max_depth` bounces (the photons' and the gather rays' too).
+pub struct FinalGather {
+    pub max_depth: u32,
+    pub k: usize,
+}
+
+impl Integrator for FinalGather {
+    /// Traces the scene's photon pass (pass 0) into its two maps, then renders with them; a
+    /// black film if `progress` asks to stop first.
+    fn render(
+        &self,
+        scene: &Scene,
+        region: &Region,
+        progress: &dyn Progress,
+    ) -> (Film, RenderStats) {
+        let start = Instant::now();
+        let emission = Emission::new(&scene.lights, scene.settings.photons());
+        let maps = |d: &Deposit| [d.arrival == Arrival::Caustic, true];
+        let Some([caustic, global]) = trace_pass(scene, &emission, 0, progress, maps) else {
+            return stopped_before_a_pass(scene, start);
+        };
+        let estimate = GatherEstimate {
+            gather: self,
+            caustic: PhotonMap::build(caustic),
+            global: PhotonMap::build(global),
+        };
+        let (film, stats) = render_samples(scene, &estimate, region, progress);
+        (film, RenderStats { seconds: start.elapsed().as_secs_f64(), ..stats })
+    }
+
+    fn samples_are_independent(&self) -> bool {
+        false
+    }
+}
+
+struct GatherEstimate<'a> {
+    gather: &'a FinalGather,
+    caustic: PhotonMap,
+    global: PhotonMap,
+}
+
+impl GatherEstimate<'_> {
+    /// Caustic light scattered towards wo by the gathered lobes at `vertex`: the cone-filtered
+    /// estimate from the caustic map.
+    fn caustic(&self, vertex: &Vertex) -> Vec3 {
+        let Vertex { hit, wo, bsdf, gathered } = vertex;
+        let found = self.caustic.nearest(hit.point, CAUSTIC_K);
+        let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
+            return Vec3::ZERO;
+        };
+        if radius_squared <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let radius = radius_squared.sqrt();
+        let flux: Vec3 = found
+            .iter()
+            .map(|n| {
+                let photon = self.caustic.photon(n.index);
+                let weight = 1.0 - n.distance_squared.sqrt() / (CONE * radius);
+                bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power * weight
+            })
+            .sum();
+        flux / ((1.0 - 2.0 / (3.0 * CONE)) * PI * radius_squared)
+    }
+
+    /// Light leaving `vertex` towards wo through its gathered lobes, all of it: the global
+    /// map's estimate (Jensen 2001, eq. 7.6).
+    fn global(&self, vertex: &Vertex) -> Vec3 {
+        let Vertex { hit, wo, bsdf, gathered } = vertex;
+        let found = self.global.nearest(hit.point, self.gather.k);
+        let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
+            return Vec3::ZERO;
+        };
+        if radius_squared <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let flux: Vec3 = found
+            .iter()
+            .map(|n| {
+                let photon = self.global.photon(n.index);
+                bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power
+            })
+            .sum();
+        flux / (PI * radius_squared)
+    }
+
+    /// Light from other gathered lobes scattered towards wo by the gathered lobes at `vertex`:
+    /// one ray sampled from them, followed through delta and near-specular lobes to a vertex
+    /// with gathered lobes, where the global map tells the light leaving it. Emission met on the
+    /// way is direct light or a caustic, both estimated elsewhere: it is left out. Where both
+    /// kinds of lobe are met, the ray stops at the gathered ones with their probability p and
+    /// goes on otherwise, each divided by its probability.
+    fn final_gather(&self, scene: &Scene, vertex: &Vertex, sampler: &mut Sampler) -> Vec3 {
+        let Vertex { hit, wo, bsdf, gathered } = vertex;
+        let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
+        let Some(sample) = bsdf.sample(*wo, u_lobe, u, *gathered) else {
+            return Vec3::ZERO;
+        };
+        let mut path =
+            WhittedPath::photon_mapping(Ray::new(offset_origin(hit, sample.wi), sample.wi));
+        path.beta = sample.weight;
+        loop {
+            let hit = scene.intersect(&path.ray);
+            let Some(next) = arrive(scene, &mut path, hit, self.gather.max_depth) else { break };
+            let followed = next.followed();
+            if !next.gathered.is_empty() {
+                let p = if followed.is_empty() {
+                    1.0
+                } else {
+                    next.bsdf.probability_of(next.wo, next.gathered)
+                };
+                if sampler.next_1d_if(!followed.is_empty()) < p {
+                    return path.beta / p * self.global(&next);
+                }
+                path.beta /= 1.0 - p;
+            }
+            if !follow(&mut path, &next, sampler) {
+                break;
+            }
+        }
+        Vec3::ZERO
+    }
+}
+
+impl SampleIntegrator for GatherEstimate<'_> {
+    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
+        let indirect = |vertex: &Vertex, sampler: &mut Sampler| {
+            self.caustic(vertex) + self.final_gather(scene, vertex, sampler)
+        };
+        whitted(scene, ray, sampler, self.gather.max_depth, Some(&indirect))
+    }
+}
