@@ -9,7 +9,6 @@ use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
 pub use crate::geometry::CsgOp;
-pub use crate::light::SpotProfile;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -176,13 +175,22 @@ pub struct LightDesc {
     pub span: Span,
 }
 
+/// POV-Ray's spotlight cone: full intensity within `radius` degrees of the axis, none beyond
+/// `falloff` degrees, narrowed by cos^`tightness`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpotCone {
+    pub radius: f32,
+    pub falloff: f32,
+    pub tightness: f32,
+}
+
 /// How a light sends its power out.
 #[derive(Debug, Clone, PartialEq)]
 pub enum LightForm {
     /// The same intensity in every direction.
     Point,
-    /// Towards `point_at`, with POV-Ray's spotlight profile.
-    Spot { point_at: Vec3, profile: SpotProfile },
+    /// Towards `point_at`, with POV-Ray's spotlight profile (`light::SpotProfile`).
+    Spot { point_at: Vec3, cone: SpotCone },
     /// From infinitely far away, along the direction from the light's position to `point_at`.
     Parallel { point_at: Vec3 },
 }

@@ -59,20 +59,16 @@ fn spotlights_parallel_lights_and_their_modifiers_are_read() {
          light_source { <1, 4, 0> rgb 1 spotlight }\n\
          light_source { <0, 9, 0> rgb 1 parallel point_at <0, 0, 0> }\n\
          light_source { <0, 3, 0> rgb 1 looks_like { sphere { 0, 0.2 } } }");
-    let LightForm::Spot { point_at, profile } = &g.lights[0].form else {
+    let LightForm::Spot { point_at, cone } = &g.lights[0].form else {
         panic!("{:?}", g.lights[0].form)
     };
     assert_eq!(*point_at, Vec3::Z);
-    assert!((profile.cos_radius - 10f32.to_radians().cos()).abs() < 1e-6);
-    assert!((profile.cos_falloff - 20f32.to_radians().cos()).abs() < 1e-6);
-    assert_eq!(profile.tightness, 5.0);
+    assert_eq!((cone.radius, cone.falloff, cone.tightness), (10.0, 20.0, 5.0));
     assert!(g.lights[0].shadowless && !g.lights[1].shadowless);
     // POV-Ray's defaults.
-    let LightForm::Spot { point_at, profile } = &g.lights[1].form else { panic!() };
+    let LightForm::Spot { point_at, cone } = &g.lights[1].form else { panic!() };
     assert_eq!(*point_at, Vec3::Z);
-    assert!((profile.cos_radius - 30f32.to_radians().cos()).abs() < 1e-6);
-    assert!((profile.cos_falloff - 45f32.to_radians().cos()).abs() < 1e-6);
-    assert_eq!(profile.tightness, 0.0);
+    assert_eq!((cone.radius, cone.falloff, cone.tightness), (30.0, 45.0, 0.0));
     assert_eq!(g.lights[2].form, LightForm::Parallel { point_at: Vec3::ZERO });
     // A parallel light's irradiance is π C at any distance.
     assert!((g.lights[2].power.x - std::f32::consts::PI).abs() < 1e-5);

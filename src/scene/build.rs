@@ -19,7 +19,7 @@ use crate::geometry::{
 use crate::graph::{
     Below, LightDesc, LightForm, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose,
 };
-use crate::light::{Light, Spot};
+use crate::light::{Light, Spot, SpotProfile};
 use crate::material::Material;
 use crate::texture::{ImageMap, Texture};
 
@@ -58,7 +58,8 @@ fn light(desc: &LightDesc, bulb: f32, centre: Vec3, radius: f32) -> Light {
     let LightDesc { position, power, ref form, shadowless, .. } = *desc;
     let light = match *form {
         LightForm::Point => Light::Point { position, power },
-        LightForm::Spot { point_at, profile } => {
+        LightForm::Spot { point_at, cone } => {
+            let profile = SpotProfile::from_degrees(cone.radius, cone.falloff, cone.tightness);
             let axis = (point_at - position).normalize();
             Light::Spot(Spot::new(position, axis, power, profile))
         }

@@ -10,7 +10,7 @@ use glam::Vec3;
 use super::expression::single_vector;
 use super::{Body, Evaluator, as_vector};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{LightDesc, LightForm, MaterialDesc, ObjectNode, ShapeNode, SpotProfile};
+use crate::graph::{LightDesc, LightForm, MaterialDesc, ObjectNode, ShapeNode, SpotCone};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{Expr, Item};
 
@@ -287,8 +287,8 @@ fn light_form(state: &LightState, position: Vec3) -> Result<LightForm, SceneErro
             let radius = state.radius.as_ref().map_or(SPOT_RADIUS, |r| r.0);
             let falloff = state.falloff.as_ref().map_or(SPOT_FALLOFF, |f| f.0);
             let tightness = state.tightness.as_ref().map_or(0.0, |t| t.0);
-            let profile = SpotProfile::from_degrees(radius, falloff, tightness);
-            LightForm::Spot { point_at: point_at(SPOT_POINT_AT)?, profile }
+            let cone = SpotCone { radius, falloff, tightness };
+            LightForm::Spot { point_at: point_at(SPOT_POINT_AT)?, cone }
         }
         (None, Some(_)) => LightForm::Parallel { point_at: point_at(Vec3::ZERO)? },
         (None, None) => {
