@@ -19,7 +19,7 @@ use std::f32::consts::PI;
 use std::time::Instant;
 
 use super::direct::{Vertex, WhittedPath, arrive, follow, whitted};
-use super::photon::trace_pass;
+use super::photon::{estimate, trace_pass};
 use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
 use crate::film::Film;
 use crate::geometry::{Ray, offset_origin};
@@ -105,22 +105,7 @@ impl GatherEstimate<'_> {
     /// Light leaving `vertex` towards wo through its gathered lobes, all of it: the global
     /// map's estimate (Jensen 2001, eq. 7.6).
     fn global(&self, vertex: &Vertex) -> Vec3 {
-        let Vertex { hit, wo, bsdf, gathered } = vertex;
-        let found = self.global.nearest(hit.point, self.gather.k);
-        let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
-            return Vec3::ZERO;
-        };
-        if radius_squared <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let flux: Vec3 = found
-            .iter()
-            .map(|n| {
-                let photon = self.global.photon(n.index);
-                bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power
-            })
-            .sum();
-        flux / (PI * radius_squared)
+        estimate(&self.global, vertex, self.gather.k)
     }
 
     /// Light from other gathered lobes scattered towards wo by the gathered lobes at `vertex`:

@@ -94,23 +94,29 @@ impl PhotonEstimate<'_> {
     /// Light from other surfaces scattered towards `wo` by the gathered lobes at `vertex`, from
     /// the nearest photons.
     fn indirect(&self, vertex: &Vertex) -> Vec3 {
-        let Vertex { hit, wo, bsdf, gathered } = vertex;
-        let found = self.map.nearest(hit.point, self.mapping.k);
-        let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
-            return Vec3::ZERO;
-        };
-        if radius_squared <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let flux: Vec3 = found
-            .iter()
-            .map(|n| {
-                let photon = self.map.photon(n.index);
-                bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power
-            })
-            .sum();
-        flux / (PI * radius_squared)
+        estimate(&self.map, vertex, self.mapping.k)
     }
+}
+
+/// Light leaving `vertex` towards wo through its gathered lobes, from the `k` nearest photons
+/// of `map` under the uniform kernel: Σ f(wo, wi_p) Φ_p / (π r_k²) (Jensen 2001, eq. 7.6).
+pub(super) fn estimate(map: &PhotonMap, vertex: &Vertex, k: usize) -> Vec3 {
+    let Vertex { hit, wo, bsdf, gathered } = vertex;
+    let found = map.nearest(hit.point, k);
+    let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
+        return Vec3::ZERO;
+    };
+    if radius_squared <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let flux: Vec3 = found
+        .iter()
+        .map(|n| {
+            let photon = map.photon(n.index);
+            bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power
+        })
+        .sum();
+    flux / (PI * radius_squared)
 }
 
 impl SampleIntegrator for PhotonEstimate<'_> {
