@@ -308,3 +308,16 @@ fn sky_sphere_is_read_with_its_pigment_transforms_and_emission() {
         .to_string();
     assert!(scn.contains(":1:1:") && scn.contains("settings { background"), "{scn}");
 }
+
+/// A syntax error in a `.pov` scene names POV-Ray's word without `.scn`'s advice for it ("the sky
+/// is `settings { background ... }`" misleads where `sky_sphere` is read); a shape neither
+/// dialect has is still named as such.
+#[test]
+fn syntax_errors_in_pov_scenes_do_not_give_scn_advice() {
+    let error = pov_error("#declare S = sky_sphere { pigment { rgb 1 } }");
+    assert!(error.contains("`sky_sphere`") && !error.contains("settings {"), "{error}");
+    let error = pov_error("#if (1) background { rgb 1 } #end }");
+    assert!(!error.contains("settings {"), "{error}");
+    let error = pov_error("blob { threshold 0.5 sphere { 0, 1, 1 } }");
+    assert!(error.contains("`blob`") && error.contains("shape"), "{error}");
+}

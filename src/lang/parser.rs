@@ -7,6 +7,7 @@ use pest::Parser;
 use pest::error::{ErrorVariant, InputLocation};
 use pest::iterators::Pairs;
 
+use super::dialect::Dialect;
 use super::{hints, keywords, povray};
 use crate::diagnostic::{SceneError, SourceFile, Span};
 
@@ -19,12 +20,12 @@ pub struct ScnParser;
 /// nearly exhausted stack (pest's stack guard), which is reported as the same error.
 pub const MAX_NESTING: usize = 64;
 
-/// Parses a whole file into its statements.
-pub fn parse(file: &Arc<SourceFile>) -> Result<Pairs<'_, Rule>, SceneError> {
+/// Parses a whole file, read in `dialect`, into its statements.
+pub fn parse(file: &Arc<SourceFile>, dialect: Dialect) -> Result<Pairs<'_, Rule>, SceneError> {
     check_comments_and_strings(file)?;
     match ScnParser::parse(Rule::scene, &file.text) {
         Ok(mut pairs) => Ok(pairs.next().expect("`scene` matched: one pair").into_inner()),
-        Err(error) => Err(convert(file, error)),
+        Err(error) => Err(convert(file, error, dialect)),
     }
 }
 
@@ -55,7 +56,11 @@ fn check_comments_and_strings(file: &Arc<SourceFile>) -> Result<(), SceneError> 
     Ok(())
 }
 
-fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneError {
+fn convert(
+    file: &Arc<SourceFile>,
+    error: pest::error::Error<Rule>,
+    dialect: Dialect,
+) -> SceneError {
     let offset = match error.location {
         InputLocation::Pos(p) => p,
         InputLocation::Span((start, _)) => start,
@@ -82,7 +87,7 @@ fn convert(file: &Arc<SourceFile>, error: pest::error::Error<Rule>) -> SceneErro
     let previous_is_word = found == "{" || keywords::lookup(previous).is_some();
     let words = [(offset, found), (word_start, if previous_is_word { previous } else { "" })];
     for (at, word) in words {
-        if let Some(message) = povray::message(word, inside) {
+        if let Some(message) = povray::message_in(dialect, word, inside) {
             return SceneError::at(&span_at(file, at), message);
         }
     }
@@ -455,7 +460,7 @@ mod tests {
         // Found by fuzzing: a byte-order mark in the middle of a scene, before a parse error.
         let text = "camera { origin <0, \u{feff}era { origin <0, 0, -3.5>  left <-1,specularup";
         let file = Arc::new(SourceFile::new("x.scn".into(), text.into()));
-        let error = parse(&file).map(|_| ()).unwrap_err();
+        let error = parse(&file, Dialect::Scn).map(|_| ()).unwrap_err();
         assert!(error.to_string().starts_with("x.scn:1:"), "{error}");
     }
 

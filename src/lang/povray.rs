@@ -2,6 +2,8 @@
 //! raydiance: a user who knows POV-Ray gets an answer in its terms rather than a parser's.
 //! (`docs/coming-from-povray.md` says the same at length.)
 
+use super::dialect::Dialect;
+
 /// `color` or `colour` in a `light_source`.
 const LIGHT_COLOUR: &str = "a POV-Ray light's colour lights every distance alike; here a light \
      has `power rgb <r, g, b>`: its radiant intensity (W/sr), which falls off as 1/r² (at \
@@ -69,9 +71,7 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
             "raydiance's camera is a perspective camera given by `location`, `look_at`, `angle` \
              (horizontal, degrees) and `up`; the image's aspect ratio comes from `resolution`"
         }
-        "blob" | "lathe" | "sor" | "prism" | "superellipsoid" | "text" | "height_field"
-        | "isosurface" | "julia_fractal" | "polygon" | "bicubic_patch" | "mesh2"
-        | "smooth_triangle" | "parametric" | "ovus" | "lemon" => {
+        shape if UNSUPPORTED_SHAPES.contains(&shape) => {
             "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
              quad, disk, cylinder, cone, torus, mesh (.ply, .obj) and CSG"
         }
@@ -87,6 +87,39 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         _ => return None,
     })
 }
+
+/// The message for POV-Ray's `word` where a scene read in `dialect` cannot have it: in `.scn`
+/// what to write instead (`advice`); in `.pov`, where the word is POV-Ray's own, only that a
+/// shape is not supported (the `.scn` advice, "write `settings { background ... }`", would
+/// mislead there: the syntax error names the word).
+pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<String> {
+    match dialect {
+        Dialect::Scn => message(word, inside),
+        Dialect::Pov => UNSUPPORTED_SHAPES.contains(&word).then(|| {
+            format!("`{word}`: POV-Ray's `{word}` is a shape raydiance does not have yet")
+        }),
+    }
+}
+
+/// POV-Ray's shapes that neither dialect reads.
+const UNSUPPORTED_SHAPES: [&str; 16] = [
+    "blob",
+    "lathe",
+    "sor",
+    "prism",
+    "superellipsoid",
+    "text",
+    "height_field",
+    "isosurface",
+    "julia_fractal",
+    "polygon",
+    "bicubic_patch",
+    "mesh2",
+    "smooth_triangle",
+    "parametric",
+    "ovus",
+    "lemon",
+];
 
 /// The message for POV-Ray's `word`, if it is one of them.
 pub fn message(word: &str, inside: Option<&str>) -> Option<String> {

@@ -15,7 +15,7 @@ use crate::diagnostic::{SceneError, SourceFile, Span};
 
 /// Parses a file into its items, read in `dialect`.
 pub fn parse_file(file: &Arc<SourceFile>, dialect: Dialect) -> Result<Vec<Item>, SceneError> {
-    let pairs = parser::parse(file)?;
+    let pairs = parser::parse(file, dialect)?;
     let mut builder = Builder { file: file.clone(), depth: 0, dialect };
     builder.items(pairs.filter(|p| p.as_rule() != Rule::EOI))
 }
