@@ -347,35 +347,12 @@ fn shadowless_lights_and_looks_like_objects_do_not_shadow() {
 
 /// The centre of a 16-bit binary PPM: its middle 2 x 2 pixels averaged, in [0, 1].
 fn ppm16_centre(path: &Path) -> Vec3 {
-    let data = std::fs::read(path).unwrap();
-    let mut tokens = Vec::new();
-    let mut i = 0;
-    while tokens.len() < 4 {
-        while data[i].is_ascii_whitespace() {
-            i += 1;
-        }
-        if data[i] == b'#' {
-            while data[i] != b'\n' {
-                i += 1;
-            }
-            continue;
-        }
-        let start = i;
-        while !data[i].is_ascii_whitespace() {
-            i += 1;
-        }
-        tokens.push(String::from_utf8(data[start..i].to_vec()).unwrap());
-    }
-    let [w, h, max] = [1, 2, 3].map(|k| tokens[k].parse::<usize>().unwrap());
+    let common::Ppm { width: w, height: h, max, samples } = common::read_ppm(path);
     assert_eq!(max, 65535, "a 16-bit PPM");
-    let pixels = &data[i + 1..];
     let mut sum = Vec3::ZERO;
     for (x, y) in [(w / 2 - 1, h / 2 - 1), (w / 2, h / 2 - 1), (w / 2 - 1, h / 2), (w / 2, h / 2)] {
-        let at = (y * w + x) * 6;
-        let channel = |c: usize| {
-            f32::from(u16::from_be_bytes([pixels[at + 2 * c], pixels[at + 2 * c + 1]])) / 65535.0
-        };
-        sum += Vec3::new(channel(0), channel(1), channel(2));
+        let at = (y * w + x) * 3;
+        sum += Vec3::new(samples[at], samples[at + 1], samples[at + 2]);
     }
     sum / 4.0
 }

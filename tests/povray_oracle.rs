@@ -29,35 +29,7 @@ const HEIGHT: usize = 48;
 
 /// The pixels of a binary (P6) or plain (P3) PPM as numbers in [0, 1].
 fn ppm(path: &Path) -> Vec<f32> {
-    let data = std::fs::read(path).unwrap();
-    let mut tokens = Vec::new();
-    let mut i = 0;
-    while tokens.len() < 4 {
-        while data[i].is_ascii_whitespace() {
-            i += 1;
-        }
-        if data[i] == b'#' {
-            while data[i] != b'\n' {
-                i += 1;
-            }
-            continue;
-        }
-        let start = i;
-        while !data[i].is_ascii_whitespace() {
-            i += 1;
-        }
-        tokens.push(String::from_utf8(data[start..i].to_vec()).unwrap());
-    }
-    let max: f32 = tokens[3].parse().unwrap();
-    match tokens[0].as_str() {
-        "P6" => data[i + 1..].iter().map(|&b| f32::from(b) / max).collect(),
-        "P3" => {
-            let text: String = String::from_utf8(data[i..].to_vec()).unwrap();
-            let lines = text.lines().filter(|l| !l.starts_with('#'));
-            lines.flat_map(str::split_whitespace).map(|n| n.parse::<f32>().unwrap() / max).collect()
-        }
-        other => panic!("not a PPM: {other}"),
-    }
+    common::read_ppm(path).samples
 }
 
 /// Each pixel's colour as which channels are lit.

@@ -158,3 +158,54 @@ pub fn small_shipped_scenes() -> Vec<(String, Scene)> {
     };
     files.iter().map(small).collect()
 }
+
+/// A PPM as another program (Debian's `povray`) writes it: its size, the largest stored value,
+/// and every sample divided by that value, in [0, 1].
+pub struct Ppm {
+    pub width: usize,
+    pub height: usize,
+    pub max: u32,
+    pub samples: Vec<f32>,
+}
+
+/// Reads a binary (P6, one or two bytes a sample, big-endian) or plain (P3) PPM.
+pub fn read_ppm(path: &Path) -> Ppm {
+    let data = std::fs::read(path).unwrap();
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while tokens.len() < 4 {
+        while data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if data[i] == b'#' {
+            while data[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        let start = i;
+        while !data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        tokens.push(String::from_utf8(data[start..i].to_vec()).unwrap());
+    }
+    let [width, height, max] = [1, 2, 3].map(|k| tokens[k].parse::<usize>().unwrap());
+    let scale = max as f32;
+    let samples = match tokens[0].as_str() {
+        "P6" if max < 256 => data[i + 1..].iter().map(|&b| f32::from(b) / scale).collect(),
+        "P6" => data[i + 1..]
+            .chunks_exact(2)
+            .map(|b| f32::from(u16::from_be_bytes([b[0], b[1]])) / scale)
+            .collect(),
+        "P3" => {
+            let text: String = String::from_utf8(data[i..].to_vec()).unwrap();
+            let lines = text.lines().filter(|l| !l.starts_with('#'));
+            lines
+                .flat_map(str::split_whitespace)
+                .map(|n| n.parse::<f32>().unwrap() / scale)
+                .collect()
+        }
+        other => panic!("not a PPM: {other}"),
+    };
+    Ppm { width, height, max: max as u32, samples }
+}
