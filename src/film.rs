@@ -1,10 +1,12 @@
 //! The film: per-pixel sums of radiance samples and of their squares, so that the image and an
 //! estimate of its variance exist after any number of passes. Sums are kept in f64: a radiance
 //! near f32's largest value still has a finite mean, and a million samples add up without the
-//! rounding of f32.
+//! rounding of f32. It carries the render's AOVs when they were asked for (`aov`), as pbrt's
+//! G-buffer film does.
 
 use glam::{DVec3, Vec3};
 
+use crate::aov::AovImage;
 use crate::image::Image;
 
 #[derive(Debug, Clone)]
@@ -17,6 +19,8 @@ pub struct Film {
     pub samples: u32,
     /// Samples that were NaN or infinite, dropped (counted as zero radiance).
     pub dropped: u64,
+    /// The AOVs of the samples it holds (`aov::render`), when asked for.
+    pub aovs: Option<AovImage>,
 }
 
 /// Bytes a film of one pixel holds while rendering: its sums, and the sums of the pass under
@@ -32,6 +36,7 @@ impl Film {
             sum_squares: vec![DVec3::ZERO; width * height],
             samples: 0,
             dropped: 0,
+            aovs: None,
         }
     }
 

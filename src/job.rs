@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use crate::aov::{self, AovList};
 use crate::graph::{IntegratorKind, Settings};
 use crate::image::{self, ImageError};
 use crate::integrator::sppm;
@@ -37,6 +38,8 @@ pub struct RenderJob {
     /// The most memory the film may take, in GiB.
     pub max_memory: f64,
     pub choices: Choices,
+    /// The AOVs to write beside the beauty (`--aov`), into EXR files only.
+    pub aovs: AovList,
 }
 
 /// Why a render job did not render, each with the message the command line prints.
@@ -50,6 +53,12 @@ pub enum RenderJobError {
     Plan(#[from] PlanError),
     #[error("error: {}: a part (--part or --crop) is an OpenEXR file: name it .exr", .0.display())]
     PartNotExr(PathBuf),
+    #[error(
+        "error: {}: --aov writes its layers beside the image in an OpenEXR file, which a PPM or \
+         PNG cannot hold: name it .exr (and tone-map it with `raydiance tonemap`)",
+        .0.display()
+    )]
+    AovsNotExr(PathBuf),
     #[error("error: {0}")]
     Output(ImageError),
     #[error(transparent)]
@@ -118,6 +127,7 @@ impl RenderJob {
         let plan = plan::plan(&self.choices, &output, var)?;
         Ok(PlannedJob {
             scene: self.scene.clone(),
+            aovs: self.aovs,
             plan,
             request,
             ppm_res: self.ppm_res,
@@ -131,6 +141,7 @@ impl RenderJob {
 #[derive(Debug, Clone)]
 pub struct PlannedJob {
     scene: PathBuf,
+    aovs: AovList,
     plan: Plan,
     request: RenderRequest,
     ppm_res: u32,
@@ -153,8 +164,12 @@ impl PlannedJob {
             .jobs
             .iter()
             .map(|job| {
-                if job.is_part() && image::extension(&job.output).as_deref() != Some("exr") {
+                let exr = image::extension(&job.output).as_deref() == Some("exr");
+                if job.is_part() && !exr {
                     return Err(RenderJobError::PartNotExr(job.output.clone()));
+                }
+                if !self.aovs.is_empty() && !exr {
+                    return Err(RenderJobError::AovsNotExr(job.output.clone()));
                 }
                 OutputFormat::for_path(&job.output, self.ppm_res).map_err(RenderJobError::Output)
             })
@@ -196,7 +211,7 @@ impl PlannedJob {
             height: region.crop.height(),
             ..settings.clone()
         };
-        check_film_memory(&film_settings, self.max_bytes)?;
+        check_film_memory(&film_settings, &self.aovs, self.max_bytes)?;
         check_render_memory(&scene, self.max_bytes)?;
         for warning in &scene.warnings {
             observer.warning(warning);
@@ -208,13 +223,16 @@ impl PlannedJob {
             observer.warning(&warning);
         }
         let total = if self.time.is_some() { None } else { Some(region.samples_taken(u32::MAX)) };
-        let (film, stats) = {
+        let (mut film, stats) = {
             let progress = Budget {
                 progress: observer.frame_starts(total)?,
                 deadline: self.time.map(|t| Instant::now() + Duration::from_secs_f64(t)),
             };
             render::render_region(&scene, &region, &progress)
         };
+        if !self.aovs.is_empty() {
+            film.aovs = Some(aov::render(&scene, &region, film.samples, &self.aovs));
+        }
         // Nothing rendered: the file there (a render of before) is worth more than a black image.
         if stats.samples_per_pixel == 0 && observer.interrupted() {
             return Err(RenderJobError::InterruptedBeforeFirstPass(output.clone()));
@@ -232,6 +250,7 @@ impl PlannedJob {
                 digest: digest.to_string(),
                 frame: job.frame,
                 seconds: stats.seconds,
+                aovs: self.aovs,
             };
             part_file::write(output, &film, &header)
         } else {

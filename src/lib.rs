@@ -7,8 +7,10 @@
 pub mod aabb;
 pub mod accel;
 pub mod animation;
+pub mod aov;
 pub mod bench;
 pub mod camera;
+pub mod denoise;
 pub mod diagnostic;
 pub mod digest;
 pub mod film;

@@ -1,4 +1,4 @@
-//! The `raydiance` command line: render, tonemap, check, snapshot, bench.
+//! The `raydiance` command line: render, merge, tonemap, denoise, check, snapshot, bench.
 
 use std::error::Error;
 use std::path::PathBuf;
@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use raydiance::animation;
+use raydiance::aov::AovList;
 use raydiance::graph::IntegratorKind;
 use raydiance::image::end_cleanly_on_signal;
 use raydiance::job::{Ended, Observer, RenderJob, RenderJobError};
@@ -100,6 +101,10 @@ enum Command {
         /// RAYDIANCE_INCLUDE_PATH and the built-in library (may be repeated).
         #[arg(long, value_name = "DIR")]
         include_path: Vec<PathBuf>,
+        /// Write AOVs beside the image, as layers of the EXR: any of albedo, normal, depth,
+        /// position, separated by commas (seen through mirrors and glass).
+        #[arg(long, value_name = "LIST")]
+        aov: Option<AovList>,
     },
     /// Merge part files (render --part / --crop) into the image one render would have made.
     Merge {
@@ -139,6 +144,15 @@ enum Command {
         /// Reinhard's white point (default: the largest scaled luminance).
         #[arg(long, allow_negative_numbers = true)]
         white: Option<f32>,
+    },
+    /// Denoise a render (.exr) with Intel Open Image Denoise, guided by its albedo and normal
+    /// AOVs when it has them, into another .exr (built with the cargo feature `denoise`).
+    Denoise {
+        /// The render: an .exr written by `render` or `merge` (not a part).
+        input: PathBuf,
+        /// The denoised image to write (.exr); the render stays as it is.
+        #[arg(short, long)]
+        output: PathBuf,
     },
     /// Parse and validate a scene; print a short summary.
     Check {
@@ -233,6 +247,7 @@ fn main() -> ExitCode {
             frame,
             clock,
             include_path,
+            aov,
         } => {
             let job = RenderJob {
                 scene,
@@ -251,6 +266,7 @@ fn main() -> ExitCode {
                 ppm_res,
                 max_memory,
                 choices: Choices { part, parts, crop, frames, frame, clock },
+                aovs: aov.unwrap_or_default(),
             };
             match job.plan(|name| std::env::var(name).ok()) {
                 Ok(planned) => {
@@ -287,6 +303,14 @@ fn main() -> ExitCode {
                     .map(|s| say!("{s}")),
             )
         }
+        Command::Denoise { input, output } => complete(
+            end_cleanly_on_signal()
+                .map_err(Failure::from)
+                .and_then(|()| {
+                    raydiance::denoise::denoise_file(&input, &output).map_err(Failure::from)
+                })
+                .map(|s| say!("{s}")),
+        ),
         Command::Check { scene } => {
             complete(raydiance::check(&scene).map(|summary| say!("{summary}")))
         }

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::animation::Frame;
+use crate::aov::{self, AovImage, AovList};
 use crate::diagnostic::SceneError;
 use crate::digest::Digest;
 use crate::film::{BYTES_PER_PIXEL, Film};
@@ -148,12 +149,13 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
      X0,X1,Y0,Y1` and join them with `raydiance merge`, lower the resolution, or raise \
      --max-memory if the machine has the memory",
     needed = gib(*needed_bytes),
-    allowed = gib(*max_bytes),
-    per_pixel = BYTES_PER_PIXEL
+    allowed = gib(*max_bytes)
 )]
 pub struct FilmTooLarge {
     pub width: u32,
     pub height: u32,
+    /// The film's bytes a pixel, with its AOVs'.
+    pub per_pixel: u64,
     pub needed_bytes: u64,
     pub max_bytes: u64,
 }
@@ -162,14 +164,21 @@ fn gib(bytes: u64) -> f64 {
     bytes as f64 / f64::from(1u32 << 30)
 }
 
-/// Refuses, before any work, a film larger than `max_bytes` (`render --max-memory`).
-pub fn check_film_memory(settings: &Settings, max_bytes: u64) -> Result<(), FilmTooLarge> {
+/// Refuses, before any work, a film (with the AOVs of `aovs`) larger than `max_bytes`
+/// (`render --max-memory`).
+pub fn check_film_memory(
+    settings: &Settings,
+    aovs: &AovList,
+    max_bytes: u64,
+) -> Result<(), FilmTooLarge> {
     let pixels = u64::from(settings.width) * u64::from(settings.height);
-    let needed_bytes = pixels * BYTES_PER_PIXEL;
+    let per_pixel = BYTES_PER_PIXEL + aovs.channels().count() as u64 * aov::BYTES_PER_CHANNEL;
+    let needed_bytes = pixels * per_pixel;
     if needed_bytes <= max_bytes {
         return Ok(());
     }
-    Err(FilmTooLarge { width: settings.width, height: settings.height, needed_bytes, max_bytes })
+    let (width, height) = (settings.width, settings.height);
+    Err(FilmTooLarge { width, height, per_pixel, needed_bytes, max_bytes })
 }
 
 /// A photon integrator's render larger than `render --max-memory` allows, counted before any
@@ -272,18 +281,20 @@ pub fn write_render(
         seconds: stats.seconds,
         parameters: settings.parameters(),
     };
-    write_image(path, format, &film.image(), &info)
+    write_image(path, format, &film.image(), film.aovs.as_ref(), &info)
 }
 
-/// Writes an image to `path` in `format` (`info` goes into an EXR's header).
+/// Writes an image to `path` in `format` (`info` goes into an EXR's header, and so do the
+/// AOVs; a PPM or PNG holds the beauty alone).
 pub fn write_image(
     path: &Path,
     format: &OutputFormat,
     image: &Image,
+    aovs: Option<&AovImage>,
     info: &RenderInfo,
 ) -> Result<(), ImageError> {
     match *format {
-        OutputFormat::Exr => image::exr::write(path, image, info),
+        OutputFormat::Exr => image::exr::write_with_aovs(path, image, aovs, info),
         OutputFormat::Ppm { res } => image::ppm::write_hdr(path, image, res),
         OutputFormat::Png => {
             let pixels = tonemap::quantise(&tonemap::tonemap(image, &ToneMap::default()));
@@ -372,7 +383,7 @@ pub fn merge_files(
         }
     }
     let merged = merge::merge(parts, allow_partial)?;
-    write_image(output, &format, &merged.image, &merged.info)?;
+    write_image(output, &format, &merged.image, merged.aovs.as_ref(), &merged.info)?;
     let (least, most) = merged.samples;
     let spp = if least == most { least.to_string() } else { format!("{least} to {most}") };
     let summary = format!(

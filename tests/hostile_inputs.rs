@@ -508,6 +508,7 @@ fn forged_part(path: &Path, size: (u32, u32), crop: &str, share: &str, samples: 
         digest: "forged".to_string(),
         frame: raydiance::animation::Frame { number: 0, clock: 0.0 },
         seconds: 1.0,
+        aovs: Default::default(),
     };
     raydiance::split::part_file::write(path, &film, &header).unwrap();
 }

@@ -46,6 +46,7 @@ fn render_part(scene: &Scene, region: Region, dir: &std::path::Path, name: &str)
         digest: "same".to_string(),
         frame: Default::default(),
         seconds: stats.seconds,
+        aovs: Default::default(),
     };
     part_file::write(&path, &film, &header).unwrap();
     path

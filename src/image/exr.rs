@@ -5,43 +5,82 @@ use std::path::Path;
 use ::exr::prelude::*;
 use glam::Vec3;
 
+use crate::aov::{AovImage, AovList};
+
 use super::{Image, ImageError, MAX_PIXELS, RenderInfo, write_atomic};
 
 pub fn write(path: &Path, image: &Image, info: &RenderInfo) -> std::result::Result<(), ImageError> {
-    let channels = SpecificChannels::rgb(|position: Vec2<usize>| {
-        let p = image.get(position.x(), position.y());
-        (p.x, p.y, p.z)
-    });
+    write_with_aovs(path, image, None, info)
+}
+
+/// Writes the beauty as R, G, B and the AOVs, if any, as further channels of the same layer
+/// (`albedo.R`, `normal.X`, ...: `AovList::channels`).
+pub fn write_with_aovs(
+    path: &Path,
+    image: &Image,
+    aovs: Option<&AovImage>,
+    info: &RenderInfo,
+) -> std::result::Result<(), ImageError> {
+    let spp = i32::try_from(info.samples_per_pixel).unwrap_or(i32::MAX);
+    let text = |value: &str| AttributeValue::Text(Text::from(value));
+    let mut attributes = vec![
+        ("samples_per_pixel".to_string(), AttributeValue::I32(spp)),
+        ("integrator".to_string(), text(&info.integrator)),
+        ("seed".to_string(), text(&info.seed.to_string())),
+        ("render_seconds".to_string(), AttributeValue::F64(info.seconds)),
+    ];
+    for (name, value) in &info.parameters {
+        attributes.push((name.to_string(), text(value)));
+    }
+    write_with_attributes(path, image, aovs, attributes)
+}
+
+/// Writes the beauty and the AOVs with `raydiance:NAME` attributes.
+pub(crate) fn write_with_attributes(
+    path: &Path,
+    image: &Image,
+    aovs: Option<&AovImage>,
+    attributes: Vec<(String, AttributeValue)>,
+) -> std::result::Result<(), ImageError> {
+    let rgb = |c: usize| image.pixels.iter().map(|p| p[c]).collect::<Vec<f32>>();
+    let mut list: Vec<AnyChannel<FlatSamples>> = ["R", "G", "B"]
+        .iter()
+        .enumerate()
+        .map(|(c, name)| AnyChannel::new(*name, FlatSamples::F32(rgb(c))))
+        .collect();
+    for (name, plane) in aovs.iter().flat_map(|aovs| aovs.channels()) {
+        list.push(AnyChannel::new(name, FlatSamples::F32(plane.to_vec())));
+    }
     let mut layer_attributes = LayerAttributes::named("");
     layer_attributes.software_name = Some(Text::from("raydiance"));
     let layer = Layer::new(
         (image.width, image.height),
         layer_attributes,
         Encoding { line_order: LineOrder::Increasing, ..Encoding::SMALL_LOSSLESS },
-        channels,
+        AnyChannels::sort(SmallVec::from_vec(list)),
     );
     let mut exr_image = ::exr::image::Image::from_layer(layer);
-    let other = &mut exr_image.attributes.other;
-    let spp = i32::try_from(info.samples_per_pixel).unwrap_or(i32::MAX);
-    other.insert(Text::from("raydiance:samples_per_pixel"), AttributeValue::I32(spp));
-    other.insert(
-        Text::from("raydiance:integrator"),
-        AttributeValue::Text(Text::from(info.integrator.as_str())),
-    );
-    other.insert(
-        Text::from("raydiance:seed"),
-        AttributeValue::Text(Text::from(info.seed.to_string().as_str())),
-    );
-    other.insert(Text::from("raydiance:render_seconds"), AttributeValue::F64(info.seconds));
-    for (name, value) in &info.parameters {
-        other.insert(
-            Text::from(format!("raydiance:{name}").as_str()),
-            AttributeValue::Text(Text::from(value.as_str())),
-        );
+    for (name, value) in attributes {
+        exr_image.attributes.other.insert(Text::from(format!("raydiance:{name}").as_str()), value);
     }
     write_atomic(path, |writer| {
         exr_image.write().to_buffered(writer).map_err(|e| ImageError::format(path, e.to_string()))
     })
+}
+
+/// The `raydiance:NAME` attributes of an OpenEXR file's header, by NAME.
+pub(crate) fn read_attributes(
+    path: &Path,
+) -> std::result::Result<Vec<(String, AttributeValue)>, ImageError> {
+    let meta = ::exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| ImageError::format(path, unreadable(e)))?;
+    let Some(header) = meta.headers.first() else { return Ok(Vec::new()) };
+    let all = header.shared_attributes.other.iter().chain(&header.own_attributes.other);
+    let named = all.filter_map(|(key, value)| {
+        let name = key.to_string().strip_prefix("raydiance:")?.to_string();
+        Some((name, value.clone()))
+    });
+    Ok(named.collect())
 }
 
 /// Reads the first RGB(A) layer of any OpenEXR file (alpha is ignored).
@@ -51,10 +90,13 @@ pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
     read_bytes(&bytes).map_err(|message| ImageError::format(path, message))
 }
 
-/// Decodes an OpenEXR file's contents.
-pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
-    // The decoder's words ("reference to missing bytes") need saying what failed.
-    let unreadable = |e: ::exr::error::Error| format!("not a readable OpenEXR file ({e})");
+/// The decoder's words ("reference to missing bytes") need saying what failed.
+fn unreadable(e: ::exr::error::Error) -> String {
+    format!("not a readable OpenEXR file ({e})")
+}
+
+/// Refuses, from its headers, a file with more pixels than raydiance reads.
+fn check_size(bytes: &[u8]) -> std::result::Result<(), String> {
     let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
         .map_err(unreadable)?;
     for header in &meta.headers {
@@ -65,6 +107,41 @@ pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
             ));
         }
     }
+    Ok(())
+}
+
+/// Reads the AOV channels (`albedo.R`, `normal.X`, ...) of the first layer of an OpenEXR file
+/// (none: an empty list).
+pub fn read_aovs(path: &Path) -> std::result::Result<AovImage, ImageError> {
+    let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
+        .map_err(|e| ImageError::input(path, e))?;
+    let format = |message| ImageError::format(path, message);
+    check_size(&bytes).map_err(format)?;
+    let image = ::exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(&bytes[..]))
+        .map_err(|e| format(unreadable(e)))?;
+    let layer = image.layer_data;
+    let channels = &layer.channel_data.list;
+    let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
+    let list = AovList::in_channels(&names)
+        .map_err(|name| format(format!("it has some channels of an AOV but not `{name}`")))?;
+    let planes = list
+        .channels()
+        .filter_map(|name| channels.iter().find(|c| c.name == *name))
+        .map(|c| c.sample_data.values_as_f32().collect())
+        .collect();
+    let (width, height) = (layer.size.width(), layer.size.height());
+    Ok(AovImage { list, width, height, planes })
+}
+
+/// Decodes an OpenEXR file's contents.
+pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
+    check_size(bytes)?;
     let image = ::exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()

@@ -53,6 +53,13 @@ pub fn check_same_render(parts: &[PartHeader]) -> Result<(), MergeError> {
             let digest = |p: &PartHeader| format!("digest {}", p.digest);
             return differ("scenes or settings", digest(first), digest(part));
         }
+        if first.aovs != part.aovs {
+            let aovs = |p: &PartHeader| match p.aovs.is_empty() {
+                true => "no AOVs".to_string(),
+                false => format!("--aov {}", p.aovs),
+            };
+            return differ("AOVs", aovs(first), aovs(part));
+        }
     }
     Ok(())
 }

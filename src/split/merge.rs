@@ -8,6 +8,7 @@ use glam::DVec3;
 
 use super::coverage;
 use super::part_file::{self, PartFileError, PartHeader};
+use crate::aov::{AovImage, AovSums};
 use crate::image::{Image, ImageError, RenderInfo};
 use crate::region::{Crop, Share};
 
@@ -19,12 +20,12 @@ pub enum MergeError {
     #[error("error: no parts to merge")]
     NoParts,
     #[error(
-        "error: merging a {width}x{height} image needs {:.1} GiB ({BYTES_PER_PIXEL} bytes a \
+        "error: merging a {width}x{height} image needs {:.1} GiB ({per_pixel} bytes a \
          pixel), more than the {:.1} GiB a merge may take",
         gib(*needed),
         gib(MAX_MERGE_BYTES)
     )]
-    TooLarge { width: u32, height: u32, needed: u64 },
+    TooLarge { width: u32, height: u32, per_pixel: u64, needed: u64 },
     #[error(
         "error: cannot merge {} and {}: they are parts of renders with other {what} ({first_has} \
          and {other_has})",
@@ -82,6 +83,8 @@ pub enum MergeError {
 #[derive(Debug)]
 pub struct Merged {
     pub image: Image,
+    /// The parts' AOVs merged, if they carry some.
+    pub aovs: Option<AovImage>,
     pub info: RenderInfo,
     /// The parts merged.
     pub parts: usize,
@@ -120,13 +123,15 @@ pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, MergeErro
         (p.region.crop, p.region.share.numbers(p.region.total()).start, p.region.share.count)
     });
     let first = &parts[0];
-    check_memory(first.width, first.height)?;
+    check_memory(first.width, first.height, first.aovs.channels().count() as u64)?;
     let (width, height) = (first.width as usize, first.height as usize);
     let mut sums = vec![DVec3::ZERO; width * height];
     let mut counts = vec![0u32; width * height];
+    let mut aov_sums = AovSums::new(first.aovs, width * height);
     for part in &parts {
-        add_part(part, width, &mut sums, &mut counts)?;
+        add_part(part, width, &mut sums, &mut counts, &mut aov_sums)?;
     }
+    let aovs = (!first.aovs.is_empty()).then(|| aov_sums.image(width, height, &counts));
     let least = counts.iter().copied().min().unwrap_or(0);
     let most = counts.iter().copied().max().unwrap_or(0);
     let pixels = sums
@@ -143,6 +148,7 @@ pub fn merge(paths: &[PathBuf], allow_partial: bool) -> Result<Merged, MergeErro
     };
     Ok(Merged {
         image: Image { width, height, pixels },
+        aovs,
         info,
         parts: parts.len(),
         missing,
@@ -157,12 +163,17 @@ pub const MAX_MERGE_BYTES: u64 = 8 << 30;
 /// them, and its tone-mapped copy for a PNG.
 const BYTES_PER_PIXEL: u64 = 24 + 4 + 12 + 12 + 3;
 
-/// Refuses, from the headers and before anything is allocated, an image too large to merge.
-fn check_memory(width: u32, height: u32) -> Result<(), MergeError> {
-    let needed = u64::from(width) * u64::from(height) * BYTES_PER_PIXEL;
+/// Bytes a pixel takes while merging for each channel of AOVs: its sum (f64), its mean (f32).
+const BYTES_PER_AOV_CHANNEL: u64 = 8 + 4;
+
+/// Refuses, from the headers and before anything is allocated, an image (with `aov_channels`
+/// channels of AOVs) too large to merge.
+fn check_memory(width: u32, height: u32, aov_channels: u64) -> Result<(), MergeError> {
+    let per_pixel = BYTES_PER_PIXEL + aov_channels * BYTES_PER_AOV_CHANNEL;
+    let needed = u64::from(width) * u64::from(height) * per_pixel;
     match needed <= MAX_MERGE_BYTES {
         true => Ok(()),
-        false => Err(MergeError::TooLarge { width, height, needed }),
+        false => Err(MergeError::TooLarge { width, height, per_pixel, needed }),
     }
 }
 
@@ -177,13 +188,14 @@ fn add_part(
     width: usize,
     sums: &mut [DVec3],
     counts: &mut [u32],
+    aov_sums: &mut AovSums,
 ) -> Result<(), MergeError> {
     let region = &part.region;
     let crop = region.crop;
     let layout = region.layout();
     let crop_width = crop.width() as usize;
     let mut seen = vec![false; crop.pixels() as usize];
-    part_file::read_pixels(part, |pixel, sum, count| {
+    part_file::read_pixels(part, |pixel, sum, count, aovs| {
         let expected = layout.samples_of(pixel as u64).len().min(part.taken as usize) as u32;
         let Some(seen) = seen.get_mut(pixel) else {
             return Err(format!("pixel {pixel} lies outside its crop (the file is damaged)"));
@@ -203,8 +215,16 @@ fn add_part(
             ));
         }
         let (x, y) = (crop.x0 as usize + pixel % crop_width, crop.y0 as usize + pixel / crop_width);
+        if let Some(value) = aovs.iter().find(|v| !v.is_finite()) {
+            return Err(format!(
+                "pixel {pixel} of the crop holds the AOV value {value} (the file is damaged)"
+            ));
+        }
         sums[y * width + x] += sum;
         counts[y * width + x] += count;
+        for (plane, value) in aov_sums.sums.iter_mut().zip(aovs) {
+            plane[y * width + x] += f64::from(*value) * f64::from(count);
+        }
         Ok(())
     })?;
     if let Some(pixel) = seen.iter().position(|s| !s) {

@@ -3,7 +3,8 @@
 //! merge needs: per-pixel sample counts (`samples`, 32-bit unsigned) and second moments
 //! (`moment2.R`, `moment2.G`, `moment2.B`: the mean of the squared radiance), and in the header
 //! the share, the crop, the image size, the seed, the sample count of the whole render and a
-//! digest of the scene and settings (`exrheader` shows them all).
+//! digest of the scene and settings (`exrheader` shows them all). A render with AOVs adds their
+//! channels (`albedo.R`, ...), the part's own means as RGB's.
 
 use std::fs::File;
 use std::io::BufReader;
@@ -17,6 +18,7 @@ type Result<T, E = PartFileError> = std::result::Result<T, E>;
 use glam::DVec3;
 
 use crate::animation::Frame;
+use crate::aov::AovList;
 use crate::diagnostic::printable;
 use crate::film::Film;
 use crate::graph::{IntegratorKind, Settings};
@@ -62,6 +64,8 @@ pub enum PartProblem {
     Windows { crop: Crop, size: String },
     #[error("it has no {kind:?} channel `{name}`")]
     NoChannel { kind: SampleType, name: &'static str },
+    #[error("it has some channels of an AOV but not `{0}`")]
+    PartOfAnAov(&'static str),
     #[error("cannot read its pixels (truncated or damaged?): {0}")]
     Pixels(::exr::error::Error),
     /// What the reader of its pixels found wrong with them.
@@ -88,6 +92,8 @@ pub struct PartHeader {
     pub digest: String,
     pub frame: Frame,
     pub seconds: f64,
+    /// The AOVs it carries (from its channels).
+    pub aovs: AovList,
 }
 
 impl PartHeader {
@@ -129,6 +135,9 @@ pub fn write(path: &Path, film: &Film, header: &PartHeader) -> Result<(), ImageE
         .zip(channels)
         .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values)))
         .collect();
+    for (name, plane) in film.aovs.iter().flat_map(|aovs| aovs.channels()) {
+        list.push(AnyChannel::new(name, FlatSamples::F32(plane.to_vec())));
+    }
     list.push(AnyChannel::new(SAMPLES, FlatSamples::U32(counts)));
     let crop = region.crop;
     let mut attributes = LayerAttributes::named("");
@@ -244,6 +253,14 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem>
             return Err(PartProblem::NoChannel { kind, name });
         }
     }
+    let names: Vec<String> = header.channels.list.iter().map(|c| c.name.to_string()).collect();
+    let aovs = AovList::in_channels(&names).map_err(PartProblem::PartOfAnAov)?;
+    for name in aovs.channels() {
+        let kind = SampleType::F32;
+        if !header.channels.list.iter().any(|c| c.name == *name && c.sample_type == kind) {
+            return Err(PartProblem::NoChannel { kind, name });
+        }
+    }
     Ok(PartHeader {
         path: path.to_path_buf(),
         width,
@@ -256,18 +273,21 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem>
         digest: printable(&text_of("digest")?),
         frame: Frame { number: int_of("frame")?, clock: float_of("clock")? },
         seconds: float_of("render_seconds")?,
+        aovs,
     })
 }
 
 /// Reads a part's pixels block by block (never the whole part at once), calling `visit` with
-/// each pixel's position in the crop (row-major), sum of radiance (mean times count) and count.
+/// each pixel's position in the crop (row-major), sum of radiance (mean times count), count and
+/// AOV means (in the order of `PartHeader::aovs`' channels).
 pub fn read_pixels(
     part: &PartHeader,
-    mut visit: impl FnMut(usize, DVec3, u32) -> Result<(), String>,
+    mut visit: impl FnMut(usize, DVec3, u32, &[f32]) -> Result<(), String>,
 ) -> Result<()> {
     let named = |problem| PartFileError { path: part.path.clone(), problem };
     let reader = open(&part.path).map_err(named)?;
     let width = part.region.crop.width() as usize;
+    let aov_channels: Vec<&str> = part.aovs.channels().collect();
     let mut error = None;
     let result = ::exr::block::read(reader, false)
         .and_then(|reader| reader.all_chunks(false))
@@ -277,24 +297,34 @@ pub fn read_pixels(
                 let size = block.index.pixel_size;
                 let pixels = size.width() * size.height();
                 let mut rgb = [vec![0f32; pixels], vec![0f32; pixels], vec![0f32; pixels]];
+                let mut aovs = vec![vec![0f32; pixels]; aov_channels.len()];
                 let mut counts = vec![0u32; pixels];
                 for line in block.lines(&header.channels) {
                     let name = &header.channels.list[line.location.channel].name;
                     let row = line.location.position.y() - block.index.pixel_position.y();
                     let at = row * size.width()..(row + 1) * size.width();
                     let channel = ["R", "G", "B"].iter().position(|c| name == *c);
-                    match channel {
-                        Some(c) => line.read_samples_into_slice(&mut rgb[c][at])?,
-                        None if name == SAMPLES => line.read_samples_into_slice(&mut counts[at])?,
-                        None => {}
+                    let aov = aov_channels.iter().position(|c| name == *c);
+                    match (channel, aov) {
+                        (Some(c), _) => line.read_samples_into_slice(&mut rgb[c][at])?,
+                        (None, Some(a)) => line.read_samples_into_slice(&mut aovs[a][at])?,
+                        (None, None) if name == SAMPLES => {
+                            line.read_samples_into_slice(&mut counts[at])?
+                        }
+                        (None, None) => {}
                     }
                 }
                 let (x0, y0) = (block.index.pixel_position.x(), block.index.pixel_position.y());
+                let mut pixel_aovs = vec![0f32; aov_channels.len()];
                 for i in 0..pixels {
                     let (x, y) = (x0 + i % size.width(), y0 + i / size.width());
                     let mean = DVec3::new(rgb[0][i].into(), rgb[1][i].into(), rgb[2][i].into());
                     let count = counts[i];
-                    if let Err(message) = visit(y * width + x, mean * f64::from(count), count) {
+                    for (value, plane) in pixel_aovs.iter_mut().zip(&aovs) {
+                        *value = plane[i];
+                    }
+                    let sum = mean * f64::from(count);
+                    if let Err(message) = visit(y * width + x, sum, count, &pixel_aovs) {
                         error.get_or_insert(message);
                         return Err(Error::Aborted);
                     }
