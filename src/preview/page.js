@@ -4,6 +4,17 @@
 
 const $ = (id) => document.getElementById(id);
 
+// The number of the PNG shown, and of the newest asked for.
+let shownPng = 0;
+let askedPng = 0;
+
+function showPicture(picture) {
+  $("spp").textContent = picture.spp;
+  $("target").textContent = picture.target;
+  $("seconds").textContent = picture.seconds.toFixed(2);
+  $("render").textContent = picture.render;
+}
+
 function showState(state) {
   $("status").textContent = "connected";
   $("operator").value = state.operator;
@@ -11,15 +22,23 @@ function showState(state) {
   $("exposure-value").textContent = state.exposure;
   $("error").hidden = !state.error;
   const picture = state.picture;
-  if (picture) {
-    const img = $("picture");
-    img.src = "/image.png?v=" + state.version;
-    img.hidden = false;
-    $("spp").textContent = picture.spp;
-    $("target").textContent = picture.target;
-    $("seconds").textContent = picture.seconds.toFixed(2);
-    $("render").textContent = picture.render;
+  if (!picture || picture.png === askedPng) {
+    return;
   }
+  // The new image is loaded aside and put in place whole, with its numbers: the page never
+  // shows half an image, nor numbers newer than the image.
+  askedPng = picture.png;
+  const next = new Image();
+  next.onload = () => {
+    if (picture.png > shownPng) {
+      shownPng = picture.png;
+      next.id = "picture";
+      next.alt = "the render";
+      $("picture").replaceWith(next);
+      showPicture(picture);
+    }
+  };
+  next.src = "/image.png?n=" + picture.png;
 }
 
 const events = new EventSource("/events");

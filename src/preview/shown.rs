@@ -17,6 +17,9 @@ pub struct Picture {
     /// The render it belongs to (1 for the first load, one more for each reload).
     pub render: u64,
     png: Vec<u8>,
+    /// Which PNG this is (one more at each pass and each change of tone mapping): the page
+    /// loads the image again only when it changes.
+    png_number: u64,
 }
 
 #[derive(Default)]
@@ -64,7 +67,8 @@ impl Shown {
         let tone_map = self.state().tone_map.clone();
         let png = encode(&image, &tone_map);
         self.publish(|state| {
-            state.picture = Some(Picture { image, info, target, render, png });
+            let png_number = state.picture.as_ref().map_or(1, |p| p.png_number + 1);
+            state.picture = Some(Picture { image, info, target, render, png, png_number });
             state.error = None;
         });
     }
@@ -79,6 +83,7 @@ impl Shown {
         self.publish(|state| {
             if let Some(picture) = &mut state.picture {
                 picture.png = encode(&picture.image, &tone_map);
+                picture.png_number += 1;
             }
             state.tone_map = tone_map;
         });
@@ -128,7 +133,8 @@ fn events(state: &State) -> String {
     }
     let picture = match &state.picture {
         Some(p) => format!(
-            r#"{{"render":{},"spp":{},"target":{},"seconds":{:.3},"width":{},"height":{}}}"#,
+            r#"{{"png":{},"render":{},"spp":{},"target":{},"seconds":{:.3},"width":{},"height":{}}}"#,
+            p.png_number,
             p.render,
             p.info.samples_per_pixel,
             p.target,
