@@ -10,6 +10,7 @@ let askedPng = 0;
 
 function showPicture(picture) {
   $("spp").textContent = picture.spp;
+  $("glance").hidden = !picture.glance;
   $("target").textContent = picture.target;
   $("seconds").textContent = picture.seconds.toFixed(2);
   $("render").textContent = picture.render;
@@ -34,6 +35,9 @@ function showState(state) {
       shownPng = picture.png;
       next.id = "picture";
       next.alt = "the render";
+      // A glance is smaller than the render: shown at the render's size.
+      next.width = picture.width;
+      next.height = picture.height;
       $("picture").replaceWith(next);
       showPicture(picture);
     }

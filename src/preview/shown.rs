@@ -14,6 +14,10 @@ pub struct Picture {
     pub info: RenderInfo,
     /// The samples per pixel the render aims at.
     pub target: u32,
+    /// The render's image size (a glance's image is smaller: the page scales it up).
+    pub size: (u32, u32),
+    /// Whether this is the glance, the first image, of one sample per pixel at a reduced size.
+    pub glance: bool,
     /// The render it belongs to (1 for the first load, one more for each reload).
     pub render: u64,
     png: Vec<u8>,
@@ -63,12 +67,21 @@ impl Shown {
     }
 
     /// A pass of render `render` is done: it becomes the picture, and the error goes.
-    pub fn pass(&self, render: u64, image: Image, info: RenderInfo, target: u32) {
+    pub fn pass(
+        &self,
+        render: u64,
+        image: Image,
+        info: RenderInfo,
+        target: u32,
+        size: (u32, u32),
+        glance: bool,
+    ) {
         let tone_map = self.state().tone_map.clone();
         let png = encode(&image, &tone_map);
         self.publish(|state| {
             let png_number = state.picture.as_ref().map_or(1, |p| p.png_number + 1);
-            state.picture = Some(Picture { image, info, target, render, png, png_number });
+            let picture = Picture { image, info, target, size, glance, render, png, png_number };
+            state.picture = Some(picture);
             state.error = None;
         });
     }
@@ -133,14 +146,15 @@ fn events(state: &State) -> String {
     }
     let picture = match &state.picture {
         Some(p) => format!(
-            r#"{{"png":{},"render":{},"spp":{},"target":{},"seconds":{:.3},"width":{},"height":{}}}"#,
+            r#"{{"png":{},"render":{},"glance":{},"spp":{},"target":{},"seconds":{:.3},"width":{},"height":{}}}"#,
             p.png_number,
             p.render,
+            p.glance,
             p.info.samples_per_pixel,
             p.target,
             p.info.seconds,
-            p.image.width,
-            p.image.height
+            p.size.0,
+            p.size.1
         ),
         None => "null".to_string(),
     };
