@@ -459,8 +459,7 @@ fn serve_preview(
             tell!("warning: cannot open a browser (xdg-open: {e}): open {url}");
         }
     }
-    server.serve();
-    Ok(())
+    server.serve()
 }
 
 /// `raydiance snapshot --accept`: promotes the `.new` snapshots.

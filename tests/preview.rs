@@ -157,6 +157,24 @@ fn nothing_but_the_page_is_served() {
     assert_eq!(common::preview::request(preview.address, "POST", "/tonemap?op=aces").0, 204);
 }
 
+#[test]
+fn a_page_of_another_site_is_refused_even_on_this_machine() {
+    let dir = tempfile::tempdir().unwrap();
+    let preview = Preview::start(&small_scene(dir.path(), 1), &["--listen", "127.0.0.1:0"]);
+    let port = preview.address.port();
+    let to = |host: &str| common::preview::request_to(preview.address, host, "GET", "/").0;
+    assert_eq!(to(&format!("localhost:{port}")), 200);
+    assert_eq!(to(&format!("127.0.0.1:{port}")), 200);
+    // A name of another site made to resolve to 127.0.0.1 (DNS rebinding).
+    assert_eq!(to(&format!("attacker.example:{port}")), 403);
+    assert_eq!(to("127.0.0.1:1"), 403);
+    // Asked to listen for other machines, any name is theirs.
+    let everywhere = Preview::start(&small_scene(dir.path(), 1), &["--listen", "0.0.0.0:0"]);
+    let host = format!("attacker.example:{}", everywhere.address.port());
+    let (status, _) = common::preview::request_to(everywhere.address, &host, "GET", "/");
+    assert_eq!(status, 200);
+}
+
 /// An address of this machine other than loopback (the one it would reach the network by), if
 /// it has one.
 fn outside_address() -> Option<std::net::IpAddr> {

@@ -15,6 +15,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use crate::{LoadError, RenderRequest};
+use server::Site;
 use shown::Shown;
 use watch::{POLL, Watch};
 
@@ -62,8 +63,9 @@ impl Server {
         format!("http://{}/", self.address)
     }
 
-    /// Renders and serves until the process ends.
-    pub fn serve(self) {
+    /// Serves and renders until the process ends; the render runs on the calling thread (and
+    /// so on the rayon pool it is in, `--threads`).
+    pub fn serve(self) -> ! {
         let shown = Arc::new(Shown::default());
         let watch = Arc::new(Watch::default());
         let watcher = watch.clone();
@@ -73,13 +75,14 @@ impl Server {
                 std::thread::sleep(POLL);
             }
         });
-        let (renderer, preview) = (shown.clone(), self.preview.clone());
+        let site = Arc::new(Site::new(self.preview.scene.clone(), self.address));
+        let served = shown.clone();
         std::thread::spawn(move || {
-            renderer::run(&preview.scene, &preview.request, &renderer, &watch)
+            for request in self.http.incoming_requests() {
+                let (shown, site) = (served.clone(), site.clone());
+                std::thread::spawn(move || server::respond(request, &shown, &site));
+            }
         });
-        for request in self.http.incoming_requests() {
-            let (shown, scene) = (shown.clone(), self.preview.scene.clone());
-            std::thread::spawn(move || server::respond(request, &shown, &scene));
-        }
+        renderer::run(&self.preview.scene, &self.preview.request, &shown, &watch)
     }
 }

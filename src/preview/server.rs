@@ -3,7 +3,8 @@
 //! served: no path reaches the file system.
 
 use std::io::Write;
-use std::path::Path;
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use tiny_http::{Header, Method, Request, Response};
@@ -21,8 +22,41 @@ const STYLE: &str = include_str!("page.css");
 /// noticed then, and its thread ends.
 const KEEP_ALIVE: Duration = Duration::from_secs(10);
 
+/// What the server serves, and to whom.
+pub struct Site {
+    scene: PathBuf,
+    /// The `Host` a request must name when the preview listens on loopback only: another one is
+    /// a page of another site that had its name resolve to this machine (DNS rebinding), which
+    /// must not read the scene's errors. `None`: listening for other machines, any name.
+    hosts: Option<[String; 2]>,
+}
+
+impl Site {
+    pub fn new(scene: PathBuf, address: SocketAddr) -> Site {
+        let hosts = address
+            .ip()
+            .is_loopback()
+            .then(|| [address.to_string(), format!("localhost:{}", address.port())]);
+        Site { scene, hosts }
+    }
+
+    fn admits(&self, request: &Request) -> bool {
+        let Some(hosts) = &self.hosts else { return true };
+        let host = request.headers().iter().find(|h| h.field.equiv("Host"));
+        host.is_some_and(|h| {
+            hosts.iter().any(|allowed| h.value.as_str().eq_ignore_ascii_case(allowed))
+        })
+    }
+}
+
 /// Answers one request.
-pub fn respond(request: Request, shown: &Shown, scene: &Path) {
+pub fn respond(request: Request, shown: &Shown, site: &Site) {
+    if !site.admits(&request) {
+        let refused = text("this preview answers to its own address only\n".into(), "text/plain");
+        let _ = request.respond(refused.with_status_code(403));
+        return;
+    }
+    let scene = &site.scene;
     let url = request.url().to_string();
     let (path, query) = url.split_once('?').unwrap_or((&url, ""));
     // A failed answer is the client's going away: nothing to do about it.

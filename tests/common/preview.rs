@@ -89,9 +89,14 @@ impl Drop for Preview {
 
 /// `METHOD path` sent as written (no normalisation of `..`): the status and the body.
 pub fn request(address: SocketAddr, method: &str, path: &str) -> (u16, Vec<u8>) {
+    request_to(address, &address.to_string(), method, path)
+}
+
+/// As `request`, naming `host` in the `Host` header.
+pub fn request_to(address: SocketAddr, host: &str, method: &str, path: &str) -> (u16, Vec<u8>) {
     let mut stream = TcpStream::connect(address).unwrap();
     stream.set_read_timeout(Some(PATIENCE)).unwrap();
-    write!(stream, "{method} {path} HTTP/1.1\r\nHost: {address}\r\nConnection: close\r\n\r\n")
+    write!(stream, "{method} {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n")
         .unwrap();
     let mut response = Vec::new();
     stream.read_to_end(&mut response).unwrap();
