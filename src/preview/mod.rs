@@ -75,7 +75,7 @@ impl Server {
                 std::thread::sleep(POLL);
             }
         });
-        let site = Arc::new(Site::new(self.preview.scene.clone(), self.address));
+        let site = Arc::new(Site::new(&self.preview.scene, self.address));
         let served = shown.clone();
         std::thread::spawn(move || {
             for request in self.http.incoming_requests() {

@@ -4,7 +4,7 @@
 
 use std::io::Write;
 use std::net::SocketAddr;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 use tiny_http::{Header, Method, Request, Response};
@@ -24,7 +24,8 @@ const KEEP_ALIVE: Duration = Duration::from_secs(10);
 
 /// What the server serves, and to whom.
 pub struct Site {
-    scene: PathBuf,
+    /// The page, with the scene's name.
+    page: String,
     /// The `Host` a request must name when the preview listens on loopback only: another one is
     /// a page of another site that had its name resolve to this machine (DNS rebinding), which
     /// must not read the scene's errors. `None`: listening for other machines, any name.
@@ -32,12 +33,12 @@ pub struct Site {
 }
 
 impl Site {
-    pub fn new(scene: PathBuf, address: SocketAddr) -> Site {
+    pub fn new(scene: &Path, address: SocketAddr) -> Site {
         let hosts = address
             .ip()
             .is_loopback()
             .then(|| [address.to_string(), format!("localhost:{}", address.port())]);
-        Site { scene, hosts }
+        Site { page: page(scene), hosts }
     }
 
     fn admits(&self, request: &Request) -> bool {
@@ -56,12 +57,11 @@ pub fn respond(request: Request, shown: &Shown, site: &Site) {
         let _ = request.respond(refused.with_status_code(403));
         return;
     }
-    let scene = &site.scene;
     let url = request.url().to_string();
     let (path, query) = url.split_once('?').unwrap_or((&url, ""));
     // A failed answer is the client's going away: nothing to do about it.
     let _ = match (request.method(), path) {
-        (Method::Get, "/") => request.respond(text(page(scene), "text/html; charset=utf-8")),
+        (Method::Get, "/") => request.respond(text(site.page.clone(), "text/html; charset=utf-8")),
         (Method::Get, "/page.js") => request.respond(text(SCRIPT.into(), "text/javascript")),
         (Method::Get, "/page.css") => request.respond(text(STYLE.into(), "text/css")),
         (Method::Get, "/events") => stream(request, shown),
