@@ -175,6 +175,19 @@ fn a_page_of_another_site_is_refused_even_on_this_machine() {
     assert_eq!(status, 200);
 }
 
+#[test]
+fn a_missing_scene_or_a_taken_address_is_an_error_before_serving() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.scn");
+    let stderr = Preview::try_start(&missing, &["--listen", "127.0.0.1:0"]).err().unwrap();
+    assert!(stderr.contains("missing.scn") && stderr.contains("error"), "{stderr}");
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let taken = listener.local_addr().unwrap();
+    let scene = small_scene(dir.path(), 1);
+    let stderr = Preview::try_start(&scene, &["--listen", &taken.to_string()]).err().unwrap();
+    assert!(stderr.contains(&format!("error: cannot listen on {taken}")), "{stderr}");
+}
+
 /// An address of this machine other than loopback (the one it would reach the network by), if
 /// it has one.
 fn outside_address() -> Option<std::net::IpAddr> {
