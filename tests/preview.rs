@@ -188,6 +188,21 @@ fn a_missing_scene_or_a_taken_address_is_an_error_before_serving() {
     assert!(stderr.contains(&format!("error: cannot listen on {taken}")), "{stderr}");
 }
 
+#[test]
+fn event_streams_past_the_most_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let preview = Preview::start(&small_scene(dir.path(), 1), &["--listen", "127.0.0.1:0"]);
+    let open: Vec<_> = (0..raydiance::preview::MAX_STREAMS).map(|_| preview.events()).collect();
+    assert_eq!(common::preview::status(preview.address, "/events"), 503);
+    drop(open);
+    // A closed page's stream ends at its next write (a state, or the keep-alive comment).
+    let start = std::time::Instant::now();
+    while common::preview::status(preview.address, "/events") != 200 {
+        assert!(start.elapsed() < common::preview::PATIENCE, "the streams never closed");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+}
+
 /// An address of this machine other than loopback (the one it would reach the network by), if
 /// it has one.
 fn outside_address() -> Option<std::net::IpAddr> {

@@ -15,6 +15,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use crate::{LoadError, RenderRequest};
+pub use server::MAX_STREAMS;
 use server::Site;
 use shown::Shown;
 use watch::{POLL, Watch};

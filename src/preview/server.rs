@@ -5,6 +5,7 @@
 use std::io::Write;
 use std::net::SocketAddr;
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use tiny_http::{Header, Method, Request, Response};
@@ -22,6 +23,10 @@ const STYLE: &str = include_str!("page.css");
 /// noticed then, and its thread ends.
 const KEEP_ALIVE: Duration = Duration::from_secs(10);
 
+/// The most event streams open at once, each a thread: pages of the preview open in tabs (a
+/// client opening thousands is refused, not given thousands of threads).
+pub const MAX_STREAMS: usize = 64;
+
 /// What the server serves, and to whom.
 pub struct Site {
     /// The page, with the scene's name.
@@ -30,6 +35,7 @@ pub struct Site {
     /// a page of another site that had its name resolve to this machine (DNS rebinding), which
     /// must not read the scene's errors. `None`: listening for other machines, any name.
     hosts: Option<[String; 2]>,
+    streams: AtomicUsize,
 }
 
 impl Site {
@@ -38,7 +44,7 @@ impl Site {
             .ip()
             .is_loopback()
             .then(|| [address.to_string(), format!("localhost:{}", address.port())]);
-        Site { page: page(scene), hosts }
+        Site { page: page(scene), hosts, streams: AtomicUsize::new(0) }
     }
 
     fn admits(&self, request: &Request) -> bool {
@@ -64,7 +70,17 @@ pub fn respond(request: Request, shown: &Shown, site: &Site) {
         (Method::Get, "/") => request.respond(text(site.page.clone(), "text/html; charset=utf-8")),
         (Method::Get, "/page.js") => request.respond(text(SCRIPT.into(), "text/javascript")),
         (Method::Get, "/page.css") => request.respond(text(STYLE.into(), "text/css")),
-        (Method::Get, "/events") => stream(request, shown),
+        (Method::Get, "/events") => {
+            if site.streams.fetch_add(1, Ordering::SeqCst) < MAX_STREAMS {
+                let streamed = stream(request, shown);
+                site.streams.fetch_sub(1, Ordering::SeqCst);
+                streamed
+            } else {
+                site.streams.fetch_sub(1, Ordering::SeqCst);
+                let busy = format!("more than {MAX_STREAMS} pages are open\n");
+                request.respond(text(busy, "text/plain").with_status_code(503))
+            }
+        }
         (Method::Get, "/image.png") => match shown.png() {
             Some(png) => request.respond(bytes(png, "image/png")),
             None => request.respond(not_found()),
