@@ -5,7 +5,9 @@
 
 mod common;
 
+use std::io::{BufRead, BufReader};
 use std::net::{SocketAddr, TcpStream, UdpSocket};
+use std::os::unix::fs::PermissionsExt;
 use std::sync::Mutex;
 
 use common::preview::{Preview, picture, small_scene};
@@ -201,6 +203,60 @@ fn event_streams_past_the_most_are_refused() {
         assert!(start.elapsed() < common::preview::PATIENCE, "the streams never closed");
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
+}
+
+#[test]
+fn the_tone_mapping_chosen_in_the_page_is_applied_to_the_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let preview = Preview::start(&small_scene(dir.path(), 2), &["--listen", "127.0.0.1:0"]);
+    let mut events = preview.events();
+    events.until(|state| picture(state) == Some((2, 1)));
+    let (_, before) = preview.get("/image.png");
+    let (status, _) =
+        common::preview::request(preview.address, "POST", "/tonemap?op=aces&exposure=2");
+    assert_eq!(status, 204);
+    let state = events.until(|state| state["operator"] == "aces");
+    assert_eq!(state.last().unwrap().json()["exposure"], 2.0);
+    let (_, after) = preview.get("/image.png");
+    assert_ne!(before, after);
+    // Tone mapping is the page's, not the render's: the saved image is the same linear one.
+    let exr = raydiance::image::exr::read_bytes(&preview.get("/image.exr").1).unwrap();
+    let rendered = dir.path().join("rendered.exr");
+    let scene = dir.path().join("scene.scn");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["render", scene.to_str().unwrap(), "-o", rendered.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_eq!(exr.pixels, raydiance::image::read_hdr(&rendered).unwrap().pixels);
+}
+
+#[test]
+fn open_hands_the_page_s_address_to_the_desktop() {
+    let dir = tempfile::tempdir().unwrap();
+    let opened = dir.path().join("opened");
+    let opener = dir.path().join("xdg-open");
+    std::fs::write(&opener, format!("#!/bin/sh\necho \"$1\" > {}\n", opened.display())).unwrap();
+    std::fs::set_permissions(&opener, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let path = format!("{}:{}", dir.path().display(), std::env::var("PATH").unwrap_or_default());
+    let scene = small_scene(dir.path(), 1);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_raydiance"))
+        .args(["preview", scene.to_str().unwrap(), "--listen", "127.0.0.1:0", "--open"])
+        .env("PATH", path)
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let start = std::time::Instant::now();
+    while std::fs::read_to_string(&opened).map_or(true, |text| text.is_empty()) {
+        assert!(start.elapsed() < common::preview::PATIENCE, "xdg-open was not run");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    let url = std::fs::read_to_string(&opened).unwrap();
+    assert!(url.starts_with("http://127.0.0.1:") && line.contains(url.trim()), "{url} / {line}");
 }
 
 /// An address of this machine other than loopback (the one it would reach the network by), if
