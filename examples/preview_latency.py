@@ -94,7 +94,7 @@ def main():
                 time.sleep(0.02)
 
         wait_for_64(1)
-        firsts, full = [], []
+        firsts, full_size, full = [], [], []
         for edit in range(EDITS):
             render = seen()[-1][1] + 1
             saved = time.time() * 1000
@@ -102,12 +102,16 @@ def main():
             wait_for_64(render)
             mine = [(t, spp, glance) for t, r, spp, glance in seen() if r >= render]
             first, last = mine[0], next(m for m in mine if m[1] == 64)
+            sized = next(m for m in mine if not m[2])
             firsts.append(first[0] - saved)
+            full_size.append(sized[0] - saved)
             full.append(last[0] - saved)
             kind = "a glance" if first[2] else f"{first[1]} spp"
             print(f"edit {edit + 1}: first image ({kind}) after {first[0] - saved:.0f} ms, "
+                  f"first at full size after {sized[0] - saved:.0f} ms, "
                   f"64 spp after {last[0] - saved:.0f} ms")
-        print(f"median of {EDITS}: first image {statistics.median(firsts):.0f} ms, "
+        print(f"median of {EDITS}: first image {statistics.median(firsts):.0f} ms, first at "
+              f"full size {statistics.median(full_size):.0f} ms, "
               f"64 spp {statistics.median(full):.0f} ms")
         webdriver(session, method="DELETE")
     finally:
