@@ -2,8 +2,10 @@
 //! only regular files, and no more bytes than a stated cap, so that a FIFO, a device, a folder or
 //! a huge file is an error that names it, not a hang or the machine's memory.
 
+use std::cell::RefCell;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::SystemTime;
 
 /// The largest file of each kind that raydiance reads.
 pub const MAX_SCENE_BYTES: u64 = 64 << 20;
@@ -27,10 +29,60 @@ pub enum InputError {
     NotText { valid_up_to: usize },
 }
 
+/// A file as it was when asked for: its modification time and length, `None` when it could not
+/// be found. A later stamp that differs says the file changed (what `preview` watches).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Stamp {
+    pub path: PathBuf,
+    pub version: Option<(SystemTime, u64)>,
+}
+
+impl Stamp {
+    pub fn of(path: &Path, metadata: Option<&std::fs::Metadata>) -> Stamp {
+        let version = metadata.and_then(|m| Some((m.modified().ok()?, m.len())));
+        Stamp { path: path.to_path_buf(), version }
+    }
+
+    /// The file's stamp now.
+    pub fn now(path: &Path) -> Stamp {
+        Stamp::of(path, std::fs::metadata(path).ok().as_ref())
+    }
+
+    pub fn changed(&self) -> bool {
+        Stamp::now(&self.path) != *self
+    }
+}
+
+thread_local! {
+    /// The files asked for on this thread while `recording_reads` runs.
+    static READS: RefCell<Option<Vec<Stamp>>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` (on this thread), and returns with its result every file it asked this module for,
+/// found or not, stamped as it was when asked (before reading, so a change while it read is
+/// still a change).
+pub fn recording_reads<T>(f: impl FnOnce() -> T) -> (T, Vec<Stamp>) {
+    let outer = READS.replace(Some(Vec::new()));
+    let result = f();
+    let reads = READS.replace(outer).unwrap_or_default();
+    (result, reads)
+}
+
+/// The metadata of a file about to be read, noted if reads are being recorded.
+fn metadata_of(path: &Path) -> std::io::Result<std::fs::Metadata> {
+    let metadata = std::fs::metadata(path);
+    READS.with_borrow_mut(|reads| {
+        if let Some(reads) = reads {
+            reads.push(Stamp::of(path, metadata.as_ref().ok()));
+        }
+    });
+    metadata
+}
+
 /// The file's bytes, if it is a regular file of at most `max_bytes`.
 pub fn read(path: &Path, max_bytes: u64) -> Result<Vec<u8>, InputError> {
     // Asked before opening: opening a FIFO for reading waits for a writer.
-    let metadata = std::fs::metadata(path)?;
+    let metadata = metadata_of(path)?;
     check(&metadata, max_bytes)?;
     let file = std::fs::File::open(path)?;
     // Asked again of what was opened, in case the name now stands for another file.
@@ -45,7 +97,7 @@ pub fn read(path: &Path, max_bytes: u64) -> Result<Vec<u8>, InputError> {
 
 /// At most the first `max_bytes` of a regular file (what a header needs, read before the rest).
 pub fn read_prefix(path: &Path, max_bytes: u64) -> Result<Vec<u8>, InputError> {
-    let metadata = std::fs::metadata(path)?;
+    let metadata = metadata_of(path)?;
     check(&metadata, u64::MAX)?;
     let mut bytes = Vec::new();
     std::fs::File::open(path)?.take(max_bytes).read_to_end(&mut bytes)?;
@@ -109,5 +161,26 @@ mod tests {
         std::fs::write(&file, [b'a', 0xff]).unwrap();
         let binary = read_text(&file, 10).unwrap_err();
         assert!(matches!(binary, InputError::NotText { valid_up_to: 1 }), "{binary:?}");
+    }
+
+    #[test]
+    fn reads_are_recorded_with_their_stamps_missing_files_too() {
+        let dir = tempfile::tempdir().unwrap();
+        let (file, missing) = (dir.path().join("a.txt"), dir.path().join("missing.txt"));
+        std::fs::write(&file, "abc").unwrap();
+        let ((), reads) = recording_reads(|| {
+            read(&file, 10).unwrap();
+            assert!(read_text(&missing, 10).is_err());
+        });
+        let paths: Vec<&Path> = reads.iter().map(|r| r.path.as_path()).collect();
+        assert_eq!(paths, [file.as_path(), missing.as_path()]);
+        assert!(reads[0].version.is_some() && reads[1].version.is_none());
+        assert!(!reads[0].changed() && !reads[1].changed());
+        std::fs::write(&file, "abcd").unwrap();
+        std::fs::write(&missing, "").unwrap();
+        assert!(reads[0].changed() && reads[1].changed());
+        // Nothing is recorded outside `recording_reads`.
+        let (_, none) = recording_reads(|| ());
+        assert!(none.is_empty());
     }
 }

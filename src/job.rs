@@ -323,6 +323,10 @@ impl Progress for Budget<'_> {
         }
     }
 
+    fn pass_done(&self, film: &crate::film::Film) {
+        self.progress.pass_done(film);
+    }
+
     fn should_abandon(&self) -> bool {
         self.progress.should_abandon()
     }

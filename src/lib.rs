@@ -27,6 +27,7 @@ pub mod material;
 pub mod mesh;
 pub mod photon;
 mod pipeline;
+pub mod preview;
 pub mod progress;
 pub mod ray;
 pub mod region;

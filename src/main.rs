@@ -1,6 +1,7 @@
-//! The `raydiance` command line: render, merge, tonemap, denoise, check, snapshot, bench.
+//! The `raydiance` command line: render, merge, tonemap, denoise, check, snapshot, bench, preview.
 
 use std::error::Error;
+use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::OnceLock;
@@ -19,7 +20,7 @@ use raydiance::progress::Progress;
 use raydiance::region::Crop;
 use raydiance::split::plan::{Choices, PartChoice};
 use raydiance::tonemap::{Operator, ToneMap};
-use raydiance::{RenderRequest, bench, snapshot};
+use raydiance::{RenderRequest, bench, preview, snapshot};
 
 #[derive(Parser)]
 #[command(name = "raydiance", version, about = "A physically based renderer for .scn scenes")]
@@ -178,6 +179,25 @@ enum Command {
         #[arg(long, allow_negative_numbers = true)]
         threads: Option<usize>,
     },
+    /// Serve a page on this machine that shows the scene's render as it refines, and renders
+    /// it again whenever the scene or a file it reads is saved.
+    Preview {
+        /// The scene file (.scn or .pov).
+        scene: PathBuf,
+        /// The address to listen on, IP:PORT (port 0: any free one). An address other than
+        /// 127.0.0.1 or ::1 lets other machines see the page.
+        #[arg(long, value_name = "IP:PORT", default_value = preview::DEFAULT_LISTEN)]
+        listen: SocketAddr,
+        /// Open the page in the desktop's browser (with `xdg-open`).
+        #[arg(long)]
+        open: bool,
+        /// Worker threads, 1 to 1024 [default: one per core].
+        #[arg(long, allow_negative_numbers = true)]
+        threads: Option<usize>,
+        /// A folder searched for `#include`d files, as `render --include-path`.
+        #[arg(long, value_name = "DIR")]
+        include_path: Vec<PathBuf>,
+    },
     /// Render scenes and print samples per second and seconds per frame.
     Bench {
         /// Scenes to render (default: the benchmark scenes in scenes/).
@@ -329,6 +349,10 @@ fn main() -> ExitCode {
                 complete(on_threads(threads, || check_snapshots(&paths, &options)))
             }
         }
+        Command::Preview { scene, listen, open, threads, include_path } => {
+            let request = RenderRequest { include_path, ..RenderRequest::default() };
+            complete(on_threads(threads, || serve_preview(scene, request, listen, open)))
+        }
         Command::Bench { scenes, samples, repeats, threads } => {
             complete(on_threads(threads, || {
                 bench::run(&scenes, &samples, repeats.into(), &mut std::io::stdout())
@@ -437,6 +461,29 @@ fn check_snapshots(paths: &[PathBuf], options: &snapshot::Options) -> Result<(),
                 .into())
         }
     }
+}
+
+/// `raydiance preview`: says where the page is, opens it if asked, and serves it until the
+/// process is ended.
+fn serve_preview(
+    scene: PathBuf,
+    request: RenderRequest,
+    listen: SocketAddr,
+    open: bool,
+) -> Result<(), Failure> {
+    let server = preview::listen(preview::Preview { scene: scene.clone(), request }, listen)?;
+    let url = server.url();
+    if !server.address().ip().is_loopback() {
+        tell!("warning: listening on {}: other machines can see the page", server.address());
+    }
+    say!("preview of {} at {url} (Ctrl-C ends it)", scene.display());
+    if open {
+        // The page works without it: a desktop without a browser is only told.
+        if let Err(e) = std::process::Command::new("xdg-open").arg(&url).spawn() {
+            tell!("warning: cannot open a browser (xdg-open: {e}): open {url}");
+        }
+    }
+    server.serve()
 }
 
 /// `raydiance snapshot --accept`: promotes the `.new` snapshots.

@@ -14,6 +14,9 @@ pub trait Progress: Sync {
     fn pass_limit(&self, _seconds_per_sample: f64) -> Option<u32> {
         None
     }
+    /// A pass is done: `film` holds every pass so far, a valid image of `film.samples` samples
+    /// per pixel (what a preview shows while the render refines).
+    fn pass_done(&self, _film: &Film) {}
     /// Checked between the small tasks of a pass (at most `render::TASK_SAMPLES` samples each): true
     /// drops the pass under way and ends the render with the passes done before it.
     fn should_abandon(&self) -> bool {

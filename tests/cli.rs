@@ -233,7 +233,7 @@ fn render_without_an_output_writes_the_scene_name_as_png_here() {
 /// Every option says what it takes and its default; reviewed as text.
 #[test]
 fn help_describes_every_option() {
-    for command in ["render", "tonemap", "check", "snapshot", "bench"] {
+    for command in ["render", "tonemap", "check", "snapshot", "bench", "preview"] {
         let output = raydiance(&[command, "--help"]);
         assert!(output.status.success());
         let help = String::from_utf8_lossy(&output.stdout).into_owned();

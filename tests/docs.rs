@@ -262,7 +262,10 @@ fn the_command_line_page_lists_every_option_of_every_command() {
         documented.entry(command.clone()).or_default().extend(options(line));
     }
     let commands: Vec<&str> = documented.keys().map(String::as_str).collect();
-    assert_eq!(commands, ["bench", "check", "denoise", "merge", "render", "snapshot", "tonemap"]);
+    assert_eq!(
+        commands,
+        ["bench", "check", "denoise", "merge", "preview", "render", "snapshot", "tonemap"]
+    );
     for (command, listed) in &documented {
         assert_eq!(listed, &options_in_help(command), "`raydiance {command}` in docs/cli.md");
     }

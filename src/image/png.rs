@@ -13,10 +13,20 @@ pub fn write(
     height: usize,
     pixels: &[[u8; 3]],
 ) -> Result<(), ImageError> {
-    let bytes: Vec<u8> = pixels.iter().flatten().copied().collect();
     write_atomic(path, |writer| {
-        PngEncoder::new(writer)
-            .write_image(&bytes, width as u32, height as u32, image::ExtendedColorType::Rgb8)
-            .map_err(|e| ImageError::format(path, e.to_string()))
+        encode(writer, width, height, pixels).map_err(|e| ImageError::format(path, e))
     })
+}
+
+/// Encodes the pixels as a PNG file's bytes into `writer`.
+pub fn encode(
+    writer: impl std::io::Write,
+    width: usize,
+    height: usize,
+    pixels: &[[u8; 3]],
+) -> Result<(), String> {
+    let bytes: Vec<u8> = pixels.iter().flatten().copied().collect();
+    PngEncoder::new(writer)
+        .write_image(&bytes, width as u32, height as u32, image::ExtendedColorType::Rgb8)
+        .map_err(|e| e.to_string())
 }

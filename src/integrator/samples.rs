@@ -85,6 +85,7 @@ pub fn render_samples(
             break;
         }
         film.add_pass(&pass_film);
+        progress.pass_done(&film);
         seconds_per_sample = pass_start.elapsed().as_secs_f64() / f64::from(pass);
     }
     let stats = RenderStats {

@@ -164,11 +164,26 @@ fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
             break;
         }
         iterations += 1;
+        // Shown at the same doubling counts as the passes of the other integrators.
+        if iterations.is_power_of_two() {
+            progress.pass_done(&film_of(&pixels, iterations, width, height));
+        }
         let seconds = iteration_start.elapsed().as_secs_f64();
         if iterations < settings.samples && progress.pass_limit(seconds) == Some(0) {
             break;
         }
     }
+    let film = film_of(&pixels, iterations, width, height);
+    let stats = RenderStats {
+        seconds: start.elapsed().as_secs_f64(),
+        samples_per_pixel: iterations,
+        dropped: 0,
+    };
+    (film, stats)
+}
+
+/// The image of `iterations` iterations' pixel states.
+fn film_of(pixels: &[PixelState], iterations: u32, width: usize, height: usize) -> Film {
     let mut film = Film::new(width, height);
     let n = f64::from(iterations.max(1));
     for (i, pixel) in pixels.iter().enumerate() {
@@ -180,12 +195,7 @@ fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
         film.sum_squares[i] = radiance * radiance * f64::from(iterations);
     }
     film.samples = iterations;
-    let stats = RenderStats {
-        seconds: start.elapsed().as_secs_f64(),
-        samples_per_pixel: iterations,
-        dropped: 0,
-    };
-    (film, stats)
+    film
 }
 
 /// One iteration into `pixels`; false (and `pixels` untouched) if `progress` asked to stop.

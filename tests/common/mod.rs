@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests: scenes from text, small renders.
 #![allow(dead_code)] // each test binary uses its own subset
 
+pub mod preview;
+
 use std::path::Path;
 
 use glam::Vec3;
