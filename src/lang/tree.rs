@@ -378,6 +378,14 @@ impl Builder {
             }
             Rule::version => Item::Ignored { what: Ignored::Version, span },
             Rule::global_settings => Item::Ignored { what: Ignored::GlobalSettings, span },
+            Rule::media_flag => {
+                self.pov_only(&inner_pair(&pair), Some("light_source"))?;
+                Item::Ignored { what: Ignored::LightMedia, span }
+            }
+            Rule::photons_block => {
+                self.pov_only(&inner_pair(&pair), Some("object"))?;
+                Item::Ignored { what: Ignored::Photons, span }
+            }
             Rule::macro_call => {
                 let call = self.call(pair)?;
                 match call {
