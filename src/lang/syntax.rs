@@ -505,8 +505,9 @@ pub enum TransformKind {
 
 #[derive(Debug, Clone)]
 pub struct Material {
-    /// `material { White ... }`: a declared material to start from.
-    pub base: Option<Ident>,
+    /// `material { White ... }`: a declared material to start from (a name, or an array's
+    /// element: `Materials[i]`).
+    pub base: Option<Expr>,
     pub items: Vec<Item>,
     pub span: Span,
 }
@@ -604,6 +605,13 @@ pub enum ArrayElement {
     /// `{ ... }`: the elements of one row of a further dimension.
     Row(Vec<ArrayElement>, Span),
     Value(Box<Declared>, Span),
+}
+
+/// A name used as a value.
+impl From<Ident> for Expr {
+    fn from(name: Ident) -> Expr {
+        Expr { kind: ExprKind::Ident(name.name), span: name.span }
+    }
 }
 
 #[derive(Debug, Clone)]

@@ -139,7 +139,11 @@ impl Evaluator {
 
     /// As POV-Ray does: a transform moves the light's position, `point_at` and area as they
     /// stand when it is read (items after it are not moved).
-    fn move_light(&mut self, t: &crate::lang::syntax::Transform, state: &mut LightState) -> Result<(), SceneError> {
+    fn move_light(
+        &mut self,
+        t: &crate::lang::syntax::Transform,
+        state: &mut LightState,
+    ) -> Result<(), SceneError> {
         let moving = self.transform(t)?.to_affine();
         state.position = moving.transform_point3(state.position);
         if let Some((point_at, _)) = &mut state.point_at {
