@@ -343,13 +343,20 @@ impl Evaluator {
                 rgb
             }
         };
-        let previous = entries.last().map_or(0.0, |e| e.0);
-        if !(previous..=1.0).contains(&position) {
+        // POV-Ray interpolates between positions outside [0, 1] too: they shape the map inside.
+        let (low, high) = match self.dialect {
+            Dialect::Scn => (0.0, 1.0),
+            Dialect::Pov => (f32::MIN, f32::MAX),
+        };
+        let previous = entries.last().map_or(low, |e| e.0);
+        if !(previous..=high).contains(&position) {
+            let range = match self.dialect {
+                Dialect::Scn => "in [0, 1] and ",
+                Dialect::Pov => "",
+            };
             return Err(SceneError::at(
                 &at,
-                format!(
-                    "color_map position {position} must be in [0, 1] and not below the one before"
-                ),
+                format!("color_map position {position} must be {range}not below the one before"),
             ));
         }
         entries.push((position, colour));
