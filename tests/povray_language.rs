@@ -362,3 +362,15 @@ fn a_material_may_be_an_array_s_element() {
     let graph = parse_scene(Path::new("tests/inline.scn"), scn).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(graph.objects[0].material.as_ref().unwrap().diffuse.max_value(), Vec3::splat(0.5));
 }
+
+#[test]
+fn a_macro_may_hold_a_background_a_sky_and_global_settings() {
+    let inline = pov("background { rgb <0.1, 0.2, 0.3> }\nsphere { 0, 1 }");
+    let called =
+        pov("#macro Setup(C) background { C } global_settings { max_trace_level 5 } #end\n\
+                      Setup(rgb <0.1, 0.2, 0.3>)\nsphere { 0, 1 }");
+    assert_eq!(called.backdrop, inline.backdrop);
+    assert_ne!(called.backdrop, Vec3::ZERO);
+    let sky = pov("#macro Sky() sky_sphere { pigment { rgb 1 } } #end\nSky()\nsphere { 0, 1 }");
+    assert!(sky.sky.is_some());
+}
