@@ -163,6 +163,28 @@ fn color_map_misuse_is_refused_where_it_stands() {
     assert!(name.starts_with("tests/inline.pov:2:48:") && name.contains("not a number"), "{name}");
     let scn = scn_error("#declare M = color_map { [0 rgb 1] }");
     assert!(scn.contains("`color_map`"), "{scn}");
+    let down =
+        pov_error("sphere { 0, 1 pigment { gradient y color_map { [0.5 rgb 1] [0.2 rgb 0] } } }");
+    assert!(
+        down.starts_with("tests/inline.pov:1:61:") && down.contains("not below the one before")
+    );
+}
+
+#[test]
+fn color_map_positions_outside_0_1_shape_the_map_inside_it_as_in_povray() {
+    // POV-Ray's colour at 0.25 of `[-1 rgb 0] [0.5 rgb 0.5] [1.01 rgb 1]` is 0.417, at 0.75 0.745.
+    let graph = pov("sphere { 0, 1 pigment { gradient x \
+                     color_map { [-1 rgb 0] [0.5 rgb 0.5] [1.01 rgb 1] } } finish { diffuse 1 } }");
+    let texture = Texture::new(&graph.objects[0].material.as_ref().unwrap().diffuse, &mut |_| {
+        Err("no images".into())
+    })
+    .unwrap();
+    let at = |x: f32| texture.eval(Vec3::new(x, 0.0, 0.0)).x;
+    assert!((at(0.25) - 0.4167).abs() < 1e-3 && (at(0.75) - 0.7451).abs() < 1e-3);
+    let scn = "camera { location <0, 0, -3> look_at 0 }\n\
+               sphere { 0, 1 material { diffuse gradient { color_map { [-1 rgb 0] [1 rgb 1] } } } }";
+    let error = parse_scene(Path::new("tests/inline.scn"), scn).map(|_| ()).unwrap_err();
+    assert!(error.to_string().contains("must be in [0, 1]"), "{error}");
 }
 
 #[test]
@@ -285,4 +307,70 @@ fn includes_are_found_beside_the_file_then_on_the_include_path_then_the_variable
     std::fs::write(scenes.join("x.inc"), "#error \"beside the scene\"").unwrap();
     let failed = render_with(&scene, &[&first], &variable).expect("the scene's folder first");
     assert!(failed.contains("beside the scene"), "{failed}");
+}
+
+#[test]
+fn vectors_and_array_elements_need_no_commas_in_pov_only() {
+    // As POV-Ray reads them: `<1 -2 3>` is `<1 - 2, 3>`, and a last comma may end a vector.
+    let declarations = "#declare A = <1 2 3>;\n#declare B = <1 -2 3>;\n#declare C = <4, 5, 6,>;\n\
+                        #declare D = array[3] { 7 8, 9 }";
+    assert_eq!(sphere_of("A.z + C.y + D[1]", declarations), 3.0 + 5.0 + 8.0);
+    assert_eq!(sphere_of("B.x + 10 * B.y", declarations), -1.0 + 30.0);
+    let vector = scn_error("#declare A = <1 2 3>;");
+    assert!(vector.starts_with("tests/inline.scn:1:17:") && vector.contains("`,` is missing"));
+    let last = scn_error("#declare A = <1, 2, 3,>;");
+    assert!(last.starts_with("tests/inline.scn:1:22:") && last.contains("not a `,`"), "{last}");
+    let array = scn_error("#declare D = array[2] { 7 8 }");
+    assert!(array.starts_with("tests/inline.scn:1:27:") && array.contains("array element"));
+}
+
+#[test]
+fn a_declared_value_may_be_an_ifdef_or_ifndef() {
+    let value = "#declare R = #ifdef (S) 2 #else 3 #end\n#declare Q = #ifndef (S) 4 #end";
+    assert_eq!(sphere_of("R + Q", value), 7.0);
+    let r = "#declare R = #ifdef (S) 2 #else 3 #end";
+    assert_eq!(sphere_of("R", &format!("#declare S = 1;\n{r}")), 2.0);
+    let missing = pov_error("#declare S = 1;\n#declare Q = #ifndef (S) 4 #end\nsphere { 0, Q }");
+    assert!(missing.starts_with("tests/inline.pov:2:14:") && missing.contains("add an `#else`"));
+}
+
+#[test]
+fn default_may_be_written_without_its_hash() {
+    let text = "default { finish { diffuse 0.5 } }\nsphere { 0, 1 pigment { rgb 1 } }";
+    let hashed = pov(&text.replacen("default", "#default", 1));
+    let plain = pov(text);
+    let albedo = |g: &SceneGraph| g.objects[0].material.as_ref().unwrap().diffuse.max_value();
+    assert_eq!(albedo(&plain), albedo(&hashed));
+    assert!(albedo(&plain).x < 0.6, "the default finish applies: {:?}", albedo(&plain));
+    assert!(scn_error(text).starts_with("tests/inline.scn:1:1:"));
+}
+
+#[test]
+fn a_material_may_be_an_array_s_element() {
+    let text = "#declare M = array[2] { material { texture { pigment { rgb <1, 0, 0> } } },\n\
+                material { texture { pigment { rgb <0, 0, 1> } } } }\n\
+                #declare I = 1;\nsphere { 0, 1 material { M[I] } }";
+    let graph = pov(text);
+    let colour = graph.objects[0].material.as_ref().unwrap().diffuse.max_value();
+    assert!(colour.z > 0.0 && colour.x == 0.0, "{colour:?}");
+    let wrong = pov_error("#declare M = array[1] { 3 }\nsphere { 0, 1 material { M[0] } }");
+    assert!(
+        wrong.starts_with("tests/inline.pov:2:26:") && wrong.contains("a number, not a material")
+    );
+    let scn = "#declare M = array[1] { material { diffuse rgb 0.5 } }\n\
+               camera { location <0, 0, -3> look_at 0 }\nsphere { 0, 1 material { M[0] } }";
+    let graph = parse_scene(Path::new("tests/inline.scn"), scn).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(graph.objects[0].material.as_ref().unwrap().diffuse.max_value(), Vec3::splat(0.5));
+}
+
+#[test]
+fn a_macro_may_hold_a_background_a_sky_and_global_settings() {
+    let inline = pov("background { rgb <0.1, 0.2, 0.3> }\nsphere { 0, 1 }");
+    let called =
+        pov("#macro Setup(C) background { C } global_settings { max_trace_level 5 } #end\n\
+                      Setup(rgb <0.1, 0.2, 0.3>)\nsphere { 0, 1 }");
+    assert_eq!(called.backdrop, inline.backdrop);
+    assert_ne!(called.backdrop, Vec3::ZERO);
+    let sky = pov("#macro Sky() sky_sphere { pigment { rgb 1 } } #end\nSky()\nsphere { 0, 1 }");
+    assert!(sky.sky.is_some());
 }

@@ -116,6 +116,52 @@ fn area_lights_become_emitters_facing_where_the_camera_looks() {
 }
 
 #[test]
+fn transforms_move_a_light_as_it_stands_where_they_are_written() {
+    let g = pov("camera { location <0, 2, -4> look_at 0 }\n\
+         light_source { <1, 0, 0> rgb 1 translate <0, 4, 0> rotate <0, 90, 0> }\n\
+         light_source { <0, 4, 0> rgb 1 spotlight point_at <0, 0, 1> translate <2, 0, 0> }\n\
+         light_source { <0, 4, 0> rgb 1 spotlight translate <2, 0, 0> point_at <0, 0, 1> }\n\
+         light_source { <0, 4, 0> rgb 1 spotlight translate <2, 0, 0> }\n\
+         light_source { <0, 5, 0> rgb 1 area_light 2*x 2*z 2 2 scale <1, 1, 3> }");
+    let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
+    // Rotating +x by 90° about y (POV-Ray's left-handed sense) gives -z.
+    assert!(close(g.lights[0].position, Vec3::new(0.0, 4.0, -1.0)), "{:?}", g.lights[0].position);
+    let aim = |i: usize| match g.lights[i].form {
+        LightForm::Spot { point_at, .. } => point_at,
+        ref other => panic!("{other:?}"),
+    };
+    assert!(close(g.lights[1].position, Vec3::new(2.0, 4.0, 0.0)));
+    assert!(close(aim(1), Vec3::new(2.0, 0.0, 1.0)), "point_at before the translate moves");
+    assert!(close(aim(2), Vec3::new(0.0, 0.0, 1.0)), "point_at after it does not");
+    assert!(close(aim(3), Vec3::new(2.0, 0.0, 1.0)), "the default point_at moves");
+    match &g.objects[0].shape {
+        ShapeNode::Quad { edge1, edge2, .. } => {
+            assert!((edge1.cross(*edge2).length() - 12.0).abs() < 1e-4, "the scaled area")
+        }
+        other => panic!("{other:?}"),
+    }
+    let scn = "camera { location <0, 2, -4> look_at 0 }\n\
+               light_source { <0, 4, 0> power rgb 1 translate <1, 0, 0> }";
+    let error = parse_scene(Path::new("tests/inline.scn"), scn).map(|_| ()).unwrap_err();
+    assert!(error.to_string().contains(":2:38"), "{error}");
+}
+
+#[test]
+fn media_and_photon_hints_of_a_light_are_read_with_a_warning() {
+    let g = pov("light_source { <0, 4, 0> rgb 1 media_interaction off media_attenuation \n\
+                 photons { refraction off reflection off } }\n\
+                 sphere { 0, 1 photons { target reflection on } }");
+    for (at, word) in [(":1:32", "media_interaction"), (":2:1", "photons { }")] {
+        assert!(g.warnings.iter().any(|w| w.contains(at) && w.contains(word)), "{at} {word}");
+    }
+    assert!(g.warnings.iter().any(|w| w.contains(":3:15") && w.contains("photons")));
+    let scn = "camera { location <0, 2, -4> look_at 0 }\n\
+               light_source { <0, 4, 0> power rgb 1 media_interaction off }";
+    let error = parse_scene(Path::new("tests/inline.scn"), scn).map(|_| ()).unwrap_err();
+    assert!(error.to_string().contains(":2:38: error: `media_interaction`"), "{error}");
+}
+
+#[test]
 fn bad_light_values_are_located_errors() {
     let camera = "camera { location <0, 2, -4> look_at 0 }\n";
     let cases = [

@@ -1,7 +1,7 @@
 //! POV-Ray 3.7 (Debian's `povray`, which CI installs) as the oracle for the `.pov` dialect's
 //! geometry: a scene in flat emissive colours rendered by both agrees pixel for pixel away from
-//! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`; orthographic), planes with
-//! offsets, `#default`, `inverse` and `clipped_by`.
+//! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`, transforms; orthographic),
+//! planes with offsets, `#default`, `inverse` and `clipped_by`.
 
 mod common;
 
@@ -17,11 +17,16 @@ box { <-2, -1.5, -1>, <-1, -0.5, 0> pigment { rgb <0, 0, 1> } }
 plane { y, -2 pigment { rgb <1, 1, 0> } }
 "#;
 
-const CAMERAS: [&str; 3] = [
+const CAMERAS: [&str; 5] = [
     "camera { location <1, 2, -6> right x*image_width/image_height up y sky <0.3, 1, 0> \
      angle 50 look_at <0.5, 0.3, 0> }",
     "camera { location <-3, 1, -5> right -1.33*x direction 1.5*z look_at <0, 0, 0> }",
     "camera { orthographic location <0, 3, -6> right 8*x up 6*y look_at <0, 0, 0> }",
+    // Transforms move the camera POV-Ray has built, wherever they stand.
+    "camera { location <0, 0, -6> rotate <0, 30, 0> look_at <1, 0, 0> translate <0, 1, 0> \
+     right x*image_width/image_height }",
+    // Looking along `sky`: the camera keeps its `right`.
+    "camera { location <0, 8, 0> right x*image_width/image_height look_at <0, 0, 0> }",
 ];
 
 const WIDTH: usize = 64;

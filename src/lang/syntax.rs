@@ -197,6 +197,8 @@ impl Item {
             Item::Message { .. } => "a message",
             Item::Ignored { what: Ignored::Version, .. } => "`#version`",
             Item::Ignored { what: Ignored::GlobalSettings, .. } => "`global_settings`",
+            Item::Ignored { what: Ignored::LightMedia, .. } => "a light's media flag",
+            Item::Ignored { what: Ignored::Photons, .. } => "`photons { }`",
             Item::Call(_) => "a macro call",
             Item::Settings { .. } => "`settings`",
             Item::Setting(_) => "a setting",
@@ -276,6 +278,10 @@ impl Item {
 pub enum Ignored {
     Version,
     GlobalSettings,
+    /// A light's `media_interaction` or `media_attenuation`.
+    LightMedia,
+    /// The `photons { }` block of a light or an object.
+    Photons,
 }
 
 impl Ignored {
@@ -289,6 +295,15 @@ impl Ignored {
                 "POV-Ray's `global_settings` has no effect here: raydiance's settings are \
                  `settings { resolution ..., samples ..., integrator ..., max_depth ..., seed ..., \
                  background ... }`"
+            }
+            Ignored::LightMedia => {
+                "POV-Ray's `media_interaction` and `media_attenuation` have no effect here: a \
+                 light scatters in participating media and is attenuated by them as physics has it"
+            }
+            Ignored::Photons => {
+                "POV-Ray's `photons { }` of a light or an object has no effect here: photon \
+                 mapping (`settings { integrator photon }`) traces photons from every light to \
+                 every object"
             }
         }
     }
@@ -490,8 +505,9 @@ pub enum TransformKind {
 
 #[derive(Debug, Clone)]
 pub struct Material {
-    /// `material { White ... }`: a declared material to start from.
-    pub base: Option<Ident>,
+    /// `material { White ... }`: a declared material to start from (a name, or an array's
+    /// element: `Materials[i]`).
+    pub base: Option<Expr>,
     pub items: Vec<Item>,
     pub span: Span,
 }
@@ -589,6 +605,13 @@ pub enum ArrayElement {
     /// `{ ... }`: the elements of one row of a further dimension.
     Row(Vec<ArrayElement>, Span),
     Value(Box<Declared>, Span),
+}
+
+/// A name used as a value.
+impl From<Ident> for Expr {
+    fn from(name: Ident) -> Expr {
+        Expr { kind: ExprKind::Ident(name.name), span: name.span }
+    }
 }
 
 #[derive(Debug, Clone)]

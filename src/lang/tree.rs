@@ -378,6 +378,14 @@ impl Builder {
             }
             Rule::version => Item::Ignored { what: Ignored::Version, span },
             Rule::global_settings => Item::Ignored { what: Ignored::GlobalSettings, span },
+            Rule::media_flag => {
+                self.pov_only(&inner_pair(&pair), Some("light_source"))?;
+                Item::Ignored { what: Ignored::LightMedia, span }
+            }
+            Rule::photons_block => {
+                self.pov_only(&inner_pair(&pair), Some("object"))?;
+                Item::Ignored { what: Ignored::Photons, span }
+            }
             Rule::macro_call => {
                 let call = self.call(pair)?;
                 match call {
@@ -530,7 +538,8 @@ impl Builder {
             Rule::default => {
                 self.pov_only(&pair, None)?;
                 self.enter(&pair)?;
-                let items = self.items(pair.into_inner())?;
+                let items =
+                    self.items(pair.into_inner().filter(|p| p.as_rule() != Rule::default_word))?;
                 self.leave();
                 Item::Default { items, span }
             }
@@ -650,6 +659,30 @@ impl Builder {
         Ok(Appearance { kind, items, span })
     }
 
+    /// A vector literal's components. Its commas are optional in `.pov`, and a last one may
+    /// follow the components; `.scn` has one between each two and none after.
+    fn vector_components(&mut self, pair: Pair<'_, Rule>) -> Result<Vec<Expr>, SceneError> {
+        let mut components = Vec::new();
+        let mut comma = None;
+        for part in pair.into_inner() {
+            if part.as_rule() == Rule::arg_comma {
+                comma = Some(part);
+                continue;
+            }
+            if self.dialect == Dialect::Scn && !components.is_empty() && comma.is_none() {
+                return Err(self.error(&part, "a `,` is missing before this vector component"));
+            }
+            comma = None;
+            components.push(self.arithmetic(part)?);
+        }
+        match comma {
+            Some(last) if self.dialect == Dialect::Scn => {
+                Err(self.error(&last, "a vector ends with its last component, not a `,`"))
+            }
+            _ => Ok(components),
+        }
+    }
+
     fn declare(&mut self, pair: Pair<'_, Rule>) -> Result<Declare, SceneError> {
         let span = self.span(&pair);
         let local = pair.as_rule() == Rule::local;
@@ -708,6 +741,12 @@ impl Builder {
                             let value = self.declared(parts.next().expect("a value"))?;
                             branches.push((condition, value));
                         }
+                        Rule::ifdef_start | Rule::ifndef_start => {
+                            let defined = directive.as_rule() == Rule::ifdef_start;
+                            let name = self.name(inner_pair(&directive))?;
+                            let value = self.declared(parts.next().expect("a value"))?;
+                            branches.push((Condition::Defined { name, defined }, value));
+                        }
                         Rule::else_ => {
                             otherwise =
                                 Some(Box::new(self.declared(parts.next().expect("a value"))?));
@@ -740,7 +779,16 @@ impl Builder {
     fn array_row(&mut self, pair: Pair<'_, Rule>) -> Result<Vec<ArrayElement>, SceneError> {
         self.enter(&pair)?;
         let mut row = Vec::new();
+        let mut comma = false;
         for element in pair.into_inner() {
+            if element.as_rule() == Rule::arg_comma {
+                comma = true;
+                continue;
+            }
+            if self.dialect == Dialect::Scn && !row.is_empty() && !comma {
+                return Err(self.error(&element, "a `,` is missing before this array element"));
+            }
+            comma = false;
             let span = self.span(&element);
             row.push(match element.as_rule() {
                 Rule::array_init => ArrayElement::Row(self.array_row(element)?, span),
@@ -882,12 +930,28 @@ impl Builder {
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
         let base = match inner.next_if(|p| p.as_rule() == Rule::base_material) {
-            Some(base) => Some(self.name(inner_pair(&base))?),
+            Some(base) => Some(self.base_material(base)?),
             None => None,
         };
         let items = self.items(inner)?;
         self.leave();
         Ok(Material { base, items, span })
+    }
+
+    /// A declared material's name, with the indices that pick an array's element.
+    fn base_material(&mut self, pair: Pair<'_, Rule>) -> Result<Expr, SceneError> {
+        let mut inner = pair.into_inner();
+        let name = self.name(inner.next().expect("the name"))?;
+        let mut base = Expr::from(name);
+        for index in inner {
+            let index = self.first_expr(&index)?;
+            let span = base.span.clone();
+            base = Expr {
+                kind: ExprKind::Index { array: Box::new(base), index: Box::new(index) },
+                span,
+            };
+        }
+        Ok(base)
     }
 
     fn material_param(&mut self, pair: Pair<'_, Rule>) -> Result<MaterialParam, SceneError> {
@@ -1197,8 +1261,7 @@ impl Builder {
                 }
                 Rule::vector => {
                     self.enter(&pair)?;
-                    let components =
-                        pair.into_inner().map(|c| self.arithmetic(c)).collect::<Result<_, _>>()?;
+                    let components = self.vector_components(pair)?;
                     self.leave();
                     ExprKind::Vector(components)
                 }

@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 
-use glam::Vec3;
+use glam::{Affine3A, Mat3, Vec3};
 
 use super::expression::{single, single_vector};
 use super::{Body, Evaluator, as_float, as_vector};
@@ -15,6 +15,10 @@ use crate::lang::value::Value;
 /// Where `perspective`/`orthographic` is kept among the parameters (1 for orthographic): not a
 /// word of the language, so no parameter has its name.
 const PROJECTION: &str = "#projection";
+
+/// Where a `.pov` camera's transforms are kept among the parameters, composed in written order,
+/// as the twelve numbers of POV-Ray's `matrix`.
+const TRANSFORMS: &str = "#transforms";
 
 /// POV-Ray's camera defaults (`.pov`): at the origin, looking along +z, `up` y, `right` 1.33 x.
 const POV_LOCATION: Vec3 = Vec3::ZERO;
@@ -50,6 +54,16 @@ impl Evaluator {
                     format!("a camera names a declared camera, not {}", other.kind()),
                 )),
             };
+        }
+        if let (Item::Transform(t), Dialect::Pov) = (item, self.dialect) {
+            let moved = self.transform(t)?.to_affine() * camera_transforms(given);
+            let numbers = [moved.matrix3.to_cols_array().as_slice(), &moved.translation.to_array()]
+                .concat()
+                .into_iter()
+                .map(f64::from)
+                .collect();
+            given.insert(TRANSFORMS.to_string(), (Value::Numbers(numbers), t.span.clone()));
+            return Ok(());
         }
         let Item::CameraParam { key, value } = item else {
             return Err(Self::misplaced(item, &Body::Camera(given)));
@@ -243,12 +257,15 @@ impl Evaluator {
                 }
                 let handedness = up.cross(direction).dot(right);
                 let new_direction = view.normalize();
-                let new_right = sky.cross(new_direction);
+                let mut new_right = sky.cross(new_direction);
                 if new_right.length() <= 1e-6 * sky.length() {
-                    return Err(SceneError::at(
-                        at,
-                        "`sky` is parallel to the view direction: the camera cannot be turned",
+                    // As POV-Ray does: the camera keeps its `right`, and `up` follows from it.
+                    let at = self.here(at);
+                    self.warnings.push(format!(
+                        "{at:?}: warning: `sky` is parallel to the view direction: the camera \
+                         keeps its `right` (as POV-Ray does)"
                     ));
+                    new_right = right;
                 }
                 let new_right = new_right.normalize();
                 let new_up = new_direction.cross(new_right).normalize();
@@ -262,6 +279,11 @@ impl Evaluator {
         if right.cross(up).length() <= 1e-6 * right.length() * up.length() {
             return Err(SceneError::at(span, "`right` and `up` are parallel: no image plane"));
         }
+        // POV-Ray moves the camera it has built, wherever the transforms stand among its items.
+        let moved = camera_transforms(given);
+        let (location, look_at) =
+            (moved.transform_point3(location), moved.transform_point3(look_at));
+        let [direction, right, up] = [direction, right, up].map(|v| moved.transform_vector3(v));
         self.pov_look_at = Some(look_at);
         let (left, half_up) = (-0.5 * right, 0.5 * up);
         let form = if orthographic {
@@ -271,4 +293,13 @@ impl Evaluator {
         };
         Ok(CameraDesc { form, aperture: 0.0, focal_distance: None, span: self.here(span) })
     }
+}
+
+/// The camera's transforms so far, composed (the identity when there are none).
+fn camera_transforms(given: &CameraParams) -> Affine3A {
+    let Some((Value::Numbers(n), _)) = given.get(TRANSFORMS) else {
+        return Affine3A::IDENTITY;
+    };
+    let n: Vec<f32> = n.iter().map(|&x| x as f32).collect();
+    Affine3A::from_mat3_translation(Mat3::from_cols_slice(&n[..9]), Vec3::from_slice(&n[9..]))
 }

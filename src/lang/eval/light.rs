@@ -1,11 +1,11 @@
 //! `light_source`: a point light, a `spotlight` or a `parallel` light (both dialects), and in
 //! `.pov` POV-Ray's light colour, `area_light`, `fade_distance`/`fade_power`, `shadowless` and
-//! `looks_like` (`docs/povray.md`, Lights).
+//! `looks_like` and transforms (`docs/povray.md`, Lights).
 
 use std::f32::consts::PI;
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 
 use super::expression::single_vector;
 use super::{Body, Evaluator, as_vector};
@@ -20,8 +20,11 @@ const SPOT_FALLOFF: f32 = 45.0;
 const SPOT_POINT_AT: Vec3 = Vec3::Z;
 
 /// A light's items as they are read.
-#[derive(Default)]
 pub struct LightState {
+    /// Where the light is, moved by the transforms read so far.
+    position: Vec3,
+    /// `.pov`: every transform read so far, which moves the default `point_at` too.
+    moved: Affine3A,
     power: Option<Vec3>,
     /// `.pov`: `fade_distance` and `fade_power`.
     fade_distance: f32,
@@ -82,7 +85,7 @@ impl Evaluator {
     ) -> Result<(), SceneError> {
         let at = position.span.clone();
         let position = single_vector(as_vector(&self.value(position)?, &at, "this value")?, &at)?;
-        let mut state = LightState::default();
+        let mut state = LightState::at(position);
         self.exec(items, &mut Body::Light(&mut state))?;
         let Some(power) = state.power else {
             let message = match self.dialect {
@@ -91,7 +94,8 @@ impl Evaluator {
             };
             return Err(SceneError::at(span, message));
         };
-        let form = light_form(&state, position)?;
+        let position = state.position;
+        let form = light_form(&state)?;
         let fade = (state.fade_distance > 0.0 && state.fade_power > 0.0)
             .then_some((state.fade_distance, state.fade_power));
         if let Some(area) = &state.area {
@@ -130,6 +134,26 @@ impl Evaluator {
             looks_like: state.looks_like,
             span: self.here(span),
         });
+        Ok(())
+    }
+
+    /// As POV-Ray does: a transform moves the light's position, `point_at` and area as they
+    /// stand when it is read (items after it are not moved).
+    fn move_light(
+        &mut self,
+        t: &crate::lang::syntax::Transform,
+        state: &mut LightState,
+    ) -> Result<(), SceneError> {
+        let moving = self.transform(t)?.to_affine();
+        state.position = moving.transform_point3(state.position);
+        if let Some((point_at, _)) = &mut state.point_at {
+            *point_at = moving.transform_point3(*point_at);
+        }
+        if let Some(area) = &mut state.area {
+            area.axis1 = moving.transform_vector3(area.axis1);
+            area.axis2 = moving.transform_vector3(area.axis2);
+        }
+        state.moved = moving * state.moved;
         Ok(())
     }
 
@@ -196,6 +220,7 @@ impl Evaluator {
                     other => unreachable!("no light item `{other}`"),
                 }
             }
+            Item::Transform(t) if self.dialect == Dialect::Pov => self.move_light(t, state)?,
             _ => return Err(Self::misplaced(item, &Body::Light(state))),
         }
         Ok(())
@@ -253,9 +278,32 @@ fn given(value: Option<&Expr>) -> &Expr {
     value.expect("the grammar gives the value")
 }
 
+impl LightState {
+    fn at(position: Vec3) -> LightState {
+        LightState {
+            position,
+            moved: Affine3A::IDENTITY,
+            power: None,
+            fade_distance: 0.0,
+            fade_power: 0.0,
+            spotlight: None,
+            parallel: None,
+            radius: None,
+            falloff: None,
+            tightness: None,
+            point_at: None,
+            area: None,
+            circular: false,
+            orient: false,
+            shadowless: false,
+            looks_like: None,
+        }
+    }
+}
+
 /// The light's form from its items: a spotlight's or parallel light's numbers without the word
 /// that needs them are errors, where they are written.
-fn light_form(state: &LightState, position: Vec3) -> Result<LightForm, SceneError> {
+fn light_form(state: &LightState) -> Result<LightForm, SceneError> {
     if let (Some(_), Some(parallel)) = (&state.spotlight, &state.parallel) {
         return Err(SceneError::at(parallel, "a parallel spotlight is not supported"));
     }
@@ -275,9 +323,9 @@ fn light_form(state: &LightState, position: Vec3) -> Result<LightForm, SceneErro
     }
     let point_at = |default: Vec3| -> Result<Vec3, SceneError> {
         let Some((point_at, span)) = &state.point_at else {
-            return Ok(default);
+            return Ok(state.moved.transform_point3(default));
         };
-        if *point_at == position {
+        if *point_at == state.position {
             return Err(SceneError::at(span, "`point_at` is the light's position: no direction"));
         }
         Ok(*point_at)

@@ -11,7 +11,7 @@ use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
-    self, Colour, Expr, ExprKind, Ident, Item, MaterialParamKind, TextureArg, TextureKind,
+    self, Colour, Expr, ExprKind, Item, MaterialParamKind, TextureArg, TextureKind,
     TextureParamKind,
 };
 use crate::lang::value::Value;
@@ -92,15 +92,9 @@ impl Evaluator {
     pub(super) fn pov_material(&mut self, m: &syntax::Material) -> Result<Look, SceneError> {
         let mut look = match &m.base {
             None => self.default_look.clone(),
-            Some(name) => match self.lookup(&name.name) {
-                Some(Value::Look(look)) => (**look).clone(),
-                Some(other) => {
-                    return Err(SceneError::at(
-                        &name.span,
-                        format!("`{}` is {}, not a material", name.name, other.kind()),
-                    ));
-                }
-                None => return Err(self.unknown(name)),
+            Some(base) => match self.value(base)? {
+                Value::Look(look) => (*look).clone(),
+                other => return Err(not_a_material(base, &other)),
             },
         };
         self.exec(&m.items, &mut Body::Look(&mut look))?;
@@ -349,30 +343,39 @@ impl Evaluator {
                 rgb
             }
         };
-        let previous = entries.last().map_or(0.0, |e| e.0);
-        if !(previous..=1.0).contains(&position) {
+        // POV-Ray interpolates between positions outside [0, 1] too: they shape the map inside.
+        let (low, high) = match self.dialect {
+            Dialect::Scn => (0.0, 1.0),
+            Dialect::Pov => (f32::MIN, f32::MAX),
+        };
+        let previous = entries.last().map_or(low, |e| e.0);
+        if !(previous..=high).contains(&position) {
+            let range = match self.dialect {
+                Dialect::Scn => "in [0, 1] and ",
+                Dialect::Pov => "",
+            };
             return Err(SceneError::at(
                 &at,
-                format!(
-                    "color_map position {position} must be in [0, 1] and not below the one before"
-                ),
+                format!("color_map position {position} must be {range}not below the one before"),
             ));
         }
         entries.push((position, colour));
         Ok(())
     }
 
-    pub(super) fn material_named(
-        &mut self,
-        ident: &Ident,
-    ) -> Result<Arc<MaterialDesc>, SceneError> {
-        match self.lookup(&ident.name) {
-            Some(Value::Material(m)) => Ok(m.clone()),
-            Some(other) => Err(SceneError::at(
-                &ident.span,
-                format!("`{}` is {}, not a material", ident.name, other.kind()),
-            )),
-            None => Err(self.unknown(ident)),
+    pub(super) fn material_named(&mut self, base: &Expr) -> Result<Arc<MaterialDesc>, SceneError> {
+        match self.value(base)? {
+            Value::Material(m) => Ok(m),
+            other => Err(not_a_material(base, &other)),
         }
     }
+}
+
+/// `base` (a declared name or an array's element) holds `value`, which is not a material.
+fn not_a_material(base: &Expr, value: &Value) -> SceneError {
+    let what = match &base.kind {
+        ExprKind::Ident(name) => format!("`{name}`"),
+        _ => "this element".to_string(),
+    };
+    SceneError::at(&base.span, format!("{what} is {}, not a material", value.kind()))
 }

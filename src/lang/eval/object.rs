@@ -261,7 +261,10 @@ impl Evaluator {
                 }
             }
             Item::Material(m) => node.material = Some(self.material(m, None)?),
-            Item::MaterialName(name) => node.material = Some(self.material_named(name)?),
+            Item::MaterialName(name) => {
+                let name = syntax::Expr::from(name.clone());
+                node.material = Some(self.material_named(&name)?)
+            }
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
             // POV-Ray's object modifiers: `hollow` and `double_illuminate` change nothing without
             // media and with two-sided shading; the others are not honoured, and say so.
