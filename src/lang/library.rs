@@ -8,6 +8,8 @@ pub fn file(name: &str) -> Option<&'static str> {
         "colors.inc" => Some(include_str!("library/colors.inc")),
         "consts.inc" => Some(include_str!("library/consts.inc")),
         "finish.inc" => Some(include_str!("library/finish.inc")),
+        "glass.inc" => Some(include_str!("library/glass.inc")),
+        "glass_old.inc" => Some(include_str!("library/glass_old.inc")),
         "golds.inc" => Some(include_str!("library/golds.inc")),
         "metals.inc" => Some(include_str!("library/metals.inc")),
         "shapes.inc" => Some(include_str!("library/shapes.inc")),
@@ -22,10 +24,12 @@ pub fn file(name: &str) -> Option<&'static str> {
 mod tests {
     use std::path::Path;
 
-    const NAMES: [&str; 9] = [
+    const NAMES: [&str; 11] = [
         "colors.inc",
         "consts.inc",
         "finish.inc",
+        "glass.inc",
+        "glass_old.inc",
         "golds.inc",
         "metals.inc",
         "shapes.inc",
@@ -69,5 +73,63 @@ object { Disk_Y texture { Glass } interior { ior Crown_Glass_Ior } }
         let glass = graph.objects[6].material.clone().expect("a material");
         assert_eq!(glass.ior, 1.51);
         assert!(glass.transmission.min_element() > 0.5, "{:?}", glass.transmission);
+    }
+
+    #[test]
+    fn glass_inc_holds_povray_s_glass_colours_with_their_values() {
+        // A scene that checks the values itself: `#error` stops it where one differs.
+        pov(r#"
+#include "glass.inc"
+#macro Expect(C, R, G, B, F)
+  #if (C.red != R | C.green != G | C.blue != B | C.filter != F) #error "wrong colour" #end
+#end
+Expect(Col_Glass_Clear, 1, 1, 1, 1)
+Expect(Col_Glass_Ruby, 0.9, 0.1, 0.2, 0.8)
+Expect(Col_Glass_Vicksbottle, 0.1, 0.15, 0.5, 0.9)
+Expect(Col_Glass_Bluish, 0.9, 0.94, 1, 0.8)
+Expect(Col_Red_03, 0.75, 0.2, 0.25, 0)
+Expect(Col_Amethyst_01, 0.4392, 0.1765, 0.3137, 0)
+Expect(Col_Amber_09, 0.5294, 0.2431, 0.1529, 0)
+Expect(Col_Tourmaline_06, 0.0196, 0.2706, 0.1961, 0)
+#if (Crown_Glass_Ior != 1.51) #error "glass.inc includes consts.inc" #end
+"#);
+        let wrong = crate::lang::parse_scene(
+            Path::new("library.pov"),
+            "#include \"glass.inc\"\n#if (Col_Ruby.red != 0.5) #error \"checked\" #end",
+        );
+        assert!(wrong.is_err(), "the check can fail");
+    }
+
+    #[test]
+    fn glass_inc_s_glasses_are_dielectrics_of_ior_1_5() {
+        let graph = pov(r#"
+#include "glass.inc"
+sphere { 0, 1 pigment { Col_Glass_Clear } finish { F_Glass5 } interior { I_Glass1 } }
+sphere { 0, 1 texture { T_Glass4 } interior { I_Glass } }
+sphere { 0, 1 pigment { Col_Glass_Clear } finish { F_Glass9 } interior { I_Glass_Exp(2) } }
+sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_Caustics2 } }
+"#);
+        let materials: Vec<_> =
+            graph.objects.iter().map(|o| o.material.clone().expect("a material")).collect();
+        for m in &materials {
+            assert_eq!(m.ior, 1.5);
+            assert!(m.transmission.min_element() > 0.0, "{m:?}");
+            assert!(m.specular.min_element() > 0.0, "it reflects: {m:?}");
+            assert_eq!(m.coat, 0.0, "no highlight takes light from the glass");
+        }
+        // F_Glass5 and F_Glass9: Fresnel's law shares all the light of a clear glass.
+        for m in [&materials[0], &materials[2]] {
+            assert!(m.fresnel);
+            let total = m.specular + m.transmission;
+            assert!((total - glam::Vec3::ONE).abs().max_element() < 1e-6, "{total}");
+        }
+        // T_Glass4: filter 0.75 of <0.98, 1, 0.99> passes, three times its reflection 0.25.
+        let t_glass4 = &materials[1];
+        assert!(!t_glass4.fresnel);
+        let ratio = t_glass4.transmission.y / t_glass4.specular.x;
+        assert!((ratio - 3.0).abs() < 1e-5, "{t_glass4:?}");
+        // A ruby glass passes red.
+        let ruby = &materials[3].transmission;
+        assert!(ruby.x > 4.0 * ruby.y, "{ruby}");
     }
 }

@@ -328,6 +328,11 @@ pub enum Declared {
         items: Vec<Item>,
         span: Span,
     },
+    /// POV-Ray's declared `sky_sphere` (`.pov`): its items.
+    Sky {
+        items: Vec<Item>,
+        span: Span,
+    },
     /// `#if (c) a #elseif (d) b #else e #end` as the value.
     If {
         branches: Vec<(Condition, Declared)>,

@@ -695,6 +695,14 @@ impl Builder {
                 self.leave();
                 Declared::Camera { items, span }
             }
+            Rule::sky_sphere => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Declared::Sky { items, span }
+            }
             Rule::declared_if => {
                 let span = self.span(&pair);
                 self.enter(&pair)?;

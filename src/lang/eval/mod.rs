@@ -543,6 +543,8 @@ impl Evaluator {
             Item::Object(object) => Value::Object(Arc::new(self.object(object)?)),
             Item::Material(material) => self.material_value(material, None)?,
             Item::Texture(texture) => Value::Texture(Arc::new(self.texture(texture)?)),
+            // POV-Ray's pigment, finish, texture or interior, as if declared.
+            Item::Appearance(appearance) => self.declared_appearance(appearance)?,
             _ => return Err(Self::misplaced(item, &Body::Value(slot))),
         };
         if slot.is_some() {
@@ -602,6 +604,7 @@ impl Evaluator {
                 self.exec(items, &mut Body::Camera(&mut given))?;
                 Value::Camera(Arc::new(given))
             }
+            Declared::Sky { items, span } => Value::Sky(Arc::new(self.sky_desc(items, span)?)),
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {
