@@ -15,7 +15,26 @@ pub fn file(name: &str) -> Option<&'static str> {
         "shapes.inc" => Some(include_str!("library/shapes.inc")),
         "shapes2.inc" => Some(include_str!("library/shapes2.inc")),
         "shapes_old.inc" => Some(include_str!("library/shapes_old.inc")),
+        "skies.inc" => Some(include_str!("library/skies.inc")),
         "textures.inc" => Some(include_str!("library/textures.inc")),
+        _ => None,
+    }
+}
+
+/// Why raydiance's version of a standard include file leaves out POV-Ray's `name`, if it does
+/// and a scene is likely to name it: said where a scene names it and nothing declares it.
+pub fn left_out(name: &str) -> Option<&'static str> {
+    match name {
+        "P_Cloud2" | "P_Cloud4" | "S_Cloud1" | "S_Cloud2" | "S_Cloud3" => Some(
+            "POV-Ray's skies.inc declares it with the `wrinkles` pattern, which raydiance does \
+             not have: raydiance's skies.inc leaves it out (it has P_Cloud3 and S_Cloud4)",
+        ),
+        "P_Cloud1" | "S_Cloud5" | "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1"
+        | "O_Cloud2" => Some(
+            "POV-Ray's skies.inc declares it with transparent colours in a color_map, which \
+             raydiance's pigments do not have: raydiance's skies.inc leaves it out (it has \
+             P_Cloud3 and S_Cloud4)",
+        ),
         _ => None,
     }
 }
@@ -24,7 +43,7 @@ pub fn file(name: &str) -> Option<&'static str> {
 mod tests {
     use std::path::Path;
 
-    const NAMES: [&str; 11] = [
+    const NAMES: [&str; 12] = [
         "colors.inc",
         "consts.inc",
         "finish.inc",
@@ -35,6 +54,7 @@ mod tests {
         "shapes.inc",
         "shapes2.inc",
         "shapes_old.inc",
+        "skies.inc",
         "textures.inc",
     ];
 
@@ -131,5 +151,35 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
         // A ruby glass passes red.
         let ruby = &materials[3].transmission;
         assert!(ruby.x > 4.0 * ruby.y, "{ruby}");
+    }
+
+    #[test]
+    fn skies_inc_s_rainy_sky_is_dark_at_the_horizon_with_clouds_above() {
+        let graph = pov("#include \"skies.inc\"\nsky_sphere { S_Cloud4 }");
+        let sky = graph.sky.expect("S_Cloud4 is the scene's sky");
+        let texture = crate::texture::Texture::new(&sky.pigment, &mut |_| Err("no image".into()));
+        let texture = texture.expect("a texture without images");
+        let horizon = texture.eval(glam::Vec3::new(0.6, 0.0, 0.8));
+        assert!((horizon - glam::Vec3::new(0.184, 0.184, 0.309)).abs().max_element() < 1e-6);
+        // Above 0.45 of the way up only P_Cloud3's colours, greys to dark blues.
+        let overhead = texture.eval(glam::Vec3::new(0.0, 0.6, 0.8));
+        assert!(overhead.min_element() >= 0.1 - 1e-6 && overhead.max_element() <= 0.85 + 1e-6);
+        assert!(overhead.z >= overhead.x, "bluish or grey: {overhead}");
+    }
+
+    #[test]
+    fn skies_inc_s_names_that_need_a_missing_pattern_are_refused_by_name() {
+        for (name, why) in [("S_Cloud1", "`wrinkles`"), ("S_Cloud5", "transparent colours")] {
+            let text = format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}");
+            let error = crate::lang::parse_scene(Path::new("library.pov"), &text)
+                .map(|_| ())
+                .unwrap_err()
+                .to_string();
+            assert!(error.contains(":2:14:") && error.contains(why), "{error}");
+        }
+        // A scene's own declaration of the name is its own.
+        let own =
+            pov("#declare S_Cloud1 = sky_sphere { pigment { rgb 1 } }\nsky_sphere { S_Cloud1 }");
+        assert!(own.sky.is_some());
     }
 }

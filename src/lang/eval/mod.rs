@@ -177,6 +177,8 @@ pub enum Body<'a> {
     Material(&'a mut crate::graph::MaterialDesc),
     Texture(&'a mut TextureState),
     ColorMap(&'a mut Vec<(f32, Vec3)>),
+    /// POV-Ray's `pigment_map` (`.pov`): positions and pigments.
+    PigmentMap(&'a mut Vec<(f32, Pigment)>),
     /// POV-Ray's pigment, finish, texture (with `#default`) and interior's ior (`.pov`).
     Pigment(&'a mut PigmentState),
     Finish(&'a mut Finish),
@@ -216,6 +218,7 @@ impl Body<'_> {
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",
             Body::ColorMap(_) => "in a color_map",
+            Body::PigmentMap(_) => "in a pigment_map",
             Body::Pigment(_) => "in a pigment",
             Body::Finish(_) => "in a finish",
             Body::Look(_) => "in a texture",
@@ -404,6 +407,8 @@ impl Evaluator {
             | Item::TextureParam(_)
             | Item::ColorMap { .. }
             | Item::MapEntry { .. }
+            | Item::PigmentMap { .. }
+            | Item::PigmentMapEntry { .. }
             | Item::Default { .. }
             | Item::SkySphere { .. }
             | Item::Appearance(_)
@@ -419,6 +424,7 @@ impl Evaluator {
                 Body::Material(material) => self.material_item(item, material),
                 Body::Texture(state) => self.texture_item(item, state),
                 Body::ColorMap(entries) => self.map_entry(item, entries),
+                Body::PigmentMap(entries) => self.pigment_map_entry(item, entries),
                 Body::Value(slot) => self.value_item(item, slot),
                 Body::Pigment(state) => self.pigment_item(item, state),
                 Body::Finish(finish) => self.finish_item(item, finish),
