@@ -182,4 +182,51 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
             pov("#declare S_Cloud1 = sky_sphere { pigment { rgb 1 } }\nsky_sphere { S_Cloud1 }");
         assert!(own.sky.is_some());
     }
+
+    /// The outward unit normals of a solid's faces, and their distances from the origin.
+    fn faces(solid: &crate::graph::ObjectNode) -> Vec<(glam::Vec3, f32)> {
+        use crate::graph::{ShapeNode, Transform};
+        let ShapeNode::Instance(declared) = &solid.shape else {
+            panic!("the declared solid: {:?}", solid.shape);
+        };
+        let ShapeNode::Csg { operands, .. } = &declared.shape else {
+            panic!("an intersection: {:?}", declared.shape);
+        };
+        let face = |plane: &crate::graph::ObjectNode| {
+            let ShapeNode::Plane { normal, offset } = plane.shape else {
+                panic!("a plane: {:?}", plane.shape);
+            };
+            let turn = plane.transforms.iter().fold(glam::Mat3::IDENTITY, |m, t| match t {
+                Transform::Rotate(d) => {
+                    let r = d * std::f32::consts::PI / 180.0;
+                    glam::Mat3::from_rotation_z(r.z)
+                        * glam::Mat3::from_rotation_y(r.y)
+                        * glam::Mat3::from_rotation_x(r.x)
+                        * m
+                }
+                other => panic!("only rotations: {other:?}"),
+            });
+            ((turn * normal).normalize(), -offset / normal.length())
+        };
+        operands.iter().map(face).collect()
+    }
+
+    #[test]
+    fn shapes2_inc_s_dodecahedron_and_icosahedron_are_regular_with_faces_at_distance_1() {
+        let graph =
+            pov("#include \"shapes2.inc\"\nobject { Dodecahedron }\nobject { Icosahedron }");
+        // Regular: every face has as many neighbours as its sides, all at the same angle.
+        for (solid, count, sides, cos) in [
+            (&graph.objects[0], 12, 5, 1.0 / 5f32.sqrt()),
+            (&graph.objects[1], 20, 3, 5f32.sqrt() / 3.0),
+        ] {
+            let faces = faces(solid);
+            assert_eq!(faces.len(), count);
+            for (n, d) in &faces {
+                assert!((d - 1.0).abs() < 1e-5, "distance {d}");
+                let neighbours = faces.iter().filter(|(m, _)| (n.dot(*m) - cos).abs() < 1e-4);
+                assert_eq!(neighbours.count(), sides, "{n}");
+            }
+        }
+    }
 }
