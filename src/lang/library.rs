@@ -35,6 +35,14 @@ pub fn left_out(name: &str) -> Option<&'static str> {
              raydiance's pigments do not have: raydiance's skies.inc leaves it out (it has \
              P_Cloud3 and S_Cloud4)",
         ),
+        "Cylinder_X" | "Cylinder_Y" | "Cylinder_Z" | "QCone_X" | "QCone_Y" | "QCone_Z"
+        | "Paraboloid_X" | "Paraboloid_Y" | "Paraboloid_Z" | "Hyperboloid" | "Hyperboloid_Y" => {
+            Some(
+                "POV-Ray's shapes_old.inc declares it as an infinite quadric, a shape raydiance \
+                 does not have (its one unbounded shape is the plane): raydiance's shapes_old.inc \
+                 leaves it out (a finite `cylinder` or `cone` may stand for it)",
+            )
+        }
         _ => None,
     }
 }
@@ -168,8 +176,12 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
     }
 
     #[test]
-    fn skies_inc_s_names_that_need_a_missing_pattern_are_refused_by_name() {
-        for (name, why) in [("S_Cloud1", "`wrinkles`"), ("S_Cloud5", "transparent colours")] {
+    fn names_the_library_leaves_out_are_refused_with_the_reason() {
+        for (name, why) in [
+            ("S_Cloud1", "`wrinkles`"),
+            ("S_Cloud5", "transparent colours"),
+            ("Cylinder_X", "infinite quadric"),
+        ] {
             let text = format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}");
             let error = crate::lang::parse_scene(Path::new("library.pov"), &text)
                 .map(|_| ())
