@@ -267,3 +267,37 @@ fn a_phong_highlight_renders() {
     assert!(aside.1 > 0.0, "the sphere is lit off-centre: {aside:?}");
     assert!(aside.0 < aside.1 && aside.0 > 0.85 * aside.1, "aside {aside:?}");
 }
+
+/// The pigment a scene's sky_sphere shows at `p`.
+fn sky_at(text: &str, p: Vec3) -> Vec3 {
+    let sky = pov(text).sky.expect("a sky");
+    let texture = raydiance::texture::Texture::new(&sky.pigment, &mut |_| unreachable!("no image"));
+    texture.unwrap().eval(p)
+}
+
+#[test]
+fn a_pigment_map_blends_its_pigments_as_a_color_map_blends_colours() {
+    let text = "#declare Stripes = pigment { checker rgb <1, 0, 0>, rgb <0, 0, 1> }
+         sky_sphere { pigment { gradient x pigment_map {
+           [0.2 rgb 0] [0.6 rgb 1] [0.8 Stripes scale 0.5] } } }";
+    // Below the first position the first pigment, between two a blend, above the last the last
+    // (with its own transform: checker cells of 0.5).
+    assert!(close(sky_at(text, Vec3::new(0.1, 0.0, 0.0)), Vec3::ZERO));
+    assert!(close(sky_at(text, Vec3::new(0.3, 0.0, 0.0)), Vec3::splat(0.25)));
+    assert!(close(sky_at(text, Vec3::new(0.7, 0.1, 0.1)), Vec3::new(0.5, 0.5, 1.0)));
+    assert!(close(sky_at(text, Vec3::new(0.9, 0.1, 0.1)), Vec3::new(0.0, 0.0, 1.0)));
+    assert!(close(sky_at(text, Vec3::new(0.9, 0.6, 0.1)), Vec3::new(1.0, 0.0, 0.0)));
+
+    let one = "sky_sphere { pigment { bozo pigment_map { [0.5 rgb <0, 1, 0>] } } }";
+    assert!(close(sky_at(one, Vec3::new(0.3, 0.2, 0.1)), Vec3::new(0.0, 1.0, 0.0)));
+
+    let error = |text: &str| {
+        parse_scene(Path::new("tests/inline.pov"), text).map(|_| ()).unwrap_err().to_string()
+    };
+    let checker = error("sphere { 0, 1 pigment { checker pigment_map { [0 rgb 0] [1 rgb 1] } } }");
+    assert!(checker.contains(":1:33:") && checker.contains("not a pigment_map"), "{checker}");
+    let order = error("sphere { 0, 1 pigment { marble pigment_map { [0.5 rgb 0] [0.2 rgb 1] } } }");
+    assert!(order.contains(":1:59:") && order.contains("0.2 must be"), "{order}");
+    let clear = pov("sphere { 0, 1 pigment { wood pigment_map { [0 rgbt 1] [1 rgb 1] } } }");
+    assert!(clear.warnings.iter().any(|w| w.contains("pigment_map are not rendered")));
+}

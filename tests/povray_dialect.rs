@@ -309,12 +309,30 @@ fn sky_sphere_is_read_with_its_pigment_transforms_and_emission() {
     assert!(scn.contains(":1:1:") && scn.contains("settings { background"), "{scn}");
 }
 
+/// A declared sky (`#declare S = sky_sphere { ... }`) stands by name in the scene's, whose items
+/// after the name change it, as POV-Ray's standard skies are used (`sky_sphere { S_Cloud4 }`).
+#[test]
+fn a_declared_sky_sphere_is_the_scene_s_sky_by_name() {
+    let graph = pov("#declare S = sky_sphere { pigment { gradient y } rotate 30 * z \
+         emission rgb 2 }\nsky_sphere { S scale 2 }");
+    let sky = graph.sky.expect("a sky");
+    assert!(matches!(sky.pigment.pattern, raydiance::graph::Pattern::Gradient { .. }));
+    assert_eq!(sky.transforms.len(), 2, "the declared rotation, then the scale");
+    assert!(close(sky.emission, Vec3::splat(2.0)));
+    assert!(format!("{:?}", sky.span).contains(":2:1"), "the scene's sky_sphere: {:?}", sky.span);
+
+    let declared_only = pov("#declare S = sky_sphere { pigment { rgb 1 } }");
+    assert!(declared_only.sky.is_none(), "declaring a sky does not set it");
+    let error = pov_error("#declare P = pigment { rgb 1 }\nsky_sphere { P }");
+    assert!(error.contains(":2:14:") && error.contains("not a pigment"), "{error}");
+}
+
 /// A syntax error in a `.pov` scene names POV-Ray's word without `.scn`'s advice for it ("the sky
 /// is `settings { background ... }`" misleads where `sky_sphere` is read); a shape neither
 /// dialect has is still named as such.
 #[test]
 fn syntax_errors_in_pov_scenes_do_not_give_scn_advice() {
-    let error = pov_error("#declare S = sky_sphere { pigment { rgb 1 } }");
+    let error = pov_error("sphere { 0, 1 } sky_sphere");
     assert!(error.contains("`sky_sphere`") && !error.contains("settings {"), "{error}");
     let error = pov_error("#if (1) background { rgb 1 } #end }");
     assert!(!error.contains("settings {"), "{error}");

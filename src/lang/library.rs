@@ -8,12 +8,41 @@ pub fn file(name: &str) -> Option<&'static str> {
         "colors.inc" => Some(include_str!("library/colors.inc")),
         "consts.inc" => Some(include_str!("library/consts.inc")),
         "finish.inc" => Some(include_str!("library/finish.inc")),
+        "glass.inc" => Some(include_str!("library/glass.inc")),
+        "glass_old.inc" => Some(include_str!("library/glass_old.inc")),
         "golds.inc" => Some(include_str!("library/golds.inc")),
         "metals.inc" => Some(include_str!("library/metals.inc")),
         "shapes.inc" => Some(include_str!("library/shapes.inc")),
         "shapes2.inc" => Some(include_str!("library/shapes2.inc")),
         "shapes_old.inc" => Some(include_str!("library/shapes_old.inc")),
+        "skies.inc" => Some(include_str!("library/skies.inc")),
         "textures.inc" => Some(include_str!("library/textures.inc")),
+        _ => None,
+    }
+}
+
+/// Why raydiance's version of a standard include file leaves out POV-Ray's `name`, if it does
+/// and a scene is likely to name it: said where a scene names it and nothing declares it.
+pub fn left_out(name: &str) -> Option<&'static str> {
+    match name {
+        "P_Cloud2" | "P_Cloud4" | "S_Cloud1" | "S_Cloud2" | "S_Cloud3" => Some(
+            "POV-Ray's skies.inc declares it with the `wrinkles` pattern, which raydiance does \
+             not have: raydiance's skies.inc leaves it out (it has P_Cloud3 and S_Cloud4)",
+        ),
+        "P_Cloud1" | "S_Cloud5" | "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1"
+        | "O_Cloud2" => Some(
+            "POV-Ray's skies.inc declares it with transparent colours in a color_map, which \
+             raydiance's pigments do not have: raydiance's skies.inc leaves it out (it has \
+             P_Cloud3 and S_Cloud4)",
+        ),
+        "Cylinder_X" | "Cylinder_Y" | "Cylinder_Z" | "QCone_X" | "QCone_Y" | "QCone_Z"
+        | "Paraboloid_X" | "Paraboloid_Y" | "Paraboloid_Z" | "Hyperboloid" | "Hyperboloid_Y" => {
+            Some(
+                "POV-Ray's shapes_old.inc declares it as an infinite quadric, a shape raydiance \
+                 does not have (its one unbounded shape is the plane): raydiance's shapes_old.inc \
+                 leaves it out (a finite `cylinder` or `cone` may stand for it)",
+            )
+        }
         _ => None,
     }
 }
@@ -22,15 +51,18 @@ pub fn file(name: &str) -> Option<&'static str> {
 mod tests {
     use std::path::Path;
 
-    const NAMES: [&str; 9] = [
+    const NAMES: [&str; 12] = [
         "colors.inc",
         "consts.inc",
         "finish.inc",
+        "glass.inc",
+        "glass_old.inc",
         "golds.inc",
         "metals.inc",
         "shapes.inc",
         "shapes2.inc",
         "shapes_old.inc",
+        "skies.inc",
         "textures.inc",
     ];
 
@@ -69,5 +101,144 @@ object { Disk_Y texture { Glass } interior { ior Crown_Glass_Ior } }
         let glass = graph.objects[6].material.clone().expect("a material");
         assert_eq!(glass.ior, 1.51);
         assert!(glass.transmission.min_element() > 0.5, "{:?}", glass.transmission);
+    }
+
+    #[test]
+    fn glass_inc_holds_povray_s_glass_colours_with_their_values() {
+        // A scene that checks the values itself: `#error` stops it where one differs.
+        pov(r#"
+#include "glass.inc"
+#macro Expect(C, R, G, B, F)
+  #if (C.red != R | C.green != G | C.blue != B | C.filter != F) #error "wrong colour" #end
+#end
+Expect(Col_Glass_Clear, 1, 1, 1, 1)
+Expect(Col_Glass_Ruby, 0.9, 0.1, 0.2, 0.8)
+Expect(Col_Glass_Vicksbottle, 0.1, 0.15, 0.5, 0.9)
+Expect(Col_Glass_Bluish, 0.9, 0.94, 1, 0.8)
+Expect(Col_Red_03, 0.75, 0.2, 0.25, 0)
+Expect(Col_Amethyst_01, 0.4392, 0.1765, 0.3137, 0)
+Expect(Col_Amber_09, 0.5294, 0.2431, 0.1529, 0)
+Expect(Col_Tourmaline_06, 0.0196, 0.2706, 0.1961, 0)
+#if (Crown_Glass_Ior != 1.51) #error "glass.inc includes consts.inc" #end
+"#);
+        let wrong = crate::lang::parse_scene(
+            Path::new("library.pov"),
+            "#include \"glass.inc\"\n#if (Col_Ruby.red != 0.5) #error \"checked\" #end",
+        );
+        assert!(wrong.is_err(), "the check can fail");
+    }
+
+    #[test]
+    fn glass_inc_s_glasses_are_dielectrics_of_ior_1_5() {
+        let graph = pov(r#"
+#include "glass.inc"
+sphere { 0, 1 pigment { Col_Glass_Clear } finish { F_Glass5 } interior { I_Glass1 } }
+sphere { 0, 1 texture { T_Glass4 } interior { I_Glass } }
+sphere { 0, 1 pigment { Col_Glass_Clear } finish { F_Glass9 } interior { I_Glass_Exp(2) } }
+sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_Caustics2 } }
+"#);
+        let materials: Vec<_> =
+            graph.objects.iter().map(|o| o.material.clone().expect("a material")).collect();
+        for m in &materials {
+            assert_eq!(m.ior, 1.5);
+            assert!(m.transmission.min_element() > 0.0, "{m:?}");
+            assert!(m.specular.min_element() > 0.0, "it reflects: {m:?}");
+            assert_eq!(m.coat, 0.0, "no highlight takes light from the glass");
+        }
+        // F_Glass5 and F_Glass9: Fresnel's law shares all the light of a clear glass.
+        for m in [&materials[0], &materials[2]] {
+            assert!(m.fresnel);
+            let total = m.specular + m.transmission;
+            assert!((total - glam::Vec3::ONE).abs().max_element() < 1e-6, "{total}");
+        }
+        // T_Glass4: filter 0.75 of <0.98, 1, 0.99> passes, three times its reflection 0.25.
+        let t_glass4 = &materials[1];
+        assert!(!t_glass4.fresnel);
+        let ratio = t_glass4.transmission.y / t_glass4.specular.x;
+        assert!((ratio - 3.0).abs() < 1e-5, "{t_glass4:?}");
+        // A ruby glass passes red.
+        let ruby = &materials[3].transmission;
+        assert!(ruby.x > 4.0 * ruby.y, "{ruby}");
+    }
+
+    #[test]
+    fn skies_inc_s_rainy_sky_is_dark_at_the_horizon_with_clouds_above() {
+        let graph = pov("#include \"skies.inc\"\nsky_sphere { S_Cloud4 }");
+        let sky = graph.sky.expect("S_Cloud4 is the scene's sky");
+        let texture = crate::texture::Texture::new(&sky.pigment, &mut |_| Err("no image".into()));
+        let texture = texture.expect("a texture without images");
+        let horizon = texture.eval(glam::Vec3::new(0.6, 0.0, 0.8));
+        assert!((horizon - glam::Vec3::new(0.184, 0.184, 0.309)).abs().max_element() < 1e-6);
+        // Above 0.45 of the way up only P_Cloud3's colours, greys to dark blues.
+        let overhead = texture.eval(glam::Vec3::new(0.0, 0.6, 0.8));
+        assert!(overhead.min_element() >= 0.1 - 1e-6 && overhead.max_element() <= 0.85 + 1e-6);
+        assert!(overhead.z >= overhead.x, "bluish or grey: {overhead}");
+    }
+
+    #[test]
+    fn names_the_library_leaves_out_are_refused_with_the_reason() {
+        for (name, why) in [
+            ("S_Cloud1", "`wrinkles`"),
+            ("S_Cloud5", "transparent colours"),
+            ("Cylinder_X", "infinite quadric"),
+        ] {
+            let text = format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}");
+            let error = crate::lang::parse_scene(Path::new("library.pov"), &text)
+                .map(|_| ())
+                .unwrap_err()
+                .to_string();
+            assert!(error.contains(":2:14:") && error.contains(why), "{error}");
+        }
+        // A scene's own declaration of the name is its own.
+        let own =
+            pov("#declare S_Cloud1 = sky_sphere { pigment { rgb 1 } }\nsky_sphere { S_Cloud1 }");
+        assert!(own.sky.is_some());
+    }
+
+    /// The outward unit normals of a solid's faces, and their distances from the origin.
+    fn faces(solid: &crate::graph::ObjectNode) -> Vec<(glam::Vec3, f32)> {
+        use crate::graph::{ShapeNode, Transform};
+        let ShapeNode::Instance(declared) = &solid.shape else {
+            panic!("the declared solid: {:?}", solid.shape);
+        };
+        let ShapeNode::Csg { operands, .. } = &declared.shape else {
+            panic!("an intersection: {:?}", declared.shape);
+        };
+        let face = |plane: &crate::graph::ObjectNode| {
+            let ShapeNode::Plane { normal, offset } = plane.shape else {
+                panic!("a plane: {:?}", plane.shape);
+            };
+            let turn = plane.transforms.iter().fold(glam::Mat3::IDENTITY, |m, t| match t {
+                Transform::Rotate(d) => {
+                    let r = d * std::f32::consts::PI / 180.0;
+                    glam::Mat3::from_rotation_z(r.z)
+                        * glam::Mat3::from_rotation_y(r.y)
+                        * glam::Mat3::from_rotation_x(r.x)
+                        * m
+                }
+                other => panic!("only rotations: {other:?}"),
+            });
+            ((turn * normal).normalize(), -offset / normal.length())
+        };
+        operands.iter().map(face).collect()
+    }
+
+    #[test]
+    fn shapes2_inc_s_dodecahedron_and_icosahedron_are_regular_with_faces_at_distance_1() {
+        let graph =
+            pov("#include \"shapes2.inc\"\nobject { Dodecahedron }\nobject { Icosahedron }");
+        // Regular: every face has as many neighbours as its sides, all at the same angle.
+        for (solid, count, sides, cos) in [
+            (&graph.objects[0], 12, 5, 1.0 / 5f32.sqrt()),
+            (&graph.objects[1], 20, 3, 5f32.sqrt() / 3.0),
+        ] {
+            let faces = faces(solid);
+            assert_eq!(faces.len(), count);
+            for (n, d) in &faces {
+                assert!((d - 1.0).abs() < 1e-5, "distance {d}");
+                let neighbours = faces.iter().filter(|(m, _)| (n.dot(*m) - cos).abs() < 1e-4);
+                assert_eq!(neighbours.count(), sides, "{n}");
+            }
+        }
     }
 }

@@ -109,6 +109,16 @@ pub enum Item {
         colour: Colour,
         end: Option<(Expr, Colour)>,
     },
+    /// POV-Ray's `pigment_map { entries }` (`.pov`).
+    PigmentMap {
+        entries: Vec<Item>,
+        span: Span,
+    },
+    /// `[position pigment's items]` of a pigment_map: the pigment there.
+    PigmentMapEntry {
+        position: Expr,
+        pigment: Appearance,
+    },
     /// A value standing alone (a macro's body such as `(X * X)`).
     Value(Expr),
     /// POV-Ray's `clipped_by { objects }` (`.pov`): its items.
@@ -216,6 +226,8 @@ impl Item {
             Item::TextureParam(_) => "a texture parameter",
             Item::ColorMap { .. } => "a color_map",
             Item::MapEntry { .. } => "a color_map entry",
+            Item::PigmentMap { .. } => "a pigment_map",
+            Item::PigmentMapEntry { .. } => "a pigment_map entry",
             Item::Value(_) => "a value",
             Item::ClippedBy { .. } => "`clipped_by`",
             Item::Default { .. } => "`#default`",
@@ -249,6 +261,7 @@ impl Item {
             | Item::CameraProjection { span, .. }
             | Item::Light { span, .. }
             | Item::ColorMap { span, .. }
+            | Item::PigmentMap { span, .. }
             | Item::Default { span, .. }
             | Item::SkySphere { span, .. }
             | Item::ClippedBy { span, .. }
@@ -267,7 +280,9 @@ impl Item {
             Item::MaterialParam(p) => &p.span,
             Item::Texture(t) => &t.span,
             Item::TextureParam(p) => &p.span,
-            Item::MapEntry { position, .. } => &position.span,
+            Item::MapEntry { position, .. } | Item::PigmentMapEntry { position, .. } => {
+                &position.span
+            }
             Item::Value(e) => &e.span,
         }
     }
@@ -340,6 +355,11 @@ pub enum Declared {
     },
     /// POV-Ray's declared camera (`.pov`): its items.
     Camera {
+        items: Vec<Item>,
+        span: Span,
+    },
+    /// POV-Ray's declared `sky_sphere` (`.pov`): its items.
+    Sky {
         items: Vec<Item>,
         span: Span,
     },

@@ -534,6 +534,22 @@ impl Builder {
                 };
                 Item::MapEntry { position, colour, end }
             }
+            Rule::pigment_map => {
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let entries = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::PigmentMap { entries, span }
+            }
+            Rule::pigment_map_entry => {
+                self.enter(&pair)?;
+                let mut inner = pair.into_inner();
+                let position = self.arithmetic(inner.next().expect("the position"))?;
+                let items = self.items(inner)?;
+                self.leave();
+                let pigment = Appearance { kind: AppearanceKind::Pigment, items, span };
+                Item::PigmentMapEntry { position, pigment }
+            }
             Rule::rgb_colour | Rule::expr | Rule::colour => Item::Value(self.value_expr(pair)?),
             Rule::default => {
                 self.pov_only(&pair, None)?;
@@ -727,6 +743,14 @@ impl Builder {
                 let items = self.items(pair.into_inner().skip(1))?;
                 self.leave();
                 Declared::Camera { items, span }
+            }
+            Rule::sky_sphere => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Declared::Sky { items, span }
             }
             Rule::declared_if => {
                 let span = self.span(&pair);

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use super::eval::{Finish, Look, Pigment};
 use super::syntax::MacroDef;
-use crate::graph::{MaterialDesc, ObjectNode, TextureNode};
+use crate::graph::{MaterialDesc, ObjectNode, SkyDesc, TextureNode};
 
 #[derive(Debug, Clone)]
 pub enum Value {
@@ -37,6 +37,8 @@ pub enum Value {
     ColorMap(Arc<Vec<(f32, glam::Vec3)>>),
     /// A declared camera's parameters (`.pov`).
     Camera(Arc<super::eval::CameraParams>),
+    /// A declared `sky_sphere` (`.pov`).
+    Sky(Arc<SkyDesc>),
 }
 
 impl Value {
@@ -59,6 +61,7 @@ impl Value {
             Value::Interior(_) => "an interior",
             Value::Normal => "a normal",
             Value::Camera(_) => "a camera",
+            Value::Sky(_) => "a sky_sphere",
             Value::ColorMap(_) => "a color_map",
         }
     }

@@ -110,6 +110,8 @@ pub struct PigmentState {
     /// The pattern, its colours (`checker`) and its axis (`gradient`).
     pattern: Option<(PatternKind, Vec<TextureNode>, Option<Vec3>)>,
     map: Option<Vec<(f32, Vec3)>>,
+    /// A `pigment_map`'s positions and pigments, and where it stands.
+    pigment_map: Option<(Vec<(f32, Pigment)>, Span)>,
     turbulence: f32,
     octaves: u32,
 }
@@ -187,6 +189,7 @@ impl Evaluator {
             pigment: base.clone(),
             pattern: None,
             map: None,
+            pigment_map: None,
             turbulence: 0.0,
             octaves: 4,
         };
@@ -200,17 +203,24 @@ impl Evaluator {
             .filter(|m| !m.is_empty())
             .unwrap_or_else(|| vec![(0.0, Vec3::ZERO), (1.0, Vec3::ONE)]);
         let (turbulence, octaves) = (state.turbulence, state.octaves);
-        let pattern = match kind {
-            PatternKind::Checker => {
+        // The pattern through a map; `checker` has none (it takes two colours).
+        let graded = |map| match kind {
+            PatternKind::Checker => None,
+            PatternKind::Gradient => Some(Pattern::Gradient { axis: axis.unwrap_or(Vec3::Y), map }),
+            PatternKind::Marble => Some(Pattern::Marble { turbulence, octaves, map }),
+            PatternKind::Wood => Some(Pattern::Wood { turbulence, octaves, map }),
+            PatternKind::Bozo => Some(Pattern::Noise { octaves: 1, map }),
+        };
+        let pattern = match state.pigment_map {
+            Some((entries, span)) => blend(entries, graded).ok_or_else(|| {
+                SceneError::at(&span, "`checker` takes two colours, not a pigment_map")
+            })?,
+            None => graded(map).unwrap_or_else(|| {
                 // POV-Ray's checker is blue and green unless given its colours.
                 let b = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 1.0, 0.0)));
                 let a = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 0.0, 1.0)));
                 Pattern::Checker(Box::new(a), Box::new(b))
-            }
-            PatternKind::Gradient => Pattern::Gradient { axis: axis.unwrap_or(Vec3::Y), map },
-            PatternKind::Marble => Pattern::Marble { turbulence, octaves, map },
-            PatternKind::Wood => Pattern::Wood { turbulence, octaves, map },
-            PatternKind::Bozo => Pattern::Noise { octaves: 1, map },
+            }),
         };
         Ok(Pigment {
             colour: TextureNode { pattern, transforms: state.pigment.colour.transforms },
@@ -267,6 +277,16 @@ impl Evaluator {
                     return Err(SceneError::at(span, "a second color_map"));
                 }
             }
+            Item::PigmentMap { entries, span } => {
+                let mut map = Vec::new();
+                self.exec(entries, &mut Body::PigmentMap(&mut map))?;
+                if map.is_empty() {
+                    return Err(SceneError::at(span, "a pigment_map without entries"));
+                }
+                if state.pigment_map.replace((map, span.clone())).is_some() {
+                    return Err(SceneError::at(span, "a second pigment_map"));
+                }
+            }
             Item::TextureParam(param) => match param.kind {
                 TextureParamKind::Turbulence => {
                     let t = self.single(&param.value)?;
@@ -281,6 +301,41 @@ impl Evaluator {
             },
             _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
         }
+        Ok(())
+    }
+
+    /// `[position pigment's items]` of a pigment_map, after those before it. A pigment's filter
+    /// and transmit are dropped with a warning, as a color_map's are.
+    pub(super) fn pigment_map_entry(
+        &mut self,
+        item: &Item,
+        entries: &mut Vec<(f32, Pigment)>,
+    ) -> Result<(), SceneError> {
+        let Item::PigmentMapEntry { position: at, pigment } = item else {
+            return Err(Self::misplaced(item, &Body::PigmentMap(entries)));
+        };
+        let position = self.single(at)?;
+        let previous = entries.last().map_or(0.0, |e| e.0);
+        if !(previous..=1.0).contains(&position) {
+            return Err(SceneError::at(
+                &at.span,
+                format!(
+                    "pigment_map position {position} must be in [0, 1] and not below the one \
+                     before"
+                ),
+            ));
+        }
+        let base = Look::default().pigment;
+        let pigment = self.pigment(pigment, &base)?;
+        if pigment.filter + pigment.transmit > 0.0 && !self.warned_map_filter {
+            self.warned_map_filter = true;
+            let here = self.here(&at.span);
+            self.warnings.push(format!(
+                "{here:?}: warning: `filter` and `transmit` in a pigment_map are not rendered: \
+                 the map's pigments are opaque"
+            ));
+        }
+        entries.push((position, pigment));
         Ok(())
     }
 
@@ -501,6 +556,38 @@ impl Evaluator {
             span: at,
         })
     }
+}
+
+/// POV-Ray's pigment_map: the pattern's value v picks the two entries around it and blends their
+/// pigments as a color_map blends colours (the first below its position, the last above). Made
+/// of mixes, each entry over the ones after it by the pattern through a ramp from 0 at the
+/// entry's position to 1 at the next one's. `None` where `graded` has no map (`checker`).
+fn blend(
+    entries: Vec<(f32, Pigment)>,
+    graded: impl Fn(Vec<(f32, Vec3)>) -> Option<Pattern>,
+) -> Option<Pattern> {
+    let mut entries = entries.into_iter().rev();
+    let (mut next_position, last) = entries.next()?;
+    let mut blended = last.colour;
+    let mut any = false;
+    for (position, pigment) in entries {
+        let ramp = graded(vec![(position, Vec3::ZERO), (next_position, Vec3::ONE)])?;
+        let mix = Pattern::Mix {
+            a: Box::new(pigment.colour),
+            b: Box::new(blended),
+            t: Box::new(TextureNode { pattern: ramp, transforms: Vec::new() }),
+        };
+        blended = TextureNode { pattern: mix, transforms: Vec::new() };
+        next_position = position;
+        any = true;
+    }
+    // One entry: its pigment everywhere (the pattern still has to be one with a map).
+    graded(Vec::new())?;
+    Some(if any {
+        blended.pattern
+    } else {
+        Pattern::Checker(Box::new(blended.clone()), Box::new(blended))
+    })
 }
 
 /// A value where POV-Ray takes a colour: a number (grey), `<r, g, b>`, `<r, g, b, f>` or

@@ -34,7 +34,8 @@ impl Evaluator {
             | Value::Interior(_)
             | Value::Normal
             | Value::ColorMap(_)
-            | Value::Camera(_) => true,
+            | Value::Camera(_)
+            | Value::Sky(_) => true,
         };
         if !finite {
             return Err(SceneError::at(

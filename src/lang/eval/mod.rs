@@ -177,6 +177,8 @@ pub enum Body<'a> {
     Material(&'a mut crate::graph::MaterialDesc),
     Texture(&'a mut TextureState),
     ColorMap(&'a mut Vec<(f32, Vec3)>),
+    /// POV-Ray's `pigment_map` (`.pov`): positions and pigments.
+    PigmentMap(&'a mut Vec<(f32, Pigment)>),
     /// POV-Ray's pigment, finish, texture (with `#default`) and interior's ior (`.pov`).
     Pigment(&'a mut PigmentState),
     Finish(&'a mut Finish),
@@ -216,6 +218,7 @@ impl Body<'_> {
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",
             Body::ColorMap(_) => "in a color_map",
+            Body::PigmentMap(_) => "in a pigment_map",
             Body::Pigment(_) => "in a pigment",
             Body::Finish(_) => "in a finish",
             Body::Look(_) => "in a texture",
@@ -404,6 +407,8 @@ impl Evaluator {
             | Item::TextureParam(_)
             | Item::ColorMap { .. }
             | Item::MapEntry { .. }
+            | Item::PigmentMap { .. }
+            | Item::PigmentMapEntry { .. }
             | Item::Default { .. }
             | Item::SkySphere { .. }
             | Item::Appearance(_)
@@ -419,6 +424,7 @@ impl Evaluator {
                 Body::Material(material) => self.material_item(item, material),
                 Body::Texture(state) => self.texture_item(item, state),
                 Body::ColorMap(entries) => self.map_entry(item, entries),
+                Body::PigmentMap(entries) => self.pigment_map_entry(item, entries),
                 Body::Value(slot) => self.value_item(item, slot),
                 Body::Pigment(state) => self.pigment_item(item, state),
                 Body::Finish(finish) => self.finish_item(item, finish),
@@ -543,6 +549,8 @@ impl Evaluator {
             Item::Object(object) => Value::Object(Arc::new(self.object(object)?)),
             Item::Material(material) => self.material_value(material, None)?,
             Item::Texture(texture) => Value::Texture(Arc::new(self.texture(texture)?)),
+            // POV-Ray's pigment, finish, texture or interior, as if declared.
+            Item::Appearance(appearance) => self.declared_appearance(appearance)?,
             _ => return Err(Self::misplaced(item, &Body::Value(slot))),
         };
         if slot.is_some() {
@@ -602,6 +610,7 @@ impl Evaluator {
                 self.exec(items, &mut Body::Camera(&mut given))?;
                 Value::Camera(Arc::new(given))
             }
+            Declared::Sky { items, span } => Value::Sky(Arc::new(self.sky_desc(items, span)?)),
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {

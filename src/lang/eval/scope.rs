@@ -7,7 +7,7 @@ use super::Evaluator;
 use crate::diagnostic::SceneError;
 use crate::lang::syntax::Ident;
 use crate::lang::value::Value;
-use crate::lang::{parser, povray};
+use crate::lang::{library, parser, povray};
 
 #[derive(Default)]
 pub(super) struct Scope {
@@ -121,6 +121,9 @@ impl Evaluator {
     pub(super) fn unknown_as(&self, ident: &Ident, what: &str) -> SceneError {
         if let Some(message) = povray::message(&ident.name, None) {
             return SceneError::at(&ident.span, message);
+        }
+        if let Some(why) = library::left_out(&ident.name) {
+            return SceneError::at(&ident.span, format!("`{}`: {why}", ident.name));
         }
         let mut message = format!("unknown {what} `{}`", ident.name);
         let names = self.scopes.iter().flat_map(|s| s.names.keys().map(String::as_str));

@@ -8,6 +8,7 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{SkyDesc, TextureNode};
 use crate::lang::syntax::{AppearanceKind, Item};
+use crate::lang::value::Value;
 
 impl Evaluator {
     /// `sky_sphere { items }`: the scene's environment light (one a scene, as in POV-Ray).
@@ -15,6 +16,12 @@ impl Evaluator {
         if self.sky.is_some() {
             return Err(SceneError::at(span, "a second sky_sphere (POV-Ray's scenes have one)"));
         }
+        self.sky = Some(self.sky_desc(items, span)?);
+        Ok(())
+    }
+
+    /// The sky that a `sky_sphere`'s items describe, declared or the scene's.
+    pub(super) fn sky_desc(&mut self, items: &[Item], span: &Span) -> Result<SkyDesc, SceneError> {
         let mut sky = SkyDesc {
             pigment: TextureNode::solid(Vec3::ZERO),
             transforms: Vec::new(),
@@ -35,14 +42,26 @@ impl Evaluator {
             ));
         }
         self.exec(items, &mut Body::Sky(&mut sky))?;
-        self.sky = Some(sky);
-        Ok(())
+        Ok(sky)
     }
 
-    /// An item of a `sky_sphere`: a pigment (its filter and transmit ignored: nothing lies
+    /// An item of a `sky_sphere`: a declared sky (its pigment, transforms and emission, which
+    /// the items after it change), a pigment (its filter and transmit ignored: nothing lies
     /// behind the sky), a transform, `emission`.
     pub(super) fn sky_item(&mut self, item: &Item, sky: &mut SkyDesc) -> Result<(), SceneError> {
         match item {
+            Item::Value(expr) => match self.value(expr)? {
+                Value::Sky(declared) => {
+                    let span = sky.span.clone();
+                    *sky = SkyDesc { span, ..(*declared).clone() };
+                }
+                other => {
+                    return Err(SceneError::at(
+                        &expr.span,
+                        format!("a sky_sphere names a declared sky_sphere, not {}", other.kind()),
+                    ));
+                }
+            },
             Item::Appearance(a) if a.kind == AppearanceKind::Pigment => {
                 let base = Pigment { colour: sky.pigment.clone(), filter: 0.0, transmit: 0.0 };
                 sky.pigment = self.pigment(a, &base)?.colour;
