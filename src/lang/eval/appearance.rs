@@ -7,12 +7,11 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 use super::expression::single;
+use super::pattern::PatternState;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{MaterialDesc, Pattern, TextureNode};
-use crate::lang::syntax::{
-    Appearance, AppearanceKind, Colour, Ident, Item, PatternKind, TextureParamKind,
-};
+use crate::graph::{MaterialDesc, NormalNode, Pattern, TextureNode};
+use crate::lang::syntax::{Appearance, AppearanceKind, Colour, Ident, Item};
 use crate::lang::value::Value;
 
 /// A pigment: a colour or a pattern of colours, and how much light passes through its colour
@@ -89,6 +88,8 @@ impl Finish {
 pub struct Look {
     pub pigment: Pigment,
     pub finish: Finish,
+    /// `normal { }`: bump mapping, if any.
+    pub normal: Option<NormalNode>,
     /// `interior { ior }`: 1 when not given.
     pub ior: f32,
 }
@@ -99,6 +100,7 @@ impl Default for Look {
         Look {
             pigment: Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 },
             finish: POV_FINISH,
+            normal: None,
             ior: 1.0,
         }
     }
@@ -107,11 +109,7 @@ impl Default for Look {
 /// A pigment's items as they are read.
 pub struct PigmentState {
     pigment: Pigment,
-    /// The pattern, its colours (`checker`) and its axis (`gradient`).
-    pattern: Option<(PatternKind, Vec<TextureNode>, Option<Vec3>)>,
-    map: Option<Vec<(f32, Vec3)>>,
-    turbulence: f32,
-    octaves: u32,
+    pattern: PatternState,
 }
 
 impl Evaluator {
@@ -132,16 +130,19 @@ impl Evaluator {
                 self.exec(&appearance.items, &mut Body::Look(&mut texture))?;
                 look.pigment = texture.pigment;
                 look.finish = texture.finish;
+                look.normal = texture.normal;
             }
             AppearanceKind::Interior => {
                 self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?
             }
-            AppearanceKind::Normal => self.warn_normal(&appearance.span),
+            AppearanceKind::Normal => {
+                look.normal = self.normal(appearance, look.normal.as_ref())?;
+            }
         }
         Ok(())
     }
 
-    fn warn_normal(&mut self, span: &Span) {
+    pub(super) fn warn_normal(&mut self, span: &Span) {
         let at = self.here(span);
         self.warnings.push(format!(
             "{at:?}: warning: `normal` (POV-Ray's bump mapping) is read but not rendered: \
@@ -171,10 +172,7 @@ impl Evaluator {
                 self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?;
                 Value::Interior(look.ior)
             }
-            AppearanceKind::Normal => {
-                self.warn_normal(&appearance.span);
-                Value::Normal
-            }
+            AppearanceKind::Normal => Value::Normal(self.normal(appearance, None)?.map(Arc::new)),
         })
     }
 
@@ -183,35 +181,21 @@ impl Evaluator {
         appearance: &Appearance,
         base: &Pigment,
     ) -> Result<Pigment, SceneError> {
-        let mut state = PigmentState {
-            pigment: base.clone(),
-            pattern: None,
-            map: None,
-            turbulence: 0.0,
-            octaves: 4,
-        };
-        self.exec(&appearance.items, &mut Body::Pigment(&mut state))?;
-        let Some((kind, mut colours, axis)) = state.pattern else {
+        self.pigment_of(&appearance.items, base)
+    }
+
+    /// The pigment `items` make, starting from `base`.
+    pub(super) fn pigment_of(
+        &mut self,
+        items: &[Item],
+        base: &Pigment,
+    ) -> Result<Pigment, SceneError> {
+        let mut state = PigmentState { pigment: base.clone(), pattern: PatternState::default() };
+        self.exec(items, &mut Body::Pigment(&mut state))?;
+        let Some((kind, arguments, at)) = state.pattern.word.clone() else {
             return Ok(state.pigment);
         };
-        // Without a map, black to white.
-        let map = state
-            .map
-            .filter(|m| !m.is_empty())
-            .unwrap_or_else(|| vec![(0.0, Vec3::ZERO), (1.0, Vec3::ONE)]);
-        let (turbulence, octaves) = (state.turbulence, state.octaves);
-        let pattern = match kind {
-            PatternKind::Checker => {
-                // POV-Ray's checker is blue and green unless given its colours.
-                let b = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 1.0, 0.0)));
-                let a = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 0.0, 1.0)));
-                Pattern::Checker(Box::new(a), Box::new(b))
-            }
-            PatternKind::Gradient => Pattern::Gradient { axis: axis.unwrap_or(Vec3::Y), map },
-            PatternKind::Marble => Pattern::Marble { turbulence, octaves, map },
-            PatternKind::Wood => Pattern::Wood { turbulence, octaves, map },
-            PatternKind::Bozo => Pattern::Noise { octaves: 1, map },
-        };
+        let pattern = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
         Ok(Pigment {
             colour: TextureNode { pattern, transforms: state.pigment.colour.transforms },
             filter: 0.0,
@@ -224,61 +208,29 @@ impl Evaluator {
         item: &Item,
         state: &mut PigmentState,
     ) -> Result<(), SceneError> {
+        if let Item::Pattern { .. } = item {
+            state.pigment.colour.transforms.clear();
+        }
+        if self.pattern_item(item, &mut state.pattern)? {
+            return Ok(());
+        }
         match item {
             Item::Value(expr) => match self.value(expr)? {
                 Value::Pigment(p) => {
                     state.pigment = (*p).clone();
-                    state.pattern = None;
+                    state.pattern.word = None;
                 }
                 other => {
                     let (colour, filter, transmit) = pov_colour(other, &expr.span)?;
                     state.pigment =
                         Pigment { colour: TextureNode::solid(colour), filter, transmit };
-                    state.pattern = None;
+                    state.pattern.word = None;
                 }
             },
-            Item::Pattern { kind, arguments, .. } => {
-                let mut colours = Vec::new();
-                let mut axis = None;
-                for argument in arguments {
-                    match kind {
-                        PatternKind::Gradient => {
-                            axis = Some(self.nonzero(&argument.value, "the gradient's axis")?)
-                        }
-                        PatternKind::Checker
-                        | PatternKind::Marble
-                        | PatternKind::Wood
-                        | PatternKind::Bozo => {
-                            colours.push(TextureNode::solid(self.pov_colour(argument)?.0))
-                        }
-                    }
-                }
-                state.pattern = Some((*kind, colours, axis));
-                state.pigment.colour.transforms.clear();
-            }
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
                 state.pigment.colour.transforms.push(transform);
             }
-            Item::ColorMap { entries, span } => {
-                let mut map = Vec::new();
-                self.exec(entries, &mut Body::ColorMap(&mut map))?;
-                if state.map.replace(map).is_some() {
-                    return Err(SceneError::at(span, "a second color_map"));
-                }
-            }
-            Item::TextureParam(param) => match param.kind {
-                TextureParamKind::Turbulence => {
-                    let t = self.single(&param.value)?;
-                    state.turbulence = t.max(0.0);
-                }
-                TextureParamKind::Octaves => {
-                    state.octaves = self.integer(&param.value, 1, 16)? as u32;
-                }
-                TextureParamKind::Axis => {
-                    return Err(SceneError::at(&param.span, "`axis` is not POV-Ray's word"));
-                }
-            },
             _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
         }
         Ok(())
@@ -381,11 +333,15 @@ impl Evaluator {
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
                 look.pigment.colour.transforms.push(transform);
+                if let Some(normal) = &mut look.normal {
+                    normal.transforms.push(transform);
+                }
             }
             Item::Value(expr) => match self.value(expr)? {
                 Value::Look(l) => {
                     look.pigment = l.pigment.clone();
                     look.finish = l.finish.clone();
+                    look.normal = l.normal.clone();
                 }
                 other => {
                     return Err(SceneError::at(
@@ -433,7 +389,7 @@ impl Evaluator {
     /// are scaled down together. `ambient` is light only where `diffuse` is 0 (the object only
     /// glows); `emission` always is.
     pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
-        let Look { pigment, finish, ior } = look;
+        let Look { pigment, finish, normal, ior } = look;
         let colour = pigment.colour.max_value();
         let solid = matches!(pigment.colour.pattern, Pattern::Solid(_));
         let opacity = (1.0 - pigment.filter - pigment.transmit).max(0.0);
@@ -498,6 +454,7 @@ impl Evaluator {
             roughness,
             coat,
             coat_roughness,
+            normal: normal.clone(),
             span: at,
         })
     }
