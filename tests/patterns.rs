@@ -107,6 +107,20 @@ fn pattern_maps_interpolate_between_their_entries() {
          [1 rgb 1] [3 rgb <0, 0, 1>] }} }} }} }}"
     ));
     assert!((kd(&s, Vec3::ONE) - Vec3::new(0.25, 0.25, 1.0)).length() < 1e-5);
+    // A .pov texture_map of textures that differ only in pigment, and one that is refused.
+    let s = pov("box { -100, 100  texture { gradient x  texture_map { \
+                 [0 pigment { rgb <1, 0, 0> } finish { diffuse 1 ambient 0 }] \
+                 [1 pigment { rgb <0, 0, 1> } finish { diffuse 1 ambient 0 }] } } }");
+    let c = kd(&s, Vec3::new(0.5, 3.0, 1.0));
+    assert!((c - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-5, "their finish: diffuse 1, {c}");
+    let refused = parse_scene(
+        Path::new("tests/inline.pov"),
+        "box { -1, 1  texture { gradient x  texture_map { [0 pigment { rgb 1 }] \
+         [1 pigment { rgb 1 } finish { phong 1 }] } } }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(refused.contains("texture_map") && refused.contains(":1:"), "{refused}");
     // Block patterns take their colours in order: hexagon's three.
     let s =
         pov("box { -100, 100  pigment { hexagon rgb <1, 0, 0>, rgb <0, 1, 0>, rgb <0, 0, 1> } \

@@ -127,7 +127,17 @@ impl Evaluator {
             AppearanceKind::Texture => {
                 // A texture starts from the default one, as POV-Ray's does.
                 let mut texture = self.default_look.clone();
-                self.exec(&appearance.items, &mut Body::Look(&mut texture))?;
+                if appearance.items.iter().any(|item| matches!(item, Item::Pattern { .. })) {
+                    // A patterned texture (`texture { P texture_map { ... } }`): its pattern,
+                    // modifiers and transforms make its pigment (`pattern_texture` reads the
+                    // map's textures).
+                    let black = Look::default().pigment;
+                    let (pigment, finish) = self.patterned(&appearance.items, &black)?;
+                    texture.pigment = pigment;
+                    texture.finish = finish.unwrap_or(texture.finish);
+                } else {
+                    self.exec(&appearance.items, &mut Body::Look(&mut texture))?;
+                }
                 look.pigment = texture.pigment;
                 look.finish = texture.finish;
                 look.normal = texture.normal;
@@ -190,17 +200,24 @@ impl Evaluator {
         items: &[Item],
         base: &Pigment,
     ) -> Result<Pigment, SceneError> {
+        Ok(self.patterned(items, base)?.0)
+    }
+
+    /// The pigment `items` make, starting from `base`, and the finish of the textures of a
+    /// texture_map among them.
+    fn patterned(
+        &mut self,
+        items: &[Item],
+        base: &Pigment,
+    ) -> Result<(Pigment, Option<Finish>), SceneError> {
         let mut state = PigmentState { pigment: base.clone(), pattern: PatternState::default() };
         self.exec(items, &mut Body::Pigment(&mut state))?;
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
-            return Ok(state.pigment);
+            return Ok((state.pigment, None));
         };
-        let pattern = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
-        Ok(Pigment {
-            colour: TextureNode { pattern, transforms: state.pigment.colour.transforms },
-            filter: 0.0,
-            transmit: 0.0,
-        })
+        let (pattern, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
+        let colour = TextureNode { pattern, transforms: state.pigment.colour.transforms };
+        Ok((Pigment { colour, filter: 0.0, transmit: 0.0 }, finish))
     }
 
     pub(super) fn pigment_item(

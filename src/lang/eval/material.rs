@@ -222,7 +222,7 @@ impl Evaluator {
             TextureKind::Pattern => {
                 let (kind, arguments, at) =
                     state.pattern.word.clone().expect("the grammar gives the pattern first");
-                self.pattern_texture(kind, &arguments, &state.pattern, &at)?
+                self.pattern_texture(kind, &arguments, &state.pattern, &at)?.0
             }
         };
         self.count_texture_nodes(1, &t.span)?;

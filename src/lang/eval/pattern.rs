@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::appearance::Pigment;
+use super::appearance::{Finish, Pigment};
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{
@@ -26,6 +26,8 @@ pub struct MapState {
     pub textures: TextureMap,
     pub normals: Vec<(f32, NormalNode)>,
     pub slopes: SlopeMap,
+    /// A `.pov` texture_map's textures' one finish.
+    pub finish: Option<Finish>,
 }
 
 /// A pattern's items as they are read.
@@ -223,22 +225,26 @@ impl Evaluator {
     }
 
     /// The texture of the pattern `kind`: its value through its map (the color_map, a map of
-    /// textures, a block pattern's colours, or black to white), or `average`'s mean.
+    /// textures, a block pattern's colours, or black to white), or `average`'s mean; and the
+    /// finish of a `.pov` texture_map's textures.
     pub(super) fn pattern_texture(
         &mut self,
         kind: PatternKind,
         arguments: &[Colour],
         state: &PatternState,
         at: &Span,
-    ) -> Result<Pattern, SceneError> {
+    ) -> Result<(Pattern, Option<Finish>), SceneError> {
         let average = kind == PatternKind::Average;
+        let mut finish = None;
         let mut map: TextureMap = match (&state.color_map, &state.map) {
             (Some(colours), _) if !colours.is_empty() => {
                 colours.iter().map(|(t, c)| (*t, TextureNode::solid(*c))).collect()
             }
             (_, Some((map_kind, entries, span))) => match map_kind {
                 MapKind::Pigment | MapKind::Texture => {
-                    self.map_entries(*map_kind, entries, average)?.textures
+                    let map = self.map_entries(*map_kind, entries, average)?;
+                    finish = map.finish;
+                    map.textures
                 }
                 MapKind::Normal | MapKind::Slope => {
                     return Err(SceneError::at(
@@ -253,7 +259,7 @@ impl Evaluator {
             if map.is_empty() {
                 return Err(SceneError::at(at, "`average` needs a map of what it averages"));
             }
-            return Ok(Pattern::Average(map));
+            return Ok((Pattern::Average(map), finish));
         }
         if map.is_empty() {
             map = match block_colours(kind) {
@@ -277,7 +283,7 @@ impl Evaluator {
             };
         }
         let shape = self.field_shape(kind, arguments, state, at)?;
-        Ok(Pattern::Field { shape: Box::new(shape), map })
+        Ok((Pattern::Field { shape: Box::new(shape), map }, finish))
     }
 
     /// A colour as the dialect reads it (`.pov`: filter and transmit dropped).
@@ -301,6 +307,7 @@ impl Evaluator {
             textures: Vec::new(),
             normals: Vec::new(),
             slopes: Vec::new(),
+            finish: None,
         };
         self.exec(entries, &mut Body::PatternMap(&mut state))?;
         Ok(state)
@@ -365,10 +372,13 @@ impl Evaluator {
                     (Dialect::Pov, _) => {
                         let mut look = self.default_look.clone();
                         self.exec(items, &mut Body::Look(&mut look))?;
-                        if look.finish != self.default_look.finish || look.normal.is_some() {
+                        let first = state.finish.get_or_insert_with(|| look.finish.clone());
+                        if look.finish != *first || look.normal.is_some() {
                             return Err(SceneError::at(
                                 span,
-                                "a texture_map's textures may differ only in their pigments:                                  raydiance's materials vary only their diffuse colour across a                                  surface (use a pigment_map)",
+                                "a texture_map's textures may differ only in their pigments \
+                                 (raydiance's materials vary only their diffuse colour across \
+                                 a surface): give them one finish and no normal",
                             ));
                         }
                         look.pigment.colour
