@@ -211,4 +211,26 @@ fn pov_normals_read_maps_and_declared_normals() {
            [0 <0, 1>] [0.5 <1, 0>] [1 <0, -1>] } } }");
     let image = common::render_image(&s);
     assert!(image.pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
+    // `average`'s entries may leave out their weights (1 each); other maps' may not.
+    let graph = parse_scene(
+        Path::new("tests/inline.pov"),
+        "sphere { 0, 1  normal { average normal_map { [waves 2 frequency 3] [1 ripples 1] } } }",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let normal = graph.objects[0].material.as_ref().and_then(|m| m.normal.clone());
+    let Some(raydiance::graph::NormalNode {
+        pattern: raydiance::graph::NormalPattern::Average(entries),
+        ..
+    }) = normal
+    else {
+        panic!("an average: {normal:?}")
+    };
+    assert_eq!(entries.iter().map(|e| e.0).collect::<Vec<_>>(), [1.0, 1.0]);
+    let error = parse_scene(
+        Path::new("tests/inline.pov"),
+        "sphere { 0, 1  normal { gradient x  normal_map { [bumps 1] } } }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("needs its position"), "{error}");
 }

@@ -144,9 +144,10 @@ pub enum Item {
         entries: Vec<Item>,
         span: Span,
     },
-    /// `[position items]` of a pattern map.
+    /// `[position items]` of a pattern map (`average`'s may leave out the position, its
+    /// weight: 1).
     MapBlock {
-        position: Expr,
+        position: Option<Expr>,
         items: Vec<Item>,
         span: Span,
     },

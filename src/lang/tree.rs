@@ -567,8 +567,11 @@ impl Builder {
                 Item::PatternMap { kind, entries, span }
             }
             Rule::map_block => {
-                let mut inner = pair.into_inner();
-                let position = self.arithmetic(inner.next().expect("the position"))?;
+                let mut inner = pair.into_inner().peekable();
+                let position = match inner.next_if(|p| p.as_rule() == Rule::map_position) {
+                    Some(position) => Some(self.arithmetic(inner_pair(&position))?),
+                    None => None,
+                };
                 let items = self.items(inner)?;
                 Item::MapBlock { position, items, span }
             }

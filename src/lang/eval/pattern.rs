@@ -322,8 +322,16 @@ impl Evaluator {
         let Item::MapBlock { position, items, span } = item else {
             return Err(Self::misplaced(item, &Body::PatternMap(state)));
         };
-        let at = position.span.clone();
-        let position = self.single(position)?;
+        let (at, position) = match position {
+            Some(position) => (position.span.clone(), self.single(position)?),
+            None if state.weights => (span.clone(), 1.0),
+            None => {
+                return Err(SceneError::at(
+                    span,
+                    format!("a {} entry needs its position: `[position ...]`", state.kind.word()),
+                ));
+            }
+        };
         let previous = [
             state.textures.last().map(|e| e.0),
             state.normals.last().map(|e| e.0),
