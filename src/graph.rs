@@ -213,6 +213,8 @@ pub struct MaterialDesc {
     pub coat: f32,
     /// GGX alpha of the coat, in (0, 1].
     pub coat_roughness: f32,
+    /// Bump mapping: how the shading normal is perturbed; `None`: not at all.
+    pub normal: Option<NormalNode>,
     pub span: Span,
 }
 
@@ -233,6 +235,7 @@ impl MaterialDesc {
             roughness: 0.0,
             coat: 0.0,
             coat_roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
+            normal: None,
             span,
         }
     }
@@ -253,15 +256,18 @@ impl TextureNode {
 
     /// How many nodes the texture holds, and how deeply they nest (a solid colour: 1, 1).
     pub fn size_and_depth(&self) -> (usize, u32) {
-        let children: &[&TextureNode] = match &self.pattern {
-            Pattern::Checker(a, b) | Pattern::Stripes { a, b, .. } => &[a, b],
-            Pattern::Mix { a, b, t } => &[a, b, t],
+        let children: Vec<&TextureNode> = match &self.pattern {
+            Pattern::Checker(a, b) | Pattern::Stripes { a, b, .. } => vec![a, b],
+            Pattern::Mix { a, b, t } => vec![a, b, t],
+            Pattern::Field { map, .. } | Pattern::Average(map) => {
+                map.iter().map(|(_, node)| node).collect()
+            }
             Pattern::Solid(_)
             | Pattern::Gradient { .. }
             | Pattern::Noise { .. }
             | Pattern::Marble { .. }
             | Pattern::Wood { .. }
-            | Pattern::Image { .. } => &[],
+            | Pattern::Image { .. } => Vec::new(),
         };
         children
             .iter()
@@ -277,6 +283,9 @@ impl TextureNode {
                 a.max_value().max(b.max_value())
             }
             Pattern::Mix { a, b, .. } => a.max_value().max(b.max_value()),
+            Pattern::Field { map, .. } | Pattern::Average(map) => {
+                map.iter().fold(Vec3::ZERO, |m, (_, c)| m.max(c.max_value()))
+            }
             Pattern::Gradient { map, .. }
             | Pattern::Noise { map, .. }
             | Pattern::Marble { map, .. }
@@ -368,6 +377,160 @@ pub enum Pattern {
         b: Box<TextureNode>,
         t: Box<TextureNode>,
     },
+    /// POV-Ray's patterns: a shaped value in [0, 1] through a map of textures (a color_map's
+    /// entries are solid colours), interpolated between the entries either side.
+    Field {
+        shape: Box<FieldShape>,
+        map: TextureMap,
+    },
+    /// POV-Ray's `average`: the weighted mean of the textures (weights need not sum to 1).
+    Average(TextureMap),
+}
+
+/// Bump mapping (`normal { PATTERN AMOUNT }`): a perturbation of the shading normal, from a
+/// pattern, moved by its transforms as a texture is, in the object's own space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NormalNode {
+    pub pattern: NormalPattern,
+    pub transforms: Vec<Transform>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum NormalPattern {
+    /// The surface is displaced by `amount` times the pattern's value (through the slope map's
+    /// heights, if any): the normal tilts against the value's gradient.
+    Bumps { shape: Box<FieldShape>, amount: f32, slopes: SlopeMap },
+    /// `normal_map`: the entries' perturbations, interpolated by the pattern's value.
+    Map { shape: Box<FieldShape>, map: Vec<(f32, NormalNode)> },
+    /// `average`: the weighted mean of the entries' perturbations.
+    Average(Vec<(f32, NormalNode)>),
+}
+
+/// `slope_map { [position <height, slope>] }`: a height profile over the pattern's value,
+/// cubic between the entries with the given heights and slopes; empty: the value itself.
+pub type SlopeMap = Vec<(f32, f32, f32)>;
+
+/// `[position texture]` entries, positions ascending in [0, 1] (`average`: weights > 0).
+pub type TextureMap = Vec<(f32, TextureNode)>;
+
+/// A POV-Ray pattern's value at each point: the field of its pattern, at the point moved by the
+/// warps (first written, first applied), then `frequency` and `phase` and the wave.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldShape {
+    pub field: Field,
+    /// Classic `turbulence` where the pattern adds it itself (marble, wood, agate, spirals);
+    /// elsewhere it is the first warp.
+    pub turbulence: Option<Turbulence>,
+    pub warps: Vec<Warp>,
+    pub wave: Wave,
+    pub frequency: f32,
+    pub phase: f32,
+}
+
+/// The patterns (`docs/language.md`, Patterns), each a value in [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Field {
+    /// Veins: a sine of z bent by turbulence scaled by `turbulence` (`agate_turb`).
+    Agate {
+        turbulence: f32,
+    },
+    /// Noise (`bumps`, `spotted` are the same).
+    Bozo,
+    /// Bricks of `size` in rows along x, every other row shifted by half a brick; 0 in the
+    /// mortar (`mortar` wide), 1 in a brick.
+    Brick {
+        size: Vec3,
+        mortar: f32,
+    },
+    Bumps,
+    /// A random value for each unit cube.
+    Cells,
+    /// 0 where floor(x) + floor(y) + floor(z) is even, else 1.
+    Checker,
+    /// Voronoi cells of one random point per unit cube: second-nearest minus nearest distance.
+    Crackle,
+    /// Noise cubed.
+    Dents,
+    /// frac(p . axis), `axis` a unit vector.
+    Gradient(Vec3),
+    /// Six octaves of |noise - 0.5| at 4 times the scale.
+    Granite,
+    /// Hexagons of unit side in the x-z plane, coloured 0, 0.5 and 1 so that neighbours differ.
+    Hexagon,
+    /// ((sin x + sin y + sin z) / 3)^2.
+    Leopard,
+    /// The Mandelbrot set in the x-y plane: escape iterations / `iterations`, 1 inside.
+    Mandel {
+        iterations: u32,
+    },
+    /// x plus turbulence, through a triangle wave by default.
+    Marble,
+    /// frac(|p|): concentric spheres.
+    Onion,
+    /// Each unit cube shaded from its centre out by a cubic with the two control values.
+    Quilted {
+        control0: f32,
+        control1: f32,
+    },
+    /// The angle about y, a turn from 0 to 1.
+    Radial,
+    /// Circular waves from ten sources in the unit cube (sines of distance).
+    Ripples,
+    /// A screw about z with `arms` threads: frac(z + arms * angle / 2 pi).
+    Spiral1 {
+        arms: f32,
+    },
+    /// Two such screws in opposite directions.
+    Spiral2 {
+        arms: f32,
+    },
+    Spotted,
+    /// Like `ripples`, cosines fading with distance.
+    Waves,
+    /// Rings about the z axis (distance from it), through a triangle wave by default.
+    Wood,
+    /// Ten octaves of |noise| (sharp creases).
+    Wrinkles,
+}
+
+/// POV-Ray's `turbulence amount octaves omega lambda`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Turbulence {
+    pub amount: Vec3,
+    pub octaves: u32,
+    pub omega: f32,
+    pub lambda: f32,
+}
+
+/// POV-Ray's `warp { }`: moves the points a pattern is evaluated at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Warp {
+    /// p + amount * the vector turbulence at p.
+    Turbulence(Turbulence),
+    /// `repeat <direction> offset <o> flip <f>`: the slab [0, width) along the direction's
+    /// axis repeats; the k-th copy is moved by k * offset and, when k is odd, mirrored along the
+    /// axes where `flip` is not 0.
+    Repeat { axis: usize, width: f32, offset: Vec3, flip: Vec3 },
+    /// `black_hole <centre>, radius  strength falloff inverse`: points within `radius` of the
+    /// centre are pulled towards it (pushed away when `inverse`) by strength * (1 - d / radius)
+    /// ^ falloff of their distance.
+    BlackHole { centre: Vec3, radius: f32, strength: f32, falloff: f32, inverse: bool },
+}
+
+/// How a value in [0, 1) is shaped (POV-Ray's wave types).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Wave {
+    Ramp,
+    /// 0.5 + 0.5 sin(2 pi v).
+    Sine,
+    /// Up to 1 at 0.5 and back down.
+    Triangle,
+    /// |sin(pi v)|.
+    Scallop,
+    /// 3v^2 - 2v^3.
+    Cubic,
+    /// v^exponent.
+    Poly(f32),
 }
 
 /// A transform as written; `ObjectNode::transforms` applies them first written, first applied.

@@ -130,7 +130,7 @@ fn povray_habits_name_the_povray_word_and_ours() {
         ("pigment", "`pigment`", "diffuse rgb"),
         ("finish", "`finish`", "specular rgb"),
         ("texture", "`texture`", "material {"),
-        ("normal", "`normal`", "not supported"),
+        ("normal", "`normal`", "in a material"),
         ("interior", "`interior`", "transmission rgb 1  ior 1.5"),
         ("light_color", "`color`", "power rgb"),
         ("diffuse_color", "`color`", "`rgb <r, g, b>` alone"),

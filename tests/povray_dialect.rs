@@ -291,7 +291,11 @@ fn sky_sphere_is_read_with_its_pigment_transforms_and_emission() {
     let graph = pov("sky_sphere { pigment { gradient y color_map { [0 rgb 0] [1 rgb 1] } } \
          rotate <0, 0, 30> scale 2 emission rgb <1, 0.5, 0.25> }");
     let sky = graph.sky.expect("a sky");
-    assert!(matches!(sky.pigment.pattern, raydiance::graph::Pattern::Gradient { .. }));
+    assert!(matches!(
+        &sky.pigment.pattern,
+        raydiance::graph::Pattern::Field { shape, .. }
+            if matches!(shape.field, raydiance::graph::Field::Gradient(_))
+    ));
     assert_eq!(sky.transforms.len(), 2);
     assert!(close(sky.emission, Vec3::new(1.0, 0.5, 0.25)));
 

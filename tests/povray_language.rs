@@ -113,7 +113,14 @@ fn colours_have_components_keywords_and_arithmetic() {
 fn gradient_map(graph: &SceneGraph) -> Vec<(f32, Vec3)> {
     fn find(node: &TextureNode) -> Option<Vec<(f32, Vec3)>> {
         match &node.pattern {
-            Pattern::Gradient { map, .. } => Some(map.clone()),
+            Pattern::Field { map, .. } => Some(
+                map.iter()
+                    .map(|(t, entry)| match entry.pattern {
+                        Pattern::Solid(c) => (*t, c),
+                        _ => panic!("a color_map's entries are colours"),
+                    })
+                    .collect(),
+            ),
             Pattern::Mix { a, .. } => find(a),
             _ => None,
         }

@@ -191,7 +191,7 @@ pub(super) fn arrive(
     if path.bounces == max_depth {
         return None;
     }
-    let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
+    let (hit, bsdf) = scene.shade(hit, wo, &material, TransportMode::Radiance);
     let gathered = if path.follows_near_specular {
         bsdf.gathered_lobes()
     } else {

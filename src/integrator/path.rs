@@ -156,7 +156,7 @@ impl Path {
         if path.bounces == self.max_depth {
             return ends;
         }
-        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
+        let (hit, bsdf) = scene.shade(hit, wo, &material, TransportMode::Radiance);
         let flags = bsdf.flags();
         let light = if flags.is_non_delta() { self.choose_light(scene, sampler) } else { None };
         let u_lobe = sampler.next_1d_if(flags.chooses_lobe());

@@ -102,7 +102,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "image_map" => S, "mix" => S, "axis" => S, "octaves" => S, "turbulence" => S,
     "color_map" => S, "colour_map" => S, "array" => S,
     "pigment" => S, "finish" => S, "texture" => S, "interior" => S, "normal" => S, "bozo" => S,
-    "spotted" => S, "ambient" => S, "brilliance" => S, "phong" => S, "phong_size" => S,
+    "spotted" => S, "pattern" => S, "ambient" => S, "brilliance" => S, "phong" => S, "phong_size" => S,
     "reflection" => S, "metallic" => S, "conserve_energy" => S, "crand" => S, "irid" => S, "falloff" => S,
     "exponent" => S, "rgbf" => S, "rgbt" => S, "rgbft" => S, "srgb" => S,
     "fade_distance" => S, "fade_power" => S, "shadowless" => S, "hollow" => S,

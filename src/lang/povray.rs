@@ -34,11 +34,11 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         "texture" => {
             "POV-Ray's `texture` is here `material { ... }`: `diffuse` takes a colour or a \
              texture node (`checker`, `stripes`, `gradient`, `noise`, `marble`, `wood`, \
-             `image_map`, `mix`)"
+             `image_map`, `mix`, `pattern`)"
         }
         "normal" => {
-            "POV-Ray's `normal` (bump mapping) is not supported: surfaces are shaded with their \
-             geometric normals"
+            "POV-Ray's `normal` (bump mapping) stands here in a material: \
+             `material { diffuse rgb 0.8  normal { bumps 0.5  scale 0.1 } }`"
         }
         "interior" => {
             "POV-Ray's `interior { ior ... }` is here a material parameter: \

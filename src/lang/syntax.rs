@@ -109,16 +109,6 @@ pub enum Item {
         colour: Colour,
         end: Option<(Expr, Colour)>,
     },
-    /// POV-Ray's `pigment_map { entries }` (`.pov`).
-    PigmentMap {
-        entries: Vec<Item>,
-        span: Span,
-    },
-    /// `[position pigment's items]` of a pigment_map: the pigment there.
-    PigmentMapEntry {
-        position: Expr,
-        pigment: Appearance,
-    },
     /// A value standing alone (a macro's body such as `(X * X)`).
     Value(Expr),
     /// POV-Ray's `clipped_by { objects }` (`.pov`): its items.
@@ -138,11 +128,27 @@ pub enum Item {
         items: Vec<Item>,
         span: Span,
     },
-    /// A pigment's pattern (`checker Red, Blue`, `gradient y`, `marble`).
+    /// A pigment's, normal's or `pattern { }` texture's pattern (`checker Red, Blue`,
+    /// `gradient y`, `bumps 0.5`).
     Pattern {
         kind: PatternKind,
-        /// `checker`'s colours, `gradient`'s axis.
+        /// `checker`'s colours, `gradient`'s axis, `mandel`'s iterations; in a normal, last,
+        /// its amount.
         arguments: Vec<Colour>,
+        span: Span,
+    },
+    /// `pigment_map`, `normal_map`, `texture_map` or `slope_map { [position items] ... }`:
+    /// its entries (`MapBlock`s, or a declared map's name as a `Value`).
+    PatternMap {
+        kind: MapKind,
+        entries: Vec<Item>,
+        span: Span,
+    },
+    /// `[position items]` of a pattern map (`average`'s may leave out the position, its
+    /// weight: 1).
+    MapBlock {
+        position: Option<Expr>,
+        items: Vec<Item>,
         span: Span,
     },
     /// An item of a finish, an interior or a `reflection { }`: its key, its value if given, and
@@ -182,14 +188,119 @@ impl AppearanceKind {
     }
 }
 
+/// POV-Ray's patterns, by their words.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PatternKind {
-    Checker,
-    Gradient,
-    Marble,
-    Wood,
-    /// POV-Ray's `bozo` and `spotted` (the same noise).
+    Agate,
+    Average,
     Bozo,
+    Brick,
+    Bumps,
+    Cells,
+    Checker,
+    Crackle,
+    Dents,
+    Gradient,
+    Granite,
+    Hexagon,
+    Leopard,
+    Mandel,
+    Marble,
+    Onion,
+    Quilted,
+    Radial,
+    Ripples,
+    Spiral1,
+    Spiral2,
+    Spotted,
+    Waves,
+    Wood,
+    Wrinkles,
+}
+
+impl PatternKind {
+    pub const ALL: [PatternKind; 25] = [
+        PatternKind::Agate,
+        PatternKind::Average,
+        PatternKind::Bozo,
+        PatternKind::Brick,
+        PatternKind::Bumps,
+        PatternKind::Cells,
+        PatternKind::Checker,
+        PatternKind::Crackle,
+        PatternKind::Dents,
+        PatternKind::Gradient,
+        PatternKind::Granite,
+        PatternKind::Hexagon,
+        PatternKind::Leopard,
+        PatternKind::Mandel,
+        PatternKind::Marble,
+        PatternKind::Onion,
+        PatternKind::Quilted,
+        PatternKind::Radial,
+        PatternKind::Ripples,
+        PatternKind::Spiral1,
+        PatternKind::Spiral2,
+        PatternKind::Spotted,
+        PatternKind::Waves,
+        PatternKind::Wood,
+        PatternKind::Wrinkles,
+    ];
+
+    pub fn word(self) -> &'static str {
+        match self {
+            PatternKind::Agate => "agate",
+            PatternKind::Average => "average",
+            PatternKind::Bozo => "bozo",
+            PatternKind::Brick => "brick",
+            PatternKind::Bumps => "bumps",
+            PatternKind::Cells => "cells",
+            PatternKind::Checker => "checker",
+            PatternKind::Crackle => "crackle",
+            PatternKind::Dents => "dents",
+            PatternKind::Gradient => "gradient",
+            PatternKind::Granite => "granite",
+            PatternKind::Hexagon => "hexagon",
+            PatternKind::Leopard => "leopard",
+            PatternKind::Mandel => "mandel",
+            PatternKind::Marble => "marble",
+            PatternKind::Onion => "onion",
+            PatternKind::Quilted => "quilted",
+            PatternKind::Radial => "radial",
+            PatternKind::Ripples => "ripples",
+            PatternKind::Spiral1 => "spiral1",
+            PatternKind::Spiral2 => "spiral2",
+            PatternKind::Spotted => "spotted",
+            PatternKind::Waves => "waves",
+            PatternKind::Wood => "wood",
+            PatternKind::Wrinkles => "wrinkles",
+        }
+    }
+
+    /// The pattern called `word`, if any.
+    pub fn named(word: &str) -> Option<PatternKind> {
+        PatternKind::ALL.into_iter().find(|kind| kind.word() == word)
+    }
+}
+
+/// What a pattern map's entries are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapKind {
+    Pigment,
+    Normal,
+    Texture,
+    Slope,
+}
+
+impl MapKind {
+    pub fn word(self) -> &'static str {
+        match self {
+            MapKind::Pigment => "pigment_map",
+            MapKind::Normal => "normal_map",
+            MapKind::Texture => "texture_map",
+            MapKind::Slope => "slope_map",
+        }
+    }
 }
 
 impl Item {
@@ -226,8 +337,6 @@ impl Item {
             Item::TextureParam(_) => "a texture parameter",
             Item::ColorMap { .. } => "a color_map",
             Item::MapEntry { .. } => "a color_map entry",
-            Item::PigmentMap { .. } => "a pigment_map",
-            Item::PigmentMapEntry { .. } => "a pigment_map entry",
             Item::Value(_) => "a value",
             Item::ClippedBy { .. } => "`clipped_by`",
             Item::Default { .. } => "`#default`",
@@ -240,6 +349,13 @@ impl Item {
                 AppearanceKind::Normal => "a normal",
             },
             Item::Pattern { .. } => "a pattern",
+            Item::PatternMap { kind, .. } => match kind {
+                MapKind::Pigment => "a pigment_map",
+                MapKind::Normal => "a normal_map",
+                MapKind::Texture => "a texture_map",
+                MapKind::Slope => "a slope_map",
+            },
+            Item::MapBlock { .. } => "a map's entry",
             Item::PovParam { .. } => "a finish or interior item",
         }
     }
@@ -261,11 +377,12 @@ impl Item {
             | Item::CameraProjection { span, .. }
             | Item::Light { span, .. }
             | Item::ColorMap { span, .. }
-            | Item::PigmentMap { span, .. }
             | Item::Default { span, .. }
             | Item::SkySphere { span, .. }
             | Item::ClippedBy { span, .. }
-            | Item::Pattern { span, .. } => span,
+            | Item::Pattern { span, .. }
+            | Item::PatternMap { span, .. }
+            | Item::MapBlock { span, .. } => span,
             Item::Appearance(a) => &a.span,
             Item::PovParam { key, .. } => &key.span,
             Item::Macro(m) => &m.span,
@@ -280,9 +397,7 @@ impl Item {
             Item::MaterialParam(p) => &p.span,
             Item::Texture(t) => &t.span,
             Item::TextureParam(p) => &p.span,
-            Item::MapEntry { position, .. } | Item::PigmentMapEntry { position, .. } => {
-                &position.span
-            }
+            Item::MapEntry { position, .. } => &position.span,
             Item::Value(e) => &e.span,
         }
     }
@@ -586,6 +701,8 @@ pub enum TextureKind {
     Wood,
     ImageMap,
     Mix,
+    /// `pattern { WORD ... }`: POV-Ray's patterns; the pattern is the first item.
+    Pattern,
 }
 
 #[derive(Debug, Clone)]

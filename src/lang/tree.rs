@@ -534,22 +534,6 @@ impl Builder {
                 };
                 Item::MapEntry { position, colour, end }
             }
-            Rule::pigment_map => {
-                self.pov_only(&inner_pair(&pair), None)?;
-                self.enter(&pair)?;
-                let entries = self.items(pair.into_inner().skip(1))?;
-                self.leave();
-                Item::PigmentMap { entries, span }
-            }
-            Rule::pigment_map_entry => {
-                self.enter(&pair)?;
-                let mut inner = pair.into_inner();
-                let position = self.arithmetic(inner.next().expect("the position"))?;
-                let items = self.items(inner)?;
-                self.leave();
-                let pigment = Appearance { kind: AppearanceKind::Pigment, items, span };
-                Item::PigmentMapEntry { position, pigment }
-            }
             Rule::rgb_colour | Rule::expr | Rule::colour => Item::Value(self.value_expr(pair)?),
             Rule::default => {
                 self.pov_only(&pair, None)?;
@@ -564,14 +548,8 @@ impl Builder {
             }
             Rule::pattern => {
                 let mut inner = pair.into_inner();
-                let kind = match inner.next().expect("the pattern's word").as_rule() {
-                    Rule::kw_checker => PatternKind::Checker,
-                    Rule::kw_gradient => PatternKind::Gradient,
-                    Rule::kw_marble => PatternKind::Marble,
-                    Rule::kw_wood => PatternKind::Wood,
-                    Rule::kw_bozo | Rule::kw_spotted => PatternKind::Bozo,
-                    rule => unreachable!("no pattern {rule:?}"),
-                };
+                let word = inner.next().expect("the pattern's word").as_str();
+                let kind = PatternKind::named(word).expect("the grammar names only patterns");
                 let mut arguments = Vec::new();
                 for argument in inner {
                     let span = self.span(&argument);
@@ -582,6 +560,36 @@ impl Builder {
                     arguments.push(Colour { value, span });
                 }
                 Item::Pattern { kind, arguments, span }
+            }
+            Rule::pattern_map => {
+                let mut inner = pair.clone().into_inner();
+                let kind = match inner.next().expect("the map's word").as_str() {
+                    "pigment_map" => MapKind::Pigment,
+                    "normal_map" => MapKind::Normal,
+                    "texture_map" => MapKind::Texture,
+                    "slope_map" => MapKind::Slope,
+                    word => unreachable!("no map `{word}`"),
+                };
+                self.enter(&pair)?;
+                let entries = self.items(inner)?;
+                self.leave();
+                Item::PatternMap { kind, entries, span }
+            }
+            Rule::map_block => {
+                let mut inner = pair.into_inner().peekable();
+                let position = match inner.next_if(|p| p.as_rule() == Rule::map_position) {
+                    Some(position) => Some(self.arithmetic(inner_pair(&position))?),
+                    None => None,
+                };
+                let items = self.items(inner)?;
+                Item::MapBlock { position, items, span }
+            }
+            Rule::warp => {
+                let mut inner = pair.into_inner();
+                let word = inner.next().expect("`warp`");
+                let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                let items = self.items(inner)?;
+                Item::PovParam { key, value: None, items }
             }
             Rule::clipped_by => {
                 self.pov_only(&inner_pair(&pair), None)?;
@@ -621,6 +629,8 @@ impl Builder {
             Rule::finish_item
             | Rule::reflection_item
             | Rule::interior_item
+            | Rule::pattern_parameter
+            | Rule::warp_item
             | Rule::light_option => {
                 if rule == Rule::light_option {
                     let word = inner_pair(&pair);
@@ -664,8 +674,12 @@ impl Builder {
             Rule::normal => AppearanceKind::Normal,
             rule => unreachable!("no appearance {rule:?}"),
         };
-        self.pov_only(&inner_pair(&pair), None)?;
-        if kind == AppearanceKind::Normal {
+        let unread = pair.clone().into_inner().any(|p| p.as_rule() == Rule::normal_unread);
+        // Bump mapping is raydiance's too (in a material); the rest is POV-Ray's alone.
+        if kind != AppearanceKind::Normal || unread {
+            self.pov_only(&inner_pair(&pair), None)?;
+        }
+        if unread {
             // Read whole and not rendered: its items are not parsed.
             return Ok(Appearance { kind, items: Vec::new(), span });
         }
@@ -1027,6 +1041,7 @@ impl Builder {
             Rule::wood => TextureKind::Wood,
             Rule::image_map => TextureKind::ImageMap,
             Rule::mix => TextureKind::Mix,
+            Rule::pattern_texture => TextureKind::Pattern,
             rule => unreachable!("no texture {rule:?}"),
         };
         let mut inner = node.into_inner().skip(1).peekable();

@@ -32,7 +32,8 @@ pub enum Value {
     Finish(Arc<Finish>),
     Look(Arc<Look>),
     Interior(f32),
-    Normal,
+    /// `None`: a normal raydiance reads without rendering (`bump_map`).
+    Normal(Option<Arc<crate::graph::NormalNode>>),
     /// A declared `color_map` (`.pov`): positions and colours.
     ColorMap(Arc<Vec<(f32, glam::Vec3)>>),
     /// A declared camera's parameters (`.pov`).
@@ -59,7 +60,7 @@ impl Value {
             Value::Finish(_) => "a finish",
             Value::Look(_) => "a POV-Ray texture",
             Value::Interior(_) => "an interior",
-            Value::Normal => "a normal",
+            Value::Normal(_) => "a normal",
             Value::Camera(_) => "a camera",
             Value::Sky(_) => "a sky_sphere",
             Value::ColorMap(_) => "a color_map",

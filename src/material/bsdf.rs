@@ -79,6 +79,9 @@ pub struct Bsdf {
     mode: TransportMode,
     /// Its lobes' flags together.
     flags: LobeFlags,
+    /// The geometric normal, where bump mapping tilted the shading normal away from it
+    /// (`facing`); `None` otherwise.
+    geometric: Option<Vec3>,
 }
 
 impl Material {
@@ -109,11 +112,29 @@ impl Material {
             });
         }
         let flags = lobes.iter().fold(LobeFlags::NONE, |flags, lobe| flags | lobe.flags());
-        Bsdf { frame: Frame::from_normal(n), lobes, mode, flags }
+        Bsdf { frame: Frame::from_normal(n), lobes, mode, flags, geometric: None }
     }
 }
 
 impl Bsdf {
+    /// This BSDF on a surface of geometric normal `geometric` (bump mapping's tilted shading
+    /// frame): a pair of directions that the geometric surface and the shading frame see on
+    /// different sides (one reflects where the other transmits) carries nothing, so no light
+    /// leaks through the surface and none reaches it from below.
+    #[inline]
+    pub fn facing(self, geometric: Vec3) -> Bsdf {
+        Bsdf { geometric: Some(geometric), ..self }
+    }
+
+    /// Whether `wo` and `wi` (world) cross the surface differently in the shading frame than
+    /// geometrically (always false without `facing`).
+    #[inline]
+    fn leaks(&self, wo: Vec3, wi: Vec3) -> bool {
+        let Some(n) = self.geometric else { return false };
+        let shading = self.frame.to_local(wo).z * self.frame.to_local(wi).z > 0.0;
+        (wo.dot(n) * wi.dot(n) > 0.0) != shading
+    }
+
     /// The kinds of lobes it has.
     #[inline]
     pub fn flags(&self) -> LobeFlags {
@@ -142,6 +163,9 @@ impl Bsdf {
     /// f(wo, wi) of the lobes with a density.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if self.leaks(wo, wi) {
+            return Vec3::ZERO;
+        }
         self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi))
     }
 
@@ -155,6 +179,9 @@ impl Bsdf {
     /// f(wo, wi) of the lobes with a density that `mask` asks for.
     #[inline]
     pub fn eval_lobes(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
+        if self.leaks(wo, wi) {
+            return Vec3::ZERO;
+        }
         let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
         let taking = self.lobes.iter().filter(|lobe| lobe.flags().is_in(mask));
         taking.map(|lobe| lobe.eval(wo, wi, self.mode)).fold(Vec3::ZERO, |f, lobe| f + lobe)
@@ -171,6 +198,9 @@ impl Bsdf {
     /// directions taken to the shading frame once.
     #[inline]
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> (Vec3, f32) {
+        if self.leaks(wo, wi) {
+            return (Vec3::ZERO, 0.0);
+        }
         let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
         (self.eval_local(wo, wi), self.pdf_of(wo, wi, mask))
     }
@@ -235,12 +265,18 @@ impl Bsdf {
     /// lobes read no `u`.
     #[inline]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mask: LobeFlags) -> Option<BsdfSample> {
-        let wo = self.frame.to_local(wo);
+        let local = self.frame.to_local(wo);
         let sample = match self.lobes.as_slice() {
-            [lobe] => self.sample_lone(lobe, wo, u_lobe, u, mask),
-            _ => self.sample_among(wo, u_lobe, u, mask),
+            [lobe] => self.sample_lone(lobe, local, u_lobe, u, mask),
+            _ => self.sample_among(local, u_lobe, u, mask),
         }?;
-        Some(BsdfSample { wi: self.frame.to_world(sample.wi), ..sample })
+        let wi = self.frame.to_world(sample.wi);
+        // A direction that leaks through the surface ends the path (its light is lost, never
+        // gained).
+        if self.leaks(wo, wi) {
+            return None;
+        }
+        Some(BsdfSample { wi, ..sample })
     }
 
     /// `sample_among` for a BSDF of one lobe (most materials), without the choice among lobes:

@@ -59,7 +59,7 @@ pub fn trace_photon(
         let Some(hit) = scene.intersect(&ray) else { break };
         let wo = -Vec3::from(ray.dir);
         let material = scene.material(hit.primitive, hit.point);
-        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Importance);
+        let (hit, bsdf) = scene.shade(hit, wo, &material, TransportMode::Importance);
         let gathered = bsdf.gathered_lobes();
         if !gathered.is_empty() {
             deposit(&Deposit { hit, wi: wo, power, arrival });

@@ -21,7 +21,7 @@ use crate::graph::{
 };
 use crate::light::{Light, Spot, SpotProfile};
 use crate::material::Material;
-use crate::texture::{ImageMap, Texture};
+use crate::texture::{Bump, ImageMap, Texture};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
 /// and at most this many of them (a box counting six), test rays traced in lanes against all
@@ -223,6 +223,7 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         few_holds_bounded,
         materials: flat.materials,
         textures: flat.textures,
+        bumps: flat.bumps,
         frames: flat.frames,
         lights,
         environment,
@@ -250,6 +251,8 @@ struct Flattener {
     primitives: Vec<Primitive>,
     materials: Vec<Material>,
     textures: Vec<Option<Texture>>,
+    /// Per material, its bump mapping (`Scene::bumps`).
+    bumps: Vec<Option<Bump>>,
     images: HashMap<PathBuf, Arc<ImageMap>>,
     /// World to object space of every object that holds primitives.
     frames: Vec<Affine3A>,
@@ -506,6 +509,7 @@ impl Flattener {
         let index = self.materials.len() as u32;
         self.materials.push(desc.map_or_else(Material::default, |d| Material::from(&**d)));
         self.textures.push(texture);
+        self.bumps.push(desc.and_then(|d| d.normal.as_ref()).map(Bump::new));
         self.material_index.insert(key, index);
         Ok(index)
     }

@@ -16,9 +16,9 @@ use crate::geometry::{Csg, FewShapes, Hit, Intersection, Nearest, Ray, Shape};
 use crate::graph::Settings;
 use crate::lanes::{Floats, LANES, Lane, Mask, RayLanes, Wide};
 use crate::light::{Environment, Light};
-use crate::material::Material;
+use crate::material::{Bsdf, Material, TransportMode};
 use crate::sampling::Sampler;
-use crate::texture::Texture;
+use crate::texture::{Bump, Texture, tilt};
 
 #[derive(Debug, Clone)]
 pub struct Primitive {
@@ -60,6 +60,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Per material, its `diffuse` texture when that is not a plain colour.
     textures: Vec<Option<Texture>>,
+    /// Per material, its bump mapping, if any.
+    bumps: Vec<Option<Bump>>,
     /// World to object space of each object, for textures.
     frames: Vec<Affine3A>,
     pub lights: Vec<Light>,
@@ -227,6 +229,35 @@ impl Scene {
             material.diffuse = texture.eval(p);
         }
         material
+    }
+
+    /// The BSDF of `material` (`Scene::material`'s at `hit`) seen from `wo`, and `hit` with
+    /// the shading normal it uses: bumped by the material's bump mapping, if any, and then
+    /// kept consistent with the geometric normal (`texture::tilt`, `Bsdf::facing`). Without
+    /// bump mapping, `material.bsdf(hit.shading_normal, mode)` and the hit as it is.
+    #[inline]
+    pub fn shade(
+        &self,
+        hit: Hit,
+        wo: Vec3,
+        material: &Material,
+        mode: TransportMode,
+    ) -> (Hit, Bsdf) {
+        let primitive = &self.primitives[hit.primitive as usize];
+        let Some(bump) = &self.bumps[primitive.material as usize] else {
+            return (hit, material.bsdf(hit.shading_normal, mode));
+        };
+        let to_object = &self.frames[primitive.frame as usize];
+        let gradient = bump.gradient(to_object.transform_point3(hit.point));
+        // A gradient is a covector: to world space by the transpose of world-to-object.
+        let gradient = glam::Mat3::from(to_object.matrix3).transpose() * gradient;
+        let shading_normal = tilt(hit.shading_normal, gradient, hit.normal, wo);
+        if shading_normal == hit.shading_normal {
+            // No tilt here (amount 0, a flat stretch): exactly the surface without bumps.
+            return (hit, material.bsdf(hit.shading_normal, mode));
+        }
+        let hit = Hit { shading_normal, ..hit };
+        (hit, material.bsdf(shading_normal, mode).facing(hit.normal))
     }
 
     /// The environment light, if the scene has one, and its index in `lights`.

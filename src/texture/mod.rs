@@ -1,18 +1,23 @@
 //! Procedural textures (`docs/language.md`, Textures): patterns evaluated in object space, moved by
 //! their own transforms (the value at p is the plain pattern's at T^-1(p)).
 
+mod bump;
+mod field;
 mod image_map;
 mod noise;
+mod warp;
 
+pub use bump::{Bump, tilt};
+pub use field::{default_wave, shaped_value, wave};
 pub use image_map::ImageMap;
-pub use noise::{fbm, perlin};
+pub use noise::{Octaves, fbm, noise, perlin};
 
 use std::f32::consts::PI;
 use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use crate::graph::{ColorMap, Pattern, TextureNode, compose};
+use crate::graph::{ColorMap, FieldShape, Pattern, TextureNode, compose};
 
 #[derive(Debug, Clone)]
 pub struct Texture {
@@ -25,20 +30,48 @@ pub struct Texture {
 enum Kind {
     Solid(Vec3),
     Checker(Box<Texture>, Box<Texture>),
-    Stripes { a: Box<Texture>, b: Box<Texture>, axis: Vec3 },
-    Gradient { axis: Vec3, map: ColorMap },
-    Noise { octaves: u32, map: ColorMap },
-    Marble { turbulence: f32, octaves: u32, map: ColorMap },
-    Wood { turbulence: f32, octaves: u32, map: ColorMap },
+    Stripes {
+        a: Box<Texture>,
+        b: Box<Texture>,
+        axis: Vec3,
+    },
+    Gradient {
+        axis: Vec3,
+        map: ColorMap,
+    },
+    Noise {
+        octaves: u32,
+        map: ColorMap,
+    },
+    Marble {
+        turbulence: f32,
+        octaves: u32,
+        map: ColorMap,
+    },
+    Wood {
+        turbulence: f32,
+        octaves: u32,
+        map: ColorMap,
+    },
     Image(Arc<ImageMap>),
-    Mix { a: Box<Texture>, b: Box<Texture>, t: Box<Texture> },
+    Mix {
+        a: Box<Texture>,
+        b: Box<Texture>,
+        t: Box<Texture>,
+    },
+    Field {
+        shape: FieldShape,
+        map: Vec<(f32, Texture)>,
+    },
+    /// Weights normalised to sum to 1.
+    Average(Vec<(f32, Texture)>),
 }
 
 /// Nudge applied to points before cell-based patterns: a plane that lies exactly on a cell
 /// boundary (`checker` on the floor y = -1) would otherwise flip between cells with the
 /// rounding of each hit point. Shifting by a fixed tiny amount puts such a plane inside one
 /// cell consistently, without visibly moving the pattern.
-const BOUNDARY_NUDGE: Vec3 = Vec3::new(1.1e-4, 1.3e-4, 1.7e-4);
+pub(crate) const BOUNDARY_NUDGE: Vec3 = Vec3::new(1.1e-4, 1.3e-4, 1.7e-4);
 
 impl Texture {
     /// Compiles a texture node; `load` reads `image_map` files (errors are the caller's).
@@ -65,6 +98,21 @@ impl Texture {
             }
             Pattern::Image { path } => Kind::Image(load(path)?),
             Pattern::Mix { a, b, t } => Kind::Mix { a: sub(a)?, b: sub(b)?, t: sub(t)? },
+            Pattern::Field { shape, map } => {
+                let mut entries = Vec::with_capacity(map.len());
+                for (position, node) in map {
+                    entries.push((*position, *sub(node)?));
+                }
+                Kind::Field { shape: (**shape).clone(), map: entries }
+            }
+            Pattern::Average(map) => {
+                let total: f32 = map.iter().map(|(weight, _)| weight).sum();
+                let mut entries = Vec::with_capacity(map.len());
+                for (weight, node) in map {
+                    entries.push((weight / total, *sub(node)?));
+                }
+                Kind::Average(entries)
+            }
         };
         Ok(Texture { kind, to_pattern: compose(&node.transforms).inverse() })
     }
@@ -101,26 +149,40 @@ impl Texture {
                 let t = t.eval(q).dot(Vec3::splat(1.0 / 3.0)).clamp(0.0, 1.0);
                 a.eval(q) * (1.0 - t) + b.eval(q) * t
             }
+            Kind::Field { shape, map } => {
+                let (i, j, s) = bracket(map.iter().map(|e| e.0), shaped_value(shape, q));
+                let a = map[i].1.eval(q);
+                if i == j { a } else { a + (map[j].1.eval(q) - a) * s }
+            }
+            Kind::Average(map) => map.iter().map(|(weight, t)| t.eval(q) * *weight).sum(),
         }
     }
 }
 
-/// Linear interpolation in a color_map (clamped at its ends).
+/// Linear interpolation in a color_map (clamped at its ends); black to white when empty.
 fn lookup(map: &ColorMap, t: f32) -> Vec3 {
-    let Some(first) = map.first() else {
+    if map.is_empty() {
         return Vec3::splat(t);
-    };
-    if t <= first.0 {
-        return first.1;
     }
-    for pair in map.windows(2) {
-        let ((t0, c0), (t1, c1)) = (pair[0], pair[1]);
+    let (i, j, s) = bracket(map.iter().map(|e| e.0), t);
+    map[i].1 + (map[j].1 - map[i].1) * s
+}
+
+/// Where `t` falls in a map of ascending positions (at least one): the entries either side and
+/// how far from the first to the second, clamped to the first and last entries.
+pub fn bracket(positions: impl ExactSizeIterator<Item = f32>, t: f32) -> (usize, usize, f32) {
+    let last = positions.len() - 1;
+    let mut previous: Option<f32> = None;
+    for (j, t1) in positions.enumerate() {
         if t <= t1 {
-            let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
-            return c0 + (c1 - c0) * s;
+            return match previous {
+                None => (0, 0, 0.0),
+                Some(t0) => (j - 1, j, if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 }),
+            };
         }
+        previous = Some(t1);
     }
-    map.last().map_or(Vec3::ZERO, |e| e.1)
+    (last, last, 0.0)
 }
 
 #[cfg(test)]

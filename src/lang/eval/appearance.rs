@@ -7,12 +7,11 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 use super::expression::single;
+use super::pattern::PatternState;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{MaterialDesc, Pattern, TextureNode};
-use crate::lang::syntax::{
-    Appearance, AppearanceKind, Colour, Ident, Item, PatternKind, TextureParamKind,
-};
+use crate::graph::{MaterialDesc, NormalNode, Pattern, TextureNode};
+use crate::lang::syntax::{Appearance, AppearanceKind, Colour, Ident, Item};
 use crate::lang::value::Value;
 
 /// A pigment: a colour or a pattern of colours, and how much light passes through its colour
@@ -89,6 +88,8 @@ impl Finish {
 pub struct Look {
     pub pigment: Pigment,
     pub finish: Finish,
+    /// `normal { }`: bump mapping, if any.
+    pub normal: Option<NormalNode>,
     /// `interior { ior }`: 1 when not given.
     pub ior: f32,
 }
@@ -99,6 +100,7 @@ impl Default for Look {
         Look {
             pigment: Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 },
             finish: POV_FINISH,
+            normal: None,
             ior: 1.0,
         }
     }
@@ -107,13 +109,7 @@ impl Default for Look {
 /// A pigment's items as they are read.
 pub struct PigmentState {
     pigment: Pigment,
-    /// The pattern, its colours (`checker`) and its axis (`gradient`).
-    pattern: Option<(PatternKind, Vec<TextureNode>, Option<Vec3>)>,
-    map: Option<Vec<(f32, Vec3)>>,
-    /// A `pigment_map`'s positions and pigments, and where it stands.
-    pigment_map: Option<(Vec<(f32, Pigment)>, Span)>,
-    turbulence: f32,
-    octaves: u32,
+    pattern: PatternState,
 }
 
 impl Evaluator {
@@ -131,19 +127,32 @@ impl Evaluator {
             AppearanceKind::Texture => {
                 // A texture starts from the default one, as POV-Ray's does.
                 let mut texture = self.default_look.clone();
-                self.exec(&appearance.items, &mut Body::Look(&mut texture))?;
+                if appearance.items.iter().any(|item| matches!(item, Item::Pattern { .. })) {
+                    // A patterned texture (`texture { P texture_map { ... } }`): its pattern,
+                    // modifiers and transforms make its pigment (`pattern_texture` reads the
+                    // map's textures).
+                    let black = Look::default().pigment;
+                    let (pigment, finish) = self.patterned(&appearance.items, &black)?;
+                    texture.pigment = pigment;
+                    texture.finish = finish.unwrap_or(texture.finish);
+                } else {
+                    self.exec(&appearance.items, &mut Body::Look(&mut texture))?;
+                }
                 look.pigment = texture.pigment;
                 look.finish = texture.finish;
+                look.normal = texture.normal;
             }
             AppearanceKind::Interior => {
                 self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?
             }
-            AppearanceKind::Normal => self.warn_normal(&appearance.span),
+            AppearanceKind::Normal => {
+                look.normal = self.normal(appearance, look.normal.as_ref())?;
+            }
         }
         Ok(())
     }
 
-    fn warn_normal(&mut self, span: &Span) {
+    pub(super) fn warn_normal(&mut self, span: &Span) {
         let at = self.here(span);
         self.warnings.push(format!(
             "{at:?}: warning: `normal` (POV-Ray's bump mapping) is read but not rendered: \
@@ -173,10 +182,7 @@ impl Evaluator {
                 self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?;
                 Value::Interior(look.ior)
             }
-            AppearanceKind::Normal => {
-                self.warn_normal(&appearance.span);
-                Value::Normal
-            }
+            AppearanceKind::Normal => Value::Normal(self.normal(appearance, None)?.map(Arc::new)),
         })
     }
 
@@ -185,48 +191,33 @@ impl Evaluator {
         appearance: &Appearance,
         base: &Pigment,
     ) -> Result<Pigment, SceneError> {
-        let mut state = PigmentState {
-            pigment: base.clone(),
-            pattern: None,
-            map: None,
-            pigment_map: None,
-            turbulence: 0.0,
-            octaves: 4,
+        self.pigment_of(&appearance.items, base)
+    }
+
+    /// The pigment `items` make, starting from `base`.
+    pub(super) fn pigment_of(
+        &mut self,
+        items: &[Item],
+        base: &Pigment,
+    ) -> Result<Pigment, SceneError> {
+        Ok(self.patterned(items, base)?.0)
+    }
+
+    /// The pigment `items` make, starting from `base`, and the finish of the textures of a
+    /// texture_map among them.
+    fn patterned(
+        &mut self,
+        items: &[Item],
+        base: &Pigment,
+    ) -> Result<(Pigment, Option<Finish>), SceneError> {
+        let mut state = PigmentState { pigment: base.clone(), pattern: PatternState::default() };
+        self.exec(items, &mut Body::Pigment(&mut state))?;
+        let Some((kind, arguments, at)) = state.pattern.word.clone() else {
+            return Ok((state.pigment, None));
         };
-        self.exec(&appearance.items, &mut Body::Pigment(&mut state))?;
-        let Some((kind, mut colours, axis)) = state.pattern else {
-            return Ok(state.pigment);
-        };
-        // Without a map, black to white.
-        let map = state
-            .map
-            .filter(|m| !m.is_empty())
-            .unwrap_or_else(|| vec![(0.0, Vec3::ZERO), (1.0, Vec3::ONE)]);
-        let (turbulence, octaves) = (state.turbulence, state.octaves);
-        // The pattern through a map; `checker` has none (it takes two colours).
-        let graded = |map| match kind {
-            PatternKind::Checker => None,
-            PatternKind::Gradient => Some(Pattern::Gradient { axis: axis.unwrap_or(Vec3::Y), map }),
-            PatternKind::Marble => Some(Pattern::Marble { turbulence, octaves, map }),
-            PatternKind::Wood => Some(Pattern::Wood { turbulence, octaves, map }),
-            PatternKind::Bozo => Some(Pattern::Noise { octaves: 1, map }),
-        };
-        let pattern = match state.pigment_map {
-            Some((entries, span)) => blend(entries, graded).ok_or_else(|| {
-                SceneError::at(&span, "`checker` takes two colours, not a pigment_map")
-            })?,
-            None => graded(map).unwrap_or_else(|| {
-                // POV-Ray's checker is blue and green unless given its colours.
-                let b = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 1.0, 0.0)));
-                let a = colours.pop().unwrap_or(TextureNode::solid(Vec3::new(0.0, 0.0, 1.0)));
-                Pattern::Checker(Box::new(a), Box::new(b))
-            }),
-        };
-        Ok(Pigment {
-            colour: TextureNode { pattern, transforms: state.pigment.colour.transforms },
-            filter: 0.0,
-            transmit: 0.0,
-        })
+        let (pattern, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
+        let colour = TextureNode { pattern, transforms: state.pigment.colour.transforms };
+        Ok((Pigment { colour, filter: 0.0, transmit: 0.0 }, finish))
     }
 
     pub(super) fn pigment_item(
@@ -234,108 +225,31 @@ impl Evaluator {
         item: &Item,
         state: &mut PigmentState,
     ) -> Result<(), SceneError> {
+        if let Item::Pattern { .. } = item {
+            state.pigment.colour.transforms.clear();
+        }
+        if self.pattern_item(item, &mut state.pattern)? {
+            return Ok(());
+        }
         match item {
             Item::Value(expr) => match self.value(expr)? {
                 Value::Pigment(p) => {
                     state.pigment = (*p).clone();
-                    state.pattern = None;
+                    state.pattern.word = None;
                 }
                 other => {
                     let (colour, filter, transmit) = pov_colour(other, &expr.span)?;
                     state.pigment =
                         Pigment { colour: TextureNode::solid(colour), filter, transmit };
-                    state.pattern = None;
+                    state.pattern.word = None;
                 }
             },
-            Item::Pattern { kind, arguments, .. } => {
-                let mut colours = Vec::new();
-                let mut axis = None;
-                for argument in arguments {
-                    match kind {
-                        PatternKind::Gradient => {
-                            axis = Some(self.nonzero(&argument.value, "the gradient's axis")?)
-                        }
-                        PatternKind::Checker
-                        | PatternKind::Marble
-                        | PatternKind::Wood
-                        | PatternKind::Bozo => {
-                            colours.push(TextureNode::solid(self.pov_colour(argument)?.0))
-                        }
-                    }
-                }
-                state.pattern = Some((*kind, colours, axis));
-                state.pigment.colour.transforms.clear();
-            }
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
                 state.pigment.colour.transforms.push(transform);
             }
-            Item::ColorMap { entries, span } => {
-                let mut map = Vec::new();
-                self.exec(entries, &mut Body::ColorMap(&mut map))?;
-                if state.map.replace(map).is_some() {
-                    return Err(SceneError::at(span, "a second color_map"));
-                }
-            }
-            Item::PigmentMap { entries, span } => {
-                let mut map = Vec::new();
-                self.exec(entries, &mut Body::PigmentMap(&mut map))?;
-                if map.is_empty() {
-                    return Err(SceneError::at(span, "a pigment_map without entries"));
-                }
-                if state.pigment_map.replace((map, span.clone())).is_some() {
-                    return Err(SceneError::at(span, "a second pigment_map"));
-                }
-            }
-            Item::TextureParam(param) => match param.kind {
-                TextureParamKind::Turbulence => {
-                    let t = self.single(&param.value)?;
-                    state.turbulence = t.max(0.0);
-                }
-                TextureParamKind::Octaves => {
-                    state.octaves = self.integer(&param.value, 1, 16)? as u32;
-                }
-                TextureParamKind::Axis => {
-                    return Err(SceneError::at(&param.span, "`axis` is not POV-Ray's word"));
-                }
-            },
             _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
         }
-        Ok(())
-    }
-
-    /// `[position pigment's items]` of a pigment_map, after those before it. A pigment's filter
-    /// and transmit are dropped with a warning, as a color_map's are.
-    pub(super) fn pigment_map_entry(
-        &mut self,
-        item: &Item,
-        entries: &mut Vec<(f32, Pigment)>,
-    ) -> Result<(), SceneError> {
-        let Item::PigmentMapEntry { position: at, pigment } = item else {
-            return Err(Self::misplaced(item, &Body::PigmentMap(entries)));
-        };
-        let position = self.single(at)?;
-        let previous = entries.last().map_or(0.0, |e| e.0);
-        if !(previous..=1.0).contains(&position) {
-            return Err(SceneError::at(
-                &at.span,
-                format!(
-                    "pigment_map position {position} must be in [0, 1] and not below the one \
-                     before"
-                ),
-            ));
-        }
-        let base = Look::default().pigment;
-        let pigment = self.pigment(pigment, &base)?;
-        if pigment.filter + pigment.transmit > 0.0 && !self.warned_map_filter {
-            self.warned_map_filter = true;
-            let here = self.here(&at.span);
-            self.warnings.push(format!(
-                "{here:?}: warning: `filter` and `transmit` in a pigment_map are not rendered: \
-                 the map's pigments are opaque"
-            ));
-        }
-        entries.push((position, pigment));
         Ok(())
     }
 
@@ -436,11 +350,15 @@ impl Evaluator {
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
                 look.pigment.colour.transforms.push(transform);
+                if let Some(normal) = &mut look.normal {
+                    normal.transforms.push(transform);
+                }
             }
             Item::Value(expr) => match self.value(expr)? {
                 Value::Look(l) => {
                     look.pigment = l.pigment.clone();
                     look.finish = l.finish.clone();
+                    look.normal = l.normal.clone();
                 }
                 other => {
                     return Err(SceneError::at(
@@ -488,7 +406,7 @@ impl Evaluator {
     /// are scaled down together. `ambient` is light only where `diffuse` is 0 (the object only
     /// glows); `emission` always is.
     pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
-        let Look { pigment, finish, ior } = look;
+        let Look { pigment, finish, normal, ior } = look;
         let colour = pigment.colour.max_value();
         let solid = matches!(pigment.colour.pattern, Pattern::Solid(_));
         let opacity = (1.0 - pigment.filter - pigment.transmit).max(0.0);
@@ -553,41 +471,10 @@ impl Evaluator {
             roughness,
             coat,
             coat_roughness,
+            normal: normal.clone(),
             span: at,
         })
     }
-}
-
-/// POV-Ray's pigment_map: the pattern's value v picks the two entries around it and blends their
-/// pigments as a color_map blends colours (the first below its position, the last above). Made
-/// of mixes, each entry over the ones after it by the pattern through a ramp from 0 at the
-/// entry's position to 1 at the next one's. `None` where `graded` has no map (`checker`).
-fn blend(
-    entries: Vec<(f32, Pigment)>,
-    graded: impl Fn(Vec<(f32, Vec3)>) -> Option<Pattern>,
-) -> Option<Pattern> {
-    let mut entries = entries.into_iter().rev();
-    let (mut next_position, last) = entries.next()?;
-    let mut blended = last.colour;
-    let mut any = false;
-    for (position, pigment) in entries {
-        let ramp = graded(vec![(position, Vec3::ZERO), (next_position, Vec3::ONE)])?;
-        let mix = Pattern::Mix {
-            a: Box::new(pigment.colour),
-            b: Box::new(blended),
-            t: Box::new(TextureNode { pattern: ramp, transforms: Vec::new() }),
-        };
-        blended = TextureNode { pattern: mix, transforms: Vec::new() };
-        next_position = position;
-        any = true;
-    }
-    // One entry: its pigment everywhere (the pattern still has to be one with a map).
-    graded(Vec::new())?;
-    Some(if any {
-        blended.pattern
-    } else {
-        Pattern::Checker(Box::new(blended.clone()), Box::new(blended))
-    })
 }
 
 /// A value where POV-Ray takes a colour: a number (grey), `<r, g, b>`, `<r, g, b, f>` or

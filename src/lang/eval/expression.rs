@@ -32,7 +32,7 @@ impl Evaluator {
             | Value::Finish(_)
             | Value::Look(_)
             | Value::Interior(_)
-            | Value::Normal
+            | Value::Normal(_)
             | Value::ColorMap(_)
             | Value::Camera(_)
             | Value::Sky(_) => true,

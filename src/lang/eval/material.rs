@@ -6,12 +6,13 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::expression::colour_of;
+use super::pattern::PatternState;
 use super::{Body, Evaluator, Look, resolve};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
-    self, Colour, Expr, ExprKind, Item, MaterialParamKind, TextureArg, TextureKind,
+    self, AppearanceKind, Colour, Expr, ExprKind, Item, MaterialParamKind, TextureArg, TextureKind,
     TextureParamKind,
 };
 use crate::lang::value::Value;
@@ -19,6 +20,8 @@ use crate::lang::value::Value;
 /// A texture node's items as they are read.
 pub struct TextureState {
     kind: TextureKind,
+    /// `pattern { }`'s pattern and modifiers.
+    pattern: PatternState,
     transforms: Vec<Transform>,
     map: Option<Vec<(f32, Vec3)>>,
     axis: Option<Vec3>,
@@ -106,8 +109,13 @@ impl Evaluator {
         item: &Item,
         material: &mut MaterialDesc,
     ) -> Result<(), SceneError> {
-        let Item::MaterialParam(param) = item else {
-            return Err(Self::misplaced(item, &Body::Material(material)));
+        let param = match item {
+            Item::MaterialParam(param) => param,
+            Item::Appearance(a) if a.kind == AppearanceKind::Normal => {
+                material.normal = self.normal(a, material.normal.as_ref())?;
+                return Ok(());
+            }
+            _ => return Err(Self::misplaced(item, &Body::Material(material))),
         };
         match &param.kind {
             MaterialParamKind::Fresnel => material.fresnel = true,
@@ -175,6 +183,7 @@ impl Evaluator {
         };
         let mut state = TextureState {
             kind: t.kind,
+            pattern: PatternState::default(),
             transforms: Vec::new(),
             map: None,
             axis: None,
@@ -204,6 +213,11 @@ impl Evaluator {
                 Pattern::Image { path: path.expect("the grammar gives image_map a file") }
             }
             TextureKind::Mix => Pattern::Mix { a: arg(), b: arg(), t: arg() },
+            TextureKind::Pattern => {
+                let (kind, arguments, at) =
+                    state.pattern.word.clone().expect("the grammar gives the pattern first");
+                self.pattern_texture(kind, &arguments, &state.pattern, &at)?.0
+            }
         };
         self.count_texture_nodes(1, &t.span)?;
         let node = TextureNode { pattern, transforms: state.transforms };
@@ -228,6 +242,9 @@ impl Evaluator {
         state: &mut TextureState,
     ) -> Result<(), SceneError> {
         let kind = state.kind;
+        if kind == TextureKind::Pattern && self.pattern_item(item, &mut state.pattern)? {
+            return Ok(());
+        }
         match item {
             Item::Transform(t) => state.transforms.push(self.transform(t)?),
             Item::ColorMap { entries, span } => {

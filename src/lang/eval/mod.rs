@@ -15,12 +15,14 @@ mod camera;
 mod expression;
 mod light;
 mod material;
+mod normal;
 mod object;
+mod pattern;
 mod scope;
 mod sky;
 
 use super::syntax::{
-    Call, CaseTest, Condition, Declare, Declared, Ident, Item, MessageKind, SettingKind,
+    Call, CaseTest, Condition, Declare, Declared, Ident, Item, MapKind, MessageKind, SettingKind,
 };
 use super::value::Value;
 use super::{parser, tree};
@@ -40,6 +42,8 @@ use array::element_index;
 pub use camera::CameraParams;
 use light::{LightState, PovLight};
 pub use material::TextureState;
+use normal::NormalState;
+use pattern::MapState;
 use scope::{Scope, Slot};
 
 /// Includes may nest this deep.
@@ -177,10 +181,12 @@ pub enum Body<'a> {
     Material(&'a mut crate::graph::MaterialDesc),
     Texture(&'a mut TextureState),
     ColorMap(&'a mut Vec<(f32, Vec3)>),
-    /// POV-Ray's `pigment_map` (`.pov`): positions and pigments.
-    PigmentMap(&'a mut Vec<(f32, Pigment)>),
     /// POV-Ray's pigment, finish, texture (with `#default`) and interior's ior (`.pov`).
     Pigment(&'a mut PigmentState),
+    /// POV-Ray's `normal { }` (both dialects).
+    Normal(&'a mut NormalState),
+    /// A pigment, normal, texture or slope map's entries.
+    PatternMap(&'a mut MapState),
     Finish(&'a mut Finish),
     Look(&'a mut Look),
     Interior(&'a mut f32),
@@ -218,8 +224,14 @@ impl Body<'_> {
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",
             Body::ColorMap(_) => "in a color_map",
-            Body::PigmentMap(_) => "in a pigment_map",
             Body::Pigment(_) => "in a pigment",
+            Body::Normal(_) => "in a normal",
+            Body::PatternMap(map) => match map.kind {
+                MapKind::Pigment => "in a pigment_map",
+                MapKind::Normal => "in a normal_map",
+                MapKind::Texture => "in a texture_map",
+                MapKind::Slope => "in a slope_map",
+            },
             Body::Finish(_) => "in a finish",
             Body::Look(_) => "in a texture",
             Body::Interior(_) => "in an interior",
@@ -405,10 +417,10 @@ impl Evaluator {
             | Item::MaterialParam(_)
             | Item::Texture(_)
             | Item::TextureParam(_)
+            | Item::PatternMap { .. }
+            | Item::MapBlock { .. }
             | Item::ColorMap { .. }
             | Item::MapEntry { .. }
-            | Item::PigmentMap { .. }
-            | Item::PigmentMapEntry { .. }
             | Item::Default { .. }
             | Item::SkySphere { .. }
             | Item::Appearance(_)
@@ -424,9 +436,10 @@ impl Evaluator {
                 Body::Material(material) => self.material_item(item, material),
                 Body::Texture(state) => self.texture_item(item, state),
                 Body::ColorMap(entries) => self.map_entry(item, entries),
-                Body::PigmentMap(entries) => self.pigment_map_entry(item, entries),
                 Body::Value(slot) => self.value_item(item, slot),
                 Body::Pigment(state) => self.pigment_item(item, state),
+                Body::Normal(state) => self.normal_item(item, state),
+                Body::PatternMap(state) => self.map_block(item, state),
                 Body::Finish(finish) => self.finish_item(item, finish),
                 Body::Look(look) => self.look_item(item, look),
                 Body::Interior(ior) => self.interior_item(item, ior),

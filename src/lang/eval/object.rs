@@ -293,6 +293,11 @@ impl Evaluator {
                 }
             }
             Item::Appearance(appearance) => {
+                if self.dialect == Dialect::Scn {
+                    let advice =
+                        crate::lang::povray::message("normal", None).expect("`normal` has advice");
+                    return Err(SceneError::at(&appearance.span, advice));
+                }
                 let mut look = match self.looks.last_mut().and_then(Option::take) {
                     Some(look) => look,
                     None => self.default_look.clone(),

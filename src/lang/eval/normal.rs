@@ -1,0 +1,135 @@
+//! POV-Ray's `normal { PATTERN AMOUNT ... }` (both dialects): bump mapping, read into a
+//! `NormalNode` (`docs/language.md`, Bump mapping).
+
+use super::pattern::{PatternState, own_arguments};
+use super::{Body, Evaluator};
+use crate::diagnostic::SceneError;
+use crate::graph::{NormalNode, NormalPattern, Transform};
+use crate::lang::syntax::{Appearance, Item, MapKind, PatternKind};
+use crate::lang::value::Value;
+
+/// A pattern's amount in a normal when none is given (POV-Ray's).
+const DEFAULT_AMOUNT: f32 = 0.5;
+
+/// A normal's items as they are read.
+pub struct NormalState {
+    pattern: PatternState,
+    transforms: Vec<Transform>,
+    /// A declared normal named in it.
+    base: Option<NormalNode>,
+}
+
+impl NormalNode {
+    /// No perturbation.
+    pub fn flat() -> NormalNode {
+        NormalNode { pattern: NormalPattern::Average(Vec::new()), transforms: Vec::new() }
+    }
+}
+
+impl Evaluator {
+    /// The bump mapping a `normal { }` makes, over `base`; `None`: none.
+    pub(super) fn normal(
+        &mut self,
+        appearance: &Appearance,
+        base: Option<&NormalNode>,
+    ) -> Result<Option<NormalNode>, SceneError> {
+        if appearance.items.is_empty() {
+            // Read whole (a form raydiance does not render, such as `bump_map`), or empty.
+            self.warn_normal(&appearance.span);
+            return Ok(base.cloned());
+        }
+        self.normal_of(&appearance.items, base)
+    }
+
+    /// The bump mapping `items` make, over `base`.
+    pub(super) fn normal_of(
+        &mut self,
+        items: &[Item],
+        base: Option<&NormalNode>,
+    ) -> Result<Option<NormalNode>, SceneError> {
+        let mut state = NormalState {
+            pattern: PatternState::default(),
+            transforms: Vec::new(),
+            base: base.cloned(),
+        };
+        self.exec(items, &mut Body::Normal(&mut state))?;
+        let Some((kind, arguments, at)) = state.pattern.word.clone() else {
+            return Ok(state.base.map(|mut node| {
+                node.transforms.extend(state.transforms);
+                node
+            }));
+        };
+        let amount = match arguments.get(own_arguments(kind)) {
+            Some(a) => self.single(&a.value)?,
+            None => DEFAULT_AMOUNT,
+        };
+        let average = kind == PatternKind::Average;
+        let map = match &state.pattern.map {
+            Some((map_kind, entries, _)) => Some(self.map_entries(*map_kind, entries, average)?),
+            None => None,
+        };
+        let pattern = match map {
+            Some(map) if average => match map.kind {
+                MapKind::Normal => NormalPattern::Average(map.normals),
+                MapKind::Pigment | MapKind::Texture | MapKind::Slope => {
+                    return Err(SceneError::at(&at, "a normal's `average` takes a normal_map"));
+                }
+            },
+            Some(map) => {
+                let shape = Box::new(self.field_shape(kind, &arguments, &state.pattern, &at)?);
+                match map.kind {
+                    MapKind::Normal => NormalPattern::Map { shape, map: map.normals },
+                    MapKind::Slope => NormalPattern::Bumps { shape, amount, slopes: map.slopes },
+                    MapKind::Pigment | MapKind::Texture => {
+                        return Err(SceneError::at(
+                            &at,
+                            format!("a {} stands in a pigment or a texture", map.kind.word()),
+                        ));
+                    }
+                }
+            }
+            None => {
+                if state.pattern.color_map.is_some() {
+                    return Err(SceneError::at(&at, "a color_map stands in a pigment"));
+                }
+                let shape = Box::new(self.field_shape(kind, &arguments, &state.pattern, &at)?);
+                NormalPattern::Bumps { shape, amount, slopes: Vec::new() }
+            }
+        };
+        Ok(Some(NormalNode { pattern, transforms: state.transforms }))
+    }
+
+    pub(super) fn normal_item(
+        &mut self,
+        item: &Item,
+        state: &mut NormalState,
+    ) -> Result<(), SceneError> {
+        if let Item::Pattern { .. } = item {
+            state.transforms.clear();
+        }
+        if self.pattern_item(item, &mut state.pattern)? {
+            return Ok(());
+        }
+        match item {
+            Item::Transform(t) => {
+                let transform = self.transform(t)?;
+                state.transforms.push(transform);
+            }
+            Item::Value(expr) => match self.value(expr)? {
+                Value::Normal(node) => {
+                    state.base = node.map(|n| (*n).clone());
+                    state.pattern.word = None;
+                    state.transforms.clear();
+                }
+                other => {
+                    return Err(SceneError::at(
+                        &expr.span,
+                        format!("a normal names a declared normal, not {}", other.kind()),
+                    ));
+                }
+            },
+            _ => return Err(Self::misplaced(item, &Body::Normal(state))),
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,579 @@
+//! POV-Ray's patterns and their modifiers (`turbulence octaves omega lambda`, `frequency phase`,
+//! the wave types, `warp { }`, the pattern's own parameters and its map), read the same in a
+//! pigment, a normal, a texture and `.scn`'s `pattern { }` (`docs/language.md`, Patterns).
+
+use glam::Vec3;
+
+use super::appearance::{Finish, Pigment};
+use super::{Body, Evaluator};
+use crate::diagnostic::{SceneError, Span};
+use crate::graph::{
+    Field, FieldShape, NormalNode, Pattern, SlopeMap, TextureMap, TextureNode, Turbulence, Warp,
+    Wave,
+};
+use crate::lang::dialect::Dialect;
+use crate::lang::syntax::{Colour, Item, MapKind, PatternKind, TextureArg, TextureParamKind};
+use crate::lang::value::Value;
+use crate::texture::default_wave;
+
+/// A pattern map's entries as they are read (each evaluated where it stands, so that a `#for`
+/// loop's variable is the one of its turn).
+#[derive(Debug)]
+pub struct MapState {
+    pub kind: MapKind,
+    /// `average`'s map: positions are weights (> 0), in any order.
+    pub weights: bool,
+    pub textures: TextureMap,
+    pub normals: Vec<(f32, NormalNode)>,
+    pub slopes: SlopeMap,
+    /// A `.pov` texture_map's textures' one finish.
+    pub finish: Option<Finish>,
+}
+
+/// A pattern's items as they are read.
+#[derive(Debug, Clone, Default)]
+pub struct PatternState {
+    /// The pattern's word, its arguments (colours, axis, count, amount) and where it stands.
+    pub word: Option<(PatternKind, Vec<Colour>, Span)>,
+    turbulence: Option<Vec3>,
+    octaves: Option<u32>,
+    omega: Option<f32>,
+    lambda: Option<f32>,
+    frequency: Option<f32>,
+    phase: Option<f32>,
+    wave: Option<Wave>,
+    brick_size: Option<Vec3>,
+    mortar: Option<f32>,
+    control0: Option<f32>,
+    control1: Option<f32>,
+    agate_turb: Option<f32>,
+    warps: Vec<Warp>,
+    /// A `color_map`'s entries.
+    pub color_map: Option<Vec<(f32, Vec3)>>,
+    /// A pigment, normal, texture or slope map: its kind, entries (read by the caller) and span.
+    pub map: Option<(MapKind, Vec<Item>, Span)>,
+}
+
+impl Evaluator {
+    /// Reads `item` into `state` if it is part of a pattern; `false` if it is not.
+    pub(super) fn pattern_item(
+        &mut self,
+        item: &Item,
+        state: &mut PatternState,
+    ) -> Result<bool, SceneError> {
+        match item {
+            Item::Pattern { kind, arguments, span } => {
+                state.word = Some((*kind, arguments.clone(), span.clone()));
+            }
+            Item::TextureParam(param) => match param.kind {
+                TextureParamKind::Turbulence => {
+                    let amount = match self.value(&param.value)? {
+                        Value::Float(f) => Vec3::splat(f as f32),
+                        _ => self.vec3(&param.value)?,
+                    };
+                    if amount.min_element() < 0.0 {
+                        return Err(SceneError::at(
+                            &param.value.span,
+                            format!("turbulence {amount} is negative"),
+                        ));
+                    }
+                    state.turbulence = Some(amount);
+                }
+                TextureParamKind::Octaves => {
+                    state.octaves = Some(self.integer(&param.value, 1, 16)? as u32)
+                }
+                TextureParamKind::Axis => return Ok(false),
+            },
+            Item::ColorMap { entries, span } => {
+                let mut map = Vec::new();
+                self.exec(entries, &mut super::Body::ColorMap(&mut map))?;
+                if state.color_map.replace(map).is_some() || state.map.is_some() {
+                    return Err(SceneError::at(span, "a second map"));
+                }
+            }
+            Item::PatternMap { kind, entries, span } => {
+                if state.color_map.is_some() || state.map.is_some() {
+                    return Err(SceneError::at(span, "a second map"));
+                }
+                state.map = Some((*kind, entries.clone(), span.clone()));
+            }
+            Item::PovParam { key, value, items } => {
+                let number = |e: &mut Self| -> Result<f32, SceneError> {
+                    match value {
+                        Some(v) => e.single(&v.value),
+                        None => {
+                            Err(SceneError::at(&key.span, format!("`{}` needs a value", key.name)))
+                        }
+                    }
+                };
+                match key.name.as_str() {
+                    "frequency" => state.frequency = Some(number(self)?),
+                    "phase" => state.phase = Some(number(self)?),
+                    "omega" => state.omega = Some(number(self)?),
+                    "lambda" => state.lambda = Some(number(self)?),
+                    "mortar" => state.mortar = Some(number(self)?.max(0.0)),
+                    "control0" => state.control0 = Some(number(self)?),
+                    "control1" => state.control1 = Some(number(self)?),
+                    "agate_turb" => state.agate_turb = Some(number(self)?),
+                    "brick_size" => {
+                        let v = value.as_ref().ok_or_else(|| {
+                            SceneError::at(&key.span, "`brick_size` needs a size")
+                        })?;
+                        let size = match self.value(&v.value)? {
+                            Value::Float(f) => Vec3::splat(f as f32),
+                            _ => self.vec3(&v.value)?,
+                        };
+                        if size.min_element() <= 0.0 {
+                            return Err(SceneError::at(
+                                &v.span,
+                                format!("brick_size {size} must be positive"),
+                            ));
+                        }
+                        state.brick_size = Some(size);
+                    }
+                    "ramp_wave" => state.wave = Some(Wave::Ramp),
+                    "sine_wave" => state.wave = Some(Wave::Sine),
+                    "triangle_wave" => state.wave = Some(Wave::Triangle),
+                    "scallop_wave" => state.wave = Some(Wave::Scallop),
+                    "cubic_wave" => state.wave = Some(Wave::Cubic),
+                    "poly_wave" => {
+                        let exponent = match value {
+                            Some(v) => self.single(&v.value)?,
+                            None => 1.0,
+                        };
+                        state.wave = Some(Wave::Poly(exponent));
+                    }
+                    "warp" => state.warps.push(self.warp(items, &key.span)?),
+                    _ => return Ok(false),
+                }
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// `warp { turbulence ... | repeat ... | black_hole ... }`.
+    fn warp(&mut self, items: &[Item], at: &Span) -> Result<Warp, SceneError> {
+        let mut warp: Option<Warp> = None;
+        let mut turbulence = Turbulence { amount: Vec3::ZERO, octaves: 6, omega: 0.5, lambda: 2.0 };
+        let (mut offset, mut flip) = (Vec3::ZERO, Vec3::ZERO);
+        let (mut strength, mut falloff, mut inverse) = (1.0, 2.0, false);
+        let mut repeat: Option<(usize, f32)> = None;
+        let mut hole: Option<(Vec3, f32)> = None;
+        for item in items {
+            let Item::PovParam { key, value, items: rest } = item else {
+                return Err(Self::misplaced_in_warp(item));
+            };
+            let value = value.as_ref().map(|v| &v.value);
+            let needs =
+                |what: &str| SceneError::at(&key.span, format!("`{}` needs {what}", key.name));
+            match key.name.as_str() {
+                "turbulence" => {
+                    let v = value.ok_or_else(|| needs("an amount"))?;
+                    turbulence.amount = match self.value(v)? {
+                        Value::Float(f) => Vec3::splat(f as f32),
+                        _ => self.vec3(v)?,
+                    };
+                    warp = Some(Warp::Turbulence(turbulence));
+                }
+                "octaves" => {
+                    turbulence.octaves =
+                        self.integer(value.ok_or_else(|| needs("a count"))?, 1, 16)? as u32
+                }
+                "omega" => {
+                    turbulence.omega = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                "lambda" => {
+                    turbulence.lambda = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                "repeat" => {
+                    let v = value.ok_or_else(|| needs("a direction"))?;
+                    let direction = self.nonzero(v, "the repeat's direction")?;
+                    let axis = direction.abs().max_position();
+                    if direction.abs().cmpgt(Vec3::ZERO).bitmask().count_ones() != 1 {
+                        return Err(SceneError::at(
+                            &v.span,
+                            format!("repeat {direction} must lie along x, y or z"),
+                        ));
+                    }
+                    repeat = Some((axis, direction[axis].abs()));
+                }
+                "offset" => offset = self.vec3(value.ok_or_else(|| needs("a vector"))?)?,
+                "flip" => flip = self.vec3(value.ok_or_else(|| needs("a vector"))?)?,
+                "black_hole" => {
+                    let centre = self.vec3(value.ok_or_else(|| needs("a centre"))?)?;
+                    let Some(Item::Value(radius)) = rest.first() else {
+                        return Err(needs("a centre and a radius (`black_hole <c>, r`)"));
+                    };
+                    hole = Some((centre, self.positive(radius, "the black hole's radius")?));
+                }
+                "strength" => strength = self.single(value.ok_or_else(|| needs("a value"))?)?,
+                "falloff" => falloff = self.single(value.ok_or_else(|| needs("a value"))?)?,
+                "inverse" => inverse = true,
+                other => unreachable!("the grammar gives no warp item `{other}`"),
+            }
+        }
+        if let Some((axis, width)) = repeat {
+            warp = Some(Warp::Repeat { axis, width, offset, flip });
+        }
+        if let Some((centre, radius)) = hole {
+            warp = Some(Warp::BlackHole { centre, radius, strength, falloff, inverse });
+        }
+        warp.ok_or_else(|| {
+            SceneError::at(at, "a warp needs `turbulence`, `repeat` or `black_hole`")
+        })
+    }
+
+    /// The texture of the pattern `kind`: its value through its map (the color_map, a map of
+    /// textures, a block pattern's colours, or black to white), or `average`'s mean; and the
+    /// finish of a `.pov` texture_map's textures.
+    pub(super) fn pattern_texture(
+        &mut self,
+        kind: PatternKind,
+        arguments: &[Colour],
+        state: &PatternState,
+        at: &Span,
+    ) -> Result<(Pattern, Option<Finish>), SceneError> {
+        let average = kind == PatternKind::Average;
+        let mut finish = None;
+        let mut map: TextureMap = match (&state.color_map, &state.map) {
+            (Some(colours), _) if !colours.is_empty() => {
+                colours.iter().map(|(t, c)| (*t, TextureNode::solid(*c))).collect()
+            }
+            (_, Some((map_kind, entries, span))) => match map_kind {
+                MapKind::Pigment | MapKind::Texture => {
+                    let map = self.map_entries(*map_kind, entries, average)?;
+                    finish = map.finish;
+                    map.textures
+                }
+                MapKind::Normal | MapKind::Slope => {
+                    return Err(SceneError::at(
+                        span,
+                        format!("a {} stands in a normal", map_kind.word()),
+                    ));
+                }
+            },
+            _ => Vec::new(),
+        };
+        if average {
+            if map.is_empty() {
+                return Err(SceneError::at(at, "`average` needs a map of what it averages"));
+            }
+            return Ok((Pattern::Average(map), finish));
+        }
+        if map.is_empty() {
+            map = match block_colours(kind) {
+                Some(defaults) => {
+                    let given = &arguments[own_arguments(kind).min(arguments.len())..];
+                    let last = (defaults.len() - 1) as f32;
+                    let mut entries = Vec::new();
+                    for (i, default) in defaults.into_iter().enumerate() {
+                        let colour = match given.get(i) {
+                            Some(c) => self.dialect_colour(c)?,
+                            None => default,
+                        };
+                        entries.push((i as f32 / last, TextureNode::solid(colour)));
+                    }
+                    entries
+                }
+                None => vec![
+                    (0.0, TextureNode::solid(Vec3::ZERO)),
+                    (1.0, TextureNode::solid(Vec3::ONE)),
+                ],
+            };
+        }
+        let shape = self.field_shape(kind, arguments, state, at)?;
+        Ok((Pattern::Field { shape: Box::new(shape), map }, finish))
+    }
+
+    /// A colour as the dialect reads it (`.pov`: filter and transmit dropped).
+    pub(super) fn dialect_colour(&mut self, colour: &Colour) -> Result<Vec3, SceneError> {
+        match self.dialect {
+            Dialect::Scn => self.colour(colour),
+            Dialect::Pov => Ok(self.pov_colour(colour)?.0),
+        }
+    }
+
+    /// A map's entries, each read where it stands.
+    pub(super) fn map_entries(
+        &mut self,
+        kind: MapKind,
+        entries: &[Item],
+        weights: bool,
+    ) -> Result<MapState, SceneError> {
+        let mut state = MapState {
+            kind,
+            weights,
+            textures: Vec::new(),
+            normals: Vec::new(),
+            slopes: Vec::new(),
+            finish: None,
+        };
+        self.exec(entries, &mut Body::PatternMap(&mut state))?;
+        Ok(state)
+    }
+
+    /// One `[position items]` of a map.
+    pub(super) fn map_block(
+        &mut self,
+        item: &Item,
+        state: &mut MapState,
+    ) -> Result<(), SceneError> {
+        let Item::MapBlock { position, items, span } = item else {
+            return Err(Self::misplaced(item, &Body::PatternMap(state)));
+        };
+        let (at, position) = match position {
+            Some(position) => (position.span.clone(), self.single(position)?),
+            None if state.weights => (span.clone(), 1.0),
+            None => {
+                return Err(SceneError::at(
+                    span,
+                    format!("a {} entry needs its position: `[position ...]`", state.kind.word()),
+                ));
+            }
+        };
+        let previous = [
+            state.textures.last().map(|e| e.0),
+            state.normals.last().map(|e| e.0),
+            state.slopes.last().map(|e| e.0),
+        ]
+        .into_iter()
+        .flatten()
+        .next()
+        .unwrap_or(0.0);
+        if state.weights {
+            if position <= 0.0 {
+                return Err(SceneError::at(
+                    &at,
+                    format!("average weight {position} must be positive"),
+                ));
+            }
+        } else if !(previous..=1.0).contains(&position) {
+            return Err(SceneError::at(
+                &at,
+                format!(
+                    "{} position {position} must be in [0, 1] and not below the one before",
+                    state.kind.word()
+                ),
+            ));
+        }
+        match state.kind {
+            MapKind::Pigment => {
+                let black =
+                    Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 };
+                let pigment = self.pigment_of(items, &black)?;
+                if pigment.filter + pigment.transmit > 0.0 && !self.warned_map_filter {
+                    self.warned_map_filter = true;
+                    let here = self.here(&at);
+                    self.warnings.push(format!(
+                        "{here:?}: warning: `filter` and `transmit` in a pigment_map are not \
+                         rendered: the map's pigments are opaque"
+                    ));
+                }
+                state.textures.push((position, pigment.colour));
+            }
+            MapKind::Texture => {
+                let node = match (self.dialect, items.as_slice()) {
+                    (Dialect::Scn, [Item::Texture(t)]) => self.texture(t)?,
+                    (Dialect::Scn, [Item::Value(expr)]) => {
+                        let colour = Colour { value: expr.clone(), span: expr.span.clone() };
+                        self.texture_arg(&TextureArg::Colour(colour))?
+                    }
+                    (Dialect::Scn, _) => {
+                        return Err(SceneError::at(
+                            span,
+                            "a texture_map entry is `[position texture]`",
+                        ));
+                    }
+                    (Dialect::Pov, _) => {
+                        let mut look = self.default_look.clone();
+                        self.exec(items, &mut Body::Look(&mut look))?;
+                        let first = state.finish.get_or_insert_with(|| look.finish.clone());
+                        if look.finish != *first || look.normal.is_some() {
+                            return Err(SceneError::at(
+                                span,
+                                "a texture_map's textures may differ only in their pigments \
+                                 (raydiance's materials vary only their diffuse colour across \
+                                 a surface): give them one finish and no normal",
+                            ));
+                        }
+                        look.pigment.colour
+                    }
+                };
+                state.textures.push((position, node));
+            }
+            MapKind::Normal => {
+                let normal = self.normal_of(items, None)?.unwrap_or_else(NormalNode::flat);
+                state.normals.push((position, normal));
+            }
+            MapKind::Slope => {
+                let [Item::Value(expr)] = items.as_slice() else {
+                    return Err(SceneError::at(
+                        span,
+                        "a slope_map entry is `[position <height, slope>]`",
+                    ));
+                };
+                let (height, slope) = match self.value(expr)? {
+                    Value::Numbers(n) if n.len() == 2 => (n[0], n[1]),
+                    Value::Float(f) => (f, 0.0),
+                    other => {
+                        return Err(SceneError::at(
+                            &expr.span,
+                            format!("a slope_map entry is <height, slope>, not {}", other.kind()),
+                        ));
+                    }
+                };
+                state.slopes.push((position, height as f32, slope as f32));
+            }
+        }
+        Ok(())
+    }
+
+    fn misplaced_in_warp(item: &Item) -> SceneError {
+        SceneError::at(item.span(), format!("{} cannot stand in a warp", item.describe()))
+    }
+
+    /// The shape of the pattern `kind` from the items read: its field (with its own
+    /// parameters and arguments), turbulence, warps and wave.
+    pub(super) fn field_shape(
+        &mut self,
+        kind: PatternKind,
+        arguments: &[Colour],
+        state: &PatternState,
+        at: &Span,
+    ) -> Result<FieldShape, SceneError> {
+        let argument = |i: usize| arguments.get(i);
+        let field = match kind {
+            PatternKind::Agate => Field::Agate { turbulence: state.agate_turb.unwrap_or(1.0) },
+            PatternKind::Bozo => Field::Bozo,
+            PatternKind::Brick => Field::Brick {
+                size: state.brick_size.unwrap_or(Vec3::new(8.0, 3.0, 4.5)),
+                mortar: state.mortar.unwrap_or(0.5),
+            },
+            PatternKind::Bumps => Field::Bumps,
+            PatternKind::Cells => Field::Cells,
+            PatternKind::Checker => Field::Checker,
+            PatternKind::Crackle => Field::Crackle,
+            PatternKind::Dents => Field::Dents,
+            PatternKind::Gradient => {
+                let axis = argument(0).expect("the grammar gives gradient its axis");
+                Field::Gradient(self.nonzero(&axis.value, "the gradient's axis")?.normalize())
+            }
+            PatternKind::Granite => Field::Granite,
+            PatternKind::Hexagon => Field::Hexagon,
+            PatternKind::Leopard => Field::Leopard,
+            PatternKind::Mandel => {
+                let count = argument(0).expect("the grammar gives mandel its iterations");
+                Field::Mandel { iterations: self.integer(&count.value, 1, 100_000)? as u32 }
+            }
+            PatternKind::Marble => Field::Marble,
+            PatternKind::Onion => Field::Onion,
+            PatternKind::Quilted => Field::Quilted {
+                control0: state.control0.unwrap_or(1.0),
+                control1: state.control1.unwrap_or(1.0),
+            },
+            PatternKind::Radial => Field::Radial,
+            PatternKind::Ripples => Field::Ripples,
+            PatternKind::Spiral1 | PatternKind::Spiral2 => {
+                let arms = argument(0).expect("the grammar gives a spiral its arms");
+                let arms = self.single(&arms.value)?;
+                if kind == PatternKind::Spiral1 {
+                    Field::Spiral1 { arms }
+                } else {
+                    Field::Spiral2 { arms }
+                }
+            }
+            PatternKind::Spotted => Field::Spotted,
+            PatternKind::Waves => Field::Waves,
+            PatternKind::Wood => Field::Wood,
+            PatternKind::Wrinkles => Field::Wrinkles,
+            PatternKind::Average => {
+                return Err(SceneError::at(
+                    at,
+                    "`average` has no value of its own: it takes a map",
+                ));
+            }
+        };
+        let turbulence = state.turbulence.map(|amount| Turbulence {
+            amount,
+            octaves: state.octaves.unwrap_or(6),
+            omega: state.omega.unwrap_or(0.5),
+            lambda: state.lambda.unwrap_or(2.0),
+        });
+        Ok(FieldShape {
+            field,
+            turbulence,
+            warps: state.warps.clone(),
+            wave: state.wave.unwrap_or(default_wave(field)),
+            frequency: state.frequency.unwrap_or(1.0),
+            phase: state.phase.unwrap_or(0.0),
+        })
+    }
+}
+
+/// How many values a block pattern takes (its colours stand at 0, 1/(n-1), ..., 1), and their
+/// colours when not given (POV-Ray's); `None` for the other patterns, which take a map.
+pub fn block_colours(kind: PatternKind) -> Option<Vec<Vec3>> {
+    match kind {
+        PatternKind::Checker => Some(vec![Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 0.0)]),
+        // Mortar, then brick.
+        PatternKind::Brick => Some(vec![Vec3::splat(1.0), Vec3::new(1.0, 0.0, 0.0)]),
+        PatternKind::Hexagon => {
+            Some(vec![Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 0.0, 0.0)])
+        }
+        PatternKind::Agate
+        | PatternKind::Average
+        | PatternKind::Bozo
+        | PatternKind::Bumps
+        | PatternKind::Cells
+        | PatternKind::Crackle
+        | PatternKind::Dents
+        | PatternKind::Gradient
+        | PatternKind::Granite
+        | PatternKind::Leopard
+        | PatternKind::Mandel
+        | PatternKind::Marble
+        | PatternKind::Onion
+        | PatternKind::Quilted
+        | PatternKind::Radial
+        | PatternKind::Ripples
+        | PatternKind::Spiral1
+        | PatternKind::Spiral2
+        | PatternKind::Spotted
+        | PatternKind::Waves
+        | PatternKind::Wood
+        | PatternKind::Wrinkles => None,
+    }
+}
+
+/// How many of a pattern's arguments are its own (the axis, the count); the rest are colours
+/// in a pigment and the amount in a normal.
+pub fn own_arguments(kind: PatternKind) -> usize {
+    match kind {
+        PatternKind::Gradient
+        | PatternKind::Mandel
+        | PatternKind::Spiral1
+        | PatternKind::Spiral2 => 1,
+        PatternKind::Agate
+        | PatternKind::Average
+        | PatternKind::Bozo
+        | PatternKind::Brick
+        | PatternKind::Bumps
+        | PatternKind::Cells
+        | PatternKind::Checker
+        | PatternKind::Crackle
+        | PatternKind::Dents
+        | PatternKind::Granite
+        | PatternKind::Hexagon
+        | PatternKind::Leopard
+        | PatternKind::Marble
+        | PatternKind::Onion
+        | PatternKind::Quilted
+        | PatternKind::Radial
+        | PatternKind::Ripples
+        | PatternKind::Spotted
+        | PatternKind::Waves
+        | PatternKind::Wood
+        | PatternKind::Wrinkles => 0,
+    }
+}

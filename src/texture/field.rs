@@ -1,0 +1,447 @@
+//! POV-Ray's patterns as scalar fields (`docs/language.md`, Patterns): each pattern's value in
+//! [0, 1] at a point of pattern space, then shaped by `frequency`, `phase` and the wave. Same
+//! scale, contrast and orientation as POV-Ray's, not its noise bit for bit.
+
+use std::f32::consts::{PI, TAU};
+
+use glam::{IVec3, Vec2, Vec3};
+
+use super::BOUNDARY_NUDGE;
+use super::noise::{Octaves, cell_random, noise};
+use super::warp::warped;
+use crate::graph::{Field, FieldShape, Turbulence, Wave};
+
+/// The shaped value of a pattern at `p` (pattern space), in [0, 1].
+pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
+    let q = warped(shape, p);
+    let field = shape.field;
+    match field {
+        // Their cells are values, not a ramp: no wave (as POV-Ray's block patterns).
+        Field::Checker | Field::Brick { .. } | Field::Hexagon => raw(field, q, shape),
+        // Their `frequency` and `phase` are crests per unit of distance, taken by the sources.
+        Field::Ripples | Field::Waves => wave(shape.wave, 1.0, 0.0, raw(field, q, shape)),
+        Field::Agate { .. }
+        | Field::Bozo
+        | Field::Bumps
+        | Field::Cells
+        | Field::Crackle
+        | Field::Dents
+        | Field::Gradient(_)
+        | Field::Granite
+        | Field::Leopard
+        | Field::Mandel { .. }
+        | Field::Marble
+        | Field::Onion
+        | Field::Quilted { .. }
+        | Field::Radial
+        | Field::Spiral1 { .. }
+        | Field::Spiral2 { .. }
+        | Field::Spotted
+        | Field::Wood
+        | Field::Wrinkles => wave(shape.wave, shape.frequency, shape.phase, raw(field, q, shape)),
+    }
+}
+
+/// The wave type a pattern takes unless told (POV-Ray's: triangle for marble and wood).
+pub fn default_wave(field: Field) -> Wave {
+    match field {
+        Field::Marble | Field::Wood => Wave::Triangle,
+        Field::Agate { .. }
+        | Field::Bozo
+        | Field::Brick { .. }
+        | Field::Bumps
+        | Field::Cells
+        | Field::Checker
+        | Field::Crackle
+        | Field::Dents
+        | Field::Gradient(_)
+        | Field::Granite
+        | Field::Hexagon
+        | Field::Leopard
+        | Field::Mandel { .. }
+        | Field::Onion
+        | Field::Quilted { .. }
+        | Field::Radial
+        | Field::Ripples
+        | Field::Spiral1 { .. }
+        | Field::Spiral2 { .. }
+        | Field::Spotted
+        | Field::Waves
+        | Field::Wrinkles => Wave::Ramp,
+    }
+}
+
+/// `frequency` and `phase`, then the wave: v * frequency + phase wrapped into [0, 1] (a value
+/// already in [0, 1] stays, so that 1 is not 0, as in POV-Ray), shaped.
+pub fn wave(wave: Wave, frequency: f32, phase: f32, v: f32) -> f32 {
+    let v = v * frequency + phase;
+    let v = if (0.0..=1.0).contains(&v) { v } else { v.rem_euclid(1.0) };
+    match wave {
+        Wave::Ramp => v,
+        Wave::Sine => 0.5 + 0.5 * (TAU * v).sin(),
+        Wave::Triangle => 1.0 - (2.0 * v - 1.0).abs(),
+        Wave::Scallop => (PI * v).sin().abs(),
+        Wave::Cubic => v * v * (3.0 - 2.0 * v),
+        Wave::Poly(exponent) => v.powf(exponent),
+    }
+}
+
+/// The classic turbulence's octaves, or POV-Ray's defaults.
+fn octaves(turbulence: Option<Turbulence>) -> Octaves {
+    turbulence.map_or(Octaves::DEFAULT, |t| Octaves {
+        octaves: t.octaves,
+        omega: t.omega,
+        lambda: t.lambda,
+    })
+}
+
+/// The pattern's own value at `q` (after the warps), before the wave.
+fn raw(field: Field, q: Vec3, shape: &FieldShape) -> f32 {
+    let turbulence = shape.turbulence;
+    let amount = turbulence.map_or(Vec3::ZERO, |t| t.amount);
+    match field {
+        Field::Agate { turbulence: scale } => {
+            let turb = scale * octaves(turbulence).scalar(q);
+            let v = 0.5 * ((TAU * (1.3 * turb + 1.1 * q.z)).sin() + 1.0);
+            v.clamp(0.0, 1.0).powf(0.77)
+        }
+        Field::Bozo | Field::Bumps | Field::Spotted => noise(q),
+        Field::Brick { size, mortar } => brick(q, size, mortar),
+        Field::Cells => cell_random(q.floor().as_ivec3(), 0),
+        Field::Checker => {
+            let cell = (q + BOUNDARY_NUDGE).floor();
+            (cell.x + cell.y + cell.z).rem_euclid(2.0)
+        }
+        Field::Crackle => crackle(q),
+        Field::Dents => noise(q).powi(3),
+        Field::Gradient(axis) => q.dot(axis),
+        Field::Granite => {
+            let mut sum = 0.0;
+            for octave in 0..6 {
+                let frequency = (1 << octave) as f32;
+                sum += (0.5 - noise(q * 4.0 * frequency)).abs() / frequency;
+            }
+            sum.min(1.0)
+        }
+        Field::Hexagon => hexagon(Vec2::new(q.x, q.z)),
+        Field::Leopard => {
+            let s = (q.x.sin() + q.y.sin() + q.z.sin()) / 3.0;
+            s * s
+        }
+        Field::Mandel { iterations } => mandel(Vec2::new(q.x, q.y), iterations),
+        Field::Marble => q.x + amount.x * octaves(turbulence).scalar(q),
+        Field::Onion => q.length(),
+        Field::Quilted { control0, control1 } => {
+            let f = q + BOUNDARY_NUDGE - (q + BOUNDARY_NUDGE).floor() - Vec3::splat(0.5);
+            let t = 2.0 * f.abs().max_element();
+            let s = 1.0 - t;
+            3.0 * s * s * t * control0 + 3.0 * s * t * t * control1 + t * t * t
+        }
+        Field::Radial => {
+            if q.x.abs() < 1e-6 && q.z.abs() < 1e-6 {
+                0.25
+            } else {
+                0.25 + (q.x.atan2(q.z) + PI) / TAU
+            }
+        }
+        Field::Ripples | Field::Waves => sources(field, q, shape.frequency, shape.phase),
+        Field::Spiral1 { arms } => spiral(q, arms, amount.x * octaves(turbulence).scalar(q)),
+        Field::Spiral2 { arms } => {
+            let turb = amount.x * octaves(turbulence).scalar(q);
+            let a = spiral(q, arms, turb).rem_euclid(1.0);
+            let b = spiral(q, -arms, turb).rem_euclid(1.0);
+            0.5 * ((1.0 - (2.0 * a - 1.0).abs()) + (1.0 - (2.0 * b - 1.0).abs()))
+        }
+        Field::Wood => {
+            let d = amount * octaves(turbulence).vector(q);
+            Vec2::new(q.x + d.x, q.y + d.y).length()
+        }
+        Field::Wrinkles => {
+            let (mut sum, mut amplitude, mut frequency) = (0.0, 1.0, 1.0);
+            for _ in 0..10 {
+                sum += amplitude * (2.0 * noise(q * frequency) - 1.0).abs();
+                amplitude *= 0.5;
+                frequency *= 2.0;
+            }
+            // The sum's typical range is about [0, 1] (the first octaves dominate).
+            sum.min(1.0)
+        }
+    }
+}
+
+/// z plus `arms` turns per turn about z (plus turbulence).
+fn spiral(q: Vec3, arms: f32, turbulence: f32) -> f32 {
+    let turn = if q.x == 0.0 && q.y == 0.0 { 0.0 } else { q.y.atan2(q.x) / TAU };
+    q.z + arms * turn + turbulence
+}
+
+/// POV-Ray's brick: 1 in a brick, 0 in the mortar.
+fn brick(q: Vec3, size: Vec3, mortar: f32) -> f32 {
+    let q = q + BOUNDARY_NUDGE;
+    let row = (q.y / size.y).floor();
+    // Every other row (and layer in z) is shifted by half a brick.
+    let shift = if row.rem_euclid(2.0) == 1.0 { 0.5 } else { 0.0 };
+    let layer = (q.z / size.z).floor();
+    let shift_x = if (row + layer).rem_euclid(2.0) == 1.0 { 0.5 } else { 0.0 };
+    let local = Vec3::new(
+        (q.x / size.x + shift_x).rem_euclid(1.0) * size.x,
+        q.y - row * size.y,
+        (q.z / size.z + shift).rem_euclid(1.0) * size.z,
+    );
+    let half = 0.5 * mortar;
+    let in_mortar = (0..3).any(|i| local[i] < half || local[i] > size[i] - half);
+    if in_mortar { 0.0 } else { 1.0 }
+}
+
+/// One random feature point per unit cube; the second-nearest minus the nearest distance.
+fn crackle(q: Vec3) -> f32 {
+    let home = q.floor().as_ivec3();
+    let (mut nearest, mut second) = (f32::MAX, f32::MAX);
+    for dz in -1..=1 {
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let cell = home + IVec3::new(dx, dy, dz);
+                let jitter =
+                    Vec3::new(cell_random(cell, 1), cell_random(cell, 2), cell_random(cell, 3));
+                let d = (cell.as_vec3() + jitter).distance(q);
+                if d < nearest {
+                    second = nearest;
+                    nearest = d;
+                } else if d < second {
+                    second = d;
+                }
+            }
+        }
+    }
+    (second - nearest).min(1.0)
+}
+
+/// Hexagons of unit side, corners towards ±z, in the x-z plane (centres √3 apart along x); the
+/// colour of each is 0, 0.5 or 1 by (column - row) mod 3, so that no two neighbours share one.
+fn hexagon(p: Vec2) -> f32 {
+    // Axial coordinates of a pointy grid, rounded in cube coordinates.
+    let q = (3f32.sqrt() / 3.0 * p.x - p.y / 3.0) + BOUNDARY_NUDGE.x;
+    let r = 2.0 / 3.0 * p.y + BOUNDARY_NUDGE.z;
+    let s = -q - r;
+    let (mut rq, mut rr, rs) = (q.round(), r.round(), s.round());
+    let (dq, dr, ds) = ((rq - q).abs(), (rr - r).abs(), (rs - s).abs());
+    if dq > dr && dq > ds {
+        rq = -rr - rs;
+    } else if dr > ds {
+        rr = -rq - rs;
+    }
+    ((rq - rr).rem_euclid(3.0)) / 2.0
+}
+
+/// Escape iterations of z -> z^2 + c from 0 at c = p, over `iterations`; 1 inside the set.
+fn mandel(c: Vec2, iterations: u32) -> f32 {
+    let mut z = Vec2::ZERO;
+    for i in 0..iterations {
+        z = Vec2::new(z.x * z.x - z.y * z.y, 2.0 * z.x * z.y) + c;
+        if z.length_squared() > 4.0 {
+            return i as f32 / iterations as f32;
+        }
+    }
+    1.0
+}
+
+/// Waves from ten fixed sources in the unit cube, `frequency` crests per unit of distance:
+/// ripples' sines, waves' cosines fading with distance; their sum over its spread (that of a
+/// sum of waves of random phases) mapped to [0, 1].
+fn sources(field: Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
+    const SOURCES: u32 = 10;
+    let (mut sum, mut spread) = (0.0, 0.0);
+    for i in 0..SOURCES {
+        let source = Vec3::new(
+            cell_random(IVec3::ZERO, 10 + 3 * i),
+            cell_random(IVec3::ZERO, 11 + 3 * i),
+            cell_random(IVec3::ZERO, 12 + 3 * i),
+        );
+        let d = q.distance(source);
+        let crest = TAU * (d * frequency + phase);
+        let weight = if field == Field::Waves { 1.0 / (1.0 + d) } else { 1.0 };
+        sum += weight * if field == Field::Waves { crest.cos() } else { crest.sin() };
+        spread += weight * weight;
+    }
+    (0.5 + 0.25 * sum / spread.sqrt()).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::graph::Warp;
+    use crate::texture::warp;
+
+    fn plain(field: Field) -> FieldShape {
+        FieldShape {
+            field,
+            turbulence: None,
+            warps: Vec::new(),
+            wave: default_wave(field),
+            frequency: 1.0,
+            phase: 0.0,
+        }
+    }
+
+    const ALL: [Field; 24] = [
+        Field::Agate { turbulence: 1.0 },
+        Field::Bozo,
+        Field::Brick { size: Vec3::new(8.0, 3.0, 4.5), mortar: 0.5 },
+        Field::Bumps,
+        Field::Cells,
+        Field::Checker,
+        Field::Crackle,
+        Field::Dents,
+        Field::Gradient(Vec3::Y),
+        Field::Granite,
+        Field::Hexagon,
+        Field::Leopard,
+        Field::Mandel { iterations: 30 },
+        Field::Marble,
+        Field::Onion,
+        Field::Quilted { control0: 1.0, control1: 1.0 },
+        Field::Radial,
+        Field::Ripples,
+        Field::Spiral1 { arms: 3.0 },
+        Field::Spiral2 { arms: 3.0 },
+        Field::Spotted,
+        Field::Waves,
+        Field::Wood,
+        Field::Wrinkles,
+    ];
+
+    fn points() -> impl Iterator<Item = Vec3> {
+        (0..3000).map(|i| {
+            let i = i as f32;
+            Vec3::new((i * 0.731).sin() * 7.0, (i * 0.377).cos() * 5.0, i * 0.0123 - 18.0)
+        })
+    }
+
+    #[test]
+    fn every_pattern_stays_in_zero_to_one_and_varies() {
+        let turbulence =
+            Turbulence { amount: Vec3::splat(0.8), octaves: 6, omega: 0.5, lambda: 2.0 };
+        for field in ALL {
+            for shape in [plain(field), FieldShape { turbulence: Some(turbulence), ..plain(field) }]
+            {
+                let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+                for p in points() {
+                    let v = shaped_value(&shape, p);
+                    assert!((0.0..=1.0).contains(&v), "{field:?} at {p}: {v}");
+                    (lo, hi) = (lo.min(v), hi.max(v));
+                }
+                // Contrast: each pattern covers a good part of its range (mandel's set is
+                // small in this region, so its values sit at the escape counts).
+                assert!(hi - lo > 0.3, "{field:?}: only {lo}..{hi}");
+            }
+        }
+    }
+
+    #[test]
+    fn periodic_patterns_repeat_with_their_period() {
+        let value = |field: Field, p: Vec3| shaped_value(&plain(field), p);
+        for p in points().step_by(37) {
+            let near = |a: f32, b: f32| (a - b).abs() < 2e-3;
+            assert_eq!(value(Field::Checker, p), value(Field::Checker, p + Vec3::X * 2.0));
+            assert_ne!(value(Field::Checker, p), value(Field::Checker, p + Vec3::Z));
+            assert!(near(value(Field::Gradient(Vec3::Y), p), (p.y).rem_euclid(1.0)));
+            assert!(near(
+                value(Field::Marble, p),
+                value(Field::Marble, p + Vec3::new(1.0, 3.0, 5.0))
+            ));
+            assert!(near(value(Field::Leopard, p), value(Field::Leopard, p + Vec3::Y * TAU)));
+            let onion = value(Field::Onion, p);
+            assert!(near(onion, value(Field::Onion, p * (1.0 + 1.0 / p.length()))), "onion");
+            assert!(near(value(Field::Wood, p), value(Field::Wood, p + Vec3::Z * 3.7)), "wood");
+            let ring = Vec2::new(p.x, p.y).length();
+            assert!(near(value(Field::Wood, p), 1.0 - (2.0 * ring.rem_euclid(1.0) - 1.0).abs()));
+            let hexagon = value(Field::Hexagon, p);
+            assert_eq!(hexagon, value(Field::Hexagon, p + Vec3::X * 3.0 * 3f32.sqrt()));
+            assert_ne!(hexagon, value(Field::Hexagon, p + Vec3::X * 3f32.sqrt()));
+            let size = Vec3::new(8.0, 3.0, 4.5);
+            let brick = Field::Brick { size, mortar: 0.5 };
+            assert_eq!(value(brick, p), value(brick, p + size * 2.0), "brick");
+            let cells = Field::Cells;
+            assert_eq!(value(cells, p), value(cells, p.floor() + Vec3::splat(0.5)));
+        }
+        // Radial: a quarter turn about y is a quarter of the range.
+        let radial = |angle: f32| value(Field::Radial, Vec3::new(angle.sin(), 0.3, angle.cos()));
+        assert!(((radial(0.3 + PI / 2.0) - radial(0.3)).rem_euclid(1.0) - 0.25).abs() < 1e-5);
+        // Spiral1 with 3 arms: a third of a turn about z at the same z is the same value.
+        let spiral = |angle: f32| {
+            value(Field::Spiral1 { arms: 3.0 }, Vec3::new(angle.cos(), angle.sin(), 0.4) * 2.0)
+        };
+        assert!((spiral(0.2) - spiral(0.2 + TAU / 3.0)).abs() < 1e-4);
+        // Brick: mortar on the rows' joints, brick in the middle of a brick.
+        let brick = Field::Brick { size: Vec3::new(8.0, 3.0, 4.5), mortar: 0.5 };
+        assert_eq!(value(brick, Vec3::new(4.0, 0.0, 2.0)), 0.0);
+        assert_eq!(value(brick, Vec3::new(2.0, 1.5, 1.0)), 1.0);
+        // Mandel: the origin is in the set, a far point escapes at once.
+        assert_eq!(value(Field::Mandel { iterations: 20 }, Vec3::ZERO), 1.0);
+        assert_eq!(value(Field::Mandel { iterations: 20 }, Vec3::new(3.0, 3.0, 0.0)), 0.0);
+        // Quilted: 0 at a cube's centre, 1 on its faces.
+        let quilted = Field::Quilted { control0: 1.0, control1: 1.0 };
+        assert!(value(quilted, Vec3::splat(0.5)) < 0.01);
+        assert!(value(quilted, Vec3::new(0.5, 0.5, 0.9999)) > 0.99);
+    }
+
+    #[test]
+    fn waves_frequency_and_phase_shape_the_value() {
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-5;
+        assert!(close(wave(Wave::Ramp, 1.0, 0.0, 0.3), 0.3));
+        assert!(close(wave(Wave::Ramp, 2.0, 0.0, 0.3), 0.6));
+        assert!(close(wave(Wave::Ramp, 1.0, 0.25, 0.9), 0.15), "wrapped");
+        assert!(close(wave(Wave::Ramp, 1.0, 0.0, 1.0), 1.0), "1 stays 1");
+        assert!(close(wave(Wave::Sine, 1.0, 0.0, 0.25), 1.0));
+        assert!(close(wave(Wave::Sine, 1.0, 0.0, 0.75), 0.0));
+        assert!(close(wave(Wave::Triangle, 1.0, 0.0, 0.5), 1.0));
+        assert!(close(wave(Wave::Triangle, 1.0, 0.0, 0.25), 0.5));
+        assert!(close(wave(Wave::Scallop, 1.0, 0.0, 0.5), 1.0));
+        assert!(close(wave(Wave::Scallop, 1.0, 0.0, 1.0 / 6.0), 0.5));
+        assert!(close(wave(Wave::Cubic, 1.0, 0.0, 0.25), 0.15625));
+        assert!(close(wave(Wave::Poly(3.0), 1.0, 0.0, 0.5), 0.125));
+    }
+
+    #[test]
+    fn warps_move_the_points() {
+        let gradient = plain(Field::Gradient(Vec3::X));
+        // Repeat: the slab [0, 0.5) along x repeats, each copy lifted by 1 in y.
+        let repeat = Warp::Repeat { axis: 0, width: 0.5, offset: Vec3::Y, flip: Vec3::ZERO };
+        let repeated = FieldShape { warps: vec![repeat], ..gradient.clone() };
+        for x in [0.1f32, 0.3, 0.45] {
+            let v = shaped_value(&repeated, Vec3::new(x, 0.0, 0.0));
+            assert!((shaped_value(&repeated, Vec3::new(x + 1.5, 0.0, 0.0)) - v).abs() < 1e-5);
+        }
+        let flip = Warp::Repeat { axis: 0, width: 0.5, offset: Vec3::ZERO, flip: Vec3::X };
+        let flipped = FieldShape { warps: vec![flip], ..gradient.clone() };
+        // The odd copy [0.5, 1) mirrors the slab: 0.6 reads 0.5 - 0.1.
+        assert!((shaped_value(&flipped, Vec3::new(0.6, 0.0, 0.0)) - 0.4).abs() < 1e-5);
+        // Black hole: no effect outside its radius; inside, points are pulled to the centre.
+        let hole = Warp::BlackHole {
+            centre: Vec3::ZERO,
+            radius: 1.0,
+            strength: 1.0,
+            falloff: 2.0,
+            inverse: false,
+        };
+        let far = Vec3::new(1.5, 0.2, 0.0);
+        assert_eq!(warp::apply(hole, far), far);
+        let near = Vec3::new(0.5, 0.0, 0.0);
+        assert!((warp::apply(hole, near) - Vec3::new(0.375, 0.0, 0.0)).length() < 1e-6);
+        let pushed = Warp::BlackHole {
+            centre: Vec3::ZERO,
+            radius: 1.0,
+            strength: 1.0,
+            falloff: 2.0,
+            inverse: true,
+        };
+        assert!((warp::apply(pushed, near) - Vec3::new(0.625, 0.0, 0.0)).length() < 1e-6);
+        // Turbulence moves points by at most its amount times the octaves' total weight.
+        let turbulence =
+            Turbulence { amount: Vec3::splat(0.1), octaves: 3, omega: 0.5, lambda: 2.0 };
+        for p in points().step_by(100) {
+            let moved = warp::apply(Warp::Turbulence(turbulence), p);
+            assert!((moved - p).abs().max_element() <= 0.1 * 1.75 * 1.01, "{p} -> {moved}");
+        }
+    }
+}

@@ -1,0 +1,236 @@
+//! POV-Ray's patterns, maps and bump mapping in scenes (`docs/language.md`, Patterns and Bump
+//! mapping): every pattern reads the same in both dialects and stays within its map, maps
+//! interpolate between their entries, and bump mapping changes nothing at amount 0, never
+//! creates energy in a white furnace and stays finite and positive at grazing angles.
+
+mod common;
+
+use std::path::Path;
+
+use glam::Vec3;
+use raydiance::geometry::Ray;
+use raydiance::lang::parse_scene;
+use raydiance::scene::{Scene, build};
+
+fn pov(text: &str) -> Scene {
+    let graph = parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"));
+    build(&graph).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The diffuse colour of the scene's one object at `p` (its own space is the world's).
+fn kd(scene: &Scene, p: Vec3) -> Vec3 {
+    let hit = scene.intersect(&Ray::new(Vec3::new(0.0, 0.0, -50.0), Vec3::Z)).expect("the box");
+    scene.material(hit.primitive, p).diffuse
+}
+
+const CAMERA: &str = "camera { location <0, 0, -200>  look_at <0, 0, 0> }";
+
+const POINTS: [Vec3; 6] = [
+    Vec3::new(0.13, 0.27, 0.31),
+    Vec3::new(-1.7, 2.2, 0.9),
+    Vec3::new(3.3, -0.4, -2.6),
+    Vec3::new(0.5, 0.5, 0.5),
+    Vec3::new(-0.25, 1.75, 4.1),
+    Vec3::new(7.2, -3.1, 0.05),
+];
+
+#[test]
+fn every_pattern_reads_the_same_in_both_dialects_and_stays_in_its_map() {
+    let map = "color_map { [0 rgb 0] [1 rgb <1, 0.5, 0.25>] }";
+    let words = [
+        "agate",
+        "bozo",
+        "brick",
+        "bumps",
+        "cells",
+        "checker",
+        "crackle",
+        "dents",
+        "gradient x",
+        "granite",
+        "hexagon",
+        "leopard",
+        "mandel 20",
+        "marble",
+        "onion",
+        "quilted",
+        "radial",
+        "ripples",
+        "spiral1 3",
+        "spiral2 3",
+        "spotted",
+        "waves",
+        "wood",
+        "wrinkles",
+    ];
+    for word in words {
+        let modifiers = format!("{word} turbulence 0.3 frequency 2 {map} scale 0.7");
+        let scn = common::scene(&format!(
+            "{CAMERA} box {{ -100, 100  material {{ diffuse pattern {{ {modifiers} }} }} }}"
+        ));
+        let pov = pov(&format!(
+            "box {{ -100, 100  pigment {{ {modifiers} }} finish {{ diffuse 1 ambient 0 }} }}"
+        ));
+        let mut values = Vec::new();
+        for p in POINTS {
+            let (a, b) = (kd(&scn, p), kd(&pov, p));
+            assert!((a - b).abs().max_element() < 1e-6, "{word} at {p}: {a} vs {b}");
+            assert!((0.0..=1.0).contains(&a.x), "{word} at {p}: {a}");
+            assert!((a.y - 0.5 * a.x).abs() < 1e-6, "{word}: through the map, {a}");
+            values.push(a.x);
+        }
+        assert!(values.iter().any(|v| *v != values[0]), "{word} is constant: {values:?}");
+    }
+}
+
+#[test]
+fn pattern_maps_interpolate_between_their_entries() {
+    // pigment_map: a quarter of the way from red to blue at x = 0.25.
+    let s = pov("box { -100, 100  pigment { gradient x  pigment_map { [0 color rgb <1, 0, 0>] \
+                 [1 color rgb <0, 0, 1>] } }  finish { diffuse 1 ambient 0 } }");
+    let c = kd(&s, Vec3::new(0.25, 3.0, 1.0));
+    assert!((c - Vec3::new(0.75, 0.0, 0.25)).length() < 1e-5, "{c}");
+    // An entry may itself be a pattern: halfway between black and a checker.
+    let s = pov("box { -100, 100  pigment { gradient y  pigment_map { [0 rgb 0] \
+                 [1 checker rgb 1, rgb <0, 1, 0>] } }  finish { diffuse 1 ambient 0 } }");
+    assert!((kd(&s, Vec3::new(0.5, 0.5, 0.5)) - Vec3::splat(0.5)).length() < 1e-5);
+    assert!((kd(&s, Vec3::new(1.5, 0.5, 0.5)) - Vec3::new(0.0, 0.5, 0.0)).length() < 1e-5);
+    // `.scn`'s texture_map, and `average`'s weighted mean (weights 1 and 3).
+    let s = common::scene(&format!(
+        "{CAMERA} box {{ -100, 100  material {{ diffuse pattern {{ gradient x  texture_map {{ [0 rgb 0] \
+         [0.5 checker {{ rgb 1, rgb 0 }}] [1 rgb 1] }} }} }} }}"
+    ));
+    assert!((kd(&s, Vec3::new(0.25, 0.5, 0.5)) - Vec3::splat(0.5)).length() < 1e-5);
+    assert!((kd(&s, Vec3::new(0.75, 0.5, 0.5)) - Vec3::splat(1.0)).length() < 1e-5);
+    let s = common::scene(&format!(
+        "{CAMERA} box {{ -100, 100  material {{ diffuse pattern {{ average  texture_map {{ \
+         [1 rgb 1] [3 rgb <0, 0, 1>] }} }} }} }}"
+    ));
+    assert!((kd(&s, Vec3::ONE) - Vec3::new(0.25, 0.25, 1.0)).length() < 1e-5);
+    // A .pov texture_map of textures that differ only in pigment, and one that is refused.
+    let s = pov("box { -100, 100  texture { gradient x  texture_map { \
+                 [0 pigment { rgb <1, 0, 0> } finish { diffuse 1 ambient 0 }] \
+                 [1 pigment { rgb <0, 0, 1> } finish { diffuse 1 ambient 0 }] } } }");
+    let c = kd(&s, Vec3::new(0.5, 3.0, 1.0));
+    assert!((c - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-5, "their finish: diffuse 1, {c}");
+    let refused = parse_scene(
+        Path::new("tests/inline.pov"),
+        "box { -1, 1  texture { gradient x  texture_map { [0 pigment { rgb 1 }] \
+         [1 pigment { rgb 1 } finish { phong 1 }] } } }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(refused.contains("texture_map") && refused.contains(":1:"), "{refused}");
+    // Block patterns take their colours in order: hexagon's three.
+    let s =
+        pov("box { -100, 100  pigment { hexagon rgb <1, 0, 0>, rgb <0, 1, 0>, rgb <0, 0, 1> } \
+                 finish { diffuse 1 ambient 0 } }");
+    let mut seen: Vec<Vec3> = Vec::new();
+    for i in 0..64 {
+        let c = kd(&s, Vec3::new((i % 8) as f32 * 0.45, 0.0, (i / 8) as f32 * 0.45));
+        assert_eq!(c.element_sum(), 1.0, "one of the three: {c}");
+        if !seen.contains(&c) {
+            seen.push(c);
+        }
+    }
+    assert_eq!(seen.len(), 3);
+}
+
+#[test]
+fn a_bump_of_amount_zero_changes_nothing_bit_for_bit() {
+    let scene = |normal: &str| {
+        common::scene(&format!(
+            "settings {{ resolution 16, 12  samples 4 }}
+             camera {{ location <0, 1, -3>  look_at <0, 0, 0> }}
+             light_source {{ <1, 3, -2>  power rgb 20 }}
+             plane {{ <0, 1, 0>, 0  material {{ diffuse rgb 0.7  specular rgb 0.2  roughness 0.2 {normal} }} }}
+             sphere {{ <0, 0.5, 0>, 0.5  material {{ diffuse rgb <0.2, 0.4, 0.8> {normal} }} }}"
+        ))
+    };
+    let plain = common::render_image(&scene(""));
+    let zero = common::render_image(&scene("normal { bumps 0  scale 0.1 }"));
+    assert_eq!(plain.pixels, zero.pixels);
+    let bumped = common::render_image(&scene("normal { bumps 1  scale 0.1 }"));
+    assert_ne!(plain.pixels, bumped.pixels, "a bump of amount 1 shows");
+}
+
+#[test]
+fn a_strongly_bumped_white_object_in_a_white_furnace_creates_no_energy() {
+    // (normal, lowest mean): what a bump loses is the light its tilted lobe would send through
+    // the surface, more the stronger the tilt (tilts of 60° and more for amount 1 here).
+    let cases = [
+        ("bumps 1  scale 0.2", 0.6),
+        ("crackle 1  scale 0.3", 0.6),
+        ("ripples 0.5  frequency 10", 0.6),
+        ("bumps 0.1  scale 0.2", 0.9),
+    ];
+    for (normal, lowest) in cases {
+        let s = common::scene(&format!(
+            "settings {{ resolution 20, 20  samples 64  max_depth 50  background rgb 1 }}
+             camera {{ location <0, 0, -3>  look_at <0, 0, 0>  angle 40 }}
+             sphere {{ <0, 0, 0>, 1  material {{ diffuse rgb 1  normal {{ {normal} }} }} }}"
+        ));
+        let film = common::render_film(&s);
+        let image = film.image();
+        let pixels = image.pixels.len() as f32;
+        let standard_error = (film.variance_of_mean().iter().sum::<Vec3>() / (pixels * pixels))
+            .map(f32::sqrt)
+            .max_element();
+        let mean = common::mean(&image);
+        assert!(mean.max_element() <= 1.0 + 4.0 * standard_error, "{normal}: mean {mean}");
+        assert!(mean.min_element() > lowest, "{normal}: mean {mean}, too dark");
+        assert!(image.pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
+    }
+}
+
+#[test]
+fn bumped_surfaces_at_grazing_angles_stay_finite_and_positive() {
+    // The camera skims the plane: most hits see it at a few degrees.
+    let s = common::scene(
+        "settings { resolution 32, 16  samples 8  max_depth 8 }
+         camera { location <0, 0.02, -6>  look_at <0, 0, 4>  angle 60 }
+         light_source { <0, 0.3, 6>  power rgb 50 }
+         plane { <0, 1, 0>, 0  material { diffuse rgb 0.8  specular rgb 0.15  roughness 0.05 \
+           normal { bumps 2  scale 0.05 } } }",
+    );
+    let image = common::render_image(&s);
+    assert!(image.pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
+    assert!(common::mean(&image).max_element() > 0.0, "the plane is lit");
+}
+
+#[test]
+fn pov_normals_read_maps_and_declared_normals() {
+    // A declared normal, a normal_map and a slope_map all read and render finite.
+    let s = pov("#declare N = normal { granite 0.4  scale 0.2 }
+         camera { location <0, 1, -3>  look_at 0 }
+         light_source { <2, 4, -3> color rgb 1 }
+         sphere { 0, 1  pigment { rgb 0.8 }  normal { N } }
+         plane { y, -1  pigment { rgb 0.5 }  normal { gradient x  normal_map { [0 bumps 0.3] \
+           [1 dents 0.6] } } }
+         box { <2, -1, 0>, <3, 0, 1>  pigment { rgb 0.5 }  normal { onion 1  slope_map { \
+           [0 <0, 1>] [0.5 <1, 0>] [1 <0, -1>] } } }");
+    let image = common::render_image(&s);
+    assert!(image.pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
+    // `average`'s entries may leave out their weights (1 each); other maps' may not.
+    let graph = parse_scene(
+        Path::new("tests/inline.pov"),
+        "sphere { 0, 1  normal { average normal_map { [waves 2 frequency 3] [1 ripples 1] } } }",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let normal = graph.objects[0].material.as_ref().and_then(|m| m.normal.clone());
+    let Some(raydiance::graph::NormalNode {
+        pattern: raydiance::graph::NormalPattern::Average(entries),
+        ..
+    }) = normal
+    else {
+        panic!("an average: {normal:?}")
+    };
+    assert_eq!(entries.iter().map(|e| e.0).collect::<Vec<_>>(), [1.0, 1.0]);
+    let error = parse_scene(
+        Path::new("tests/inline.pov"),
+        "sphere { 0, 1  normal { gradient x  normal_map { [bumps 1] } } }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("needs its position"), "{error}");
+}
