@@ -21,6 +21,9 @@ pub struct SceneGraph {
     /// POV-Ray's `background { C }`: what rays the camera sees leave the scene towards where no
     /// sky is; it does not light (`.pov`).
     pub backdrop: Vec3,
+    /// A medium filling the whole scene, outside objects with a medium of their own
+    /// (`atmosphere { }`; POV-Ray's `fog` and scene-wide `media`).
+    pub atmosphere: Option<MediumDesc>,
     /// What the language found worth saying that is not an error (POV-Ray's `#version`).
     pub warnings: Vec<String>,
 }
@@ -213,6 +216,24 @@ pub struct MaterialDesc {
     pub coat: f32,
     /// GGX alpha of the coat, in (0, 1].
     pub coat_roughness: f32,
+    /// The medium inside objects of this material (`medium { }`; POV-Ray's `interior`
+    /// fade and `media`), if any.
+    pub interior: Option<Arc<MediumDesc>>,
+    pub span: Span,
+}
+
+/// A homogeneous participating medium, its coefficients per unit length of scene space
+/// (`docs/language.md`, Media).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MediumDesc {
+    /// sigma_a, per channel.
+    pub absorption: Vec3,
+    /// sigma_s, per channel.
+    pub scattering: Vec3,
+    /// Radiance emitted per unit length.
+    pub emission: Vec3,
+    /// Henyey–Greenstein's g of its scattering, in (-1, 1); 0 is isotropic.
+    pub anisotropy: f32,
     pub span: Span,
 }
 
@@ -233,6 +254,7 @@ impl MaterialDesc {
             roughness: 0.0,
             coat: 0.0,
             coat_roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
+            interior: None,
             span,
         }
     }

@@ -593,9 +593,30 @@ impl Builder {
                 let object = Item::Object(self.object(looks_like)?);
                 Item::PovParam { key, value: None, items: vec![object] }
             }
+            Rule::atmosphere | Rule::medium | Rule::pov_fog | Rule::media => {
+                let word = inner_pair(&pair);
+                if matches!(rule, Rule::pov_fog | Rule::media) {
+                    self.pov_only(&word, None)?;
+                }
+                let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::PovParam { key, value: None, items }
+            }
+            // The colour of POV-Ray's `scattering { type, colour ... }`, as an item of its own.
+            Rule::scattering_colour => {
+                let key = Ident { name: "colour".to_string(), span: span.clone() };
+                let value = Some(Colour { value: self.value_expr(inner_pair(&pair))?, span });
+                Item::PovParam { key, value, items: Vec::new() }
+            }
             Rule::finish_item
             | Rule::reflection_item
             | Rule::interior_item
+            | Rule::medium_item
+            | Rule::fog_item
+            | Rule::media_item
+            | Rule::scattering_item
             | Rule::light_option => {
                 if rule == Rule::light_option {
                     let word = inner_pair(&pair);

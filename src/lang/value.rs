@@ -31,7 +31,7 @@ pub enum Value {
     Pigment(Arc<Pigment>),
     Finish(Arc<Finish>),
     Look(Arc<Look>),
-    Interior(f32),
+    Interior(std::sync::Arc<super::eval::Interior>),
     Normal,
     /// A declared `color_map` (`.pov`): positions and colours.
     ColorMap(Arc<Vec<(f32, glam::Vec3)>>),

@@ -112,6 +112,12 @@ impl Evaluator {
         item: &Item,
         material: &mut MaterialDesc,
     ) -> Result<(), SceneError> {
+        if let Item::PovParam { key, items, .. } = item
+            && key.name == "medium"
+        {
+            material.interior = Some(Arc::new(self.medium(items, &key.span)?));
+            return Ok(());
+        }
         let Item::MaterialParam(param) = item else {
             return Err(Self::misplaced(item, &Body::Material(material)));
         };

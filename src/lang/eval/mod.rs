@@ -15,6 +15,7 @@ mod camera;
 mod expression;
 mod light;
 mod material;
+mod medium;
 mod object;
 mod scope;
 mod sky;
@@ -40,6 +41,7 @@ use array::element_index;
 pub use camera::CameraParams;
 use light::{LightState, PovLight};
 pub use material::TextureState;
+pub use medium::Interior;
 use scope::{Scope, Slot};
 
 /// Includes may nest this deep.
@@ -153,6 +155,8 @@ pub struct Evaluator {
     sky: Option<SkyDesc>,
     /// `.pov`: `background`, seen and not lighting.
     backdrop: Vec3,
+    /// `atmosphere { }` (POV-Ray's `fog` and scene-wide `media`): the medium filling the scene.
+    atmosphere: Option<crate::graph::MediumDesc>,
     /// `.pov`: the finish's words warned about as not rendered (once each).
     warned_finish: BTreeSet<String>,
     /// `.pov`: the `inverse` and `clipped_by` of each object being evaluated, innermost last.
@@ -181,7 +185,7 @@ pub enum Body<'a> {
     Pigment(&'a mut PigmentState),
     Finish(&'a mut Finish),
     Look(&'a mut Look),
-    Interior(&'a mut f32),
+    Interior(&'a mut medium::Interior),
     /// POV-Ray's `sky_sphere` (`.pov`).
     Sky(&'a mut SkyDesc),
     /// A macro called as a value: its body gives one.
@@ -291,6 +295,7 @@ impl Evaluator {
             objects: self.objects,
             sky: self.sky,
             backdrop: self.backdrop,
+            atmosphere: self.atmosphere,
             warnings: self.warnings,
         };
         Ok((graph, self.sources))
@@ -423,7 +428,7 @@ impl Evaluator {
                 Body::Pigment(state) => self.pigment_item(item, state),
                 Body::Finish(finish) => self.finish_item(item, finish),
                 Body::Look(look) => self.look_item(item, look),
-                Body::Interior(ior) => self.interior_item(item, ior),
+                Body::Interior(interior) => self.interior_item(item, interior),
                 Body::Sky(sky) => self.sky_item(item, sky),
             },
         }
@@ -475,6 +480,17 @@ impl Evaluator {
                 Ok(())
             }
             Item::SkySphere { items, span } => self.sky_sphere(items, span),
+            Item::PovParam { key, items, .. } if key.name == "atmosphere" => {
+                let medium = self.medium(items, &key.span)?;
+                self.add_atmosphere(medium)
+            }
+            Item::PovParam { key, items, .. } if key.name == "media" => {
+                let medium = self.pov_media(items, &key.span)?;
+                self.add_atmosphere(medium)
+            }
+            Item::PovParam { key, items, .. } if key.name == "fog" => {
+                self.pov_fog(items, &key.span)
+            }
             Item::Default { items, .. } => {
                 let mut look = self.default_look.clone();
                 self.exec(items, &mut Body::Look(&mut look))?;
