@@ -183,3 +183,24 @@ fn povray_fog_fade_and_media_are_media() {
     assert_eq!((interior.scattering, interior.emission), (Vec3::splat(0.2), Vec3::splat(0.5)));
     assert!((interior.anisotropy - 0.6).abs() < 1e-6);
 }
+
+/// A declared media stands for its items in a `media { }`, which may add to it; media in the
+/// same interior add up, their g weighted by how much each scatters.
+#[test]
+fn povray_declared_media_add_up() {
+    let graph = raydiance::lang::parse_scene(
+        Path::new("tests/inline.pov"),
+        "camera { location <0, 0, -5> look_at <0, 0, 0> }
+         #declare Smoke = media { absorption 0.1 scattering { 5, 0.3 eccentricity 0.5 } }
+         sphere { 0, 1 pigment { rgbt 1 } hollow
+           interior { media { Smoke emission <1, 0, 0> }
+                      media { scattering { 1, 0.1 } } } }",
+    )
+    .unwrap();
+    let material = graph.objects[0].material.as_ref().unwrap();
+    let medium = material.interior.as_ref().expect("the media");
+    assert_eq!(medium.absorption, Vec3::splat(0.1));
+    assert!((medium.scattering - Vec3::splat(0.4)).abs().max_element() < 1e-6);
+    assert_eq!(medium.emission, Vec3::new(1.0, 0.0, 0.0));
+    assert!((medium.anisotropy - 0.375).abs() < 1e-6, "{}", medium.anisotropy);
+}

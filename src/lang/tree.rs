@@ -708,6 +708,14 @@ impl Builder {
             Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
                 Declared::Appearance(self.appearance(pair)?)
             }
+            Rule::media => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Declared::Media { items, span }
+            }
             Rule::camera => {
                 let span = self.span(&pair);
                 self.pov_only(&inner_pair(&pair), None)?;

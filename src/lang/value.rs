@@ -33,6 +33,8 @@ pub enum Value {
     Look(Arc<Look>),
     Interior(std::sync::Arc<super::eval::Interior>),
     Normal,
+    /// A declared `media` (`.pov`).
+    Media(Arc<crate::graph::MediumDesc>),
     /// A declared `color_map` (`.pov`): positions and colours.
     ColorMap(Arc<Vec<(f32, glam::Vec3)>>),
     /// A declared camera's parameters (`.pov`).
@@ -58,6 +60,7 @@ impl Value {
             Value::Look(_) => "a POV-Ray texture",
             Value::Interior(_) => "an interior",
             Value::Normal => "a normal",
+            Value::Media(_) => "a media",
             Value::Camera(_) => "a camera",
             Value::ColorMap(_) => "a color_map",
         }

@@ -32,6 +32,7 @@ impl Evaluator {
             | Value::Finish(_)
             | Value::Look(_)
             | Value::Interior(_)
+            | Value::Media(_)
             | Value::Normal
             | Value::ColorMap(_)
             | Value::Camera(_) => true,

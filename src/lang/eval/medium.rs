@@ -175,12 +175,16 @@ impl Evaluator {
         let mut medium = self.empty_medium(span);
         for item in items {
             match item {
-                Item::Value(expr) => {
-                    return Err(SceneError::at(
-                        &expr.span,
-                        "a declared media cannot stand in a media (write its items)",
-                    ));
-                }
+                // A declared media, the items after it added to it.
+                Item::Value(expr) => match self.value(expr)? {
+                    Value::Media(declared) => medium = together(&medium, &declared),
+                    other => {
+                        return Err(SceneError::at(
+                            &expr.span,
+                            format!("a media names a declared media, not {}", other.kind()),
+                        ));
+                    }
+                },
                 Item::Transform(_) => {} // a homogeneous medium is the same moved
                 Item::PovParam { key, value, items } => match key.name.as_str() {
                     "absorption" => medium.absorption = self.pov_rgb(value, &key.span)?,

@@ -613,6 +613,7 @@ impl Evaluator {
                 self.exec(entries, &mut Body::ColorMap(&mut map))?;
                 Value::ColorMap(Arc::new(map))
             }
+            Declared::Media { items, span } => Value::Media(Arc::new(self.pov_media(items, span)?)),
             Declared::Camera { items, .. } => {
                 let mut given = CameraParams::new();
                 self.exec(items, &mut Body::Camera(&mut given))?;
