@@ -234,7 +234,18 @@ pub struct MediumDesc {
     pub emission: Vec3,
     /// Henyey–Greenstein's g of its scattering, in (-1, 1); 0 is isotropic.
     pub anisotropy: f32,
+    /// Ground fog's density, if it thins with height; the coefficients are those at density 1.
+    pub ground: Option<GroundDesc>,
     pub span: Span,
+}
+
+/// Ground fog: density 1 up to height `offset` along the unit vector `up`, and 1 / (1 + (h -
+/// offset) / falloff)² at height h above it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundDesc {
+    pub up: Vec3,
+    pub offset: f32,
+    pub falloff: f32,
 }
 
 impl MaterialDesc {

@@ -234,3 +234,25 @@ fn scattering_medium_in_a_furnace_is_invisible() {
     let dark = common::mean(&path(&furnace(0.5), Strategy::Mis).image());
     assert!(dark.max_element() < 0.9, "absorption darkens the sphere: {dark}");
 }
+
+/// Ground fog seen level at height 2 above its offset, where its density is 1/(1 + 2)²: an
+/// emitter 9 away is seen through a density-weighted length of 1.
+#[test]
+fn ground_fog_thins_with_height() {
+    let s = scene(
+        "settings { resolution 8, 8  samples 4 }
+         camera { location <0, 2, -5>  look_at <0, 2, 0>  angle 0.1 }
+         quad { <-1, 1, 4>, <0, 2, 0>, <2, 0, 0>  material { emission rgb 1 } }
+         atmosphere { absorption rgb 0.5  emission rgb 0.25  ground y, 0, 1 }",
+    );
+    let t = (-0.5f32).exp();
+    assert_every_pixel(&path(&s, Strategy::Mis), Vec3::splat(t + 0.5 * (1.0 - t)), 3e-3, "ground");
+    let graph = raydiance::lang::parse_scene(
+        Path::new("tests/inline.pov"),
+        "camera { location <0, 0, -5> look_at <0, 0, 0> }
+         fog { fog_type 2 distance 4 color rgb 1 fog_offset 0.5 fog_alt 2 }",
+    )
+    .unwrap();
+    let ground = graph.atmosphere.and_then(|fog| fog.ground).expect("ground fog");
+    assert_eq!((ground.up, ground.offset, ground.falloff), (Vec3::Y, 0.5, 2.0));
+}

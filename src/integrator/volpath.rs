@@ -35,10 +35,10 @@ impl Path {
             if let Some(index) = medium {
                 let m = &scene.media[index as usize];
                 let length = hit.map_or(f32::INFINITY, |hit| hit.t);
-                path.radiance += path.beta * m.emitted(length);
+                path.radiance += path.beta * m.emitted(&path.ray, length);
                 let (u_channel, u) =
                     if m.scatters() { (sampler.next_1d(), sampler.next_1d()) } else { (0.0, 0.0) };
-                match m.sample_flight(length, u_channel, u) {
+                match m.sample_flight(&path.ray, length, u_channel, u) {
                     Flight::Scattered { t, weight } => {
                         path.beta *= weight;
                         if !self.scatter(scene, &mut path, index, t, sampler) {
@@ -134,7 +134,8 @@ fn transmittance(scene: &Scene, shadow: &ShadowRay, mut medium: Option<u32>) -> 
     for _ in 0..=MOST_CROSSINGS {
         let hit = scene.intersect(&ray).filter(|hit| hit.t < left);
         if let Some(index) = medium {
-            reached *= scene.media[index as usize].transmittance(hit.map_or(left, |hit| hit.t));
+            let medium = &scene.media[index as usize];
+            reached *= medium.transmittance(&ray, hit.map_or(left, |hit| hit.t));
         }
         let Some(hit) = hit else { return reached };
         if !scene.only_bounds(&hit) {

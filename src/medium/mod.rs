@@ -4,13 +4,17 @@
 //! (`atmosphere`; POV-Ray's `fog` and scene-wide `media`). `integrator::Path` samples them by
 //! free-flight sampling (pbrt-v3's `HomogeneousMedium`, Mitsuba's `volpath`).
 
+mod density;
 mod phase;
 
+pub use density::Density;
 pub use phase::HenyeyGreenstein;
 
 use glam::Vec3;
 
-/// A homogeneous medium; coefficients per unit length of scene space, per channel.
+use crate::ray::Ray;
+
+/// A medium; coefficients per unit length of scene space at density 1, per channel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Medium {
     /// sigma_a: the fraction of radiance absorbed per unit length.
@@ -22,6 +26,7 @@ pub struct Medium {
     /// medium that does not extinguish adds emission × d.
     pub emission: Vec3,
     pub phase: HenyeyGreenstein,
+    pub density: Density,
 }
 
 /// What free-flight sampling finds along a segment of a medium.
@@ -48,19 +53,24 @@ impl Medium {
         self.scattering.max_element() > 0.0
     }
 
-    /// Beer–Lambert: the fraction of radiance that crosses `distance` (which may be infinite),
-    /// exp(-sigma_t d) per channel.
-    pub fn transmittance(&self, distance: f32) -> Vec3 {
-        self.extinction().map(|sigma| if sigma > 0.0 { (-sigma * distance).exp() } else { 1.0 })
+    /// Beer–Lambert: the fraction of radiance that crosses the ray's first `distance` (which
+    /// may be infinite), exp(-sigma_t D) per channel, D the density-weighted length.
+    pub fn transmittance(&self, ray: &Ray, distance: f32) -> Vec3 {
+        self.transmittance_over(self.density.depth(ray, distance))
     }
 
-    /// Radiance the medium emits along `distance` towards its start: the integral of
-    /// emission × T(t) over [0, d], emission (1 - exp(-sigma_t d)) / sigma_t per channel (and
-    /// emission × d where nothing extinguishes).
-    pub fn emitted(&self, distance: f32) -> Vec3 {
+    fn transmittance_over(&self, depth: f32) -> Vec3 {
+        self.extinction().map(|sigma| if sigma > 0.0 { (-sigma * depth).exp() } else { 1.0 })
+    }
+
+    /// Radiance the medium emits along the ray's first `distance` towards its origin: the
+    /// integral of emission × density × T(t), emission (1 - exp(-sigma_t D)) / sigma_t per
+    /// channel over a density-weighted length D (and emission × D where nothing extinguishes).
+    pub fn emitted(&self, ray: &Ray, distance: f32) -> Vec3 {
         if self.emission == Vec3::ZERO {
             return Vec3::ZERO;
         }
+        let distance = self.density.depth(ray, distance);
         let sigma = self.extinction();
         Vec3::from_array(std::array::from_fn(|c| {
             let (e, s) = (self.emission[c], sigma[c]);
@@ -74,24 +84,28 @@ impl Medium {
         }))
     }
 
-    /// Free-flight sampling over a segment `length` long (infinite where the ray leaves the
-    /// scene): a distance drawn with density sigma_t exp(-sigma_t t) in one channel chosen
-    /// uniformly by `u_channel`, weighed by the density averaged over the channels (the
-    /// one-sample MIS of chromatic media, pbrt-v3 15.2.1). A medium that does not scatter is
-    /// crossed with its transmittance, nothing drawn.
-    pub fn sample_flight(&self, length: f32, u_channel: f32, u: f32) -> Flight {
+    /// Free-flight sampling over the ray's first `length` (infinite where it leaves the
+    /// scene): a density-weighted length drawn with density sigma_t exp(-sigma_t D) in one
+    /// channel chosen uniformly by `u_channel`, weighed by the density averaged over the
+    /// channels (the one-sample MIS of chromatic media, pbrt-v3 15.2.1); the density at the
+    /// point cancels from the weight. A medium that does not scatter is crossed with its
+    /// transmittance, nothing drawn.
+    pub fn sample_flight(&self, ray: &Ray, length: f32, u_channel: f32, u: f32) -> Flight {
         if !self.scatters() {
-            return Flight::Crossed { weight: self.transmittance(length) };
+            return Flight::Crossed { weight: self.transmittance(ray, length) };
         }
         let sigma = self.extinction();
+        let total = self.density.depth(ray, length);
         let channel = ((u_channel * 3.0) as usize).min(2);
-        let t = if sigma[channel] > 0.0 { -(-u).ln_1p() / sigma[channel] } else { f32::INFINITY };
-        if t < length {
-            let transmittance = self.transmittance(t);
+        let depth =
+            if sigma[channel] > 0.0 { -(-u).ln_1p() / sigma[channel] } else { f32::INFINITY };
+        if depth < total {
+            let transmittance = self.transmittance_over(depth);
             let pdf = (sigma * transmittance).element_sum() / 3.0;
+            let t = self.density.distance(ray, depth).min(length);
             return Flight::Scattered { t, weight: self.scattering * transmittance / pdf };
         }
-        let transmittance = self.transmittance(length);
+        let transmittance = self.transmittance_over(total);
         let crossing = transmittance.element_sum() / 3.0;
         let weight = if crossing > 0.0 { transmittance / crossing } else { Vec3::ZERO };
         Flight::Crossed { weight }
@@ -103,16 +117,19 @@ mod tests {
     use super::*;
 
     fn medium(absorption: Vec3, scattering: Vec3) -> Medium {
-        Medium { absorption, scattering, emission: Vec3::ZERO, phase: HenyeyGreenstein { g: 0.0 } }
+        let (emission, phase) = (Vec3::ZERO, HenyeyGreenstein { g: 0.0 });
+        Medium { absorption, scattering, emission, phase, density: Density::Uniform }
     }
+
+    const ALONG_X: Ray = Ray { origin: glam::Vec3A::ZERO, dir: glam::Vec3A::X };
 
     /// Beer–Lambert's law, and what crosses an infinite medium.
     #[test]
     fn transmittance_is_exponential_in_extinction() {
         let m = medium(Vec3::new(0.5, 1.0, 0.0), Vec3::new(0.5, 0.0, 0.0));
-        let t = m.transmittance(2.0);
+        let t = m.transmittance(&ALONG_X, 2.0);
         assert!((t - Vec3::new((-2.0f32).exp(), (-2.0f32).exp(), 1.0)).abs().max_element() < 1e-6);
-        assert_eq!(m.transmittance(f32::INFINITY), Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(m.transmittance(&ALONG_X, f32::INFINITY), Vec3::new(0.0, 0.0, 1.0));
     }
 
     /// A medium that only absorbs and emits with sigma_a = 1 / D and emission c / D is
@@ -121,19 +138,28 @@ mod tests {
     fn emission_integrates_against_transmittance() {
         let mut m = medium(Vec3::splat(0.25), Vec3::ZERO);
         m.emission = Vec3::new(0.25, 0.5, 0.0);
-        let e = m.emitted(3.0);
+        let e = m.emitted(&ALONG_X, 3.0);
         let fade = 1.0 - (-0.75f32).exp();
         assert!((e - Vec3::new(1.0, 2.0, 0.0) * fade).abs().max_element() < 1e-6, "{e}");
-        assert_eq!(m.emitted(f32::INFINITY), Vec3::new(1.0, 2.0, 0.0));
+        assert_eq!(m.emitted(&ALONG_X, f32::INFINITY), Vec3::new(1.0, 2.0, 0.0));
         let clear = Medium { absorption: Vec3::ZERO, ..m };
-        assert_eq!(clear.emitted(2.0), Vec3::new(0.5, 1.0, 0.0));
+        assert_eq!(clear.emitted(&ALONG_X, 2.0), Vec3::new(0.5, 1.0, 0.0));
     }
 
     /// Free-flight sampling is unbiased for the transmittance to a surface: the mean of the
-    /// crossing weights (zero for scattered paths) is T(d), per channel, in a chromatic medium.
+    /// crossing weights (zero for scattered paths) is T(d), per channel, in a chromatic medium,
+    /// evenly dense and as ground fog along a rising ray.
     #[test]
     fn free_flight_crossing_weights_average_to_transmittance() {
-        let m = medium(Vec3::new(0.2, 0.5, 0.1), Vec3::new(0.3, 0.5, 1.5));
+        let even = medium(Vec3::new(0.2, 0.5, 0.1), Vec3::new(0.3, 0.5, 1.5));
+        let ground = Density::Ground { up: Vec3::Y, offset: 0.3, falloff: 0.5 };
+        let rising = Ray::new(Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0).normalize());
+        for (m, ray) in [(even, ALONG_X), (Medium { density: ground, ..even }, rising)] {
+            crossing_weights_average_to_transmittance(&m, &ray);
+        }
+    }
+
+    fn crossing_weights_average_to_transmittance(m: &Medium, ray: &Ray) {
         let (d, n) = (1.3, 400_000);
         let mut sum = Vec3::ZERO;
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
@@ -144,12 +170,12 @@ mod tests {
             (state >> 40) as f32 / (1u64 << 24) as f32
         };
         for _ in 0..n {
-            if let Flight::Crossed { weight } = m.sample_flight(d, next(), next()) {
+            if let Flight::Crossed { weight } = m.sample_flight(ray, d, next(), next()) {
                 sum += weight;
             }
         }
         let mean = sum / n as f32;
-        let expected = m.transmittance(d);
+        let expected = m.transmittance(ray, d);
         assert!((mean - expected).abs().max_element() < 0.01, "{mean} vs {expected}");
     }
 }

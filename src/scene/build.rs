@@ -17,12 +17,12 @@ use crate::geometry::{
     QuadricKind, Shape, Torus, TriangleMesh, similarity_scale,
 };
 use crate::graph::{
-    Below, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode, Pattern,
-    SceneGraph, ShapeNode, compose,
+    Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
+    Pattern, SceneGraph, ShapeNode, compose,
 };
 use crate::light::{Light, Spot, SpotProfile};
 use crate::material::Material;
-use crate::medium::{HenyeyGreenstein, Medium};
+use crate::medium::{Density, HenyeyGreenstein, Medium};
 use crate::texture::{ImageMap, Texture};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
@@ -288,6 +288,10 @@ fn medium(desc: &MediumDesc) -> Medium {
         scattering: desc.scattering,
         emission: desc.emission,
         phase: HenyeyGreenstein { g: desc.anisotropy },
+        density: match desc.ground {
+            None => Density::Uniform,
+            Some(GroundDesc { up, offset, falloff }) => Density::Ground { up, offset, falloff },
+        },
     }
 }
 

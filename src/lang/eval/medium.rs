@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::Evaluator;
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::MediumDesc;
+use crate::graph::{GroundDesc, MediumDesc};
 use crate::lang::syntax::{Colour, Item};
 use crate::lang::value::Value;
 
@@ -41,9 +41,11 @@ impl Interior {
             scattering: Vec3::ZERO,
             emission: Vec3::ZERO,
             anisotropy: 0.0,
+            ground: None,
             span,
         });
         let medium = match (fade, &self.media) {
+            // POV-Ray's media are even (ground fog is a fog's): they add to the fade.
             (Some(fade), Some(media)) => together(&fade, media),
             (Some(only), None) => only,
             (None, Some(only)) => only.clone(),
@@ -54,7 +56,20 @@ impl Interior {
 }
 
 /// Two media filling the same space: their coefficients add; the phase function is the one
-/// whose g is the mean of theirs weighted by how much each scatters.
+/// whose g is the mean of theirs weighted by how much each scatters. Their densities must be
+/// the same: a ground fog adds only to ground fog of the same layer.
+fn together_checked(a: &MediumDesc, b: &MediumDesc) -> Result<MediumDesc, SceneError> {
+    if a.ground != b.ground {
+        return Err(SceneError::at(
+            &b.span,
+            "this medium fills the same space as a ground fog of another layer (or as an even \
+             one): media of different densities cannot be combined yet",
+        ));
+    }
+    Ok(MediumDesc { ground: a.ground, ..together(a, b) })
+}
+
+/// `together_checked` for media of the same density.
 fn together(a: &MediumDesc, b: &MediumDesc) -> MediumDesc {
     let (sa, sb) = (a.scattering.element_sum(), b.scattering.element_sum());
     let anisotropy =
@@ -64,6 +79,7 @@ fn together(a: &MediumDesc, b: &MediumDesc) -> MediumDesc {
         scattering: a.scattering + b.scattering,
         emission: a.emission + b.emission,
         anisotropy,
+        ground: a.ground,
         span: a.span.clone(),
     }
 }
@@ -79,6 +95,18 @@ impl Evaluator {
     pub(super) fn medium(&mut self, items: &[Item], span: &Span) -> Result<MediumDesc, SceneError> {
         let mut medium = self.empty_medium(span);
         for item in items {
+            if let Item::PovParam { key, value: Some(up), items } = item
+                && key.name == "ground"
+            {
+                let [Item::Value(offset), Item::Value(falloff)] = &items[..] else {
+                    unreachable!("the grammar gives ground its three values")
+                };
+                let up = self.nonzero(&up.value, "ground's up")?.normalize();
+                let offset = super::expression::single(self.float(offset)?, &offset.span)?;
+                let falloff = self.positive(falloff, "ground's falloff")?;
+                medium.ground = Some(GroundDesc { up, offset, falloff });
+                continue;
+            }
             let (key, value) = self.keyed(item, "in a medium")?;
             match key {
                 "absorption" => medium.absorption = self.colour(value)?,
@@ -96,7 +124,7 @@ impl Evaluator {
     /// without end along rays that leave the scene.
     pub(super) fn add_atmosphere(&mut self, medium: MediumDesc) -> Result<(), SceneError> {
         let sum = match &self.atmosphere {
-            Some(before) => together(before, &medium),
+            Some(before) => together_checked(before, &medium)?,
             None => medium,
         };
         let sigma = sum.absorption + sum.scattering;
@@ -117,6 +145,7 @@ impl Evaluator {
     pub(super) fn pov_fog(&mut self, items: &[Item], span: &Span) -> Result<(), SceneError> {
         let mut distance = None;
         let mut colour = Vec3::ZERO;
+        let (mut ground, mut offset, mut alt, mut up) = (false, 0.0, 1.0, Vec3::Y);
         for item in items {
             match item {
                 Item::Value(expr) => {
@@ -137,15 +166,26 @@ impl Evaluator {
                     match key {
                         "distance" => distance = Some(self.positive(&value.value, "distance")?),
                         "fog_type" => {
-                            if self.number(&value.value, "`fog_type`")? != 1.0 {
-                                self.warn(
-                                    &value.span,
-                                    "ground fog (`fog_type 2`) is rendered \
-                                                        as constant fog",
-                                );
+                            ground = match self.number(&value.value, "`fog_type`")? {
+                                1.0 => false,
+                                2.0 => true,
+                                other => {
+                                    return Err(SceneError::at(
+                                        &value.span,
+                                        format!(
+                                            "fog_type {other}: POV-Ray's fog types are 1 \
+                                             (constant) and 2 (ground fog)"
+                                        ),
+                                    ));
+                                }
                             }
                         }
-                        "fog_offset" | "fog_alt" | "up" => {}
+                        "fog_offset" => {
+                            offset =
+                                super::expression::single(self.float(&value.value)?, &value.span)?
+                        }
+                        "fog_alt" => alt = self.positive(&value.value, "fog_alt")?,
+                        "up" => up = self.nonzero(&value.value, "the fog's up")?.normalize(),
                         "turbulence" | "octaves" | "turb_depth" | "omega" | "lambda" => {
                             self.warn(&value.span, "a fog's turbulence is not rendered")
                         }
@@ -163,6 +203,7 @@ impl Evaluator {
         let mut fog = self.empty_medium(span);
         fog.absorption = Vec3::splat(1.0 / distance);
         fog.emission = colour / distance;
+        fog.ground = ground.then_some(GroundDesc { up, offset, falloff: alt });
         self.add_atmosphere(fog)
     }
 
@@ -177,7 +218,7 @@ impl Evaluator {
             match item {
                 // A declared media, the items after it added to it.
                 Item::Value(expr) => match self.value(expr)? {
-                    Value::Media(declared) => medium = together(&medium, &declared),
+                    Value::Media(declared) => medium = together_checked(&medium, &declared)?,
                     other => {
                         return Err(SceneError::at(
                             &expr.span,
@@ -275,7 +316,7 @@ impl Evaluator {
             Item::PovParam { key, items, .. } if key.name == "media" => {
                 let media = self.pov_media(items, &key.span)?;
                 interior.media = Some(match &interior.media {
-                    Some(before) => together(before, &media),
+                    Some(before) => together_checked(before, &media)?,
                     None => media,
                 });
                 interior.span.get_or_insert_with(|| self.here(&key.span));
@@ -325,6 +366,7 @@ impl Evaluator {
             scattering: Vec3::ZERO,
             emission: Vec3::ZERO,
             anisotropy: 0.0,
+            ground: None,
             span: self.here(span),
         }
     }
