@@ -21,6 +21,9 @@ pub struct SceneGraph {
     /// POV-Ray's `background { C }`: what rays the camera sees leave the scene towards where no
     /// sky is; it does not light (`.pov`).
     pub backdrop: Vec3,
+    /// A medium filling the whole scene, outside objects with a medium of their own
+    /// (`atmosphere { }`; POV-Ray's `fog` and scene-wide `media`).
+    pub atmosphere: Option<MediumDesc>,
     /// What the language found worth saying that is not an error (POV-Ray's `#version`).
     pub warnings: Vec<String>,
 }
@@ -215,7 +218,36 @@ pub struct MaterialDesc {
     pub coat_roughness: f32,
     /// Bump mapping: how the shading normal is perturbed; `None`: not at all.
     pub normal: Option<NormalNode>,
+    /// The medium inside objects of this material (`medium { }`; POV-Ray's `interior`
+    /// fade and `media`), if any.
+    pub interior: Option<Arc<MediumDesc>>,
     pub span: Span,
+}
+
+/// A homogeneous participating medium, its coefficients per unit length of scene space
+/// (`docs/language.md`, Media).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MediumDesc {
+    /// sigma_a, per channel.
+    pub absorption: Vec3,
+    /// sigma_s, per channel.
+    pub scattering: Vec3,
+    /// Radiance emitted per unit length.
+    pub emission: Vec3,
+    /// Henyey–Greenstein's g of its scattering, in (-1, 1); 0 is isotropic.
+    pub anisotropy: f32,
+    /// Ground fog's density, if it thins with height; the coefficients are those at density 1.
+    pub ground: Option<GroundDesc>,
+    pub span: Span,
+}
+
+/// Ground fog: density 1 up to height `offset` along the unit vector `up`, and 1 / (1 + (h -
+/// offset) / falloff)² at height h above it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundDesc {
+    pub up: Vec3,
+    pub offset: f32,
+    pub falloff: f32,
 }
 
 impl MaterialDesc {
@@ -236,6 +268,7 @@ impl MaterialDesc {
             coat: 0.0,
             coat_roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
             normal: None,
+            interior: None,
             span,
         }
     }

@@ -24,6 +24,7 @@ pub mod lanes;
 pub mod lang;
 pub mod light;
 pub mod material;
+pub mod medium;
 pub mod mesh;
 pub mod photon;
 mod pipeline;

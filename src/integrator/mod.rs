@@ -9,6 +9,7 @@ mod path;
 mod photon;
 mod samples;
 pub mod sppm;
+mod volpath;
 
 pub use direct::Direct;
 pub use final_gather::{CAUSTIC_K, FinalGather};

@@ -33,27 +33,28 @@ pub struct Path {
 const ROULETTE_AFTER: u32 = 3;
 
 /// A camera path between bounces: what the next bounce reads and updates.
-struct PathState {
+pub(super) struct PathState {
     /// Its next ray.
-    ray: Ray,
+    pub(super) ray: Ray,
     /// Radiance gathered so far.
-    radiance: Vec3,
-    /// Throughput: the product of the BSDF weights along the path.
-    beta: Vec3,
+    pub(super) radiance: Vec3,
+    /// Throughput: the product of the BSDF (and medium) weights along the path.
+    pub(super) beta: Vec3,
     /// Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
     /// so paths through glass are not cut for a throughput drop that the exit restores.
     eta_scale: f32,
-    /// Where the last direction was sampled from a non-delta lobe, that vertex's point and the
-    /// direction's solid-angle pdf (for MIS where the path meets an emitter).
-    previous: Option<(Vec3, f32)>,
+    /// Where the last direction was sampled from a non-delta lobe (or a phase function), that
+    /// vertex's point and the direction's solid-angle pdf (for MIS where the path meets an
+    /// emitter).
+    pub(super) previous: Option<(Vec3, f32)>,
     /// Whether every bounce so far was through a delta lobe: the camera sees what the path
     /// finds (POV-Ray's `background` too, which does not light).
-    seen: bool,
-    bounces: u32,
+    pub(super) seen: bool,
+    pub(super) bounces: u32,
 }
 
 impl PathState {
-    fn new(ray: Ray) -> Self {
+    pub(super) fn new(ray: Ray) -> Self {
         PathState {
             ray,
             radiance: Vec3::ZERO,
@@ -64,18 +65,37 @@ impl PathState {
             bounces: 0,
         }
     }
+
+    /// Russian roulette before the next bounce: whether the path goes on, with probability tied
+    /// to its throughput, which is divided by it so that the estimate stays unbiased.
+    #[inline]
+    pub(super) fn survives_roulette(&mut self, sampler: &mut Sampler) -> bool {
+        let roulette = self.bounces + 1 >= ROULETTE_AFTER;
+        let survive = (self.beta * self.eta_scale).max_element().min(1.0);
+        let u = sampler.next_1d_if(roulette);
+        if roulette && u >= survive {
+            return false;
+        }
+        if roulette {
+            self.beta /= survive;
+        }
+        true
+    }
 }
 
 /// What a bounce leaves to its caller: next-event estimation's shadow ray and the radiance it
 /// brings if nothing is in the way, and whether the path goes on (along `PathState::ray`).
-struct Bounce {
-    shadowed: Option<(ShadowRay, Vec3)>,
-    continues: bool,
+pub(super) struct Bounce {
+    pub(super) shadowed: Option<(ShadowRay, Vec3)>,
+    pub(super) continues: bool,
 }
 
 impl SampleIntegrator for Path {
     /// One path, one bounce at a time.
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
+        if scene.has_media() {
+            return self.radiance_in_media(scene, ray, sampler);
+        }
         let mut path = PathState::new(ray);
         loop {
             let hit = scene.intersect(&path.ray);
@@ -101,6 +121,12 @@ impl SampleIntegrator for Path {
         samples: &mut dyn Iterator<Item = (Ray, Sampler)>,
         radiance: &mut [Vec3],
     ) {
+        if scene.has_media() {
+            for (out, (ray, mut sampler)) in radiance.iter_mut().zip(samples) {
+                *out = self.radiance_in_media(scene, ray, &mut sampler);
+            }
+            return;
+        }
         let mut samples = samples.enumerate();
         let mut lanes: Lanes<PathState> = Lanes::new();
         while let Some(active) = lanes.fill(&mut samples, PathState::new) {
@@ -135,7 +161,7 @@ impl Path {
     /// there, weighted against next-event estimation; then, unless the path ends here, a light
     /// sample (its shadow ray left to the caller) and a BSDF sample for the next ray, and
     /// Russian roulette.
-    fn bounce(
+    pub(super) fn bounce(
         &self,
         scene: &Scene,
         path: &mut PathState,
@@ -175,16 +201,8 @@ impl Path {
         path.previous = (!sample.is_delta()).then_some((hit.point, sample.pdf));
         path.seen &= sample.is_delta();
         path.ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
-        // Russian roulette: go on with probability tied to the throughput and divide by it, so
-        // the estimate stays unbiased.
-        let roulette = path.bounces + 1 >= ROULETTE_AFTER;
-        let survive = (path.beta * path.eta_scale).max_element().min(1.0);
-        let u = sampler.next_1d_if(roulette);
-        if roulette && u >= survive {
+        if !path.survives_roulette(sampler) {
             return Bounce { shadowed, continues: false };
-        }
-        if roulette {
-            path.beta /= survive;
         }
         path.bounces += 1;
         Bounce { shadowed, continues: true }
@@ -236,7 +254,11 @@ impl Path {
 
     /// The light for next-event estimation, chosen by power, with the probability of that
     /// choice and the point that samples it; none if this strategy does not sample it.
-    fn choose_light(&self, scene: &Scene, sampler: &mut Sampler) -> Option<(usize, f32, Vec2)> {
+    pub(super) fn choose_light(
+        &self,
+        scene: &Scene,
+        sampler: &mut Sampler,
+    ) -> Option<(usize, f32, Vec2)> {
         let u_select = sampler.next_1d_if(scene.lights.len() > 1);
         let u = sampler.next_2d();
         let (index, probability) = scene.choose_light(u_select)?;

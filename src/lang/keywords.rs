@@ -109,6 +109,8 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "double_illuminate" => S, "no_shadow" => S, "no_image" => S, "no_reflection" => S,
     "bounded_by" => S, "inverse" => S, "clipped_by" => S,
     "pigment_map" => S,
+    "atmosphere" => S, "medium" => S, "absorption" => S, "scattering" => S, "anisotropy" => S,
+    "fog" => S, "media" => S,
     "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),
     "true" => C(Constant::True), "yes" => C(Constant::True), "on" => C(Constant::True),
     "false" => C(Constant::False), "no" => C(Constant::False), "off" => C(Constant::False),

@@ -42,7 +42,12 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         }
         "interior" => {
             "POV-Ray's `interior { ior ... }` is here a material parameter: \
-             `material { transmission rgb 1  ior 1.5 }`"
+             `material { transmission rgb 1  ior 1.5 }`, and what fills it a medium in the \
+             material: `medium { absorption rgb <...> scattering rgb <...> }`"
+        }
+        "fog" | "media" => {
+            "a medium filling the scene is here `atmosphere { absorption rgb <...> scattering \
+             rgb <...> emission rgb <...> }`; inside objects, `medium { ... }` in a material"
         }
         "phong" | "ambient" | "reflection" | "brilliance" | "metallic" => {
             "that is an item of POV-Ray's `finish`; here a material has `diffuse`, `specular` \

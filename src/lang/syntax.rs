@@ -468,6 +468,11 @@ pub enum Declared {
         entries: Vec<Item>,
         span: Span,
     },
+    /// POV-Ray's declared `media` (`.pov`): its items.
+    Media {
+        items: Vec<Item>,
+        span: Span,
+    },
     /// POV-Ray's declared camera (`.pov`): its items.
     Camera {
         items: Vec<Item>,

@@ -626,11 +626,32 @@ impl Builder {
                 let object = Item::Object(self.object(looks_like)?);
                 Item::PovParam { key, value: None, items: vec![object] }
             }
+            Rule::atmosphere | Rule::medium | Rule::pov_fog | Rule::media => {
+                let word = inner_pair(&pair);
+                if matches!(rule, Rule::pov_fog | Rule::media) {
+                    self.pov_only(&word, None)?;
+                }
+                let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Item::PovParam { key, value: None, items }
+            }
+            // The colour of POV-Ray's `scattering { type, colour ... }`, as an item of its own.
+            Rule::scattering_colour => {
+                let key = Ident { name: "colour".to_string(), span: span.clone() };
+                let value = Some(Colour { value: self.value_expr(inner_pair(&pair))?, span });
+                Item::PovParam { key, value, items: Vec::new() }
+            }
             Rule::finish_item
             | Rule::reflection_item
             | Rule::interior_item
             | Rule::pattern_parameter
             | Rule::warp_item
+            | Rule::medium_item
+            | Rule::fog_item
+            | Rule::media_item
+            | Rule::scattering_item
             | Rule::light_option => {
                 if rule == Rule::light_option {
                     let word = inner_pair(&pair);
@@ -749,6 +770,14 @@ impl Builder {
             }
             Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
                 Declared::Appearance(self.appearance(pair)?)
+            }
+            Rule::media => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let items = self.items(pair.into_inner().skip(1))?;
+                self.leave();
+                Declared::Media { items, span }
             }
             Rule::camera => {
                 let span = self.span(&pair);

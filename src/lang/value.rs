@@ -31,9 +31,11 @@ pub enum Value {
     Pigment(Arc<Pigment>),
     Finish(Arc<Finish>),
     Look(Arc<Look>),
-    Interior(f32),
+    Interior(std::sync::Arc<super::eval::Interior>),
     /// `None`: a normal raydiance reads without rendering (`bump_map`).
     Normal(Option<Arc<crate::graph::NormalNode>>),
+    /// A declared `media` (`.pov`).
+    Media(Arc<crate::graph::MediumDesc>),
     /// A declared `color_map` (`.pov`): positions and colours.
     ColorMap(Arc<Vec<(f32, glam::Vec3)>>),
     /// A declared camera's parameters (`.pov`).
@@ -61,6 +63,7 @@ impl Value {
             Value::Look(_) => "a POV-Ray texture",
             Value::Interior(_) => "an interior",
             Value::Normal(_) => "a normal",
+            Value::Media(_) => "a media",
             Value::Camera(_) => "a camera",
             Value::Sky(_) => "a sky_sphere",
             Value::ColorMap(_) => "a color_map",

@@ -17,10 +17,12 @@ use crate::geometry::{
     QuadricKind, Shape, Torus, TriangleMesh, similarity_scale,
 };
 use crate::graph::{
-    Below, LightDesc, LightForm, MaterialDesc, ObjectNode, Pattern, SceneGraph, ShapeNode, compose,
+    Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
+    Pattern, SceneGraph, ShapeNode, compose,
 };
 use crate::light::{Light, Spot, SpotProfile};
 use crate::material::Material;
+use crate::medium::{Density, HenyeyGreenstein, Medium};
 use crate::texture::{Bump, ImageMap, Texture};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
@@ -181,6 +183,15 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
                 .to_string(),
         );
     }
+    let mut media = flat.media;
+    let atmosphere = graph.atmosphere.as_ref().map(|desc| {
+        media.push(medium(desc));
+        flat.medium_spans.push(desc.span.clone());
+        media.len() as u32 - 1
+    });
+    if let Some(span) = flat.medium_spans.first() {
+        refuse_media(settings.integrator, span)?;
+    }
     // Rays traced in lanes meet few simple shapes at less cost than the BVH's.
     let few_holds_bounded =
         primitives[..bounded_count].iter().map(|p| FewShapes::size(&p.shape)).sum::<usize>()
@@ -224,6 +235,9 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         materials: flat.materials,
         textures: flat.textures,
         bumps: flat.bumps,
+        media,
+        interiors: flat.interiors,
+        atmosphere,
         frames: flat.frames,
         lights,
         environment,
@@ -263,6 +277,43 @@ struct Flattener {
     /// The surfaces of CSG operands (material and frame of each), in the order of the CSG
     /// primitives' operands.
     surfaces: Vec<Primitive>,
+    /// The media inside materials, and where each is written.
+    media: Vec<Medium>,
+    medium_spans: Vec<Span>,
+    /// Per material, the index in `media` of its interior's medium.
+    interiors: Vec<Option<u32>>,
+}
+
+/// The medium a description gives.
+fn medium(desc: &MediumDesc) -> Medium {
+    Medium {
+        absorption: desc.absorption,
+        scattering: desc.scattering,
+        emission: desc.emission,
+        phase: HenyeyGreenstein { g: desc.anisotropy },
+        density: match desc.ground {
+            None => Density::Uniform,
+            Some(GroundDesc { up, offset, falloff }) => Density::Ground { up, offset, falloff },
+        },
+    }
+}
+
+/// Only `path` renders participating media: the others refuse a scene with one, naming it.
+fn refuse_media(integrator: IntegratorKind, medium: &Span) -> Result<(), SceneError> {
+    match integrator {
+        IntegratorKind::Path => Ok(()),
+        IntegratorKind::Direct
+        | IntegratorKind::Photon
+        | IntegratorKind::FinalGather
+        | IntegratorKind::Sppm => Err(SceneError::at(
+            medium,
+            format!(
+                "the `{}` integrator does not render participating media, such as this medium \
+                 (an interior, fog or atmosphere): render the scene with `integrator path`",
+                integrator.name()
+            ),
+        )),
+    }
 }
 
 /// Refuses an object's transforms that a 32-bit matrix cannot invert: ones that flatten it, and
@@ -510,6 +561,12 @@ impl Flattener {
         self.materials.push(desc.map_or_else(Material::default, |d| Material::from(&**d)));
         self.textures.push(texture);
         self.bumps.push(desc.and_then(|d| d.normal.as_ref()).map(Bump::new));
+        let interior = desc.and_then(|d| d.interior.as_ref()).map(|interior| {
+            self.media.push(medium(interior));
+            self.medium_spans.push(interior.span.clone());
+            self.media.len() as u32 - 1
+        });
+        self.interiors.push(interior);
         self.material_index.insert(key, index);
         Ok(index)
     }

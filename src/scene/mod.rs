@@ -17,6 +17,7 @@ use crate::graph::Settings;
 use crate::lanes::{Floats, LANES, Lane, Mask, RayLanes, Wide};
 use crate::light::{Environment, Light};
 use crate::material::{Bsdf, Material, TransportMode};
+use crate::medium::Medium;
 use crate::sampling::Sampler;
 use crate::texture::{Bump, Texture, tilt};
 
@@ -72,6 +73,12 @@ pub struct Scene {
     backdrop: Vec3,
     /// Cumulative distribution for choosing a light in proportion to its power.
     light_cdf: Vec<f32>,
+    /// The participating media: objects' interiors and the atmosphere (none in most scenes).
+    pub media: Vec<Medium>,
+    /// Per material, the index in `media` of the medium inside objects made of it.
+    interiors: Vec<Option<u32>>,
+    /// The index in `media` of the medium filling the scene outside objects with one.
+    atmosphere: Option<u32>,
     /// Things the user should know that are not errors (e.g. the camera's aspect ratio).
     pub warnings: Vec<String>,
 }
@@ -258,6 +265,43 @@ impl Scene {
         }
         let hit = Hit { shading_normal, ..hit };
         (hit, material.bsdf(shading_normal, mode).facing(hit.normal))
+    }
+
+    /// Whether any medium fills part of the scene (`integrator::Path` then follows its paths
+    /// through media).
+    pub fn has_media(&self) -> bool {
+        !self.media.is_empty()
+    }
+
+    /// The medium filling the scene outside objects with a medium of their own: where camera
+    /// rays start.
+    pub fn atmosphere(&self) -> Option<u32> {
+        self.atmosphere
+    }
+
+    /// The medium a ray leaving `hit` along `dir` travels in: the interior of the object hit
+    /// where `dir` goes into it and it has one, the atmosphere otherwise (media do not nest:
+    /// `docs/limits.md`).
+    pub fn medium_towards(&self, hit: &Hit, dir: Vec3) -> Option<u32> {
+        let material = self.primitives[hit.primitive as usize].material as usize;
+        let inwards = hit.normal.dot(dir) < 0.0;
+        if inwards { self.interiors[material].or(self.atmosphere) } else { self.atmosphere }
+    }
+
+    /// Whether the surface hit only bounds a medium: it lets light straight through (all
+    /// transmission, `ior 1`, nothing else), so paths and shadow rays cross it as if it were
+    /// not there (pbrt's interface material).
+    pub fn only_bounds(&self, hit: &Hit) -> bool {
+        let primitive = &self.primitives[hit.primitive as usize];
+        let index = primitive.material as usize;
+        let m = &self.materials[index];
+        self.textures[index].is_none()
+            && m.diffuse == Vec3::ZERO
+            && m.specular == Vec3::ZERO
+            && m.transmission == Vec3::ONE
+            && m.ior == 1.0
+            && m.emission == Vec3::ZERO
+            && m.coat.is_none()
     }
 
     /// The environment light, if the scene has one, and its index in `lights`.

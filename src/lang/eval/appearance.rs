@@ -7,6 +7,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 use super::expression::single;
+use super::medium::Interior;
 use super::pattern::PatternState;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
@@ -90,8 +91,8 @@ pub struct Look {
     pub finish: Finish,
     /// `normal { }`: bump mapping, if any.
     pub normal: Option<NormalNode>,
-    /// `interior { ior }`: 1 when not given.
-    pub ior: f32,
+    /// `interior { }`: `ior 1` and empty when not given.
+    pub interior: Interior,
 }
 
 impl Default for Look {
@@ -101,7 +102,7 @@ impl Default for Look {
             pigment: Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 },
             finish: POV_FINISH,
             normal: None,
-            ior: 1.0,
+            interior: Interior::default(),
         }
     }
 }
@@ -143,7 +144,7 @@ impl Evaluator {
                 look.normal = texture.normal;
             }
             AppearanceKind::Interior => {
-                self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?
+                self.exec(&appearance.items, &mut Body::Interior(&mut look.interior))?
             }
             AppearanceKind::Normal => {
                 look.normal = self.normal(appearance, look.normal.as_ref())?;
@@ -179,8 +180,8 @@ impl Evaluator {
                 Value::Look(Arc::new(look))
             }
             AppearanceKind::Interior => {
-                self.exec(&appearance.items, &mut Body::Interior(&mut look.ior))?;
-                Value::Interior(look.ior)
+                self.exec(&appearance.items, &mut Body::Interior(&mut look.interior))?;
+                Value::Interior(Arc::new(look.interior))
             }
             AppearanceKind::Normal => Value::Normal(self.normal(appearance, None)?.map(Arc::new)),
         })
@@ -372,25 +373,6 @@ impl Evaluator {
         Ok(())
     }
 
-    pub(super) fn interior_item(&mut self, item: &Item, ior: &mut f32) -> Result<(), SceneError> {
-        match item {
-            Item::PovParam { key, value: Some(v), .. } if key.name == "ior" => {
-                *ior = self.positive(&v.value, "ior")?;
-            }
-            Item::Value(expr) => match self.value(expr)? {
-                Value::Interior(i) => *ior = i,
-                other => {
-                    return Err(SceneError::at(
-                        &expr.span,
-                        format!("an interior names a declared interior, not {}", other.kind()),
-                    ));
-                }
-            },
-            _ => return Err(Self::misplaced(item, &Body::Interior(ior))),
-        }
-        Ok(())
-    }
-
     /// A POV-Ray colour: its red, green and blue, filter and transmit.
     pub(super) fn pov_colour(&mut self, colour: &Colour) -> Result<(Vec3, f32, f32), SceneError> {
         let value = self.value(&colour.value)?;
@@ -406,7 +388,7 @@ impl Evaluator {
     /// are scaled down together. `ambient` is light only where `diffuse` is 0 (the object only
     /// glows); `emission` always is.
     pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
-        let Look { pigment, finish, normal, ior } = look;
+        let Look { pigment, finish, normal, interior } = look;
         let colour = pigment.colour.max_value();
         let solid = matches!(pigment.colour.pattern, Pattern::Solid(_));
         let opacity = (1.0 - pigment.filter - pigment.transmit).max(0.0);
@@ -465,13 +447,14 @@ impl Evaluator {
             diffuse: diffuse_node,
             specular: reflection,
             transmission,
-            ior: *ior,
+            ior: interior.ior,
             emission,
             fresnel: finish.fresnel,
             roughness,
             coat,
             coat_roughness,
             normal: normal.clone(),
+            interior: interior.medium(),
             span: at,
         })
     }

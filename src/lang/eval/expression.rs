@@ -33,6 +33,7 @@ impl Evaluator {
             | Value::Look(_)
             | Value::Interior(_)
             | Value::Normal(_)
+            | Value::Media(_)
             | Value::ColorMap(_)
             | Value::Camera(_)
             | Value::Sky(_) => true,

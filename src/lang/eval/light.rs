@@ -192,6 +192,20 @@ impl Evaluator {
                     "orient" => state.orient = true,
                     // How POV-Ray samples an area light; raydiance samples it continuously.
                     "jitter" => {}
+                    // Light always scatters in media and is dimmed by them here (physics).
+                    "media_interaction" | "media_attenuation" => {
+                        let on = match value {
+                            Some(v) => self.number(v, &what)? != 0.0,
+                            None => true,
+                        };
+                        if !on && word == "media_interaction" {
+                            let at = self.here(&span);
+                            self.warnings.push(format!(
+                                "{at:?}: warning: `media_interaction off` is not honoured: \
+                                 light scatters in every medium"
+                            ));
+                        }
+                    }
                     "adaptive" => {
                         self.non_negative(given(value), &what)?;
                     }

@@ -115,6 +115,10 @@ impl Evaluator {
                 material.normal = self.normal(a, material.normal.as_ref())?;
                 return Ok(());
             }
+            Item::PovParam { key, items, .. } if key.name == "medium" => {
+                material.interior = Some(Arc::new(self.medium(items, &key.span)?));
+                return Ok(());
+            }
             _ => return Err(Self::misplaced(item, &Body::Material(material))),
         };
         match &param.kind {

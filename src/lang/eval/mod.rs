@@ -15,6 +15,7 @@ mod camera;
 mod expression;
 mod light;
 mod material;
+mod medium;
 mod normal;
 mod object;
 mod pattern;
@@ -42,6 +43,7 @@ use array::element_index;
 pub use camera::CameraParams;
 use light::{LightState, PovLight};
 pub use material::TextureState;
+pub use medium::Interior;
 use normal::NormalState;
 use pattern::MapState;
 use scope::{Scope, Slot};
@@ -157,6 +159,8 @@ pub struct Evaluator {
     sky: Option<SkyDesc>,
     /// `.pov`: `background`, seen and not lighting.
     backdrop: Vec3,
+    /// `atmosphere { }` (POV-Ray's `fog` and scene-wide `media`): the medium filling the scene.
+    atmosphere: Option<crate::graph::MediumDesc>,
     /// `.pov`: the finish's words warned about as not rendered (once each).
     warned_finish: BTreeSet<String>,
     /// `.pov`: the `inverse` and `clipped_by` of each object being evaluated, innermost last.
@@ -189,7 +193,7 @@ pub enum Body<'a> {
     PatternMap(&'a mut MapState),
     Finish(&'a mut Finish),
     Look(&'a mut Look),
-    Interior(&'a mut f32),
+    Interior(&'a mut medium::Interior),
     /// POV-Ray's `sky_sphere` (`.pov`).
     Sky(&'a mut SkyDesc),
     /// A macro called as a value: its body gives one.
@@ -306,6 +310,7 @@ impl Evaluator {
             objects: self.objects,
             sky: self.sky,
             backdrop: self.backdrop,
+            atmosphere: self.atmosphere,
             warnings: self.warnings,
         };
         Ok((graph, self.sources))
@@ -442,7 +447,7 @@ impl Evaluator {
                 Body::PatternMap(state) => self.map_block(item, state),
                 Body::Finish(finish) => self.finish_item(item, finish),
                 Body::Look(look) => self.look_item(item, look),
-                Body::Interior(ior) => self.interior_item(item, ior),
+                Body::Interior(interior) => self.interior_item(item, interior),
                 Body::Sky(sky) => self.sky_item(item, sky),
             },
         }
@@ -494,6 +499,17 @@ impl Evaluator {
                 Ok(())
             }
             Item::SkySphere { items, span } => self.sky_sphere(items, span),
+            Item::PovParam { key, items, .. } if key.name == "atmosphere" => {
+                let medium = self.medium(items, &key.span)?;
+                self.add_atmosphere(medium)
+            }
+            Item::PovParam { key, items, .. } if key.name == "media" => {
+                let medium = self.pov_media(items, &key.span)?;
+                self.add_atmosphere(medium)
+            }
+            Item::PovParam { key, items, .. } if key.name == "fog" => {
+                self.pov_fog(items, &key.span)
+            }
             Item::Default { items, .. } => {
                 let mut look = self.default_look.clone();
                 self.exec(items, &mut Body::Look(&mut look))?;
@@ -618,6 +634,7 @@ impl Evaluator {
                 self.exec(entries, &mut Body::ColorMap(&mut map))?;
                 Value::ColorMap(Arc::new(map))
             }
+            Declared::Media { items, span } => Value::Media(Arc::new(self.pov_media(items, span)?)),
             Declared::Camera { items, .. } => {
                 let mut given = CameraParams::new();
                 self.exec(items, &mut Body::Camera(&mut given))?;
