@@ -142,22 +142,23 @@ impl Bsdf {
     /// f(wo, wi) of the lobes with a density.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi))
-    }
-
-    #[inline]
-    fn eval_local(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let mut lobes = self.lobes.iter().map(|lobe| lobe.eval(wo, wi, self.mode));
-        let first = lobes.next().unwrap_or(Vec3::ZERO);
-        lobes.fold(first, |f, lobe| f + lobe)
+        self.eval_lobes(wo, wi, LobeFlags::ALL)
     }
 
     /// f(wo, wi) of the lobes with a density that `mask` asks for.
     #[inline]
     pub fn eval_lobes(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
-        let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi), mask)
+    }
+
+    /// `eval_lobes` in the shading frame. Always inlined: next-event estimation calls it once
+    /// per light sample, and out of line its call costs as much as a Lambertian lobe's work.
+    #[inline(always)]
+    fn eval_local(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
         let taking = self.lobes.iter().filter(|lobe| lobe.flags().is_in(mask));
-        taking.map(|lobe| lobe.eval(wo, wi, self.mode)).fold(Vec3::ZERO, |f, lobe| f + lobe)
+        let mut f = taking.map(|lobe| lobe.eval(wo, wi, self.mode));
+        let first = f.next().unwrap_or(Vec3::ZERO);
+        f.fold(first, |f, lobe| f + lobe)
     }
 
     /// Solid-angle density with which `sample` under `mask` returns `wi` through its lobes with
@@ -172,7 +173,7 @@ impl Bsdf {
     #[inline]
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> (Vec3, f32) {
         let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        (self.eval_local(wo, wi), self.pdf_of(wo, wi, mask))
+        (self.eval_local(wo, wi, LobeFlags::ALL), self.pdf_of(wo, wi, mask))
     }
 
     /// `pdf` in the shading frame: for a lone lobe, its own density where it is taken
