@@ -86,7 +86,8 @@ impl Light {
 
     /// Samples light arriving at `hit` from this light, unless something is in the way (see
     /// `LightSample::shadow`); `None` if it arrives from behind the emitter or carries nothing.
-    #[inline]
+    /// Always inlined into next-event estimation: out of line its call costs a tenth of it.
+    #[inline(always)]
     pub fn sample(&self, hit: &Hit, u: Vec2) -> Option<LightSample> {
         let (target, wi, li, pdf, is_delta) = match self {
             &Light::Point { position, power } => {

@@ -86,7 +86,10 @@ impl Material {
     /// Lambertian lobe of `diffuse` (plastic under a `coat`); and `specular` and `transmission`
     /// as a mirror (no transmission, no Fresnel) or a smooth dielectric, or where `roughness`
     /// > 0 their GGX forms, a conductor or a dielectric.
-    #[inline]
+    ///
+    /// Always inlined, as are the BSDF's `sample` and `pdf`: made and used once per vertex, out
+    /// of line they cost their calls and a copy of the BSDF (callgrind of S1–S7).
+    #[inline(always)]
     pub fn bsdf(&self, n: Vec3, mode: TransportMode) -> Bsdf {
         let mut lobes = ArrayVec::new();
         if let Some(base) = self.base_lobe() {
@@ -178,7 +181,7 @@ impl Bsdf {
 
     /// `pdf` in the shading frame: for a lone lobe, its own density where it is taken
     /// (`pdf_local` with the choice of one lobe, bit for bit).
-    #[inline]
+    #[inline(always)]
     fn pdf_of(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> f32 {
         match self.lobes.as_slice() {
             [lobe] => {
@@ -234,7 +237,7 @@ impl Bsdf {
     /// Takes one of the lobes `mask` asks for with `u_lobe` (`choice`), then a direction from
     /// it, the rest of `u_lobe` choosing between reflection and refraction within it. Delta
     /// lobes read no `u`.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mask: LobeFlags) -> Option<BsdfSample> {
         let wo = self.frame.to_local(wo);
         let sample = match self.lobes.as_slice() {
@@ -247,7 +250,7 @@ impl Bsdf {
     /// `sample_among` for a BSDF of one lobe (most materials), without the choice among lobes:
     /// it is taken with probability 1 where `mask` asks for it and it scatters light, and all of
     /// `u_lobe` is left for its own choices; the same result, bit for bit (tested).
-    #[inline]
+    #[inline(always)]
     fn sample_lone(
         &self,
         lobe: &Lobe,
