@@ -110,7 +110,7 @@ impl Planar {
     }
 
     /// A point distributed uniformly by area, from a point `u` of the unit square.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, u: Vec2) -> SurfaceSample {
         let (s, t) = planar_coordinates(self.kind, u).into();
         SurfaceSample {

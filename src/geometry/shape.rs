@@ -220,7 +220,8 @@ impl Shape {
     }
 
     /// A point distributed uniformly by area (pdf 1 / area); `None` where `area` is `None`.
-    #[inline]
+    /// Always inlined: an area light samples it once per light sample.
+    #[inline(always)]
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
             Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) => None,

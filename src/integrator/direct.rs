@@ -22,8 +22,9 @@ pub struct Direct {
 /// for, found by one direction sampled from them with a shadow ray to infinity: f L cos / pdf
 /// where the sky is seen, weighted against the environment's own sample (`direct_from_light`)
 /// by the power heuristic. A scene without an environment draws no sample, so the course's Lab
-/// 4 scenes render as they always have.
-#[inline]
+/// 4 scenes render as they always have. Always inlined: most scenes have no environment, and
+/// out of line the call costs more than finding that out.
+#[inline(always)]
 pub(super) fn direct_from_environment(
     scene: &Scene,
     hit: &Hit,
@@ -174,6 +175,9 @@ impl Vertex {
 
 /// The path arrives where its ray meets the scene (`hit`), or leaves it, and adds the emission
 /// seen there (what lies beyond where it leaves); the vertex where it scatters, unless it ends.
+/// `arrive`, `leave` and `follow` are always inlined: a vertex is made and read in place, not
+/// copied out of a call (callgrind of S1).
+#[inline(always)]
 pub(super) fn arrive(
     scene: &Scene,
     path: &mut WhittedPath,
@@ -230,6 +234,7 @@ fn light_sample(
 /// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),
 /// where it gathers the environment's light found by BSDF sampling and any `indirect` light; it
 /// follows a delta (or near-specular) lobe if there is one. Whether it goes on.
+#[inline(always)]
 fn leave(
     scene: &Scene,
     path: &mut WhittedPath,
@@ -253,6 +258,7 @@ fn leave(
 /// The path goes on through the vertex's followed lobes (`Vertex::followed`), if it has some:
 /// with both reflection and refraction one of them is followed, chosen at random with its
 /// weight divided by its probability (one ray, no branching, no bias). Whether it goes on.
+#[inline(always)]
 pub(super) fn follow(path: &mut WhittedPath, vertex: &Vertex, sampler: &mut Sampler) -> bool {
     let Vertex { hit, wo, bsdf, .. } = vertex;
     let followed = vertex.followed();

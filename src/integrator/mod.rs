@@ -87,6 +87,8 @@ pub fn of(settings: &Settings) -> Box<dyn Integrator> {
 /// its sample at `u`, if the shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point
 /// light exactly the course's Lab 4 p / r^2 f |n . wi|). The environment's sample is weighted
 /// against the BSDF's sample of it (`direct::direct_from_environment`), by the power heuristic.
+/// Always inlined into `direct`'s loop over lights, with the light's sample.
+#[inline(always)]
 fn direct_from_light(
     light: &Light,
     hit: &Hit,

@@ -89,7 +89,10 @@ impl Material {
     /// Lambertian lobe of `diffuse` (plastic under a `coat`); and `specular` and `transmission`
     /// as a mirror (no transmission, no Fresnel) or a smooth dielectric, or where `roughness`
     /// > 0 their GGX forms, a conductor or a dielectric.
-    #[inline]
+    ///
+    /// Always inlined, as are the BSDF's `sample` and `pdf`: made and used once per vertex, out
+    /// of line they cost their calls and a copy of the BSDF (callgrind of S1–S7).
+    #[inline(always)]
     pub fn bsdf(&self, n: Vec3, mode: TransportMode) -> Bsdf {
         let mut lobes = ArrayVec::new();
         if let Some(base) = self.base_lobe() {
@@ -166,14 +169,7 @@ impl Bsdf {
         if self.leaks(wo, wi) {
             return Vec3::ZERO;
         }
-        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi))
-    }
-
-    #[inline]
-    fn eval_local(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let mut lobes = self.lobes.iter().map(|lobe| lobe.eval(wo, wi, self.mode));
-        let first = lobes.next().unwrap_or(Vec3::ZERO);
-        lobes.fold(first, |f, lobe| f + lobe)
+        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi), LobeFlags::ALL)
     }
 
     /// f(wo, wi) of the lobes with a density that `mask` asks for.
@@ -182,9 +178,17 @@ impl Bsdf {
         if self.leaks(wo, wi) {
             return Vec3::ZERO;
         }
-        let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi), mask)
+    }
+
+    /// `eval_lobes` in the shading frame. Always inlined: next-event estimation calls it once
+    /// per light sample, and out of line its call costs as much as a Lambertian lobe's work.
+    #[inline(always)]
+    fn eval_local(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
         let taking = self.lobes.iter().filter(|lobe| lobe.flags().is_in(mask));
-        taking.map(|lobe| lobe.eval(wo, wi, self.mode)).fold(Vec3::ZERO, |f, lobe| f + lobe)
+        let mut f = taking.map(|lobe| lobe.eval(wo, wi, self.mode));
+        let first = f.next().unwrap_or(Vec3::ZERO);
+        f.fold(first, |f, lobe| f + lobe)
     }
 
     /// Solid-angle density with which `sample` under `mask` returns `wi` through its lobes with
@@ -202,12 +206,12 @@ impl Bsdf {
             return (Vec3::ZERO, 0.0);
         }
         let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        (self.eval_local(wo, wi), self.pdf_of(wo, wi, mask))
+        (self.eval_local(wo, wi, LobeFlags::ALL), self.pdf_of(wo, wi, mask))
     }
 
     /// `pdf` in the shading frame: for a lone lobe, its own density where it is taken
     /// (`pdf_local` with the choice of one lobe, bit for bit).
-    #[inline]
+    #[inline(always)]
     fn pdf_of(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> f32 {
         match self.lobes.as_slice() {
             [lobe] => {
@@ -263,7 +267,7 @@ impl Bsdf {
     /// Takes one of the lobes `mask` asks for with `u_lobe` (`choice`), then a direction from
     /// it, the rest of `u_lobe` choosing between reflection and refraction within it. Delta
     /// lobes read no `u`.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mask: LobeFlags) -> Option<BsdfSample> {
         let local = self.frame.to_local(wo);
         let sample = match self.lobes.as_slice() {
@@ -282,7 +286,7 @@ impl Bsdf {
     /// `sample_among` for a BSDF of one lobe (most materials), without the choice among lobes:
     /// it is taken with probability 1 where `mask` asks for it and it scatters light, and all of
     /// `u_lobe` is left for its own choices; the same result, bit for bit (tested).
-    #[inline]
+    #[inline(always)]
     fn sample_lone(
         &self,
         lobe: &Lobe,

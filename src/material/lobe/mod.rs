@@ -44,8 +44,10 @@ pub enum Lobe {
     Plastic(Plastic),
 }
 
+/// The dispatch over lobes is always inlined into the BSDF's methods: out of line, its call
+/// and match cost as much as a Lambertian lobe's work (callgrind of S1–S7).
 impl Lobe {
-    #[inline]
+    #[inline(always)]
     pub fn flags(&self) -> LobeFlags {
         match self {
             Lobe::Lambertian(_) => Lambertian::FLAGS,
@@ -59,7 +61,7 @@ impl Lobe {
 
     /// The share of light from `wo` it scatters (mean over RGB), by which a BSDF chooses among
     /// its lobes (the course's per-bounce Russian roulette over kd, ks, kt).
-    #[inline]
+    #[inline(always)]
     pub fn albedo(&self, wo: Vec3) -> f32 {
         match self {
             Lobe::Lambertian(lobe) => lobe.albedo(),
@@ -72,7 +74,7 @@ impl Lobe {
     }
 
     /// f(wo, wi); zero for delta lobes.
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Vec3 {
         match self {
             Lobe::Lambertian(lobe) => lobe.eval(wo, wi),
@@ -84,7 +86,7 @@ impl Lobe {
     }
 
     /// Solid-angle density with which `sample` returns `wi`; zero for delta lobes.
-    #[inline]
+    #[inline(always)]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self {
             Lobe::Lambertian(lobe) => lobe.pdf(wo, wi),
@@ -97,7 +99,7 @@ impl Lobe {
 
     /// A direction from the lobe: `u` draws it, `u_split` chooses between reflection and
     /// refraction, or coat and base, where the lobe has both.
-    #[inline]
+    #[inline(always)]
     pub fn sample(
         &self,
         wo: Vec3,
