@@ -320,7 +320,10 @@ fn a_declared_sky_sphere_is_the_scene_s_sky_by_name() {
     let graph = pov("#declare S = sky_sphere { pigment { gradient y } rotate 30 * z \
          emission rgb 2 }\nsky_sphere { S scale 2 }");
     let sky = graph.sky.expect("a sky");
-    assert!(matches!(sky.pigment.pattern, raydiance::graph::Pattern::Gradient { .. }));
+    let raydiance::graph::Pattern::Field { shape, .. } = &sky.pigment.pattern else {
+        panic!("a pattern: {:?}", sky.pigment.pattern)
+    };
+    assert!(matches!(shape.field, raydiance::graph::Field::Gradient(_)), "{shape:?}");
     assert_eq!(sky.transforms.len(), 2, "the declared rotation, then the scale");
     assert!(close(sky.emission, Vec3::splat(2.0)));
     assert!(format!("{:?}", sky.span).contains(":2:1"), "the scene's sky_sphere: {:?}", sky.span);

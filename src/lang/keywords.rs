@@ -108,7 +108,6 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "fade_distance" => S, "fade_power" => S, "shadowless" => S, "hollow" => S,
     "double_illuminate" => S, "no_shadow" => S, "no_image" => S, "no_reflection" => S,
     "bounded_by" => S, "inverse" => S, "clipped_by" => S,
-    "pigment_map" => S,
     "atmosphere" => S, "medium" => S, "absorption" => S, "scattering" => S, "anisotropy" => S,
     "fog" => S, "media" => S,
     "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),

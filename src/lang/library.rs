@@ -25,15 +25,11 @@ pub fn file(name: &str) -> Option<&'static str> {
 /// and a scene is likely to name it: said where a scene names it and nothing declares it.
 pub fn left_out(name: &str) -> Option<&'static str> {
     match name {
-        "P_Cloud2" | "P_Cloud4" | "S_Cloud1" | "S_Cloud2" | "S_Cloud3" => Some(
-            "POV-Ray's skies.inc declares it with the `wrinkles` pattern, which raydiance does \
-             not have: raydiance's skies.inc leaves it out (it has P_Cloud3 and S_Cloud4)",
-        ),
         "P_Cloud1" | "S_Cloud5" | "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1"
         | "O_Cloud2" => Some(
             "POV-Ray's skies.inc declares it with transparent colours in a color_map, which \
              raydiance's pigments do not have: raydiance's skies.inc leaves it out (it has \
-             P_Cloud3 and S_Cloud4)",
+             P_Cloud2 to P_Cloud4 and S_Cloud1 to S_Cloud4)",
         ),
         "Cylinder_X" | "Cylinder_Y" | "Cylinder_Z" | "QCone_X" | "QCone_Y" | "QCone_Z"
         | "Paraboloid_X" | "Paraboloid_Y" | "Paraboloid_Z" | "Hyperboloid" | "Hyperboloid_Y" => {
@@ -176,12 +172,30 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
     }
 
     #[test]
+    fn skies_inc_s_wrinkled_skies_start_from_their_horizon_colour() {
+        let sky_of = |name: &str| {
+            let graph = pov(&format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}"));
+            let sky = graph.sky.expect("the scene's sky");
+            let texture =
+                crate::texture::Texture::new(&sky.pigment, &mut |_| Err("no image".into()));
+            texture.expect("a texture without images")
+        };
+        let pink = glam::Vec3::new(0.847, 0.749, 0.847);
+        let dusk = glam::Vec3::new(0.258, 0.258, 0.435);
+        for (name, horizon) in [("S_Cloud1", pink), ("S_Cloud2", pink), ("S_Cloud3", dusk)] {
+            let seen = sky_of(name).eval(glam::Vec3::new(0.6, 0.0, 0.8));
+            assert!((seen - horizon).abs().max_element() < 1e-6, "{name}: {seen}");
+        }
+        // High up S_Cloud3 is P_Cloud2 alone: its greys and dusky blue.
+        let overhead = sky_of("S_Cloud3").eval(glam::Vec3::new(0.0, 0.6, 0.8));
+        assert!(overhead.min_element() >= 0.258 - 1e-6 && overhead.max_element() <= 0.85 + 1e-6);
+        assert!(overhead.z >= overhead.x, "bluish or grey: {overhead}");
+    }
+
+    #[test]
     fn names_the_library_leaves_out_are_refused_with_the_reason() {
-        for (name, why) in [
-            ("S_Cloud1", "`wrinkles`"),
-            ("S_Cloud5", "transparent colours"),
-            ("Cylinder_X", "infinite quadric"),
-        ] {
+        for (name, why) in [("S_Cloud5", "transparent colours"), ("Cylinder_X", "infinite quadric")]
+        {
             let text = format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}");
             let error = crate::lang::parse_scene(Path::new("library.pov"), &text)
                 .map(|_| ())
@@ -191,7 +205,7 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
         }
         // A scene's own declaration of the name is its own.
         let own =
-            pov("#declare S_Cloud1 = sky_sphere { pigment { rgb 1 } }\nsky_sphere { S_Cloud1 }");
+            pov("#declare S_Cloud5 = sky_sphere { pigment { rgb 1 } }\nsky_sphere { S_Cloud5 }");
         assert!(own.sky.is_some());
     }
 

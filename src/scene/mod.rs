@@ -241,8 +241,9 @@ impl Scene {
     /// The BSDF of `material` (`Scene::material`'s at `hit`) seen from `wo`, and `hit` with
     /// the shading normal it uses: bumped by the material's bump mapping, if any, and then
     /// kept consistent with the geometric normal (`texture::tilt`, `Bsdf::facing`). Without
-    /// bump mapping, `material.bsdf(hit.shading_normal, mode)` and the hit as it is.
-    #[inline]
+    /// bump mapping, `material.bsdf(hit.shading_normal, mode)` and the hit as it is. Always
+    /// inlined: every path vertex calls it, and out of line its BSDF is returned by memory.
+    #[inline(always)]
     pub fn shade(
         &self,
         hit: Hit,
