@@ -16,6 +16,9 @@ pub fn file(name: &str) -> Option<&'static str> {
         "shapes2.inc" => Some(include_str!("library/shapes2.inc")),
         "shapes_old.inc" => Some(include_str!("library/shapes_old.inc")),
         "skies.inc" => Some(include_str!("library/skies.inc")),
+        "stones.inc" => Some(include_str!("library/stones.inc")),
+        "stones1.inc" => Some(include_str!("library/stones1.inc")),
+        "stones2.inc" => Some(include_str!("library/stones2.inc")),
         "textures.inc" => Some(include_str!("library/textures.inc")),
         _ => None,
     }
@@ -207,6 +210,74 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
         let own =
             pov("#declare S_Cloud5 = sky_sphere { pigment { rgb 1 } }\nsky_sphere { S_Cloud5 }");
         assert!(own.sky.is_some());
+    }
+
+    /// Every name POV-Ray's stones1.inc and stones2.inc declare, in a scene that uses each.
+    fn stones_scene() -> String {
+        let mut names: Vec<String> = (0..=29).map(|n| format!("T_Grnt{n}")).collect();
+        names.extend((0..=24).map(|n| format!("T_Grnt{n}a")));
+        names.extend((1..=4).map(|n| format!("T_Crack{n}")));
+        names.extend((1..=44).map(|n| format!("T_Stone{n}")));
+        let mut scene = String::from("#include \"stones.inc\"\n");
+        for name in &names {
+            scene += &format!("sphere {{ 0, 1 texture {{ {name} }} }}\n");
+        }
+        for green in ["g1", "g2", "g3", "g4"] {
+            scene += &format!("sphere {{ 0, 1 pigment {{ {green} }} }}\n");
+        }
+        scene
+    }
+
+    #[test]
+    fn stones_inc_declares_every_stone_of_povray_s() {
+        let graph = pov(&stones_scene());
+        assert_eq!(graph.objects.len(), 30 + 25 + 4 + 44 + 4);
+        // Each half reads on its own, as scenes that include one of them expect.
+        for (part, last) in [("stones1.inc", "T_Stone24"), ("stones2.inc", "T_Stone44")] {
+            let one = pov(&format!("#include \"{part}\"\nsphere {{ 0, 1 texture {{ {last} }} }}"));
+            assert_eq!(one.objects.len(), 1, "{part}");
+        }
+    }
+
+    #[test]
+    fn stones_inc_s_colours_are_povray_s() {
+        let graph = pov(r#"
+#include "stones.inc"
+sphere { 0, 1 texture { T_Grnt0 finish { diffuse 1 } } }
+sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
+#if (g1.red != 0.26 | g1.green != 0.41 | g1.blue != 0.31) #error "T_Grnt21's green" #end
+"#);
+        let texture = |i: usize| {
+            let material = graph.objects[i].material.clone().expect("a material");
+            let texture = crate::texture::Texture::new(&material.diffuse, &mut |_| Err("".into()));
+            texture.expect("a texture without images")
+        };
+        // T_Grnt0's granite runs through five colours, back to the first: every value lies on
+        // the line between two successive ones.
+        let map = [
+            glam::Vec3::new(0.729, 0.502, 0.451),
+            glam::Vec3::new(0.769, 0.686, 0.592),
+            glam::Vec3::new(0.843, 0.753, 0.718),
+            glam::Vec3::new(0.780, 0.667, 0.561),
+            glam::Vec3::new(0.741, 0.659, 0.576),
+            glam::Vec3::new(0.729, 0.502, 0.451),
+        ];
+        let granite = texture(0);
+        for i in 0..200 {
+            let seen = granite.eval(glam::Vec3::new(i as f32 * 0.037, 0.5, i as f32 * -0.023));
+            let on_the_map = map.windows(2).any(|pair| {
+                let along = pair[1] - pair[0];
+                let t = ((seen - pair[0]).dot(along) / along.length_squared()).clamp(0.0, 1.0);
+                (pair[0] + t * along - seen).length() < 1e-4
+            });
+            assert!(on_the_map, "{seen}");
+        }
+        // T_Stone7 is its base layer: colors.inc's Salmon, everywhere.
+        let salmon = texture(1).eval(glam::Vec3::new(0.3, -0.2, 0.7));
+        assert!(
+            (salmon - glam::Vec3::new(0.435294, 0.258824, 0.258824)).abs().max_element() < 1e-6,
+            "{salmon}"
+        );
     }
 
     /// The outward unit normals of a solid's faces, and their distances from the origin.
