@@ -267,6 +267,10 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
         let rosewood =
             object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood32 } }");
         let orange = object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood34 } }");
+        // A declared grain takes the colours given with it, as in POV-Ray's sample scenes.
+        let grain = object_texture(
+            "#include \"woods.inc\"\nsphere { 0, 1 pigment { P_WoodGrain2A color_map { M_Wood2A } } }",
+        );
         let mut reds = Vec::new();
         for i in 0..50 {
             let p = glam::Vec3::new(i as f32 * 0.037, (i % 7) as f32 * 0.05, i as f32 * 0.1);
@@ -275,6 +279,7 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
             assert!(seen.x > seen.y && seen.y > seen.z - 1e-5, "brown: {seen}");
             reds.push(seen.x);
             assert_eq!(orange.eval(p), rosewood.eval(p));
+            assert_eq!(grain.eval(p), two.eval(p));
         }
         let (low, high) = reds.iter().fold((1f32, 0f32), |(l, h), r| (l.min(*r), h.max(*r)));
         assert!(high - low > 0.02, "the grain shows: reds {low} to {high}");
