@@ -20,6 +20,8 @@ pub fn file(name: &str) -> Option<&'static str> {
         "stones1.inc" => Some(include_str!("library/stones1.inc")),
         "stones2.inc" => Some(include_str!("library/stones2.inc")),
         "textures.inc" => Some(include_str!("library/textures.inc")),
+        "woodmaps.inc" => Some(include_str!("library/woodmaps.inc")),
+        "woods.inc" => Some(include_str!("library/woods.inc")),
         _ => None,
     }
 }
@@ -50,7 +52,7 @@ pub fn left_out(name: &str) -> Option<&'static str> {
 mod tests {
     use std::path::Path;
 
-    const NAMES: [&str; 12] = [
+    const NAMES: [&str; 17] = [
         "colors.inc",
         "consts.inc",
         "finish.inc",
@@ -62,7 +64,12 @@ mod tests {
         "shapes2.inc",
         "shapes_old.inc",
         "skies.inc",
+        "stones.inc",
+        "stones1.inc",
+        "stones2.inc",
         "textures.inc",
+        "woodmaps.inc",
+        "woods.inc",
     ];
 
     fn pov(text: &str) -> crate::graph::SceneGraph {
@@ -278,6 +285,78 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
             (salmon - glam::Vec3::new(0.435294, 0.258824, 0.258824)).abs().max_element() < 1e-6,
             "{salmon}"
         );
+    }
+
+    /// The colour (times POV-Ray's default `diffuse` 0.6) of the texture of `scene`'s object.
+    fn object_texture(scene: &str) -> crate::texture::Texture {
+        let graph = pov(scene);
+        let material = graph.objects[0].material.clone().expect("a material");
+        crate::texture::Texture::new(&material.diffuse, &mut |_| Err("no image".into()))
+            .expect("a texture without images")
+    }
+
+    #[test]
+    fn woods_inc_declares_every_povray_wood_name() {
+        let mut scene = String::from("#include \"woods.inc\"\n");
+        for n in 1..=35 {
+            scene += &format!("sphere {{ 0, 1 texture {{ T_Wood{n} }} }}\n");
+        }
+        for n in 1..=19 {
+            for layer in ["A", "B"] {
+                scene += &format!("sphere {{ 0, 1 pigment {{ P_WoodGrain{n}{layer} }} }}\n");
+                let map = format!("M_Wood{n}{layer}");
+                scene +=
+                    &format!("sphere {{ 0, 1 pigment {{ gradient x color_map {{ {map} }} }} }}\n");
+            }
+        }
+        let graph = pov(&scene);
+        assert_eq!(graph.objects.len(), 35 + 4 * 19);
+        for object in &graph.objects {
+            let material = object.material.clone().expect("a material");
+            assert!(!matches!(material.diffuse.pattern, crate::graph::Pattern::Solid(_)));
+        }
+    }
+
+    #[test]
+    fn woodmaps_inc_s_maps_hold_povray_s_colours() {
+        // Halfway along M_Wood1A's blend from <0.88, 0.6, 0.4> at 0.1 to <0.6, 0.3, 0.2> at 0.9;
+        // M_Wood2A's colours are POV-Ray's halved; M_Wood19B's clear white is opaque here.
+        for (map, at, expected) in [
+            ("M_Wood1A", 0.5, glam::Vec3::new(0.74, 0.45, 0.3)),
+            ("M_Wood2A", 0.05, glam::Vec3::new(0.175, 0.08, 0.06)),
+            ("M_Wood19B", 0.5, glam::Vec3::ONE),
+        ] {
+            let scene = format!(
+                "#include \"woodmaps.inc\"\nsphere {{ 0, 1 pigment {{ gradient x color_map {{ {map} }} }} }}"
+            );
+            let seen = object_texture(&scene).eval(glam::Vec3::new(at, 0.0, 0.0)) / 0.6;
+            assert!((seen - expected).abs().max_element() < 1e-5, "{map} at {at}: {seen}");
+        }
+    }
+
+    #[test]
+    fn woods_inc_s_textures_are_their_base_grain_in_its_colours() {
+        // T_Wood2 is M_Wood2A's dark browns, red from 0.175 to 0.23; T_Wood34 is T_Wood32.
+        let two = object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood2 } }");
+        let rosewood =
+            object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood32 } }");
+        let orange = object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood34 } }");
+        // A declared grain takes the colours given with it, as in POV-Ray's sample scenes.
+        let grain = object_texture(
+            "#include \"woods.inc\"\nsphere { 0, 1 pigment { P_WoodGrain2A color_map { M_Wood2A } } }",
+        );
+        let mut reds = Vec::new();
+        for i in 0..50 {
+            let p = glam::Vec3::new(i as f32 * 0.037, (i % 7) as f32 * 0.05, i as f32 * 0.1);
+            let seen = two.eval(p) / 0.6;
+            assert!(seen.x >= 0.175 - 1e-5 && seen.x <= 0.23 + 1e-5, "{seen} at {p}");
+            assert!(seen.x > seen.y && seen.y > seen.z - 1e-5, "brown: {seen}");
+            reds.push(seen.x);
+            assert_eq!(orange.eval(p), rosewood.eval(p));
+            assert_eq!(grain.eval(p), two.eval(p));
+        }
+        let (low, high) = reds.iter().fold((1f32, 0f32), |(l, h), r| (l.min(*r), h.max(*r)));
+        assert!(high - low > 0.02, "the grain shows: reds {low} to {high}");
     }
 
     /// The outward unit normals of a solid's faces, and their distances from the origin.

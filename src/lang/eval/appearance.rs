@@ -214,6 +214,13 @@ impl Evaluator {
         let mut state = PigmentState { pigment: base.clone(), pattern: PatternState::default() };
         self.exec(items, &mut Body::Pigment(&mut state))?;
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
+            // `pigment { P_Declared color_map { ... } }`: the declared pattern in new colours.
+            if let (Some(colours), Pattern::Field { map, .. }) =
+                (&state.pattern.color_map, &mut state.pigment.colour.pattern)
+                && !colours.is_empty()
+            {
+                *map = colours.iter().map(|(t, c)| (*t, TextureNode::solid(*c))).collect();
+            }
             return Ok((state.pigment, None));
         };
         let (pattern, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
