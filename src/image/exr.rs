@@ -117,14 +117,7 @@ pub fn read_aovs(path: &Path) -> std::result::Result<AovImage, ImageError> {
         .map_err(|e| ImageError::input(path, e))?;
     let format = |message| ImageError::format(path, message);
     check_size(&bytes).map_err(format)?;
-    let image = ::exr::prelude::read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_buffered(std::io::Cursor::new(&bytes[..]))
-        .map_err(|e| format(unreadable(e)))?;
+    let image = read_all_channels(&bytes).map_err(|e| format(unreadable(e)))?;
     let layer = image.layer_data;
     let channels = &layer.channel_data.list;
     let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
@@ -137,6 +130,22 @@ pub fn read_aovs(path: &Path) -> std::result::Result<AovImage, ImageError> {
         .collect();
     let (width, height) = (layer.size.width(), layer.size.height());
     Ok(AovImage { list, width, height, planes })
+}
+
+/// Every channel of a file's first layer, with its header's attributes: what AOVs and snapshot
+/// files are read from.
+pub fn read_all_channels(
+    bytes: &[u8],
+) -> ::exr::error::Result<
+    ::exr::image::Image<::exr::image::Layer<::exr::image::AnyChannels<::exr::image::FlatSamples>>>,
+> {
+    ::exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
 }
 
 /// Decodes an OpenEXR file's contents.

@@ -60,14 +60,7 @@ fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
         Some(AttributeValue::I32(n)) if *n >= 2 => *n as u32,
         _ => return Err(format!("no `{SAMPLES_ATTRIBUTE}` of at least 2 in its header")),
     };
-    let image = ::exr::prelude::read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_buffered(std::io::Cursor::new(bytes))
-        .map_err(|e| e.to_string())?;
+    let image = crate::image::exr::read_all_channels(bytes).map_err(|e| e.to_string())?;
     let channels = &image.layer_data.channel_data.list;
     let values = |name: &str| -> std::result::Result<Vec<f32>, String> {
         let channel = channels
