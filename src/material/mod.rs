@@ -18,6 +18,7 @@ pub use fresnel::{Split, fresnel_dielectric, refract};
 use glam::Vec3;
 
 use crate::graph::{MaterialDesc, Pattern};
+use crate::light::{Beam, SpotProfile};
 use lobe::{Lambertian, Lobe, Plastic};
 use microfacet::Ggx;
 
@@ -48,6 +49,8 @@ pub struct Material {
     pub roughness: f32,
     /// A glossy coat over `diffuse`, if any.
     pub coat: Option<Coat>,
+    /// The beam that shapes `emission` (an area spotlight's), if any (`emitted`).
+    pub beam: Option<Beam>,
 }
 
 /// The language's defaults: black, reflecting nothing, `ior 1` (POV-Ray's default pigment is
@@ -63,6 +66,7 @@ impl Default for Material {
             fresnel: false,
             roughness: 0.0,
             coat: None,
+            beam: None,
         }
     }
 }
@@ -83,6 +87,10 @@ impl From<&MaterialDesc> for Material {
             fresnel: d.fresnel,
             roughness: d.roughness,
             coat: (d.coat > 0.0).then_some(Coat { strength: d.coat, roughness: d.coat_roughness }),
+            beam: d.beam.map(|b| Beam {
+                axis: b.axis,
+                profile: SpotProfile::from_degrees(b.cone.radius, b.cone.falloff, b.cone.tightness),
+            }),
         }
     }
 }
@@ -110,8 +118,28 @@ impl Material {
         }
     }
 
-    /// Radiance emitted towards `wo`: emission is one-sided, towards the normal.
+    /// Radiance emitted towards `wo` from a point with normal `n` (`emitted`).
+    #[inline]
     pub fn emitted(&self, n: Vec3, wo: Vec3) -> Vec3 {
-        if n.dot(wo) > 0.0 { self.emission } else { Vec3::ZERO }
+        emitted(self.emission, self.beam.as_ref(), n, wo)
+    }
+}
+
+/// Radiance an emitter sends towards unit `wo` from a point with normal `n`. Without a beam,
+/// `emission` towards the normal's side only (a diffuse emitter). With one, each bit of area dA
+/// is a point spotlight of intensity `emission` dA on the beam's axis, shining both ways:
+/// `emission` · P(wo) / |wo · n|, so that a flat emitter of area A has the intensity A ·
+/// `emission` · P of a point spotlight, whatever its size (POV-Ray's area spotlight, a grid of
+/// point spotlights, `docs/povray.md`).
+#[inline]
+pub fn emitted(emission: Vec3, beam: Option<&Beam>, n: Vec3, wo: Vec3) -> Vec3 {
+    let cos = n.dot(wo);
+    match beam {
+        None if cos > 0.0 => emission,
+        None => Vec3::ZERO,
+        Some(beam) => {
+            let share = beam.towards(wo);
+            if share > 0.0 && cos != 0.0 { emission * (share / cos.abs()) } else { Vec3::ZERO }
+        }
     }
 }
