@@ -188,7 +188,7 @@ pub struct SpotCone {
 }
 
 /// An emitter's beam (a `.pov` area spotlight's): its emission shaped by a spotlight's cone
-/// about the unit `axis`, in world space (`material::emitted`).
+/// about the unit `axis`, in world space (`light::emitted`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeamDesc {
     pub axis: Vec3,

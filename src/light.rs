@@ -13,7 +13,6 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use crate::geometry::{DirectionSample, Frame, Hit, Ray, Shape, offset_origin};
-use crate::material::emitted;
 use crate::sampling::{concentric_disk, cosine_hemisphere, uniform_sphere};
 
 #[derive(Debug, Clone)]
@@ -21,7 +20,7 @@ pub enum Light {
     /// `power` acts as radiant intensity: irradiance power / r^2 (the course's Lab 4 formula).
     Point { position: Vec3, power: Vec3 },
     /// An emissive primitive: its shape, its material's `emission` and the beam that shapes it,
-    /// if any (`material::emitted`), its surface area, and its index in `Scene::primitives`
+    /// if any (`light::emitted`), its surface area, and its index in `Scene::primitives`
     /// (which names hits on it).
     Area { shape: Shape, emission: Vec3, beam: Option<BeamSampler>, area: f32, primitive: u32 },
     /// Radiance arriving from infinitely far away (a sky): rays that leave the scene find it.
@@ -265,6 +264,25 @@ fn modified_sample(
     let mut sample = light.sample(hit, u)?;
     sample.shadow.t_max = if shadowless { 0.0 } else { (sample.shadow.t_max - bulb).max(0.0) };
     Some(sample)
+}
+
+/// Radiance an emitter sends towards unit `wo` from a point with normal `n`. Without a beam,
+/// `emission` towards the normal's side only (a diffuse emitter). With one, each bit of area dA
+/// is a point spotlight of intensity `emission` dA on the beam's axis, shining both ways:
+/// `emission` · P(wo) / |wo · n|, so that a flat emitter of area A has the intensity A ·
+/// `emission` · P of a point spotlight, whatever its size (POV-Ray's area spotlight, a grid of
+/// point spotlights, `docs/povray.md`).
+#[inline]
+pub fn emitted(emission: Vec3, beam: Option<&Beam>, n: Vec3, wo: Vec3) -> Vec3 {
+    let cos = n.dot(wo);
+    match beam {
+        None if cos > 0.0 => emission,
+        None => Vec3::ZERO,
+        Some(beam) => {
+            let share = beam.towards(wo);
+            if share > 0.0 && cos != 0.0 { emission * (share / cos.abs()) } else { Vec3::ZERO }
+        }
+    }
 }
 
 /// The segment from `hit` to `target`.

@@ -1,7 +1,7 @@
 //! A spotlight's beam: POV-Ray's angular profile about an axis (full inside `radius`, a smooth
 //! falloff to zero at `falloff`, narrowed by `tightness`), tabulated once so that photons leave
 //! in proportion to it; a point spotlight sends it from a point, an area spotlight from every
-//! point of an emitter (`material::emitted`).
+//! point of an emitter (`light::emitted`).
 
 use std::f32::consts::PI;
 
@@ -66,7 +66,7 @@ fn cubic_spline(low: f32, high: f32, x: f32) -> f32 {
 }
 
 /// A spotlight's profile aimed along the unit `axis`: the fraction of the axis's intensity sent
-/// each way. A point spotlight's and an area spotlight's (`material::emitted`) beam.
+/// each way. A point spotlight's and an area spotlight's (`light::emitted`) beam.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Beam {
     pub axis: Vec3,

@@ -18,7 +18,7 @@ pub use fresnel::{Split, fresnel_dielectric, refract};
 use glam::Vec3;
 
 use crate::graph::{MaterialDesc, Pattern};
-use crate::light::{Beam, SpotProfile};
+use crate::light::{Beam, SpotProfile, emitted};
 use lobe::{Lambertian, Lobe, Plastic};
 use microfacet::Ggx;
 
@@ -118,28 +118,9 @@ impl Material {
         }
     }
 
-    /// Radiance emitted towards `wo` from a point with normal `n` (`emitted`).
+    /// Radiance emitted towards `wo` from a point with normal `n` (`light::emitted`).
     #[inline]
     pub fn emitted(&self, n: Vec3, wo: Vec3) -> Vec3 {
         emitted(self.emission, self.beam.as_ref(), n, wo)
-    }
-}
-
-/// Radiance an emitter sends towards unit `wo` from a point with normal `n`. Without a beam,
-/// `emission` towards the normal's side only (a diffuse emitter). With one, each bit of area dA
-/// is a point spotlight of intensity `emission` dA on the beam's axis, shining both ways:
-/// `emission` · P(wo) / |wo · n|, so that a flat emitter of area A has the intensity A ·
-/// `emission` · P of a point spotlight, whatever its size (POV-Ray's area spotlight, a grid of
-/// point spotlights, `docs/povray.md`).
-#[inline]
-pub fn emitted(emission: Vec3, beam: Option<&Beam>, n: Vec3, wo: Vec3) -> Vec3 {
-    let cos = n.dot(wo);
-    match beam {
-        None if cos > 0.0 => emission,
-        None => Vec3::ZERO,
-        Some(beam) => {
-            let share = beam.towards(wo);
-            if share > 0.0 && cos != 0.0 { emission * (share / cos.abs()) } else { Vec3::ZERO }
-        }
     }
 }
