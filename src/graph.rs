@@ -187,6 +187,14 @@ pub struct SpotCone {
     pub tightness: f32,
 }
 
+/// An emitter's beam (a `.pov` area spotlight's): its emission shaped by a spotlight's cone
+/// about the unit `axis`, in world space (`light::emitted`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BeamDesc {
+    pub axis: Vec3,
+    pub cone: SpotCone,
+}
+
 /// How a light sends its power out.
 #[derive(Debug, Clone, PartialEq)]
 pub enum LightForm {
@@ -221,6 +229,9 @@ pub struct MaterialDesc {
     /// The medium inside objects of this material (`medium { }`; POV-Ray's `interior`
     /// fade and `media`), if any.
     pub interior: Option<Arc<MediumDesc>>,
+    /// The beam that shapes `emission`, if any; `emission` is then the intensity per unit area
+    /// on its axis.
+    pub beam: Option<BeamDesc>,
     pub span: Span,
 }
 
@@ -269,6 +280,7 @@ impl MaterialDesc {
             coat_roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
             normal: None,
             interior: None,
+            beam: None,
             span,
         }
     }

@@ -6,7 +6,7 @@ mod environment;
 mod spot;
 
 pub use environment::Environment;
-pub use spot::{Spot, SpotProfile};
+pub use spot::{Beam, BeamSampler, Spot, SpotDirection, SpotProfile};
 
 use std::f32::consts::PI;
 
@@ -19,9 +19,10 @@ use crate::sampling::{concentric_disk, cosine_hemisphere, uniform_sphere};
 pub enum Light {
     /// `power` acts as radiant intensity: irradiance power / r^2 (the course's Lab 4 formula).
     Point { position: Vec3, power: Vec3 },
-    /// An emissive primitive: its shape, the radiance it emits towards its normal, its surface
-    /// area, and its index in `Scene::primitives` (which names hits on it).
-    Area { shape: Shape, emission: Vec3, area: f32, primitive: u32 },
+    /// An emissive primitive: its shape, its material's `emission` and the beam that shapes it,
+    /// if any (`light::emitted`), its surface area, and its index in `Scene::primitives`
+    /// (which names hits on it).
+    Area { shape: Shape, emission: Vec3, beam: Option<BeamSampler>, area: f32, primitive: u32 },
     /// Radiance arriving from infinitely far away (a sky): rays that leave the scene find it.
     Environment(Box<Environment>),
     /// A point light with an angular profile (`light::spot`).
@@ -65,18 +66,21 @@ impl Light {
         }
     }
 
-    /// Emitted power (mean over RGB), for choosing lights in proportion to it: 4 pi I for a
-    /// point light, pi A Le for a one-sided diffuse emitter.
+    /// Emitted power (mean over RGB), for choosing lights in proportion to it (`power_rgb`).
     pub fn power(&self) -> f32 {
         self.power_rgb().element_sum() / 3.0
     }
 
     /// Emitted power per channel: 4 pi I for a point light, pi A Le for a one-sided diffuse
-    /// emitter (Le cos integrated over the hemisphere is pi Le).
+    /// emitter (Le cos integrated over the hemisphere is pi Le), a spotlight's intensity
+    /// integrated over its beam (for a beamed emitter, of intensity A times its emission).
     pub fn power_rgb(&self) -> Vec3 {
         match self {
             Light::Point { power, .. } => 4.0 * PI * *power,
-            Light::Area { emission, area, .. } => PI * *area * *emission,
+            Light::Area { emission, beam: None, area, .. } => PI * *area * *emission,
+            Light::Area { emission, beam: Some(beam), area, .. } => {
+                beam.solid_angle() * *area * *emission
+            }
             Light::Environment(sky) => sky.power_rgb(),
             Light::Spot(spot) => spot.power_rgb(),
             Light::Distant { irradiance, radius, .. } => PI * radius * radius * *irradiance,
@@ -104,15 +108,16 @@ impl Light {
             {
                 return None;
             }
-            &Light::Area { ref shape, emission, area, .. } => {
+            &Light::Area { ref shape, emission, ref beam, area, .. } => {
                 let DirectionSample { point, normal, error, wi, pdf } =
                     shape.sample_from(hit.point, area, u)?;
-                let le = emitted(emission, normal, -wi);
+                let le = emitted(emission, beam.as_ref().map(|b| &b.beam), normal, -wi);
                 if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
                     return None;
                 }
                 // Aim just off the light's surface, on the side we see, so it does not shadow itself.
-                (point + normal * error, wi, le, pdf, false)
+                let seen = if normal.dot(wi) < 0.0 { normal } else { -normal };
+                (point + seen * error, wi, le, pdf, false)
             }
             Light::Environment(sky) => {
                 let s = sky.sample(u).filter(|s| s.le != Vec3::ZERO)?;
@@ -172,8 +177,8 @@ impl Light {
 pub struct EmissionSample {
     pub ray: Ray,
     /// Le cos / (pdf_A pdf_w) over the number of photons the light emits: its power over that
-    /// number, the same for every photon but a spotlight's (whose density follows its profile
-    /// bin by bin) and a textured sky's, whose mean it is.
+    /// number, the same for every photon but a spotlight's and an area spotlight's (whose
+    /// density follows the profile bin by bin) and a textured sky's, whose mean it is.
     pub power: Vec3,
 }
 
@@ -182,7 +187,7 @@ impl Light {
     /// (4 pi I / n each), an area light's from a point uniform by area, cosine-weighted over
     /// the hemisphere its emitting side faces (Le cos / (1/A cos/pi) = pi A Le, / n each). So
     /// `photons` photons carry exactly `power_rgb`; a spotlight's leave with density following
-    /// its profile, a distant light's from a disk across the scene's bounding sphere, the
+    /// its profile (an area spotlight's from a point uniform by area, then so), a distant light's from a disk across the scene's bounding sphere, the
     /// environment's from a disc facing a direction it samples (`Environment::sample_photon`).
     /// `None` where the shape or profile has no sample.
     pub fn sample_emission(
@@ -197,12 +202,23 @@ impl Light {
                 let ray = Ray::new(position, uniform_sphere(u_direction));
                 Some(EmissionSample { ray, power: 4.0 * PI * power * share })
             }
-            Light::Area { shape, emission, area, .. } => {
+            Light::Area { shape, emission, beam: None, area, .. } => {
                 let s = shape.sample_area(u_point)?;
                 let dir = Frame::from_normal(s.normal).to_world(cosine_hemisphere(u_direction));
                 // Leave just off the surface, on the side that emits.
                 let ray = Ray::new(s.point + s.normal * s.error, dir);
                 Some(EmissionSample { ray, power: PI * *area * *emission * share })
+            }
+            Light::Area { shape, emission, beam: Some(beam), area, .. } => {
+                // Each bit of area is a point spotlight: Le |cos| / (pdf_A pdf_w) is
+                // A emission P / pdf_w, the point spotlight's weight times A.
+                let s = shape.sample_area(u_point)?;
+                let sampled = beam.sample(u_direction)?;
+                let dir = sampled.direction;
+                let side = if s.normal.dot(dir) < 0.0 { -s.normal } else { s.normal };
+                let ray = Ray::new(s.point + side * s.error, dir);
+                let intensity = *area * *emission * beam.beam.towards(dir);
+                Some(EmissionSample { ray, power: intensity / sampled.pdf * share })
             }
             Light::Environment(sky) => {
                 let (origin, dir, power) = sky.sample_photon(u_point, u_direction, share)?;
@@ -250,11 +266,23 @@ fn modified_sample(
     Some(sample)
 }
 
-/// Radiance an emitter sends towards `wo` from a point with normal `n`: `Material::emitted`'s
-/// one-sided rule, towards the normal.
+/// Radiance an emitter sends towards unit `wo` from a point with normal `n`. Without a beam,
+/// `emission` towards the normal's side only (a diffuse emitter). With one, each bit of area dA
+/// is a point spotlight of intensity `emission` dA on the beam's axis, shining both ways:
+/// `emission` · P(wo) / |wo · n|, so that a flat emitter of area A has the intensity A ·
+/// `emission` · P of a point spotlight, whatever its size (POV-Ray's area spotlight, a grid of
+/// point spotlights, `docs/povray.md`).
 #[inline]
-fn emitted(emission: Vec3, n: Vec3, wo: Vec3) -> Vec3 {
-    if n.dot(wo) > 0.0 { emission } else { Vec3::ZERO }
+pub fn emitted(emission: Vec3, beam: Option<&Beam>, n: Vec3, wo: Vec3) -> Vec3 {
+    let cos = n.dot(wo);
+    match beam {
+        None if cos > 0.0 => emission,
+        None => Vec3::ZERO,
+        Some(beam) => {
+            let share = beam.towards(wo);
+            if share > 0.0 && cos != 0.0 { emission * (share / cos.abs()) } else { Vec3::ZERO }
+        }
+    }
 }
 
 /// The segment from `hit` to `target`.

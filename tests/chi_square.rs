@@ -164,6 +164,7 @@ fn material(diffuse: f32, specular: f32, transmission: f32, fresnel: bool) -> Ma
         fresnel,
         roughness: 0.0,
         coat: None,
+        beam: None,
     }
 }
 

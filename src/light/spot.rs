@@ -1,6 +1,7 @@
-//! A spotlight: a point light whose intensity follows POV-Ray's angular profile about its axis
-//! (full inside `radius`, a smooth falloff to zero at `falloff`, narrowed by `tightness`), with
-//! the profile tabulated once so that photons leave in proportion to it.
+//! A spotlight's beam: POV-Ray's angular profile about an axis (full inside `radius`, a smooth
+//! falloff to zero at `falloff`, narrowed by `tightness`), tabulated once so that photons leave
+//! in proportion to it; a point spotlight sends it from a point, an area spotlight from every
+//! point of an emitter (`light::emitted`).
 
 use std::f32::consts::PI;
 
@@ -64,16 +65,30 @@ fn cubic_spline(low: f32, high: f32, x: f32) -> f32 {
     }
 }
 
-/// A spotlight at `position` shining along the unit `axis` with radiant `intensity` on it.
-#[derive(Debug, Clone)]
-pub struct Spot {
-    pub position: Vec3,
+/// A spotlight's profile aimed along the unit `axis`: the fraction of the axis's intensity sent
+/// each way. A point spotlight's and an area spotlight's (`light::emitted`) beam.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Beam {
     pub axis: Vec3,
-    pub intensity: Vec3,
     pub profile: SpotProfile,
+}
+
+impl Beam {
+    /// The fraction of the axis's intensity sent towards unit `direction`.
+    #[inline]
+    pub fn towards(&self, direction: Vec3) -> f32 {
+        self.profile.eval(direction.dot(self.axis))
+    }
+}
+
+/// A beam with its profile tabulated once, so that directions leave in proportion to it
+/// (photons) and its solid-angle integral is known (power).
+#[derive(Debug, Clone)]
+pub struct BeamSampler {
+    pub beam: Beam,
     /// Cumulative share of the profile's integral up to the end of each bin of cos(theta).
     cdf: Vec<f32>,
-    /// The integral of the profile over cos(theta) in [0, 1]: power is 2 pi I times it.
+    /// The integral of the profile over cos(theta) in [0, 1].
     integral: f32,
 }
 
@@ -84,10 +99,10 @@ pub struct SpotDirection {
     pub pdf: f32,
 }
 
-impl Spot {
-    pub fn new(position: Vec3, axis: Vec3, intensity: Vec3, profile: SpotProfile) -> Self {
+impl BeamSampler {
+    pub fn new(beam: Beam) -> Self {
         let h = 1.0 / (BINS * MIDPOINTS) as f64;
-        let p = |mu: f64| f64::from(profile.eval(mu as f32));
+        let p = |mu: f64| f64::from(beam.profile.eval(mu as f32));
         let mut cdf = Vec::with_capacity(BINS);
         let mut sum = 0.0;
         for bin in 0..BINS {
@@ -96,22 +111,18 @@ impl Spot {
             cdf.push(sum);
         }
         let cdf = cdf.iter().map(|c| if sum > 0.0 { (c / sum) as f32 } else { 0.0 }).collect();
-        Spot { position, axis, intensity, profile, cdf, integral: sum as f32 }
+        BeamSampler { beam, cdf, integral: sum as f32 }
     }
 
-    /// Radiant intensity towards unit `direction` (leaving the light).
-    pub fn intensity_towards(&self, direction: Vec3) -> Vec3 {
-        self.intensity * self.profile.eval(direction.dot(self.axis))
+    /// The profile integrated over the sphere of directions, 2 pi ∫ P(mu) dmu: the power of a
+    /// unit intensity on the axis.
+    pub fn solid_angle(&self) -> f32 {
+        2.0 * PI * self.integral
     }
 
-    /// Emitted power per channel: the intensity integrated over the sphere, 2 pi I ∫ P(mu) dmu.
-    pub fn power_rgb(&self) -> Vec3 {
-        2.0 * PI * self.integral * self.intensity
-    }
-
-    /// A direction leaving the light with density proportional to the tabulated profile (within
-    /// a bin of cos(theta), uniform); `None` if the profile is zero everywhere.
-    pub fn sample_direction(&self, u: Vec2) -> Option<SpotDirection> {
+    /// A direction with density proportional to the tabulated profile (within a bin of
+    /// cos(theta), uniform); `None` if the profile is zero everywhere.
+    pub fn sample(&self, u: Vec2) -> Option<SpotDirection> {
         if self.integral <= 0.0 {
             return None;
         }
@@ -126,10 +137,39 @@ impl Spot {
         let sin = (1.0 - mu * mu).max(0.0).sqrt();
         let phi = 2.0 * PI * u.y;
         let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), mu);
-        let direction = Frame::from_normal(self.axis).to_world(local);
+        let direction = Frame::from_normal(self.beam.axis).to_world(local);
         // Density over cos(theta) is share / bin width; phi is uniform over 2 pi.
         let pdf = share * BINS as f32 / (2.0 * PI);
         Some(SpotDirection { direction, pdf })
+    }
+}
+
+/// A spotlight at `position` with radiant `intensity` on the axis of its beam.
+#[derive(Debug, Clone)]
+pub struct Spot {
+    pub position: Vec3,
+    pub intensity: Vec3,
+    pub beam: BeamSampler,
+}
+
+impl Spot {
+    pub fn new(position: Vec3, axis: Vec3, intensity: Vec3, profile: SpotProfile) -> Self {
+        Spot { position, intensity, beam: BeamSampler::new(Beam { axis, profile }) }
+    }
+
+    /// Radiant intensity towards unit `direction` (leaving the light).
+    pub fn intensity_towards(&self, direction: Vec3) -> Vec3 {
+        self.intensity * self.beam.beam.towards(direction)
+    }
+
+    /// Emitted power per channel: the intensity integrated over the sphere, 2 pi I ∫ P(mu) dmu.
+    pub fn power_rgb(&self) -> Vec3 {
+        self.beam.solid_angle() * self.intensity
+    }
+
+    /// A direction leaving the light with density proportional to its profile.
+    pub fn sample_direction(&self, u: Vec2) -> Option<SpotDirection> {
+        self.beam.sample(u)
     }
 }
 

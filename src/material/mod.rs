@@ -18,6 +18,7 @@ pub use fresnel::{Split, fresnel_dielectric, refract};
 use glam::Vec3;
 
 use crate::graph::{MaterialDesc, Pattern};
+use crate::light::{Beam, SpotProfile, emitted};
 use lobe::{Lambertian, Lobe, Plastic};
 use microfacet::Ggx;
 
@@ -48,6 +49,8 @@ pub struct Material {
     pub roughness: f32,
     /// A glossy coat over `diffuse`, if any.
     pub coat: Option<Coat>,
+    /// The beam that shapes `emission` (an area spotlight's), if any (`emitted`).
+    pub beam: Option<Beam>,
 }
 
 /// The language's defaults: black, reflecting nothing, `ior 1` (POV-Ray's default pigment is
@@ -63,6 +66,7 @@ impl Default for Material {
             fresnel: false,
             roughness: 0.0,
             coat: None,
+            beam: None,
         }
     }
 }
@@ -83,6 +87,10 @@ impl From<&MaterialDesc> for Material {
             fresnel: d.fresnel,
             roughness: d.roughness,
             coat: (d.coat > 0.0).then_some(Coat { strength: d.coat, roughness: d.coat_roughness }),
+            beam: d.beam.map(|b| Beam {
+                axis: b.axis,
+                profile: SpotProfile::from_degrees(b.cone.radius, b.cone.falloff, b.cone.tightness),
+            }),
         }
     }
 }
@@ -110,8 +118,9 @@ impl Material {
         }
     }
 
-    /// Radiance emitted towards `wo`: emission is one-sided, towards the normal.
+    /// Radiance emitted towards `wo` from a point with normal `n` (`light::emitted`).
+    #[inline]
     pub fn emitted(&self, n: Vec3, wo: Vec3) -> Vec3 {
-        if n.dot(wo) > 0.0 { self.emission } else { Vec3::ZERO }
+        emitted(self.emission, self.beam.as_ref(), n, wo)
     }
 }

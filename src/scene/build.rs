@@ -20,7 +20,7 @@ use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
     Pattern, SceneGraph, ShapeNode, compose,
 };
-use crate::light::{Light, Spot, SpotProfile};
+use crate::light::{BeamSampler, Light, Spot, SpotProfile};
 use crate::material::Material;
 use crate::medium::{Density, HenyeyGreenstein, Medium};
 use crate::texture::{Bump, ImageMap, Texture};
@@ -161,7 +161,8 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         if let Some(area) = area.filter(|_| material.is_emissive()) {
             prim.light = Some(lights.len() as u32);
             let (shape, emission) = (prim.shape.clone(), material.emission);
-            lights.push(Light::Area { shape, emission, area, primitive: i as u32 });
+            let beam = material.beam.map(BeamSampler::new);
+            lights.push(Light::Area { shape, emission, beam, area, primitive: i as u32 });
         }
     }
     // The sky goes last: the lights before keep the indices their primitives name.

@@ -462,6 +462,7 @@ impl Evaluator {
             coat_roughness,
             normal: normal.clone(),
             interior: interior.medium(),
+            beam: None,
             span: at,
         })
     }

@@ -10,7 +10,7 @@ use glam::{Affine3A, Vec3};
 use super::expression::single_vector;
 use super::{Body, Evaluator, as_vector};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{LightDesc, LightForm, MaterialDesc, ObjectNode, ShapeNode, SpotCone};
+use crate::graph::{BeamDesc, LightDesc, LightForm, MaterialDesc, ObjectNode, ShapeNode, SpotCone};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{Expr, Item};
 
@@ -62,7 +62,19 @@ enum PovTarget {
     /// A light of `Evaluator::lights`, given POV-Ray's colour as its power.
     Light(usize),
     /// An `area_light`, made an emitter once its power is known.
-    Area { position: Vec3, colour: Vec3, axis1: Vec3, axis2: Vec3, shape: AreaShape, span: Span },
+    Area(AreaLight),
+}
+
+/// An `area_light`'s items: where it is, its colour, its grid's sides, the emitter's shape and,
+/// for an area spotlight, its beam.
+struct AreaLight {
+    position: Vec3,
+    colour: Vec3,
+    axis1: Vec3,
+    axis2: Vec3,
+    shape: AreaShape,
+    beam: Option<BeamDesc>,
+    span: Span,
 }
 
 /// The emitter an `area_light` becomes.
@@ -99,7 +111,14 @@ impl Evaluator {
         let fade = (state.fade_distance > 0.0 && state.fade_power > 0.0)
             .then_some((state.fade_distance, state.fade_power));
         if let Some(area) = &state.area {
-            let plain = form == LightForm::Point && !state.shadowless && state.looks_like.is_none();
+            let (beam, emits) = match &form {
+                LightForm::Point => (None, true),
+                &LightForm::Spot { point_at, cone } => {
+                    (Some(BeamDesc { axis: (point_at - position).normalize(), cone }), true)
+                }
+                LightForm::Parallel { .. } => (None, false),
+            };
+            let plain = emits && !state.shadowless && state.looks_like.is_none();
             let spans_area = area.axis1.cross(area.axis2).length() > 0.0;
             if plain && spans_area {
                 let shape = match (state.circular, state.orient) {
@@ -107,17 +126,24 @@ impl Evaluator {
                     (true, false) => AreaShape::Disk,
                     (true, true) => AreaShape::Sphere,
                 };
-                let (axis1, axis2) = (area.axis1, area.axis2);
-                let span = self.here(span);
-                let target = PovTarget::Area { position, colour: power, axis1, axis2, shape, span };
+                let target = PovTarget::Area(AreaLight {
+                    position,
+                    colour: power,
+                    axis1: area.axis1,
+                    axis2: area.axis2,
+                    shape,
+                    beam,
+                    span: self.here(span),
+                });
                 self.pov_lights.push(PovLight { target, fade });
                 return Ok(());
             }
             let at = self.here(&area.span);
+            let kind = if form == LightForm::Point { "a point light" } else { "a spotlight" };
             self.warnings.push(format!(
-                "{at:?}: warning: this `area_light` is read as a point light: {}",
+                "{at:?}: warning: this `area_light` is read as {kind}: {}",
                 if spans_area {
-                    "a spotlight, a parallel, shadowless or looks_like light has no area here"
+                    "a parallel, shadowless or looks_like light has no area here"
                 } else {
                     "its sides span no area"
                 }
@@ -263,7 +289,7 @@ impl Evaluator {
         for PovLight { target, fade } in std::mem::take(&mut self.pov_lights) {
             let position = match &target {
                 PovTarget::Light(i) => self.lights[*i].position,
-                PovTarget::Area { position, .. } => *position,
+                PovTarget::Area(area) => area.position,
             };
             let d = position.distance(look_at);
             let faded = fade.map_or(1.0, |(f, p)| 2.0 / (1.0 + (d / f).powf(p)));
@@ -276,11 +302,9 @@ impl Evaluator {
                     };
                     light.power *= PI * reach * faded;
                 }
-                PovTarget::Area { position, colour, axis1, axis2, shape, span } => {
-                    let intensity = PI * d * d * faded * colour;
-                    let node =
-                        area_emitter(position, axis1, axis2, shape, intensity, look_at, span);
-                    self.objects.push(node);
+                PovTarget::Area(area) => {
+                    let intensity = PI * d * d * faded * area.colour;
+                    self.objects.push(area_emitter(area, intensity, look_at));
                 }
             }
         }
@@ -367,40 +391,42 @@ fn light_form(state: &LightState) -> Result<LightForm, SceneError> {
 }
 
 /// An `area_light` as an emitter of the same power as a point light of `intensity` (4π times
-/// it), centred on the light and facing `look_at` (`docs/povray.md`, Lights).
-fn area_emitter(
-    position: Vec3,
-    axis1: Vec3,
-    axis2: Vec3,
-    shape: AreaShape,
-    intensity: Vec3,
-    look_at: Vec3,
-    span: Span,
-) -> ObjectNode {
-    let power = 4.0 * PI * intensity;
+/// it), centred on the light and facing `look_at`; an area spotlight's, of the same intensity
+/// as the point spotlight in every direction (`docs/povray.md`, Lights).
+fn area_emitter(light: AreaLight, intensity: Vec3, look_at: Vec3) -> ObjectNode {
+    let AreaLight { position, axis1, axis2, shape, beam, span, .. } = light;
     let area = axis1.cross(axis2).length();
     let mut normal = axis1.cross(axis2) / area;
     if normal.dot(look_at - position) < 0.0 {
         normal = -normal;
     }
-    // A circular light as a disk or sphere of the grid's area.
+    // A circular light as a disk or sphere of the grid's area; an oriented one sending a beam
+    // as a disk facing along it, where the points it lights lie.
     let radius = (area / PI).sqrt();
-    let (shape, emitting_area) = match shape {
-        AreaShape::Quad => {
+    let (shape, emitting_area) = match (shape, beam) {
+        (AreaShape::Quad, _) => {
             let (edge1, edge2) =
                 if axis1.cross(axis2).dot(normal) > 0.0 { (axis1, axis2) } else { (axis2, axis1) };
             (ShapeNode::Quad { corner: position - 0.5 * (axis1 + axis2), edge1, edge2 }, area)
         }
-        AreaShape::Disk => (ShapeNode::Disk { center: position, normal, radius }, area),
-        AreaShape::Sphere => {
+        (AreaShape::Disk, _) => (ShapeNode::Disk { center: position, normal, radius }, area),
+        (AreaShape::Sphere, Some(beam)) => {
+            (ShapeNode::Disk { center: position, normal: beam.axis, radius }, area)
+        }
+        (AreaShape::Sphere, None) => {
             (ShapeNode::Sphere { center: position, radius }, 4.0 * PI * radius * radius)
         }
     };
-    // A one-sided diffuse emitter of radiance Le and area A emits π A Le.
-    let emission = power / (PI * emitting_area);
+    let emission = match beam {
+        // Each bit of area a point spotlight, their intensities adding up to `intensity`.
+        Some(_) => intensity / emitting_area,
+        // A one-sided diffuse emitter of radiance Le and area A emits π A Le.
+        None => 4.0 * PI * intensity / (PI * emitting_area),
+    };
     let material = MaterialDesc {
         emission,
         diffuse: crate::graph::TextureNode::solid(Vec3::ZERO),
+        beam,
         ..MaterialDesc::new(span.clone())
     };
     ObjectNode { shape, material: Some(Arc::new(material)), transforms: Vec::new(), depth: 1, span }
