@@ -390,7 +390,7 @@ impl Evaluator {
 
     /// A surface's colour (or finish amount) without negative red, green or blue: POV-Ray's
     /// colour arithmetic may make them, but a surface cannot reflect or emit less than nothing,
-    /// so they are clamped to 0, with a warning.
+    /// so they are clamped to 0, with a warning (once a scene).
     fn clamped_colour(&mut self, value: Value, at: &Span) -> Value {
         let clamped = match &value {
             Value::Float(f) if *f < 0.0 => Value::Float(0.0),
@@ -400,11 +400,14 @@ impl Evaluator {
             ),
             _ => return value,
         };
-        let here = self.here(at);
-        self.warnings.push(format!(
-            "{here:?}: warning: a surface's colour with a negative component is clamped to 0 \
-             (a surface cannot reflect or emit less than nothing)"
-        ));
+        if !self.warned_negative_colour {
+            self.warned_negative_colour = true;
+            let here = self.here(at);
+            self.warnings.push(format!(
+                "{here:?}: warning: a surface's colour with a negative component is clamped to 0 \
+                 (a surface cannot reflect or emit less than nothing; said once a scene)"
+            ));
+        }
         clamped
     }
 
