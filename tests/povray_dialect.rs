@@ -363,7 +363,7 @@ fn wide_projections_are_read_with_their_angles_and_a_fisheye_leaves_its_corners_
     let kind = pov_error("camera { cylinder 5 location 0 look_at z }");
     assert!(kind.contains("1, 2, 3 or 4, not 5") && kind.contains(":1:19"), "{kind}");
     let two = pov_error("camera { fisheye angle 90, 45 location 0 look_at z }");
-    assert!(two.contains("`angle`") && two.contains(":1:24"), "{two}");
+    assert!(two.contains("`angle`") && two.contains(":1:18"), "{two}");
     let scn = parse_scene(Path::new("tests/inline.scn"), "camera { fisheye location 0 }")
         .unwrap_err()
         .to_string();
