@@ -233,6 +233,8 @@ pub fn render(scene: &Scene, region: &Region, taken: u32, list: &AovList) -> Aov
                 let count = indices.len();
                 for index in indices {
                     let (ray, mut sampler) = camera_sample(scene, x0 + column, y0 + row, index);
+                    // Where no light reaches the film, every AOV is 0, as the beauty is.
+                    let Some(ray) = ray else { continue };
                     let seen = seen(scene, ray, &mut sampler);
                     let sample = list.iter().flat_map(|aov| aov.values(&seen).iter().copied());
                     for (sum, value) in sum.iter_mut().zip(sample) {

@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3};
 use crate::diagnostic::SceneError;
 use crate::geometry::Ray;
 use crate::graph::{CameraDesc, CameraForm};
+use crate::projection::{Frame, Projection};
 use crate::sampling::concentric_disk;
 
 /// Rays leave `origin` through `origin + forward + a * left + b * up`, a, b in [-1, 1]:
@@ -18,9 +19,19 @@ pub struct Camera {
     /// Thin-lens radius (0: pinhole) and the distance along `forward` that is in focus.
     pub aperture: f32,
     pub focal_distance: f32,
+    pub kind: CameraKind,
+}
+
+/// How rays leave the camera.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CameraKind {
+    /// Through the image plane `origin + forward + a * left + b * up` (and the lens).
+    Perspective,
     /// Parallel rays (POV-Ray's `orthographic`): each leaves `origin + a * left + b * up` along
     /// `forward`.
-    pub orthographic: bool,
+    Orthographic,
+    /// One of POV-Ray's wide projections, from POV-Ray's vectors.
+    Wide(Projection, Frame),
 }
 
 impl Camera {
@@ -51,6 +62,10 @@ impl Camera {
             CameraForm::Orthographic { origin, left, up, forward } => {
                 (origin, left, up, forward, None)
             }
+            CameraForm::Wide { projection: _, frame } => {
+                let (left, up) = (-0.5 * frame.right, 0.5 * frame.up);
+                (frame.location, left, up, frame.direction, None)
+            }
             CameraForm::LookAt { location, look_at, up, angle } => {
                 // Left-handed like POV-Ray: with forward +z and up +y, right is up x forward = +x.
                 let forward = (look_at - location).normalize();
@@ -78,19 +93,28 @@ impl Camera {
             ));
         }
         let focal_distance = desc.focal_distance.unwrap_or(forward.length());
-        let orthographic = matches!(desc.form, CameraForm::Orthographic { .. });
+        let kind = match desc.form {
+            CameraForm::Orthographic { .. } => CameraKind::Orthographic,
+            CameraForm::Wide { projection, frame } => CameraKind::Wide(projection, frame),
+            CameraForm::Lab { .. } | CameraForm::LookAt { .. } => CameraKind::Perspective,
+        };
         let aperture = desc.aperture;
-        let camera = Camera { origin, left, up, forward, aperture, focal_distance, orthographic };
+        let camera = Camera { origin, left, up, forward, aperture, focal_distance, kind };
         Ok((camera, warnings))
     }
 
     /// The ray through image position (x, y) in [0, 1]^2 (x to the right, y down), through the
-    /// lens position `lens` in [0, 1]^2 when the camera has an aperture.
+    /// lens position `lens` in [0, 1]^2 when the camera has an aperture. (Where the camera does
+    /// not `see`, the projection's formula continued.)
     #[inline]
     pub fn ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
-        if self.orthographic {
-            let origin = self.origin + (1.0 - 2.0 * x) * self.left + (1.0 - 2.0 * y) * self.up;
-            return Ray::new(origin, self.forward.normalize());
+        match &self.kind {
+            CameraKind::Perspective => {}
+            CameraKind::Orthographic => {
+                let origin = self.origin + (1.0 - 2.0 * x) * self.left + (1.0 - 2.0 * y) * self.up;
+                return Ray::new(origin, self.forward.normalize());
+            }
+            CameraKind::Wide(projection, frame) => return projection.ray(frame, x, y),
         }
         let dir = self.forward + (1.0 - 2.0 * x) * self.left + (1.0 - 2.0 * y) * self.up;
         if self.aperture <= 0.0 {
@@ -103,5 +127,15 @@ impl Camera {
         let disk = self.aperture * concentric_disk(lens);
         let origin = self.origin + disk.x * self.left.normalize() + disk.y * self.up.normalize();
         Ray::new(origin, (focus - origin).normalize())
+    }
+
+    /// Whether light reaches image position (x, y) in [0, 1]^2: everywhere but where a wide
+    /// projection leaves the film dark (outside a fisheye's disc).
+    #[inline]
+    pub fn sees(&self, x: f32, y: f32) -> bool {
+        match &self.kind {
+            CameraKind::Perspective | CameraKind::Orthographic => true,
+            CameraKind::Wide(projection, frame) => projection.sees(frame, x, y),
+        }
     }
 }

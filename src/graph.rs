@@ -141,6 +141,8 @@ pub enum CameraForm {
     /// POV-Ray's `orthographic` camera: parallel rays along `forward` from the image plane
     /// `origin + a*left + b*up`, a, b in [-1, 1].
     Orthographic { origin: Vec3, left: Vec3, up: Vec3, forward: Vec3 },
+    /// POV-Ray's wide projections (`fisheye`, `panoramic`, `cylinder`, ...) from its vectors.
+    Wide { projection: crate::projection::Projection, frame: crate::projection::Frame },
 }
 
 #[derive(Debug, Clone, PartialEq)]

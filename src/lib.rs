@@ -30,6 +30,7 @@ pub mod photon;
 mod pipeline;
 pub mod preview;
 pub mod progress;
+pub mod projection;
 pub mod ray;
 pub mod region;
 pub mod render;

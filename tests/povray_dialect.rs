@@ -346,3 +346,59 @@ fn syntax_errors_in_pov_scenes_do_not_give_scn_advice() {
     let error = pov_error("blob { threshold 0.5 sphere { 0, 1, 1 } }");
     assert!(error.contains("`blob`") && error.contains("shape"), "{error}");
 }
+
+#[test]
+fn wide_projections_are_read_with_their_angles_and_a_fisheye_leaves_its_corners_dark() {
+    // A fisheye of 180° looks along the camera's right at the image's right edge.
+    let fisheye = camera_of_pov("camera { fisheye angle 180 right x up y location 0 look_at z }");
+    assert!(close(towards(&fisheye, 1.0, 0.5), Vec3::X), "{}", towards(&fisheye, 1.0, 0.5));
+    assert!(fisheye.sees(0.5, 0.5) && !fisheye.sees(0.02, 0.02), "the corners are dark");
+    // A spherical camera's two angles: 360 across, 90 down (the top edge 45° up).
+    let sphere = camera_of_pov("camera { spherical angle 360, 90 location 0 look_at z }");
+    assert!(close(towards(&sphere, 0.75, 0.5), Vec3::X));
+    assert!(close(towards(&sphere, 0.5, 0.0), Vec3::new(0.0, 1.0, 1.0).normalize()));
+    // `cylinder 3` moves the ray's origin up its axis.
+    let cylinder = camera_of_pov("camera { cylinder 3 up 4*y location 0 look_at z }");
+    assert!(close(cylinder.ray(0.5, 0.0, Vec2::ZERO).origin, Vec3::new(0.0, 2.0, 0.0)));
+    let kind = pov_error("camera { cylinder 5 location 0 look_at z }");
+    assert!(kind.contains("1, 2, 3 or 4, not 5") && kind.contains(":1:19"), "{kind}");
+    let two = pov_error("camera { fisheye angle 90, 45 location 0 look_at z }");
+    assert!(two.contains("`angle`") && two.contains(":1:18"), "{two}");
+    let scn = parse_scene(Path::new("tests/inline.scn"), "camera { fisheye location 0 }")
+        .unwrap_err()
+        .to_string();
+    assert!(scn.contains("`fisheye`") && scn.contains(":1:10"), "{scn}");
+}
+
+#[test]
+fn a_zero_scale_is_changed_to_one_and_a_2_vector_translation_gets_z_0() {
+    let graph = pov("sphere { 0, 1 scale <0, 2, 1> translate <1, 2> }");
+    use raydiance::graph::Transform;
+    let expected = [
+        Transform::Scale(Vec3::new(1.0, 2.0, 1.0)),
+        Transform::Translate(Vec3::new(1.0, 2.0, 0.0)),
+    ];
+    assert_eq!(graph.objects[0].transforms, expected);
+    let warning = graph.warnings.iter().find(|w| w.contains("zero component"));
+    assert!(warning.is_some_and(|w| w.contains(":1:21")), "{:?}", graph.warnings);
+    let scn = parse_scene(Path::new("tests/inline.scn"), "sphere { 0, 1 scale <0, 2, 1> }")
+        .unwrap_err()
+        .to_string();
+    assert!(scn.contains("zero component"), "{scn}");
+}
+
+#[test]
+fn a_negative_surface_colour_is_clamped_with_a_warning_and_a_negative_light_refused() {
+    let graph = pov("sphere { 0, 1 pigment { rgb <-1, 0.5, 0.5> * 2 } }");
+    let material = graph.objects[0].material.as_ref().expect("the default texture's material");
+    match &material.diffuse.pattern {
+        raydiance::graph::Pattern::Solid(c) => {
+            assert!(c.x == 0.0 && c.y > 0.5, "clamped red, kept green: {c}")
+        }
+        other => panic!("{other:?}"),
+    }
+    let warning = graph.warnings.iter().find(|w| w.contains("negative component"));
+    assert!(warning.is_some_and(|w| w.contains(":1:25")), "{:?}", graph.warnings);
+    let light = pov_error("light_source { 0 color rgb -1 }");
+    assert!(light.contains("negative component"), "{light}");
+}

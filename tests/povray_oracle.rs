@@ -1,6 +1,7 @@
 //! POV-Ray 3.7 (Debian's `povray`, which CI installs) as the oracle for the `.pov` dialect's
 //! geometry: a scene in flat emissive colours rendered by both agrees pixel for pixel away from
-//! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`, transforms; orthographic),
+//! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`, transforms; orthographic and
+//! the wide projections),
 //! planes with offsets, `#default`, `inverse` and `clipped_by`.
 
 mod common;
@@ -74,6 +75,37 @@ fn inverse_and_clipped_by_match_povray_away_from_edges() {
     let test = "inverse_and_clipped_by_match_povray_away_from_edges";
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(SHAPED, "inverse and clipped_by");
+    }
+}
+
+/// POV-Ray's wide projections, each looking at the scene from above its floor.
+const WIDE_CAMERAS: [&str; 11] = [
+    "fisheye angle 180",
+    // POV-Ray's default angle.
+    "fisheye",
+    "ultra_wide_angle angle 160",
+    "omnimax",
+    "panoramic",
+    "cylinder 1 angle 150",
+    "cylinder 2 angle 120",
+    "cylinder 3 angle 200 up 4*y",
+    "cylinder 4 angle 100",
+    "spherical angle 270, 120",
+    "spherical",
+];
+
+#[test]
+fn wide_projections_match_povray_away_from_edges() {
+    let test = "wide_projections_match_povray_away_from_edges";
+    if !common::outside_tool("povray", "povray", test) {
+        return;
+    }
+    for projection in WIDE_CAMERAS {
+        let camera = format!(
+            "camera {{ {projection} location <1, 1, -5> right x*image_width/image_height \
+             look_at <0, 0, 0> }}"
+        );
+        agree_with_povray(&format!("{camera}\n{SCENE}"), projection);
     }
 }
 

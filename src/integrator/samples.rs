@@ -127,6 +127,8 @@ fn render_pass(
             let y = y0 + row;
             let mut radiance = vec![Vec3::ZERO; pixels_per_task * samples_per_task as usize];
             let mut task: Vec<(usize, Range<u32>)> = Vec::with_capacity(pixels_per_task);
+            // The task's samples where the camera's film is dark (`camera_sample`'s `None`).
+            let mut dark: Vec<usize> = Vec::new();
             for first_x in (0..width).step_by(pixels_per_task) {
                 let columns = first_x..(first_x + pixels_per_task).min(width);
                 for first in offsets.clone().step_by(samples_per_task as usize) {
@@ -143,13 +145,29 @@ fn render_pass(
                         (column, start..(share.start + last).min(share.end))
                     }));
                     // The task's camera samples, pixel by pixel, each pixel's in index order.
-                    let mut camera_samples = task.iter().flat_map(|(column, indices)| {
-                        let x = x0 + column;
-                        indices.clone().map(move |index| camera_sample(scene, x, y, index))
-                    });
+                    dark.clear();
+                    let mut camera_samples = task
+                        .iter()
+                        .flat_map(|(column, indices)| {
+                            let x = x0 + column;
+                            indices.clone().map(move |index| camera_sample(scene, x, y, index))
+                        })
+                        .enumerate()
+                        .map(|(k, (ray, sampler))| {
+                            // A dark sample's path is traced from the camera's origin, and its
+                            // radiance replaced by 0 below.
+                            let ray = ray.unwrap_or_else(|| {
+                                dark.push(k);
+                                Ray::new(scene.camera.origin, scene.camera.forward)
+                            });
+                            (ray, sampler)
+                        });
                     let taken: usize = task.iter().map(|(_, indices)| indices.len()).sum();
                     let radiance = &mut radiance[..taken];
                     integrator.radiance_of_all(scene, &mut camera_samples, radiance);
+                    for &k in &dark {
+                        radiance[k] = Vec3::ZERO;
+                    }
                     let mut task_dropped = 0;
                     let mut samples = radiance.iter();
                     for (column, indices) in &task {

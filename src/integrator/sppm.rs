@@ -72,7 +72,7 @@ pub fn radius_warning(scene: &Scene) -> Option<String> {
             let (x, y) =
                 ((2 * i + 1) * width / (2 * EXTENT_RAYS), (2 * j + 1) * height / (2 * EXTENT_RAYS));
             let (ray, _) = camera_sample(scene, x, y, 0);
-            if let Some(hit) = scene.intersect(&ray) {
+            if let Some(hit) = ray.and_then(|ray| scene.intersect(&ray)) {
                 (lo, hi) = (lo.min(hit.point), hi.max(hit.point));
             }
         }
@@ -288,7 +288,9 @@ fn iterate(
 /// Iteration `iteration`'s camera path of pixel (x, y): the emission it saw and the direct light
 /// at its visible point (weighted by the path's throughput), and the visible point if any.
 fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPath {
-    let (ray, mut sampler) = camera_sample(scene, x, y, iteration);
+    let (Some(ray), mut sampler) = camera_sample(scene, x, y, iteration) else {
+        return (Vec3::ZERO, None); // the film is dark there
+    };
     let mut path = WhittedPath::photon_mapping(ray);
     loop {
         let hit = scene.intersect(&path.ray);

@@ -12,6 +12,7 @@ pub fn file(name: &str) -> Option<&'static str> {
         "glass_old.inc" => Some(include_str!("library/glass_old.inc")),
         "golds.inc" => Some(include_str!("library/golds.inc")),
         "metals.inc" => Some(include_str!("library/metals.inc")),
+        "rad_def.inc" => Some(include_str!("library/rad_def.inc")),
         "shapes.inc" => Some(include_str!("library/shapes.inc")),
         "shapes2.inc" => Some(include_str!("library/shapes2.inc")),
         "shapes_old.inc" => Some(include_str!("library/shapes_old.inc")),
@@ -52,7 +53,7 @@ pub fn left_out(name: &str) -> Option<&'static str> {
 mod tests {
     use std::path::Path;
 
-    const NAMES: [&str; 17] = [
+    const NAMES: [&str; 18] = [
         "colors.inc",
         "consts.inc",
         "finish.inc",
@@ -60,6 +61,7 @@ mod tests {
         "glass_old.inc",
         "golds.inc",
         "metals.inc",
+        "rad_def.inc",
         "shapes.inc",
         "shapes2.inc",
         "shapes_old.inc",

@@ -326,7 +326,9 @@ fn describe(rule: Rule) -> &'static str {
         Rule::camera_item | Rule::camera_key => {
             "a camera parameter (`origin`, `left`, `up`, `forward`, `location`, `look_at`, `angle`, `aperture`, `focal_distance`)"
         }
-        Rule::camera_projection => "a projection (`perspective`, `orthographic`)",
+        Rule::camera_projection | Rule::wide_projection => {
+            "a projection (`perspective`, `orthographic`, `fisheye`, `cylinder 1`, ...)"
+        }
         Rule::light_source => "`light_source`",
         Rule::light_colour | Rule::light_modifier => "a light's colour",
         Rule::pov_background => "`background`",

@@ -76,9 +76,9 @@ pub enum Item {
         key: Ident,
         value: Expr,
     },
-    /// POV-Ray's `perspective` or `orthographic` (`.pov` only).
+    /// POV-Ray's `perspective`, `orthographic`, `fisheye`, `cylinder N`, ... (`.pov` only).
     CameraProjection {
-        orthographic: bool,
+        projection: ProjectionWord,
         span: Span,
     },
     Light {
@@ -754,6 +754,20 @@ impl From<Ident> for Expr {
     fn from(name: Ident) -> Expr {
         Expr { kind: ExprKind::Ident(name.name), span: name.span }
     }
+}
+
+/// POV-Ray's camera projection as written (`docs/povray.md`).
+#[derive(Debug, Clone)]
+pub enum ProjectionWord {
+    Perspective,
+    Orthographic,
+    Fisheye,
+    UltraWideAngle,
+    Omnimax,
+    Panoramic,
+    Spherical,
+    /// `cylinder N`, N from 1 to 4.
+    Cylinder(Expr),
 }
 
 #[derive(Debug, Clone)]

@@ -436,8 +436,22 @@ impl Builder {
             }
             Rule::camera_projection => {
                 self.pov_only(&pair, Some("camera"))?;
-                let orthographic = inner_pair(&pair).as_rule() == Rule::kw_orthographic;
-                Item::CameraProjection { orthographic, span }
+                let word = inner_pair(&pair);
+                let projection = match word.as_rule() {
+                    Rule::kw_perspective => ProjectionWord::Perspective,
+                    Rule::kw_orthographic => ProjectionWord::Orthographic,
+                    Rule::kw_cylinder => ProjectionWord::Cylinder(
+                        self.expr(pair.clone().into_inner().nth(1).expect("the type"))?,
+                    ),
+                    _ => match word.as_str() {
+                        "fisheye" => ProjectionWord::Fisheye,
+                        "ultra_wide_angle" => ProjectionWord::UltraWideAngle,
+                        "omnimax" => ProjectionWord::Omnimax,
+                        "panoramic" => ProjectionWord::Panoramic,
+                        _ => ProjectionWord::Spherical,
+                    },
+                };
+                Item::CameraProjection { projection, span }
             }
             Rule::camera_item => {
                 let mut inner = pair.into_inner();
@@ -454,7 +468,17 @@ impl Builder {
                     self.pov_only(&key, Some("camera"))?;
                 }
                 let key = Ident { name: key.as_str().to_string(), span: self.span(&key) };
-                Item::CameraParam { key, value: self.expr(inner.next().expect("the value"))? }
+                let mut value = self.expr(inner.next().expect("the value"))?;
+                if let Some(second) = inner.next() {
+                    // `angle H, V`: POV-Ray's spherical camera's two angles, as a 2-vector.
+                    if key.name != "angle" {
+                        return Err(self.error(&second, format!("`{}` takes one value", key.name)));
+                    }
+                    self.pov_only(&second, Some("camera"))?;
+                    let span = value.span.clone();
+                    value = Expr { kind: ExprKind::Vector(vec![value, self.expr(second)?]), span };
+                }
+                Item::CameraParam { key, value }
             }
             Rule::light_source => {
                 self.enter(&pair)?;

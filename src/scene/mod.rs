@@ -343,19 +343,17 @@ impl Scene {
     }
 }
 
-/// Camera sample `index` of pixel (x, y) of the image: its ray, and the sampler its path goes on
+/// Camera sample `index` of pixel (x, y) of the image: its ray (`None` where the camera's
+/// projection leaves the film dark: no light arrives there), and the sampler its path goes on
 /// drawing from.
-pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Ray, Sampler) {
+pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Option<Ray>, Sampler) {
     let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
     let pixel = (y * width + x) as u64;
     let mut sampler = Sampler::new(scene.settings.seed, pixel, u64::from(index));
     let jitter = sampler.next_2d();
     // A pinhole camera needs no lens sample.
     let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
-    let ray = scene.camera.ray(
-        (x as f32 + jitter.x) / width as f32,
-        (y as f32 + jitter.y) / height as f32,
-        lens,
-    );
+    let (u, v) = ((x as f32 + jitter.x) / width as f32, (y as f32 + jitter.y) / height as f32);
+    let ray = scene.camera.sees(u, v).then(|| scene.camera.ray(u, v, lens));
     (ray, sampler)
 }

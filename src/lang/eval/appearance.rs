@@ -246,6 +246,7 @@ impl Evaluator {
                     state.pattern.word = None;
                 }
                 other => {
+                    let other = self.clamped_colour(other, &expr.span);
                     let (colour, filter, transmit) = pov_colour(other, &expr.span)?;
                     state.pigment =
                         Pigment { colour: TextureNode::solid(colour), filter, transmit };
@@ -383,7 +384,31 @@ impl Evaluator {
     /// A POV-Ray colour: its red, green and blue, filter and transmit.
     pub(super) fn pov_colour(&mut self, colour: &Colour) -> Result<(Vec3, f32, f32), SceneError> {
         let value = self.value(&colour.value)?;
+        let value = self.clamped_colour(value, &colour.span);
         pov_colour(value, &colour.span)
+    }
+
+    /// A surface's colour (or finish amount) without negative red, green or blue: POV-Ray's
+    /// colour arithmetic may make them, but a surface cannot reflect or emit less than nothing,
+    /// so they are clamped to 0, with a warning (once a scene).
+    fn clamped_colour(&mut self, value: Value, at: &Span) -> Value {
+        let clamped = match &value {
+            Value::Float(f) if *f < 0.0 => Value::Float(0.0),
+            Value::Vector(v) if v.min_element() < 0.0 => Value::Vector(v.max(DVec3::ZERO)),
+            Value::Numbers(n) if n.len() >= 3 && n[..3].iter().any(|c| *c < 0.0) => Value::Numbers(
+                n.iter().enumerate().map(|(i, c)| if i < 3 { c.max(0.0) } else { *c }).collect(),
+            ),
+            _ => return value,
+        };
+        if !self.warned_negative_colour {
+            self.warned_negative_colour = true;
+            let here = self.here(at);
+            self.warnings.push(format!(
+                "{here:?}: warning: a surface's colour with a negative component is clamped to 0 \
+                 (a surface cannot reflect or emit less than nothing; said once a scene)"
+            ));
+        }
+        clamped
     }
 
     /// The material of a look (`docs/povray.md`): the pigment's opaque part × `diffuse` is the

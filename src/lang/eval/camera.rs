@@ -1,6 +1,7 @@
 //! `camera { ... }`: either form, checked where it is written.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use glam::{Affine3A, Mat3, Vec3};
 
@@ -9,12 +10,18 @@ use super::{Body, Evaluator, as_float, as_vector};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{CameraDesc, CameraForm};
 use crate::lang::dialect::Dialect;
-use crate::lang::syntax::Item;
+use crate::lang::syntax::{Item, ProjectionWord};
 use crate::lang::value::Value;
+use crate::projection::{Frame, Projection};
 
-/// Where `perspective`/`orthographic` is kept among the parameters (1 for orthographic): not a
-/// word of the language, so no parameter has its name.
+/// Where the projection's word is kept among the parameters (`cylinder` with its type: `cylinder
+/// 2`): not a word of the language, so no parameter has its name.
 const PROJECTION: &str = "#projection";
+
+/// POV-Ray's default `angle` of a fisheye, ultra-wide-angle or cylinder camera, in degrees, and
+/// a spherical camera's (horizontal, vertical).
+const POV_WIDE_ANGLE: f32 = 90.0;
+const POV_SPHERICAL_ANGLES: (f32, f32) = (360.0, 180.0);
 
 /// Where a `.pov` camera's transforms are kept among the parameters, composed in written order,
 /// as the twelve numbers of POV-Ray's `matrix`.
@@ -35,8 +42,28 @@ impl Evaluator {
         item: &Item,
         given: &mut CameraParams,
     ) -> Result<(), SceneError> {
-        if let Item::CameraProjection { orthographic, span } = item {
-            let projection = Value::Float(f64::from(u8::from(*orthographic)));
+        if let Item::CameraProjection { projection, span } = item {
+            let word = match projection {
+                ProjectionWord::Perspective => "perspective".to_string(),
+                ProjectionWord::Orthographic => "orthographic".to_string(),
+                ProjectionWord::Fisheye => "fisheye".to_string(),
+                ProjectionWord::UltraWideAngle => "ultra_wide_angle".to_string(),
+                ProjectionWord::Omnimax => "omnimax".to_string(),
+                ProjectionWord::Panoramic => "panoramic".to_string(),
+                ProjectionWord::Spherical => "spherical".to_string(),
+                ProjectionWord::Cylinder(written) => {
+                    // POV-Ray reads the type as an integer.
+                    let kind = self.single(written)?.trunc();
+                    if !(1.0..=4.0).contains(&kind) {
+                        return Err(SceneError::at(
+                            &written.span,
+                            format!("the cylinder camera's type is 1, 2, 3 or 4, not {kind}"),
+                        ));
+                    }
+                    format!("cylinder {kind}")
+                }
+            };
+            let projection = Value::String(Arc::new(word));
             if given.insert(PROJECTION.to_string(), (projection, span.clone())).is_some() {
                 return Err(SceneError::at(span, "the camera's projection is given twice"));
             }
@@ -222,15 +249,20 @@ impl Evaluator {
                  `blur_samples`) is not rendered: the camera is a pinhole"
             ));
         }
-        let orthographic =
-            given.get(PROJECTION).is_some_and(|(v, _)| matches!(v, Value::Float(f) if *f != 0.0));
+        let word = match given.get(PROJECTION) {
+            Some((Value::String(word), _)) => word.as_str(),
+            _ => "perspective",
+        };
+        let orthographic = word == "orthographic";
+        let wide = !matches!(word, "perspective" | "orthographic");
         for (key, v) in [("direction", direction), ("up", up), ("right", right), ("sky", sky)] {
             if v.length() == 0.0 {
                 let at = given.get(key).map_or(span, |g| &g.1);
                 return Err(SceneError::at(at, format!("`{key}` is a zero vector")));
             }
         }
-        if let Some((value, at)) = given.get("angle") {
+        let projection = if wide { Some(wide_projection(word, given, span)?) } else { None };
+        if let Some((value, at)) = given.get("angle").filter(|_| !wide) {
             let angle = single(as_float(value, at, "`angle`")?, at)?;
             if !(angle > 0.0 && angle < 180.0) {
                 return Err(SceneError::at(
@@ -286,13 +318,60 @@ impl Evaluator {
         let [direction, right, up] = [direction, right, up].map(|v| moved.transform_vector3(v));
         self.pov_look_at = Some(look_at);
         let (left, half_up) = (-0.5 * right, 0.5 * up);
-        let form = if orthographic {
-            CameraForm::Orthographic { origin: location, left, up: half_up, forward: direction }
-        } else {
-            CameraForm::Lab { origin: location, left, up: half_up, forward: direction }
+        let form = match projection {
+            Some(projection) => {
+                let frame = Frame { location, right, up, direction };
+                CameraForm::Wide { projection, frame }
+            }
+            None if orthographic => {
+                CameraForm::Orthographic { origin: location, left, up: half_up, forward: direction }
+            }
+            None => CameraForm::Lab { origin: location, left, up: half_up, forward: direction },
         };
         Ok(CameraDesc { form, aperture: 0.0, focal_distance: None, span: self.here(span) })
     }
+}
+
+/// POV-Ray's wide projection `word` (as `camera_item` keeps it) with its angles: `angle`
+/// (POV-Ray's default 90°; ignored by `omnimax` and `panoramic`, as in POV-Ray), and a spherical
+/// camera's `angle H, V` (V defaults to H / 2; both to 360, 180).
+fn wide_projection(
+    word: &str,
+    given: &CameraParams,
+    span: &Span,
+) -> Result<Projection, SceneError> {
+    let angles = match given.get("angle") {
+        None => None,
+        Some((Value::Numbers(n), at)) if n.len() == 2 && word == "spherical" => {
+            Some((single(n[0], at)?, Some(single(n[1], at)?), at))
+        }
+        Some((value, at)) => Some((single(as_float(value, at, "`angle`")?, at)?, None, at)),
+    };
+    if let Some((h, v, at)) = angles
+        && (h < 0.0 || v.is_some_and(|v| v < 0.0))
+    {
+        return Err(SceneError::at(at, "a negative viewing angle"));
+    }
+    let angle = angles.map_or(POV_WIDE_ANGLE, |(h, _, _)| h);
+    Ok(match word {
+        "fisheye" => Projection::Fisheye { angle },
+        "ultra_wide_angle" => Projection::UltraWideAngle { angle },
+        "omnimax" => Projection::Omnimax,
+        "panoramic" => Projection::Panoramic,
+        "spherical" => {
+            let (horizontal, vertical) =
+                angles.map_or(POV_SPHERICAL_ANGLES, |(h, v, _)| (h, v.unwrap_or(0.5 * h)));
+            Projection::Spherical { horizontal, vertical }
+        }
+        "cylinder 1" => Projection::Cylinder { along_up: true, moving: false, angle },
+        "cylinder 2" => Projection::Cylinder { along_up: false, moving: false, angle },
+        "cylinder 3" => Projection::Cylinder { along_up: true, moving: true, angle },
+        "cylinder 4" => Projection::Cylinder { along_up: false, moving: true, angle },
+        other => {
+            let at = given.get(PROJECTION).map_or(span, |(_, at)| at);
+            return Err(SceneError::at(at, format!("`{other}` is not a wide projection")));
+        }
+    })
 }
 
 /// The camera's transforms so far, composed (the identity when there are none).

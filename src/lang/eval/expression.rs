@@ -271,7 +271,11 @@ impl Evaluator {
                         ));
                     }
                 };
-                check_colour(colour, at)?;
+                // POV-Ray's colours may be negative as values (`rgb -1` in colour arithmetic);
+                // where a surface takes one it is clamped (`Evaluator::pov_colour`).
+                if self.dialect == crate::lang::dialect::Dialect::Scn {
+                    check_colour(colour, at)?;
+                }
                 Value::Vector(colour)
             }
             ExprKind::PovColour(kind, inner) => pov_colour_value(*kind, self.eval(inner)?, at)?,

@@ -170,6 +170,8 @@ pub struct Evaluator {
     /// `.pov`: whether the warning that a color_map's filter and transmit are not rendered has
     /// been given.
     warned_map_filter: bool,
+    /// `.pov`: whether the warning that a surface's negative colour is clamped has been given.
+    warned_negative_colour: bool,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).

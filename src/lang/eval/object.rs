@@ -388,7 +388,13 @@ impl Evaluator {
 
     pub(super) fn transform(&mut self, t: &syntax::Transform) -> Result<Transform, SceneError> {
         let at = &t.value.span;
-        let value = self.value(&t.value)?;
+        let value = match (self.value(&t.value)?, self.dialect) {
+            // POV-Ray promotes a 2-vector to a vector with z 0 (`translate <1, 2>`).
+            (Value::Numbers(n), Dialect::Pov) if n.len() == 2 => {
+                Value::Vector(glam::DVec3::new(n[0], n[1], 0.0))
+            }
+            (value, _) => value,
+        };
         Ok(match t.kind {
             TransformKind::Translate => {
                 Transform::Translate(single_vector(as_vector(&value, at, "`translate`")?, at)?)
@@ -397,7 +403,17 @@ impl Evaluator {
                 Transform::Rotate(single_vector(as_vector(&value, at, "`rotate`")?, at)?)
             }
             TransformKind::Scale => {
-                let s = single_vector(as_vector(&value, at, "`scale`")?, at)?;
+                let mut s = single_vector(as_vector(&value, at, "`scale`")?, at)?;
+                if s.cmpeq(Vec3::ZERO).any() && self.dialect == Dialect::Pov {
+                    // As POV-Ray does: a zero factor is changed to 1, with a warning.
+                    let here = self.here(at);
+                    self.warnings.push(format!(
+                        "{here:?}: warning: scale <{}, {}, {}> has a zero component, changed \
+                         to 1 (as POV-Ray does)",
+                        s.x, s.y, s.z
+                    ));
+                    s = Vec3::select(s.cmpeq(Vec3::ZERO), Vec3::ONE, s);
+                }
                 if s.cmpeq(Vec3::ZERO).any() {
                     let (x, y, z) = (s.x, s.y, s.z);
                     return Err(SceneError::at(
