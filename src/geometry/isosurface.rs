@@ -19,7 +19,7 @@ use crate::function::FloatFunction;
 /// length over this, so a tiny `accuracy` in a large container cannot hang a render.
 const MAX_STEPS: f64 = 100_000.0;
 
-/// `Intersection::part` of a hit on the container's wall.
+/// `Intersection::triangle` of a hit on the container's wall (as a cone's parts).
 const WALL: u32 = 1;
 
 /// What `isosurface { }` says, in the function's own space.
@@ -201,7 +201,7 @@ impl Isosurface {
         if lo >= hi {
             return crossings;
         }
-        let at = |t: f64, part: u32| Intersection { part, ..Intersection::at(t as f32) };
+        let at = |t: f64, part: u32| Intersection { triangle: part, ..Intersection::at(t as f32) };
         let mut t = lo;
         let mut v = desc.level(o + t * d);
         let mut inside = v < 0.0;
@@ -255,7 +255,7 @@ impl Isosurface {
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
         let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
         let p = o + f64::from(at.t) * d;
-        let own_normal = if at.part == WALL {
+        let own_normal = if at.triangle == WALL {
             self.desc.container.normal(p)
         } else {
             self.gradient(p).try_normalize().unwrap_or(-d.normalize())
@@ -284,5 +284,254 @@ impl Isosurface {
     pub fn contains(&self, p: Vec3) -> bool {
         let (p, _) = self.frame.to_own_space(p, Vec3::ZERO);
         self.desc.container.contains(p) && self.desc.level(p) < 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::function::{Binary, Builder, Op, Unary};
+    use crate::geometry::{Csg, CsgNode, CsgOp, Shape};
+
+    fn program(parameters: usize, ops: Vec<Op>) -> Arc<FloatFunction> {
+        let mut builder = Builder::new(parameters);
+        ops.into_iter().for_each(|op| builder.push(op).unwrap());
+        Arc::new(builder.finish())
+    }
+
+    fn squared_length() -> Vec<Op> {
+        let mut ops = Vec::new();
+        for i in 0..3 {
+            ops.extend([Op::Parameter(i), Op::Unary(Unary::Sqr)]);
+            if i > 0 {
+                ops.push(Op::Binary(Binary::Add));
+            }
+        }
+        ops
+    }
+
+    /// The unit sphere's signed distance, sqrt(x² + y² + z²) - 1 (gradient length 1).
+    fn unit_sphere() -> Arc<FloatFunction> {
+        let mut ops = squared_length();
+        ops.extend([Op::Unary(Unary::Sqrt), Op::Number(1.0), Op::Binary(Binary::Subtract)]);
+        program(3, ops)
+    }
+
+    /// x² + y² + z² - 1 + 0.3 sin(4x) sin(3y): a wavy ball. In the box |p| ≤ 1.5 its gradient
+    /// is at most 2 |p| + 0.3 (4 + 3) < 7.3.
+    fn wavy_ball() -> Arc<FloatFunction> {
+        let mut ops = squared_length();
+        ops.extend([Op::Number(1.0), Op::Binary(Binary::Subtract), Op::Number(0.3)]);
+        for (axis, frequency) in [(0, 4.0), (1, 3.0)] {
+            ops.extend([
+                Op::Number(frequency),
+                Op::Parameter(axis),
+                Op::Binary(Binary::Multiply),
+                Op::Unary(Unary::Sin),
+                Op::Binary(Binary::Multiply),
+            ]);
+        }
+        ops.push(Op::Binary(Binary::Add));
+        program(3, ops)
+    }
+
+    fn isosurface(
+        function: Arc<FloatFunction>,
+        max_gradient: f64,
+        to_world: Affine3A,
+    ) -> Isosurface {
+        let desc = IsosurfaceDesc {
+            function,
+            container: Container::Box { min: DVec3::splat(-1.5), max: DVec3::splat(1.5) },
+            threshold: 0.0,
+            accuracy: 1e-4,
+            max_gradient,
+            open: false,
+        };
+        Isosurface::new(Arc::new(desc), to_world)
+    }
+
+    /// Reproducible numbers in [0, 1).
+    fn numbers(seed: u64) -> impl FnMut() -> f32 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    /// Rays from around `center` at distance `reach` towards points near it, some grazing a
+    /// sphere of `radius` about it.
+    fn rays(center: Vec3, radius: f32, reach: f32, count: usize) -> Vec<Ray> {
+        let mut u = numbers(7);
+        let mut direction =
+            || Vec3::new(2.0 * u() - 1.0, 2.0 * u() - 1.0, 2.0 * u() - 1.0).normalize_or(Vec3::X);
+        (0..count)
+            .map(|i| {
+                let origin = center + reach * direction();
+                let towards = center - origin;
+                let aside = towards.cross(direction()).normalize_or(Vec3::Y);
+                // Every fourth ray aims at the sphere's rim: grazing within 0.1 % either side.
+                let offset = if i % 4 == 0 {
+                    radius * (1.0 + 0.002 * (i % 8) as f32 / 4.0 - 0.001)
+                } else {
+                    1.2 * radius * (i % 11) as f32 / 10.0
+                };
+                Ray::new(origin, (towards + aside * offset).normalize())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_sphere_function_renders_the_analytic_sphere_under_a_similarity() {
+        let to_world = Affine3A::from_translation(Vec3::new(1.0, 2.0, 3.0))
+            * Affine3A::from_rotation_z(0.4)
+            * Affine3A::from_scale(Vec3::splat(2.0));
+        let surface = isosurface(unit_sphere(), 1.0, to_world);
+        let sphere = Shape::Sphere { center: Vec3::new(1.0, 2.0, 3.0), radius: 2.0 };
+        let mut hits = 0;
+        for ray in rays(Vec3::new(1.0, 2.0, 3.0), 2.0, 8.0, 400) {
+            let expected = sphere.intersect(&ray, f32::INFINITY);
+            let found = surface.intersection(&ray, f32::INFINITY).map(|at| surface.hit(&ray, &at));
+            match (expected, found) {
+                (Some(e), Some(f)) => {
+                    hits += 1;
+                    assert!((e.t - f.t).abs() <= f.error + 1e-5, "{ray:?}: {} {}", e.t, f.t);
+                    // Grazing hits are where the normal's error grows (the root moves along the
+                    // ray by accuracy / cos): loose there, tight elsewhere.
+                    let grazing = e.normal.dot(Vec3::from(ray.dir)).abs() < 0.1;
+                    let tolerance = if grazing { 0.05 } else { 1e-3 };
+                    assert!((e.normal - f.normal).length() < tolerance, "{ray:?}");
+                }
+                (None, None) => {}
+                // A ray within the accuracy of grazing may go either way.
+                (e, f) => {
+                    let hit = e.or(f).unwrap();
+                    assert!(hit.normal.dot(Vec3::from(ray.dir)).abs() < 0.05, "{ray:?}");
+                }
+            }
+        }
+        assert!(hits > 200, "{hits}");
+    }
+
+    /// The first t in (0, t_far) where `contains` changes along the ray, by steps of `h`.
+    fn marched(contains: impl Fn(Vec3) -> bool, ray: &Ray, t_far: f32, h: f32) -> Option<f32> {
+        let start = contains(ray.at(0.0));
+        (1..(t_far / h) as usize).map(|i| i as f32 * h).find(|&t| contains(ray.at(t)) != start)
+    }
+
+    /// Under a map that stretches, rotates and mirrors: the first hit is where a fine march
+    /// first changes side, and the crossings alternate as `contains` says between them.
+    fn agrees_with_a_march(shape: &Shape, center: Vec3, reach: f32) {
+        let h = 2e-3;
+        let mut hits = 0;
+        for ray in rays(center, 1.5, reach, 160) {
+            let found = shape.intersection(&ray, f32::INFINITY).map(|at| at.t);
+            hits += usize::from(found.is_some());
+            let march = marched(|p| shape.contains(p), &ray, 2.0 * reach, h);
+            match (found, march) {
+                (Some(t), Some(m)) => {
+                    assert!(t <= m + 1e-3 && t > m - h - 1e-3, "{ray:?}: {t} {m}")
+                }
+                (None, None) => {}
+                // Only a sliver thinner than the march's step, or than accuracy, may differ.
+                (Some(t), None) => {
+                    let near = marched(
+                        |p| shape.contains(p),
+                        &Ray::new(ray.at(t - h), Vec3::from(ray.dir)),
+                        2.0 * h,
+                        h / 50.0,
+                    );
+                    assert!(near.is_some(), "{ray:?}: a hit at {t} where nothing changes");
+                }
+                (None, Some(m)) => {
+                    let back = marched(
+                        |p| shape.contains(p),
+                        &Ray::new(ray.at(m), Vec3::from(ray.dir)),
+                        4.0 * h,
+                        h / 50.0,
+                    );
+                    assert!(
+                        back.is_some(),
+                        "{ray:?}: the march enters at {m}, the surface is missed"
+                    );
+                }
+            }
+            let crossings = shape.crossings(&ray, 2.0 * reach);
+            let mut inside = crossings.inside_at_start;
+            let mut before = 0.0;
+            for c in crossings.list.iter().chain([&crate::geometry::Crossing {
+                at: Intersection::at(2.0 * reach),
+                entering: !inside,
+                entering_operand: false,
+            }]) {
+                if c.at.t - before > 2e-3 {
+                    let middle = ray.at(0.5 * (before + c.at.t));
+                    assert_eq!(
+                        shape.contains(middle),
+                        inside,
+                        "{ray:?} between {before} and {}",
+                        c.at.t
+                    );
+                }
+                inside = c.entering;
+                before = c.at.t;
+            }
+        }
+        assert!(hits > 60, "{hits} of 160 rays hit");
+    }
+
+    #[test]
+    fn a_wavy_isosurface_agrees_with_a_fine_march_under_a_stretching_mirror() {
+        let to_world = Affine3A::from_translation(Vec3::new(0.5, -1.0, 2.0))
+            * Affine3A::from_rotation_y(0.7)
+            * Affine3A::from_scale(Vec3::new(-1.0, 2.0, 0.5));
+        let surface = Shape::Isosurface(Box::new(isosurface(wavy_ball(), 7.3, to_world)));
+        agrees_with_a_march(&surface, Vec3::new(0.5, -1.0, 2.0), 6.0);
+    }
+
+    #[test]
+    fn an_isosurface_minus_a_sphere_agrees_with_a_fine_march() {
+        let surface = Shape::Isosurface(Box::new(isosurface(wavy_ball(), 7.3, Affine3A::IDENTITY)));
+        let bite = Shape::Sphere { center: Vec3::new(0.6, 0.3, 0.0), radius: 0.7 };
+        let root = CsgNode::Operation {
+            op: CsgOp::Difference,
+            children: vec![CsgNode::Operand(0), CsgNode::Operand(1)],
+        };
+        let csg = Shape::Csg(Box::new(Csg::new(root, vec![surface, bite])));
+        agrees_with_a_march(&csg, Vec3::ZERO, 5.0);
+    }
+
+    #[test]
+    fn the_wall_closes_the_solid_where_the_function_is_inside() {
+        // The unit sphere's function in a box of half size 0.5: the box itself.
+        let mut desc = IsosurfaceDesc {
+            function: unit_sphere(),
+            container: Container::Box { min: DVec3::splat(-0.5), max: DVec3::splat(0.5) },
+            threshold: 0.0,
+            accuracy: 1e-4,
+            max_gradient: 1.0,
+            open: false,
+        };
+        let ray = Ray::new(Vec3::new(-3.0, 0.1, 0.2), Vec3::X);
+        let closed = Isosurface::new(Arc::new(desc.clone()), Affine3A::IDENTITY);
+        let at = closed.intersection(&ray, f32::INFINITY).unwrap();
+        let hit = closed.hit(&ray, &at);
+        assert!((hit.t - 2.5).abs() < 1e-5 && hit.normal == -Vec3::X, "{hit:?}");
+        desc.open = true;
+        let open = Isosurface::new(Arc::new(desc), Affine3A::IDENTITY);
+        assert!(
+            open.intersection(&ray, f32::INFINITY).is_none(),
+            "an open container shows nothing"
+        );
+    }
+
+    #[test]
+    fn the_largest_gradient_is_seen_on_the_grid() {
+        let surface = isosurface(wavy_ball(), 7.3, Affine3A::IDENTITY);
+        let found = surface.desc.largest_gradient(16);
+        assert!(found > 3.0 && found < 7.3, "{found}");
     }
 }

@@ -316,3 +316,152 @@ fn built_in(f: Function) -> Option<Op> {
         | DimensionSize => return None,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::graph::SceneGraph;
+
+    fn pov(text: &str) -> Result<SceneGraph, String> {
+        crate::lang::parse_scene(Path::new("functions.pov"), text).map_err(|e| e.to_string())
+    }
+
+    /// Checks, in a scene, that each `function(a) { ... }` at its argument gives what its
+    /// definition written in the scene language gives.
+    fn agrees(cases: &[(&str, &str, &str)]) {
+        let mut text = String::from(
+            "#macro Near(A, B, What)\n\
+             #if (abs(A - B) > 1e-9 * max(1, abs(B))) #error concat(What, \" differs: \", \
+             str(A, 0, 12), \" \", str(B, 0, 12)) #end\n#end\n",
+        );
+        for (i, (body, a, definition)) in cases.iter().enumerate() {
+            text += &format!(
+                "#declare F{i} = function(a) {{ {body} }}\n#declare a = {a};\n\
+                 Near(F{i}({a}), {definition}, \"{body}\")\n#undef a\n"
+            );
+        }
+        pov(&text).unwrap_or_else(|e| panic!("{e}"));
+    }
+
+    #[test]
+    fn each_built_in_computes_its_definition() {
+        agrees(&[
+            // Its Taylor series to the 11th power, in Horner's form.
+            (
+                "sin(a)",
+                "0.3",
+                "0.3 * (1 - 0.015 * (1 - 0.0045 * (1 - 0.09 / 42 * (1 - 0.09 / 72))))",
+            ),
+            ("cos(a)", "0.3", "sqrt(1 - pow(sin(0.3), 2))"),
+            ("tan(a)", "0.3", "sin(0.3) / cos(0.3)"),
+            ("asin(a)", "0.3", "atan(0.3 / sqrt(1 - 0.09))"),
+            ("acos(a)", "0.3", "pi / 2 - asin(0.3)"),
+            ("atan(a)", "0.3", "asin(0.3 / sqrt(1.09))"),
+            ("sinh(a)", "0.3", "(exp(0.3) - exp(-0.3)) / 2"),
+            ("cosh(a)", "0.3", "(exp(0.3) + exp(-0.3)) / 2"),
+            ("tanh(a)", "0.3", "(exp(0.6) - 1) / (exp(0.6) + 1)"),
+            ("asinh(a)", "0.3", "ln(0.3 + sqrt(1.09))"),
+            ("acosh(a)", "1.3", "ln(1.3 + sqrt(0.69))"),
+            ("atanh(a)", "0.3", "ln(1.3 / 0.7) / 2"),
+            ("sqrt(a)", "2", "exp(ln(2) / 2)"),
+            ("sqr(a)", "-3", "9"),
+            ("abs(a)", "-3", "3"),
+            ("exp(a)", "1", "2.718281828459045"),
+            ("ln(a)", "10", "2.302585092994046"),
+            ("log(a)", "1000", "3"),
+            ("floor(a)", "-2.5", "-3"),
+            ("ceil(a)", "-2.5", "-2"),
+            ("int(a)", "-2.5", "-2"),
+            ("radians(a)", "180", "pi"),
+            ("degrees(a)", "pi", "180"),
+            ("pow(a, 3)", "2", "8"),
+            ("min(a, 1)", "2", "1"),
+            ("max(a, 1)", "2", "2"),
+            ("mod(a, 3)", "-7", "-1"),
+            ("atan2(a, -1)", "1", "3 * pi / 4"),
+            ("select(a, 1, 2)", "-1", "1"),
+            ("select(a, 1, 2)", "0", "2"),
+            ("a < 2 & a >= 1 | a = 7", "1", "1"),
+            ("a != 1", "1", "0"),
+            ("!(a > 0)", "1", "0"),
+            ("a > 0 ? -a : a * a", "2", "-2"),
+            ("-a + +a * 2 / 4 - 1", "4", "-3"),
+        ]);
+    }
+
+    #[test]
+    fn a_wrong_definition_is_caught() {
+        let result = std::panic::catch_unwind(|| agrees(&[("sinh(a)", "0.3", "sin(0.3)")]));
+        assert!(result.is_err(), "the check can fail");
+    }
+
+    #[test]
+    fn functions_inc_computes_povray_s_documented_functions() {
+        // Each against its definition at points: distances, angles, solids (negative inside),
+        // the noise and the patterns.
+        pov(r#"
+#include "functions.inc"
+#macro Near(A, B, What)
+  #if (abs(A - B) > 1e-9) #error concat(What, " differs: ", str(A, 0, 12), " ", str(B, 0, 12)) #end
+#end
+Near(f_sphere(3, 4, 0, 1), 4, "f_sphere")
+Near(f_r(1, 2, 2), 3, "f_r")
+Near(f_th(1, 0, 0), pi / 2, "f_th from +z towards +x")
+Near(f_th(0, 5, 1), 0, "f_th on +z")
+Near(f_ph(0, 1, 0), 0, "f_ph on +y")
+Near(f_ph(1, 0, 1), pi / 2, "f_ph at the equator")
+Near(f_torus(3, 0, 0, 2, 0.5), 0.5, "f_torus outside")
+Near(f_torus(0, 1, 0, 2, 0.5), sqrt(5) - 0.5, "f_torus on the axis")
+Near(f_rounded_box(2, 0, 0, 0.1, 1, 1, 1), 1, "f_rounded_box before a face")
+Near(f_rounded_box(1.5, 1.5, 0, 0.1, 1, 1, 1), sqrt(0.72) - 0.1, "f_rounded_box by an edge")
+Near(f_rounded_box(0, 0, 0, 0.1, 1, 2, 3), -1, "f_rounded_box inside")
+Near(f_rounded_box(0, 0, 3.5, 0.1, 1, 2, 3), 0.5, "f_rounded_box's z size")
+Near(f_ellipsoid(2, 0, 0, 0.5, 1, 1), 1, "f_ellipsoid")
+Near(f_superellipsoid(0, 0.6, 0.8, 1, 1), 0, "f_superellipsoid with exponents 1 is the sphere")
+Near(f_superellipsoid(0.5, 0.5, 0, 0.5, 1), 1 - pow(pow(0.5, 4) * 2, 0.5), "f_superellipsoid")
+Near(f_paraboloid(1, 2, 1, 3), 0, "f_paraboloid on its surface")
+Near(f_paraboloid(0, 1, 0, 2), 2, "f_paraboloid inside")
+Near(f_snoise3d(0.3, 0.7, 1.1), 2 * f_noise3d(0.3, 0.7, 1.1) - 1, "f_snoise3d")
+#if (f_noise3d(0.3, 0.7, 1.1) < 0 | f_noise3d(0.3, 0.7, 1.1) > 1) #error "noise in [0, 1]" #end
+Near(f_noise3d(0.3, 0.7, 1.1), f_bozo(0.3, 0.7, 1.1), "f_bozo")
+Near(f_dents(0.3, 0.7, 1.1), pow(f_noise3d(0.3, 0.7, 1.1), 3), "f_dents")
+Near(f_gradientX(0.25, 5, 5), 0.25, "f_gradientX")
+Near(f_boxed(0.5, -0.25, 0), 0.5, "f_boxed")
+Near(f_spherical(0, 0.6, 0.8), 0, "f_spherical")
+Near(f_cylindrical(0.6, 9, 0), 0.4, "f_cylindrical")
+Near(f_planar(0, -0.25, 7), 0.75, "f_planar")
+Near(abs(f_checker(0.5, 0.5, 0.5) - f_checker(1.5, 0.5, 0.5)), 1, "f_checker's cells")
+"#)
+        .unwrap_or_else(|e| panic!("{e}"));
+    }
+
+    #[test]
+    fn a_pattern_function_is_moved_by_its_transforms() {
+        pov(r#"
+#declare G = function { pattern { gradient x scale 2 } }
+#if (abs(G(0.5, 0, 0) - 0.25) > 1e-6) #error str(G(0.5, 0, 0), 0, 6) #end
+"#)
+        .unwrap_or_else(|e| panic!("{e}"));
+    }
+
+    #[test]
+    fn what_a_function_cannot_be_is_refused_by_name() {
+        let cases = [
+            ("#declare F = function { pigment { checker } }", "colour function"),
+            ("#declare F = function { internal(3) }", "`internal(3)` is not built in"),
+            ("#declare F = function { x }\n#declare V = F(1, 2);", "takes 3 arguments, not 2"),
+            ("#declare F = function { <x, y, z> }", "a function computes numbers"),
+            ("#declare F = function(a) { x }", "`x` is not a parameter"),
+            ("#declare F = function { x + Nothing }", "Nothing"),
+            ("#declare F = function(a, a) { a }", "named twice"),
+            ("#declare F = function { x }\n#declare G = function { F + 1 }", "call it as"),
+        ];
+        for (text, expected) in cases {
+            let message = pov(text).err().unwrap_or_else(|| panic!("{text} is refused"));
+            assert!(message.contains(expected), "{text}: {message}");
+        }
+        let scn = crate::lang::parse_scene(Path::new("f.scn"), "#declare F = function { x }");
+        assert!(scn.is_err(), "POV-Ray's, not the .scn language's");
+    }
+}

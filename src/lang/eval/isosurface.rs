@@ -120,3 +120,60 @@ impl Evaluator {
         Ok(value)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::graph::{SceneGraph, ShapeNode};
+
+    fn pov(text: &str) -> Result<SceneGraph, String> {
+        crate::lang::parse_scene(Path::new("isosurface.pov"), text).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn settings_take_povray_s_defaults_and_are_read() {
+        let graph = pov("isosurface { function { x } }\n\
+             isosurface { function { y } contained_by { sphere { <1, 2, 3>, 4 } } threshold 0.5 \
+             accuracy 0.01 max_gradient 2 open max_trace all_intersections }")
+        .unwrap();
+        let desc = |i: usize| match &graph.objects[i].shape {
+            ShapeNode::Isosurface(desc) => desc.clone(),
+            other => panic!("{other:?}"),
+        };
+        let (first, second) = (desc(0), desc(1));
+        assert_eq!((first.threshold, first.accuracy, first.max_gradient), (0.0, 0.001, 1.1));
+        assert!(!first.open);
+        assert_eq!((second.threshold, second.accuracy, second.max_gradient), (0.5, 0.01, 2.0));
+        assert!(second.open);
+        assert!(matches!(second.container, crate::geometry::Container::Sphere { radius: 4.0, .. }));
+    }
+
+    #[test]
+    fn a_steeper_function_than_max_gradient_is_warned_of() {
+        let steep = pov("isosurface { function { 10 * x } max_gradient 2 }").unwrap();
+        assert!(steep.warnings.iter().any(|w| w.contains("max_gradient")), "{:?}", steep.warnings);
+        let gentle = pov("isosurface { function { 10 * x } max_gradient 11 }").unwrap();
+        assert!(gentle.warnings.is_empty(), "{:?}", gentle.warnings);
+    }
+
+    #[test]
+    fn bad_settings_are_refused() {
+        let cases = [
+            ("isosurface { contained_by { box { -1, 1 } } }", "needs its `function { }`"),
+            (
+                "#declare F = function(a) { a }\nisosurface { function { F(x) } accuracy 0 }",
+                "must be positive",
+            ),
+            ("isosurface { function { x } threshold 1, 2 }", "takes one number"),
+            (
+                "isosurface { function { x } contained_by { box { -1, 1 scale 2 } } }",
+                "only its own",
+            ),
+        ];
+        for (text, expected) in cases {
+            let message = pov(text).err().unwrap_or_else(|| panic!("{text} is refused"));
+            assert!(message.contains(expected), "{text}: {message}");
+        }
+    }
+}
