@@ -373,6 +373,7 @@ impl ShapeNode {
             | ShapeNode::Cylinder { .. }
             | ShapeNode::Cone { .. }
             | ShapeNode::Torus { .. }
+            | ShapeNode::Isosurface(_)
             | ShapeNode::Mesh { .. } => Below::Nothing,
         }
     }
@@ -687,6 +688,8 @@ pub enum ShapeNode {
         major: f32,
         minor: f32,
     },
+    /// POV-Ray's `isosurface { }`: where a function is below its threshold in a container.
+    Isosurface(Arc<crate::geometry::IsosurfaceDesc>),
     /// `intersection`, `difference`, `merge { ... }`: a solid made of solid operands (sphere,
     /// box, closed cylinder and cone, torus, plane as the half-space n . p + d < 0, closed
     /// mesh, CSG, and `Union`/`Instance` nodes of solids; a union operand counts as the merge

@@ -14,6 +14,7 @@ pub mod denoise;
 pub mod diagnostic;
 pub mod digest;
 pub mod film;
+pub mod function;
 pub mod geometry;
 pub mod graph;
 pub mod image;

@@ -10,6 +10,7 @@ use super::cone::Cone;
 use super::crossings::Crossings;
 use super::csg::Csg;
 use super::cuboid::Cuboid;
+use super::isosurface::Isosurface;
 use super::planar::Planar;
 use super::quadratic::quadratic_roots_in_lanes;
 use super::quadric::{QuadricFrame, QuadricKind};
@@ -56,6 +57,8 @@ pub enum Shape {
     Torus(Box<Torus>),
     /// A CSG solid: one primitive whose surfaces belong to its operands.
     Csg(Box<Csg>),
+    /// POV-Ray's isosurface under an affine map.
+    Isosurface(Box<Isosurface>),
 }
 
 /// A point on a surface with its unit normal (the shape's own orientation).
@@ -117,6 +120,7 @@ impl Shape {
             Shape::Cone(cone) => cone.intersection(ray, t_max),
             Shape::Torus(torus) => torus.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
+            Shape::Isosurface(isosurface) => isosurface.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.intersection(&placement.ray_to_object(ray), t_max)
@@ -154,6 +158,7 @@ impl Shape {
             Shape::Cone(cone) => cone.hit(ray, at),
             Shape::Torus(torus) => torus.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
+            Shape::Isosurface(isosurface) => isosurface.hit(ray, at),
         }
     }
 
@@ -173,7 +178,8 @@ impl Shape {
             | Shape::Box(_)
             | Shape::Cone(_)
             | Shape::Torus(_)
-            | Shape::Csg(_) => self.intersection(ray, t_max).is_some(),
+            | Shape::Csg(_)
+            | Shape::Isosurface(_) => self.intersection(ray, t_max).is_some(),
         }
     }
 
@@ -201,6 +207,7 @@ impl Shape {
             Shape::Cone(cone) => Some(cone.bounds()),
             Shape::Torus(torus) => Some(torus.bounds()),
             Shape::Csg(csg) => csg.bounds(),
+            Shape::Isosurface(isosurface) => Some(isosurface.bounds()),
         }
     }
 
@@ -216,6 +223,8 @@ impl Shape {
             Shape::Torus(torus) => torus.area(),
             // Its surfaces are parts of its operands': not sampled as a light.
             Shape::Csg(_) => None,
+            // No closed form: not sampled as a light.
+            Shape::Isosurface(_) => None,
         }
     }
 
@@ -224,7 +233,7 @@ impl Shape {
     #[inline(always)]
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
-            Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) => None,
+            Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) | Shape::Isosurface(_) => None,
             Shape::Box(cuboid) => Some(cuboid.sample(u)),
             Shape::Cone(cone) => cone.sample(u),
             Shape::Torus(torus) => torus.sample(u),
@@ -255,6 +264,7 @@ impl Shape {
                 Some(placement) => mesh.crossings(&placement.ray_to_object(ray), t_max),
             },
             Shape::Csg(csg) => csg.crossings(ray, t_max),
+            Shape::Isosurface(isosurface) => isosurface.crossings(ray, t_max),
             Shape::Planar(_) => Crossings::outside(),
         }
     }
@@ -273,6 +283,7 @@ impl Shape {
                 Some(placement) => mesh.contains(placement.to_object.transform_point3(p)),
             },
             Shape::Csg(csg) => csg.contains(p),
+            Shape::Isosurface(isosurface) => isosurface.contains(p),
             Shape::Planar(_) => false,
         }
     }

@@ -40,6 +40,13 @@ pub enum Function {
     Asin,
     Acos,
     Atan,
+    Sinh,
+    Cosh,
+    Tanh,
+    Asinh,
+    Acosh,
+    Atanh,
+    Atan2,
     Sqrt,
     /// POV-Ray's `sqr(x)`: x².
     Sqr,
@@ -107,7 +114,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "exponent" => S, "rgbf" => S, "rgbt" => S, "rgbft" => S, "srgb" => S,
     "fade_distance" => S, "fade_power" => S, "shadowless" => S, "hollow" => S,
     "double_illuminate" => S, "no_shadow" => S, "no_image" => S, "no_reflection" => S,
-    "bounded_by" => S, "inverse" => S, "clipped_by" => S,
+    "bounded_by" => S, "inverse" => S, "clipped_by" => S, "function" => S, "isosurface" => S,
     "atmosphere" => S, "medium" => S, "absorption" => S, "scattering" => S, "anisotropy" => S,
     "fog" => S, "media" => S,
     "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),
@@ -116,6 +123,9 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "clock" => C(Constant::Clock), "frame_number" => C(Constant::FrameNumber),
     "sin" => F(Function::Sin), "cos" => F(Function::Cos), "tan" => F(Function::Tan),
     "asin" => F(Function::Asin), "acos" => F(Function::Acos), "atan" => F(Function::Atan),
+    "sinh" => F(Function::Sinh), "cosh" => F(Function::Cosh), "tanh" => F(Function::Tanh),
+    "asinh" => F(Function::Asinh), "acosh" => F(Function::Acosh), "atanh" => F(Function::Atanh),
+    "atan2" => F(Function::Atan2),
     "sqrt" => F(Function::Sqrt), "sqr" => F(Function::Sqr), "pow" => F(Function::Pow), "abs" => F(Function::Abs),
     "min" => F(Function::Min), "max" => F(Function::Max), "radians" => F(Function::Radians),
     "degrees" => F(Function::Degrees), "floor" => F(Function::Floor), "ceil" => F(Function::Ceil),
@@ -147,9 +157,10 @@ impl Function {
     pub fn arity(self) -> Option<usize> {
         use Function::*;
         match self {
-            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Sqr | Abs | Radians | Degrees | Floor
-            | Ceil | Int | Exp | Ln | Log | Vlength | Vnormalize | Seed | Rand => Some(1),
-            Pow | Min | Max | Mod | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
+            Sin | Cos | Tan | Asin | Acos | Atan | Sinh | Cosh | Tanh | Asinh | Acosh | Atanh
+            | Sqrt | Sqr | Abs | Radians | Degrees | Floor | Ceil | Int | Exp | Ln | Log
+            | Vlength | Vnormalize | Seed | Rand => Some(1),
+            Pow | Min | Max | Mod | Atan2 | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
             Select | Str => Some(3),
             Concat => None,
         }

@@ -8,6 +8,7 @@ pub fn file(name: &str) -> Option<&'static str> {
         "colors.inc" => Some(include_str!("library/colors.inc")),
         "consts.inc" => Some(include_str!("library/consts.inc")),
         "finish.inc" => Some(include_str!("library/finish.inc")),
+        "functions.inc" => Some(include_str!("library/functions.inc")),
         "glass.inc" => Some(include_str!("library/glass.inc")),
         "glass_old.inc" => Some(include_str!("library/glass_old.inc")),
         "golds.inc" => Some(include_str!("library/golds.inc")),
@@ -27,6 +28,79 @@ pub fn file(name: &str) -> Option<&'static str> {
     }
 }
 
+/// POV-Ray's functions.inc's names that raydiance's leaves out.
+const FUNCTIONS_LEFT_OUT: [&str; 69] = [
+    "f_algbr_cyl1",
+    "f_algbr_cyl2",
+    "f_algbr_cyl3",
+    "f_algbr_cyl4",
+    "f_bicorn",
+    "f_bifolia",
+    "f_blob",
+    "f_blob2",
+    "f_boy_surface",
+    "f_comma",
+    "f_cross_ellipsoids",
+    "f_crossed_trough",
+    "f_cubic_saddle",
+    "f_cushion",
+    "f_devils_curve",
+    "f_devils_curve_2d",
+    "f_dupin_cyclid",
+    "f_enneper",
+    "f_flange_cover",
+    "f_folium_surface",
+    "f_folium_surface_2d",
+    "f_glob",
+    "f_heart",
+    "f_helical_torus",
+    "f_helix1",
+    "f_helix2",
+    "f_hetero_mf",
+    "f_hex_x",
+    "f_hex_y",
+    "f_hexagon",
+    "f_hunt_surface",
+    "f_hyperbolic_torus",
+    "f_isect_ellipsoids",
+    "f_kampyle_of_eudoxus",
+    "f_kampyle_of_eudoxus_2d",
+    "f_klein_bottle",
+    "f_kummer_surface_v1",
+    "f_kummer_surface_v2",
+    "f_lemniscate_of_gerono",
+    "f_lemniscate_of_gerono_2d",
+    "f_mesh1",
+    "f_mitre",
+    "f_nodal_cubic",
+    "f_noise_generator",
+    "f_odd",
+    "f_ovals_of_cassini",
+    "f_parabolic_torus",
+    "f_pillow",
+    "f_piriform",
+    "f_piriform_2d",
+    "f_poly4",
+    "f_polytubes",
+    "f_quantum",
+    "f_quartic_cylinder",
+    "f_quartic_paraboloid",
+    "f_quartic_saddle",
+    "f_ridge",
+    "f_ridged_mf",
+    "f_spikes",
+    "f_spikes_2d",
+    "f_spiral",
+    "f_steiners_roman",
+    "f_strophoid",
+    "f_strophoid_2d",
+    "f_torus2",
+    "f_torus_gumdrop",
+    "f_umbrella",
+    "f_witch_of_agnesi",
+    "f_witch_of_agnesi_2d",
+];
+
 /// Why raydiance's version of a standard include file leaves out POV-Ray's `name`, if it does
 /// and a scene is likely to name it: said where a scene names it and nothing declares it.
 pub fn left_out(name: &str) -> Option<&'static str> {
@@ -45,6 +119,11 @@ pub fn left_out(name: &str) -> Option<&'static str> {
                  leaves it out (a finite `cylinder` or `cone` may stand for it)",
             )
         }
+        name if FUNCTIONS_LEFT_OUT.contains(&name) => Some(
+            "POV-Ray's functions.inc declares it as one of its internal functions, which \
+             raydiance does not build in: raydiance's functions.inc leaves it out (docs/povray.md \
+             lists the f_ functions it has)",
+        ),
         _ => None,
     }
 }
@@ -57,6 +136,7 @@ mod tests {
         "colors.inc",
         "consts.inc",
         "finish.inc",
+        "functions.inc",
         "glass.inc",
         "glass_old.inc",
         "golds.inc",
@@ -85,7 +165,13 @@ mod tests {
             let graph = pov(&format!("#include \"{name}\""));
             assert!(graph.objects.is_empty(), "{name} declares, and makes nothing");
         }
-        assert!(super::file("functions.inc").is_none());
+    }
+
+    #[test]
+    fn functions_inc_s_left_out_functions_are_named_as_such() {
+        let text = "#include \"functions.inc\"\n#declare F = function { f_helix1(x, y, z, 1, 1, 1, 1, 1, 1, 1) }";
+        let message = crate::lang::parse_scene(Path::new("f.pov"), text).unwrap_err().to_string();
+        assert!(message.contains("internal functions"), "{message}");
     }
 
     #[test]

@@ -107,7 +107,7 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
 }
 
 /// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 16] = [
+const UNSUPPORTED_SHAPES: [&str; 15] = [
     "blob",
     "lathe",
     "sor",
@@ -115,7 +115,6 @@ const UNSUPPORTED_SHAPES: [&str; 16] = [
     "superellipsoid",
     "text",
     "height_field",
-    "isosurface",
     "julia_fractal",
     "polygon",
     "bicubic_patch",

@@ -483,6 +483,8 @@ pub enum Declared {
         items: Vec<Item>,
         span: Span,
     },
+    /// POV-Ray's float function (`.pov`).
+    Function(FunctionDef),
     /// `#if (c) a #elseif (d) b #else e #end` as the value.
     If {
         branches: Vec<(Condition, Declared)>,
@@ -626,6 +628,38 @@ pub enum Shape {
     Instance {
         of: Expr,
     },
+    /// POV-Ray's `isosurface { }` (`.pov`).
+    Isosurface(Box<Isosurface>),
+}
+
+/// POV-Ray's `function { expr }`, `function(a, b) { expr }` or `function { pattern { } }`.
+#[derive(Debug, Clone)]
+pub struct FunctionDef {
+    /// The parameters' names; none written: `x`, `y`, `z`.
+    pub parameters: Vec<Ident>,
+    pub body: FunctionBody,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum FunctionBody {
+    Expr(Expr),
+    /// `pattern { ... }`: the pattern's value (a `pattern` texture).
+    Pattern(Texture),
+    /// `pigment { ... }`: a colour function, which raydiance refuses by name.
+    Pigment(Span),
+}
+
+/// `isosurface { function { } contained_by { box | sphere } settings... }`: what the text says,
+/// each setting by its word.
+#[derive(Debug, Clone)]
+pub struct Isosurface {
+    pub function: Option<FunctionDef>,
+    /// `contained_by`'s box or sphere.
+    pub container: Option<Object>,
+    /// `threshold`, `accuracy`, `max_gradient`, `max_trace`, `evaluate`, `open`,
+    /// `all_intersections`: the word and its values.
+    pub settings: Vec<(Ident, Vec<Expr>)>,
 }
 
 #[derive(Debug, Clone)]

@@ -819,6 +819,7 @@ impl Builder {
                 self.leave();
                 Declared::Sky { items, span }
             }
+            Rule::float_function => Declared::Function(self.float_function(pair)?),
             Rule::declared_if => {
                 let span = self.span(&pair);
                 self.enter(&pair)?;
@@ -937,6 +938,9 @@ impl Builder {
             self.leave();
             return Ok(object);
         }
+        if rule == Rule::isosurface {
+            return self.isosurface(pair, span);
+        }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
         let mut first = true;
@@ -992,6 +996,7 @@ impl Builder {
             Rule::intersection => Shape::Intersection,
             Rule::difference => Shape::Difference,
             Rule::merge => Shape::Merge,
+            Rule::isosurface => unreachable!("read above"),
             rule => unreachable!("no object {rule:?}"),
         };
         if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } = &mut shape {
@@ -1081,9 +1086,86 @@ impl Builder {
         })
     }
 
+    /// `function [(parameters)] { expr | pattern { } | pigment { } }` (`.pov`).
+    fn float_function(&mut self, pair: Pair<'_, Rule>) -> Result<FunctionDef, SceneError> {
+        let span = self.span(&pair);
+        self.pov_only(&inner_pair(&pair), None)?;
+        self.enter(&pair)?;
+        let mut parameters = Vec::new();
+        let mut body = None;
+        for part in pair.into_inner().skip(1) {
+            match part.as_rule() {
+                // `x`, `y` and `z` are keywords elsewhere, and names here.
+                Rule::function_parameters => {
+                    for name in part.into_inner() {
+                        let span = self.span(&name);
+                        parameters.push(Ident { name: name.as_str().to_string(), span });
+                    }
+                }
+                Rule::pattern_texture => {
+                    let span = self.span(&part);
+                    body = Some(FunctionBody::Pattern(self.texture_node(part, span)?));
+                }
+                Rule::function_pigment => body = Some(FunctionBody::Pigment(self.span(&part))),
+                Rule::expr => body = Some(FunctionBody::Expr(self.expr(part)?)),
+                rule => unreachable!("no {rule:?} in a function"),
+            }
+        }
+        self.leave();
+        let body = body.expect("the grammar gives a function its body");
+        Ok(FunctionDef { parameters, body, span })
+    }
+
+    /// `isosurface { ... }` (`.pov`): its function, container and settings, and the object's
+    /// other items.
+    fn isosurface(&mut self, pair: Pair<'_, Rule>, span: Span) -> Result<Object, SceneError> {
+        self.pov_only(&inner_pair(&pair), None)?;
+        self.enter(&pair)?;
+        let mut shape = Isosurface { function: None, container: None, settings: Vec::new() };
+        let mut rest = Vec::new();
+        for part in pair.into_inner().skip(1) {
+            match part.as_rule() {
+                Rule::float_function => shape.function = Some(self.float_function(part)?),
+                Rule::contained_by => {
+                    let object = part.into_inner().nth(1).expect("the container");
+                    shape.container = Some(self.object(object)?);
+                }
+                Rule::isosurface_setting => {
+                    let mut inner = part.into_inner();
+                    let word = inner.next().expect("the word");
+                    let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                    let mut values = Vec::new();
+                    for value in inner {
+                        match value.as_rule() {
+                            // `max_trace all_intersections`: the flag alone.
+                            Rule::isosurface_flag => {
+                                let span = self.span(&value);
+                                let flag = Ident { name: value.as_str().to_string(), span };
+                                shape.settings.push((flag, Vec::new()));
+                            }
+                            _ => values.push(self.expr(value)?),
+                        }
+                    }
+                    let flag_alone = word.as_rule() == Rule::isosurface_flag;
+                    if flag_alone || !values.is_empty() {
+                        shape.settings.push((key, values));
+                    }
+                }
+                _ => rest.push(part),
+            }
+        }
+        let items = self.items(rest.into_iter())?;
+        self.leave();
+        Ok(Object { shape: Shape::Isosurface(Box::new(shape)), items, span })
+    }
+
     fn texture(&mut self, pair: Pair<'_, Rule>) -> Result<Texture, SceneError> {
         let span = self.span(&pair);
-        let node = inner_pair(&pair);
+        self.texture_node(inner_pair(&pair), span)
+    }
+
+    /// A texture node's pair (`checker`, `pattern_texture`, ...) starting at `span`.
+    fn texture_node(&mut self, node: Pair<'_, Rule>, span: Span) -> Result<Texture, SceneError> {
         self.enter(&node)?;
         let kind = match node.as_rule() {
             Rule::checker => TextureKind::Checker,

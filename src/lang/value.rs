@@ -42,6 +42,8 @@ pub enum Value {
     Camera(Arc<super::eval::CameraParams>),
     /// A declared `sky_sphere` (`.pov`).
     Sky(Arc<SkyDesc>),
+    /// A declared float function (`.pov`), compiled.
+    Function(Arc<crate::function::FloatFunction>),
 }
 
 impl Value {
@@ -67,6 +69,7 @@ impl Value {
             Value::Camera(_) => "a camera",
             Value::Sky(_) => "a sky_sphere",
             Value::ColorMap(_) => "a color_map",
+            Value::Function(_) => "a function",
         }
     }
 }

@@ -13,8 +13,8 @@ use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
-    Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Placement, Planar, PlanarKind, QuadricFrame,
-    QuadricKind, Shape, Torus, TriangleMesh, similarity_scale,
+    Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Placement, Planar, PlanarKind,
+    QuadricFrame, QuadricKind, Shape, Torus, TriangleMesh, similarity_scale,
 };
 use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
@@ -703,6 +703,9 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         }
         ShapeNode::Torus { major, minor } => {
             vec![Shape::Torus(Box::new(Torus::new(major, minor, m)))]
+        }
+        ShapeNode::Isosurface(ref desc) => {
+            vec![Shape::Isosurface(Box::new(Isosurface::new(desc.clone(), m)))]
         }
         ShapeNode::Union(_)
         | ShapeNode::Instance(_)

@@ -36,7 +36,8 @@ impl Evaluator {
             | Value::Media(_)
             | Value::ColorMap(_)
             | Value::Camera(_)
-            | Value::Sky(_) => true,
+            | Value::Sky(_)
+            | Value::Function(_) => true,
         };
         if !finite {
             return Err(SceneError::at(
@@ -329,6 +330,10 @@ impl Evaluator {
             ExprKind::Index { .. } => self.index(expr)?,
             ExprKind::Function(f, args) => self.function(*f, args, at)?,
             ExprKind::Call(call) => {
+                if let Some(Value::Function(f)) = self.lookup(&call.name.name) {
+                    let f = f.clone();
+                    return self.call_function(&f, call);
+                }
                 let mut slot = None;
                 self.call_macro(call, &mut Body::Value(&mut slot))?;
                 slot.ok_or_else(|| {
@@ -397,8 +402,8 @@ impl Evaluator {
         };
         use Function::*;
         Ok(match f {
-            Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Sqr | Abs | Radians | Degrees | Floor
-            | Ceil | Int | Exp | Ln | Log => {
+            Sin | Cos | Tan | Asin | Acos | Atan | Sinh | Cosh | Tanh | Asinh | Acosh | Atanh
+            | Sqrt | Sqr | Abs | Radians | Degrees | Floor | Ceil | Int | Exp | Ln | Log => {
                 let x = number(self, 0)?;
                 Value::Float(match f {
                     Sin => x.sin(),
@@ -411,6 +416,12 @@ impl Evaluator {
                         domain((-1.0..=1.0).contains(&x), x, "outside [-1, 1]").map(|_| x.acos())?
                     }
                     Atan => x.atan(),
+                    Sinh => x.sinh(),
+                    Cosh => x.cosh(),
+                    Tanh => x.tanh(),
+                    Asinh => x.asinh(),
+                    Acosh => domain(x >= 1.0, x, "below 1").map(|_| x.acosh())?,
+                    Atanh => domain(x.abs() < 1.0, x, "outside (-1, 1)").map(|_| x.atanh())?,
                     Sqrt => domain(x >= 0.0, x, "negative").map(|_| x.sqrt())?,
                     Sqr => x * x,
                     Abs => x.abs(),
@@ -425,12 +436,13 @@ impl Evaluator {
                     _ => unreachable!("a function of one number"),
                 })
             }
-            Pow | Min | Max | Mod => {
+            Pow | Min | Max | Mod | Atan2 => {
                 let (x, y) = (number(self, 0)?, number(self, 1)?);
                 Value::Float(match f {
                     Pow => x.powf(y),
                     Min => x.min(y),
                     Max => x.max(y),
+                    Atan2 => x.atan2(y),
                     // The sign of x, as C's fmod and POV-Ray's mod.
                     Mod => {
                         if y == 0.0 {

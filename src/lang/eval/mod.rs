@@ -13,6 +13,8 @@ mod appearance;
 mod array;
 mod camera;
 mod expression;
+mod function;
+mod isosurface;
 mod light;
 mod material;
 mod medium;
@@ -224,6 +226,7 @@ impl Body<'_> {
                 | ShapeNode::Cylinder { .. }
                 | ShapeNode::Cone { .. }
                 | ShapeNode::Torus { .. }
+                | ShapeNode::Isosurface(_)
                 | ShapeNode::Mesh { .. }
                 | ShapeNode::Instance(_) => "in this object",
             },
@@ -643,6 +646,7 @@ impl Evaluator {
                 Value::Camera(Arc::new(given))
             }
             Declared::Sky { items, span } => Value::Sky(Arc::new(self.sky_desc(items, span)?)),
+            Declared::Function(def) => Value::Function(self.float_function(def)?),
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {

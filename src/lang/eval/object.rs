@@ -123,6 +123,9 @@ impl Evaluator {
                 major: self.positive(major, "the torus' major radius")?,
                 minor: self.positive(minor, "the torus' minor radius")?,
             },
+            Shape::Isosurface(isosurface) => {
+                ShapeNode::Isosurface(Arc::new(self.isosurface(isosurface, &object.span)?))
+            }
             Shape::Mesh { file } => {
                 let name = self.string(file, "`mesh`")?;
                 ShapeNode::Mesh { path: resolve(&file.span.file.path, &name) }
@@ -508,6 +511,7 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Cylinder { .. }
         | ShapeNode::Cone { .. }
         | ShapeNode::Torus { .. }
+        | ShapeNode::Isosurface(_)
         | ShapeNode::Mesh { .. }
         | ShapeNode::Instance(_) => None,
     }
