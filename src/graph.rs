@@ -359,7 +359,8 @@ impl ShapeNode {
             | ShapeNode::Cylinder { .. }
             | ShapeNode::Cone { .. }
             | ShapeNode::Torus { .. }
-            | ShapeNode::Mesh { .. } => Below::Nothing,
+            | ShapeNode::Mesh { .. }
+            | ShapeNode::Extrusion(_) => Below::Nothing,
         }
     }
 }
@@ -687,6 +688,9 @@ pub enum ShapeNode {
     Mesh {
         path: PathBuf,
     },
+    /// A closed mesh the scene makes, in its own space: a glyph of a `text` extruded (shared
+    /// by every instance of the glyph).
+    Extrusion(Arc<crate::mesh::Mesh>),
     /// `union { ... }`: a group.
     Union(Vec<ObjectNode>),
     /// `object { Name ... }`: an instance of a declared object, shared, not copied.

@@ -78,7 +78,7 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         }
         shape if UNSUPPORTED_SHAPES.contains(&shape) => {
             "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
-             quad, disk, cylinder, cone, torus, mesh (.ply, .obj) and CSG"
+             quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG"
         }
         "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
         | "clipped_by" => {
@@ -107,13 +107,12 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
 }
 
 /// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 16] = [
+const UNSUPPORTED_SHAPES: [&str; 15] = [
     "blob",
     "lathe",
     "sor",
     "prism",
     "superellipsoid",
-    "text",
     "height_field",
     "isosurface",
     "julia_fractal",

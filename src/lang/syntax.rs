@@ -618,6 +618,13 @@ pub enum Shape {
     Mesh {
         file: Expr,
     },
+    /// `text { ttf "font.ttf" "string" thickness, offset }`.
+    Text {
+        font: FontName,
+        string: Expr,
+        thickness: Expr,
+        offset: Expr,
+    },
     Union,
     /// CSG: the operands are the objects among the items.
     Intersection,
@@ -626,6 +633,13 @@ pub enum Shape {
     Instance {
         of: Expr,
     },
+}
+
+/// The font of a `text`: a file (`ttf "name"`) or POV-Ray's built-in font number (`internal N`).
+#[derive(Debug, Clone)]
+pub enum FontName {
+    File(Expr),
+    Internal(Expr),
 }
 
 #[derive(Debug, Clone)]
