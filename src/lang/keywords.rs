@@ -67,6 +67,25 @@ pub enum Function {
     Concat,
     Str,
     DimensionSize,
+    /// POV-Ray's `atan2(y, x)`: the angle of (x, y) in radians.
+    Atan2,
+    /// POV-Ray's `vaxis_rotate(v, axis, degrees)`: v turned about the axis.
+    VaxisRotate,
+    /// POV-Ray's string functions: `strlen(s)`, `substr(s, start, length)` (from 1),
+    /// `strupr(s)`, `strlwr(s)`, `chr(code)`, `asc(s)`, `val(s)`, `vstr(n, v, separator,
+    /// width, decimals)`.
+    Strlen,
+    Substr,
+    Strupr,
+    Strlwr,
+    Chr,
+    Asc,
+    Val,
+    Vstr,
+    /// POV-Ray's `file_exists(name)`: 1 if the file can be read where `#include` would look.
+    FileExists,
+    /// POV-Ray's `defined(Name)`: 1 if the name is declared.
+    Defined,
 }
 
 pub struct Keyword {
@@ -127,6 +146,11 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "select" => F(Function::Select), "rand" => F(Function::Rand),
     "concat" => F(Function::Concat), "str" => F(Function::Str),
     "dimension_size" => F(Function::DimensionSize),
+    "atan2" => F(Function::Atan2), "vaxis_rotate" => F(Function::VaxisRotate),
+    "strlen" => F(Function::Strlen), "substr" => F(Function::Substr), "strupr" => F(Function::Strupr),
+    "strlwr" => F(Function::Strlwr), "chr" => F(Function::Chr), "asc" => F(Function::Asc),
+    "val" => F(Function::Val), "vstr" => F(Function::Vstr), "file_exists" => F(Function::FileExists),
+    "defined" => F(Function::Defined),
 ];
 
 /// The keyword spelt `word`, if it is one.
@@ -149,9 +173,11 @@ impl Function {
         use Function::*;
         match self {
             Sin | Cos | Tan | Asin | Acos | Atan | Sqrt | Sqr | Abs | Radians | Degrees | Floor
-            | Ceil | Int | Exp | Ln | Log | Vlength | Vnormalize | Seed | Rand => Some(1),
-            Pow | Min | Max | Mod | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
-            Select | Str => Some(3),
+            | Ceil | Int | Exp | Ln | Log | Vlength | Vnormalize | Seed | Rand | Strlen
+            | Strupr | Strlwr | Chr | Asc | Val | FileExists | Defined => Some(1),
+            Pow | Min | Max | Mod | Vdot | Vcross | Vrotate | DimensionSize | Atan2 => Some(2),
+            Select | Str | VaxisRotate | Substr => Some(3),
+            Vstr => Some(5),
             Concat => None,
         }
     }
