@@ -102,10 +102,7 @@ impl Evaluator {
 
 /// A folder as a message names it: `.` for the current one.
 fn display(folder: &Path) -> String {
-    match folder.as_os_str().is_empty() {
-        true => ".".to_string(),
-        false => folder.display().to_string(),
-    }
+    if folder.as_os_str().is_empty() { ".".to_string() } else { folder.display().to_string() }
 }
 
 #[cfg(test)]
