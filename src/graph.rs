@@ -374,7 +374,8 @@ impl ShapeNode {
             | ShapeNode::Cone { .. }
             | ShapeNode::Torus { .. }
             | ShapeNode::Isosurface(_)
-            | ShapeNode::Mesh { .. } => Below::Nothing,
+            | ShapeNode::Mesh { .. }
+            | ShapeNode::Extrusion(_) => Below::Nothing,
         }
     }
 }
@@ -704,6 +705,9 @@ pub enum ShapeNode {
     Mesh {
         path: PathBuf,
     },
+    /// A closed mesh the scene makes, in its own space: a glyph of a `text` extruded (shared
+    /// by every instance of the glyph).
+    Extrusion(Arc<crate::mesh::Mesh>),
     /// `union { ... }`: a group.
     Union(Vec<ObjectNode>),
     /// `object { Name ... }`: an instance of a declared object, shared, not copied.

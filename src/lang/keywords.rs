@@ -74,6 +74,23 @@ pub enum Function {
     Concat,
     Str,
     DimensionSize,
+    /// POV-Ray's `vaxis_rotate(v, axis, degrees)`: v turned about the axis.
+    VaxisRotate,
+    /// POV-Ray's string functions: `strlen(s)`, `substr(s, start, length)` (from 1),
+    /// `strupr(s)`, `strlwr(s)`, `chr(code)`, `asc(s)`, `val(s)`, `vstr(n, v, separator,
+    /// width, decimals)`.
+    Strlen,
+    Substr,
+    Strupr,
+    Strlwr,
+    Chr,
+    Asc,
+    Val,
+    Vstr,
+    /// POV-Ray's `file_exists(name)`: 1 if the file can be read where `#include` would look.
+    FileExists,
+    /// POV-Ray's `defined(Name)`: 1 if the name is declared.
+    Defined,
 }
 
 pub struct Keyword {
@@ -101,6 +118,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "light_source" => S, "power" => S, "colour" => S, "color" => S,
     "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S, "disc" => S,
     "cylinder" => S, "cone" => S, "torus" => S, "open" => S, "mesh" => S, "union" => S,
+    "text" => S, "ttf" => S, "internal" => S,
     "intersection" => S, "difference" => S, "merge" => S, "object" => S, "material" => S,
     "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
     "diffuse" => S, "specular" => S, "transmission" => S, "emission" => S, "ior" => S,
@@ -136,6 +154,11 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "select" => F(Function::Select), "rand" => F(Function::Rand),
     "concat" => F(Function::Concat), "str" => F(Function::Str),
     "dimension_size" => F(Function::DimensionSize),
+    "vaxis_rotate" => F(Function::VaxisRotate),
+    "strlen" => F(Function::Strlen), "substr" => F(Function::Substr), "strupr" => F(Function::Strupr),
+    "strlwr" => F(Function::Strlwr), "chr" => F(Function::Chr), "asc" => F(Function::Asc),
+    "val" => F(Function::Val), "vstr" => F(Function::Vstr), "file_exists" => F(Function::FileExists),
+    "defined" => F(Function::Defined),
 ];
 
 /// The keyword spelt `word`, if it is one.
@@ -159,9 +182,11 @@ impl Function {
         match self {
             Sin | Cos | Tan | Asin | Acos | Atan | Sinh | Cosh | Tanh | Asinh | Acosh | Atanh
             | Sqrt | Sqr | Abs | Radians | Degrees | Floor | Ceil | Int | Exp | Ln | Log
-            | Vlength | Vnormalize | Seed | Rand => Some(1),
+            | Vlength | Vnormalize | Seed | Rand | Strlen | Strupr | Strlwr | Chr | Asc | Val
+            | FileExists | Defined => Some(1),
             Pow | Min | Max | Mod | Atan2 | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
-            Select | Str => Some(3),
+            Select | Str | VaxisRotate | Substr => Some(3),
+            Vstr => Some(5),
             Concat => None,
         }
     }

@@ -78,7 +78,7 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         }
         shape if UNSUPPORTED_SHAPES.contains(&shape) => {
             "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
-             quad, disk, cylinder, cone, torus, mesh (.ply, .obj) and CSG"
+             quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG"
         }
         "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
         | "clipped_by" => {
@@ -113,7 +113,6 @@ const UNSUPPORTED_SHAPES: [&str; 15] = [
     "sor",
     "prism",
     "superellipsoid",
-    "text",
     "height_field",
     "julia_fractal",
     "polygon",

@@ -620,6 +620,13 @@ pub enum Shape {
     Mesh {
         file: Expr,
     },
+    /// `text { ttf "font.ttf" "string" thickness, offset }`.
+    Text {
+        font: FontName,
+        string: Expr,
+        thickness: Expr,
+        offset: Expr,
+    },
     Union,
     /// CSG: the operands are the objects among the items.
     Intersection,
@@ -660,6 +667,13 @@ pub struct Isosurface {
     /// `threshold`, `accuracy`, `max_gradient`, `max_trace`, `evaluate`, `open`,
     /// `all_intersections`: the word and its values.
     pub settings: Vec<(Ident, Vec<Expr>)>,
+}
+
+/// The font of a `text`: a file (`ttf "name"`) or POV-Ray's built-in font number (`internal N`).
+#[derive(Debug, Clone)]
+pub enum FontName {
+    File(Expr),
+    Internal(Expr),
 }
 
 #[derive(Debug, Clone)]

@@ -943,6 +943,8 @@ impl Builder {
         }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
+        let internal_font = inner.next_if(|p| p.as_rule() == Rule::kw_internal).is_some();
+        inner.next_if(|p| p.as_rule() == Rule::kw_ttf);
         let mut first = true;
         let mut take = |b: &mut Self| {
             let comma = inner.next_if(|p| p.as_rule() == Rule::arg_comma).is_some();
@@ -991,6 +993,15 @@ impl Builder {
             },
             Rule::torus => Shape::Torus { major: take(self)?, minor: take(self)? },
             Rule::mesh => Shape::Mesh { file: take(self)? },
+            Rule::text => Shape::Text {
+                font: match take(self)? {
+                    name if internal_font => FontName::Internal(name),
+                    name => FontName::File(name),
+                },
+                string: take(self)?,
+                thickness: take(self)?,
+                offset: take(self)?,
+            },
             Rule::instance | Rule::looks_like => Shape::Instance { of: take(self)? },
             Rule::union => Shape::Union,
             Rule::intersection => Shape::Intersection,

@@ -1,5 +1,7 @@
-//! Triangle meshes from files: PLY (ASCII and binary) and Wavefront OBJ.
+//! Triangle meshes from files (PLY, ASCII and binary, and Wavefront OBJ) and from fonts (`text`).
 
+pub mod extrude;
+pub mod font;
 mod obj;
 mod ply;
 

@@ -23,6 +23,7 @@ use crate::graph::{
 use crate::light::{BeamSampler, Light, Spot, SpotProfile};
 use crate::material::Material;
 use crate::medium::{Density, HenyeyGreenstein, Medium};
+use crate::mesh::Mesh;
 use crate::texture::{Bump, ImageMap, Texture};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
@@ -273,6 +274,9 @@ struct Flattener {
     frames: Vec<Affine3A>,
     warnings: Vec<String>,
     meshes: HashMap<PathBuf, Arc<TriangleMesh>>,
+    /// The meshes the scene made (`ShapeNode::Extrusion`), by address, each kept alive with
+    /// its key.
+    extrusions: HashMap<*const Mesh, (Arc<Mesh>, Arc<TriangleMesh>)>,
     /// Index of each distinct material description, by address: declared materials are shared.
     material_index: HashMap<*const MaterialDesc, u32>,
     /// The surfaces of CSG operands (material and frame of each), in the order of the CSG
@@ -315,6 +319,16 @@ fn refuse_media(integrator: IntegratorKind, medium: &Span) -> Result<(), SceneEr
             ),
         )),
     }
+}
+
+/// Why a mesh is not a solid.
+const NOT_CLOSED: &str =
+    "this mesh is not closed (some edge is not shared by exactly two triangles), so it";
+
+/// A closed mesh as a CSG operand placed by `to_world`; `None` if it is not closed.
+fn closed_mesh(mesh: Arc<TriangleMesh>, to_world: Affine3A) -> Option<Shape> {
+    let placement = (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
+    mesh.is_closed().then_some(Shape::Mesh { mesh, placement })
 }
 
 /// Refuses an object's transforms that a 32-bit matrix cannot invert: ones that flatten it, and
@@ -372,12 +386,11 @@ impl Flattener {
             }
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
-                let placement =
-                    (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
-                let material = self.material(material)?;
-                self.frames.push(to_world.inverse());
-                self.push(Shape::Mesh { mesh, placement }, material, node);
-                Ok(())
+                self.add_mesh(mesh, to_world, material, node)
+            }
+            ShapeNode::Extrusion(made) => {
+                let mesh = self.extrusion(made);
+                self.add_mesh(mesh, to_world, material, node)
             }
             shape => {
                 check_dimensions(shape, node)?;
@@ -447,15 +460,11 @@ impl Flattener {
             }
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
-                if !mesh.is_closed() {
-                    return Err(not_solid(
-                        "this mesh is not closed (some edge is not shared by exactly two \
-                         triangles), so it",
-                    ));
-                }
-                let placement =
-                    (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
-                Shape::Mesh { mesh, placement }
+                closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
+            }
+            ShapeNode::Extrusion(made) => {
+                let mesh = self.extrusion(made);
+                closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
             }
             shape => {
                 check_dimensions(shape, node)?;
@@ -473,6 +482,21 @@ impl Flattener {
         self.surfaces.push(Primitive { shape: shape.clone(), material, frame, light: None });
         shapes.push(shape);
         Ok(CsgNode::Operand(index))
+    }
+
+    fn add_mesh(
+        &mut self,
+        mesh: Arc<TriangleMesh>,
+        to_world: Affine3A,
+        material: Option<&Arc<MaterialDesc>>,
+        node: &ObjectNode,
+    ) -> Result<(), SceneError> {
+        let placement =
+            (to_world != Affine3A::IDENTITY).then(|| Box::new(Placement::new(to_world)));
+        let material = self.material(material)?;
+        self.frames.push(to_world.inverse());
+        self.push(Shape::Mesh { mesh, placement }, material, node);
+        Ok(())
     }
 
     fn push(&mut self, shape: Shape, material: u32, node: &ObjectNode) {
@@ -500,6 +524,16 @@ impl Flattener {
         let mesh = Arc::new(TriangleMesh::new(mesh));
         self.meshes.insert(file, mesh.clone());
         Ok(mesh)
+    }
+
+    /// A mesh the scene made, accelerated once however many instances share it.
+    fn extrusion(&mut self, made: &Arc<Mesh>) -> Arc<TriangleMesh> {
+        let key = Arc::as_ptr(made);
+        let mesh = self
+            .extrusions
+            .entry(key)
+            .or_insert_with(|| (Arc::clone(made), Arc::new(TriangleMesh::new(Mesh::clone(made)))));
+        mesh.1.clone()
     }
 
     fn material(&mut self, desc: Option<&Arc<MaterialDesc>>) -> Result<u32, SceneError> {
@@ -710,6 +744,7 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         ShapeNode::Union(_)
         | ShapeNode::Instance(_)
         | ShapeNode::Mesh { .. }
+        | ShapeNode::Extrusion(_)
         | ShapeNode::Csg { .. } => Vec::new(),
     }
 }

@@ -524,8 +524,91 @@ impl Evaluator {
                 }
                 Value::Float(array.dimensions[n as usize - 1] as f64)
             }
+            VaxisRotate => {
+                let (v, axis, degrees) = (vector(self, 0)?, vector(self, 1)?, number(self, 2)?);
+                if axis.length() == 0.0 {
+                    return Err(SceneError::at(&args[1].span, "`vaxis_rotate` about a zero axis"));
+                }
+                // The same turn as `rotate` about a coordinate axis (`rotate 30*x` is
+                // `vaxis_rotate(v, x, 30)`).
+                Value::Vector(DMat3::from_axis_angle(axis.normalize(), degrees.to_radians()) * v)
+            }
+            Strlen => Value::Float(self.text(&args[0], "`strlen`")?.chars().count() as f64),
+            Strupr => Value::String(Arc::new(self.text(&args[0], "`strupr`")?.to_uppercase())),
+            Strlwr => Value::String(Arc::new(self.text(&args[0], "`strlwr`")?.to_lowercase())),
+            Substr => {
+                let text = self.text(&args[0], "`substr`")?;
+                let (start, length) = (number(self, 1)?, number(self, 2)?);
+                let count = text.chars().count() as f64;
+                if start < 1.0 || length < 0.0 || start + length - 1.0 > count {
+                    return Err(SceneError::at(
+                        at,
+                        format!(
+                            "`substr` of {length} characters from {start} of a string of                              {count}: the characters are 1 to {count}"
+                        ),
+                    ));
+                }
+                let part = text.chars().skip(start as usize - 1).take(length as usize);
+                Value::String(Arc::new(part.collect()))
+            }
+            Chr => {
+                let code = number(self, 0)?;
+                let c = (code.fract() == 0.0 && (1.0..=f64::from(u32::MAX)).contains(&code))
+                    .then(|| char::from_u32(code as u32))
+                    .flatten()
+                    .ok_or_else(|| {
+                        SceneError::at(&args[0].span, format!("`chr` of {code}: no character"))
+                    })?;
+                Value::String(Arc::new(c.to_string()))
+            }
+            Asc => {
+                let text = self.text(&args[0], "`asc`")?;
+                Value::Float(text.chars().next().map_or(0.0, |c| f64::from(u32::from(c))))
+            }
+            Val => Value::Float(leading_number(&self.text(&args[0], "`val`")?)),
+            Vstr => {
+                let count = number(self, 0)?;
+                let v = vector(self, 1)?;
+                let separator = self.text(&args[2], "`vstr`")?;
+                let (width, decimals) = (number(self, 3)?, number(self, 4)?);
+                if !(1.0..=3.0).contains(&count) || count.fract() != 0.0 {
+                    return Err(SceneError::at(
+                        &args[0].span,
+                        format!("`vstr` of {count} components: a vector has 1 to 3"),
+                    ));
+                }
+                let parts: Vec<String> = v.to_array()[..count as usize]
+                    .iter()
+                    .map(|&c| format_number(c, width, decimals))
+                    .collect();
+                Value::String(Arc::new(parts.join(separator.as_str())))
+            }
+            FileExists => {
+                let name = self.text(&args[0], "`file_exists`")?;
+                let (path, built_in) = self.find_include(&at.file.path, &name);
+                Value::Float(if built_in.is_some() || path.is_file() { 1.0 } else { 0.0 })
+            }
+            Defined => match &args[0].kind {
+                ExprKind::Ident(name) => {
+                    Value::Float(if self.is_defined(name) { 1.0 } else { 0.0 })
+                }
+                _ => return Err(SceneError::at(&args[0].span, "`defined` takes a name")),
+            },
         })
     }
+}
+
+/// C's `atof`, as POV-Ray's `val`: the number the string starts with (after blanks), 0 if none.
+fn leading_number(text: &str) -> f64 {
+    let text = text.trim_start();
+    // No number is written in more than 64 bytes: a long string costs no more.
+    let end = (0..=text.len().min(64)).rev().find(|&i| text.is_char_boundary(i)).unwrap_or(0);
+    let text = &text[..end];
+    (1..=text.len())
+        .rev()
+        .filter(|&end| text.is_char_boundary(end))
+        .find_map(|end| text[..end].parse::<f64>().ok().filter(|x| x.is_finite()))
+        .unwrap_or(0.0)
 }
 
 /// Appends `parts` to `text`, within the bound on a string's length (an error at `at`).

@@ -23,6 +23,7 @@ mod object;
 mod pattern;
 mod scope;
 mod sky;
+mod text;
 
 use super::syntax::{
     Call, CaseTest, Condition, Declare, Declared, Ident, Item, MapKind, MessageKind, SettingKind,
@@ -228,6 +229,7 @@ impl Body<'_> {
                 | ShapeNode::Torus { .. }
                 | ShapeNode::Isosurface(_)
                 | ShapeNode::Mesh { .. }
+                | ShapeNode::Extrusion(_)
                 | ShapeNode::Instance(_) => "in this object",
             },
             Body::Material(_) => "in a material",
@@ -886,10 +888,7 @@ impl Evaluator {
         if local.is_file() || Path::new(name).is_absolute() {
             return (local, None);
         }
-        let variable = std::env::var_os(INCLUDE_PATH_VARIABLE)
-            .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
-            .unwrap_or_default();
-        let mut folders = self.include_path.iter().chain(&variable);
+        let mut folders = self.include_folders().into_iter();
         if let Some(found) = folders.find_map(|f| Some(f.join(name)).filter(|p| p.is_file())) {
             return (found, None);
         }
@@ -897,6 +896,17 @@ impl Evaluator {
             (Dialect::Pov, Some(text)) => (PathBuf::from(format!("<built-in>/{name}")), Some(text)),
             _ => (local, None),
         }
+    }
+}
+
+impl Evaluator {
+    /// The folders searched after the including file's own: each `--include-path` folder, then
+    /// each of `RAYDIANCE_INCLUDE_PATH`.
+    fn include_folders(&self) -> Vec<PathBuf> {
+        let variable = std::env::var_os(INCLUDE_PATH_VARIABLE)
+            .map(|v| std::env::split_paths(&v).collect::<Vec<_>>())
+            .unwrap_or_default();
+        self.include_path.iter().cloned().chain(variable).collect()
     }
 }
 

@@ -130,6 +130,9 @@ impl Evaluator {
                 let name = self.string(file, "`mesh`")?;
                 ShapeNode::Mesh { path: resolve(&file.span.file.path, &name) }
             }
+            Shape::Text { font, string, thickness, offset } => {
+                self.text_shape(font, string, thickness, offset, &span)?
+            }
             Shape::Instance { of } => match self.value(of)? {
                 Value::Object(object) => ShapeNode::Instance(object),
                 other => {
@@ -150,6 +153,8 @@ impl Evaluator {
         };
         let depth = match &shape {
             ShapeNode::Instance(target) => target.depth + 1,
+            // A text's glyphs.
+            ShapeNode::Union(glyphs) if !glyphs.is_empty() => 2,
             _ => 1,
         };
         self.objects_made += 1;
@@ -513,6 +518,7 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Torus { .. }
         | ShapeNode::Isosurface(_)
         | ShapeNode::Mesh { .. }
+        | ShapeNode::Extrusion(_)
         | ShapeNode::Instance(_) => None,
     }
 }
