@@ -1,9 +1,9 @@
 //! `raydiance denoise`: Intel Open Image Denoise's `RT` filter over a finished render, guided
-//! by its `albedo` and `normal` AOVs when the file has them (`render --aov albedo,normal`). Built
-//! with the cargo feature `denoise` only (the libraries come from `scripts/fetch-oidn`). The
-//! denoised image is another file: the unbiased render stays as it was, and a part of a split
-//! render is refused (denoising is not linear: the merge of denoised parts is not the denoised
-//! merge).
+//! by its `albedo` and `normal` AOVs when the file has them (`render --aov albedo,normal`); the
+//! preview's denoised view uses the same `Denoiser`. Built with the cargo feature `denoise` only
+//! (the libraries come from `scripts/fetch-oidn`). The denoised image is another file: the
+//! unbiased render stays as it was, and a part of a split render is refused (denoising is not
+//! linear: the merge of denoised parts is not the denoised merge).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -115,9 +115,6 @@ pub fn denoise_file(input: &Path, output: &Path) -> Result<String, DenoiseError>
 pub fn description(aovs: &AovImage) -> String {
     format!("Open Image Denoise {OIDN_VERSION} RT filter, from {}", Guides::of(aovs).describe())
 }
-
-/// Whether this raydiance was built with denoising (the cargo feature `denoise`).
-pub const BUILT: bool = cfg!(feature = "denoise");
 
 /// Open Image Denoise's CPU device, made once and used for every image (making it is costly),
 /// by one thread at a time. Without the feature there is none: the field's type has no value.

@@ -28,8 +28,8 @@ const MAX_BYTES: u64 = 8 << 30;
 pub const GLANCE_SIDE: u32 = 128;
 
 /// The most samples per pixel of the AOVs that guide the denoiser: each pass takes them again
-/// until then. Guides need not be free of noise (the filter is not told they are), and their
-/// samples cost a camera ray and a lobe sample each, a few percent of the render's.
+/// until then. Guides need not be free of noise (the filter is not told they are), and each of
+/// their samples costs a camera ray and a lobe sample, where the beauty's costs a whole path.
 const GUIDE_SAMPLES: u32 = 8;
 
 /// Renders the scene again after each change of a file it read, forever; each pass is denoised
