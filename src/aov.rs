@@ -29,7 +29,9 @@ pub const BYTES_PER_CHANNEL: u64 = 4 + 4;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Aov {
     /// The directional albedo of the surface's lobes with a density, estimated by sampling
-    /// them (exactly `diffuse` on a Lambertian surface); black where nothing is hit.
+    /// them (exactly `diffuse` on a Lambertian surface), plus the radiance the surface emits
+    /// towards the camera, each channel at most 1 (a light is its colour, as renderers give
+    /// emitters to denoisers); black where nothing is hit.
     Albedo,
     /// The unit shading normal, world space, in the shape's own orientation (outwards for
     /// closed solids).
@@ -193,9 +195,8 @@ fn seen(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Seen {
         let Some(hit) = scene.intersect(&ray) else { break };
         depth += hit.t;
         let wo = -Vec3::from(ray.dir);
-        let bsdf = scene
-            .material(hit.primitive, hit.point)
-            .bsdf(hit.shading_normal, TransportMode::Radiance);
+        let material = scene.material(hit.primitive, hit.point);
+        let bsdf = material.bsdf(hit.shading_normal, TransportMode::Radiance);
         let flags = bsdf.flags();
         let u_lobe = sampler.next_1d();
         let u = sampler.next_2d();
@@ -205,9 +206,10 @@ fn seen(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Seen {
                 continue;
             }
         }
-        let albedo = bsdf
+        let reflected = bsdf
             .sample(wo, u_lobe, u, LobeFlags::NON_DELTA)
             .map_or(Vec3::ZERO, |sample| sample.weight);
+        let albedo = (reflected + material.emitted(hit.normal, wo)).min(Vec3::ONE);
         return Seen { albedo, normal: hit.shading_normal, depth, position: hit.point };
     }
     Seen::default()

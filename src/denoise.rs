@@ -1,9 +1,9 @@
 //! `raydiance denoise`: Intel Open Image Denoise's `RT` filter over a finished render, guided
-//! by its `albedo` and `normal` AOVs when the file has them (`render --aov albedo,normal`). Built
-//! with the cargo feature `denoise` only (the libraries come from `scripts/fetch-oidn`). The
-//! denoised image is another file: the unbiased render stays as it was, and a part of a split
-//! render is refused (denoising is not linear: the merge of denoised parts is not the denoised
-//! merge).
+//! by its `albedo` and `normal` AOVs when the file has them (`render --aov albedo,normal`); the
+//! preview's denoised view uses the same `Denoiser`. Built with the cargo feature `denoise` only
+//! (the libraries come from `scripts/fetch-oidn`). The denoised image is another file: the
+//! unbiased render stays as it was, and a part of a split render is refused (denoising is not
+//! linear: the merge of denoised parts is not the denoised merge).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -40,6 +40,8 @@ pub enum DenoiseError {
     OutputIsInput(PathBuf),
     #[error("error: {0}")]
     Image(#[from] ImageError),
+    #[error("error: Open Image Denoise cannot run on this machine: {0}")]
+    Device(String),
     #[error("error: {}: Open Image Denoise failed: {message}", path.display())]
     Filter { path: PathBuf, message: String },
 }
@@ -76,10 +78,8 @@ impl Guides {
 /// (`.exr`, with the render's `raydiance:` attributes and `raydiance:denoised`); returns the
 /// summary line.
 pub fn denoise_file(input: &Path, output: &Path) -> Result<String, DenoiseError> {
-    if !cfg!(feature = "denoise") {
-        return Err(DenoiseError::NotBuilt);
-    }
     let start = Instant::now();
+    let denoiser = Denoiser::new()?;
     if image::extension(output).as_deref() != Some("exr") {
         return Err(DenoiseError::OutputType(output.to_path_buf()));
     }
@@ -94,10 +94,11 @@ pub fn denoise_file(input: &Path, output: &Path) -> Result<String, DenoiseError>
     if attributes.iter().any(|(name, _)| name == "part") {
         return Err(DenoiseError::Part(input.to_path_buf()));
     }
-    let guides = Guides::of(&image::exr::read_aovs(input)?);
-    let denoised = filter(&beauty, &guides)
+    let aovs = image::exr::read_aovs(input)?;
+    let denoised = denoiser
+        .denoise(&beauty, &aovs)
         .map_err(|message| DenoiseError::Filter { path: input.to_path_buf(), message })?;
-    let what = format!("Open Image Denoise {OIDN_VERSION} RT filter, from {}", guides.describe());
+    let what = description(&aovs);
     attributes.push(("denoised".to_string(), AttributeValue::Text(Text::from(what.as_str()))));
     image::exr::write_with_attributes(output, &denoised, None, attributes)?;
     Ok(format!(
@@ -105,32 +106,62 @@ pub fn denoise_file(input: &Path, output: &Path) -> Result<String, DenoiseError>
         output.display(),
         denoised.width,
         denoised.height,
-        guides.describe(),
+        Guides::of(&aovs).describe(),
         start.elapsed().as_secs_f64()
     ))
 }
 
-/// The `RT` filter over linear HDR radiance, on the CPU.
-#[cfg(feature = "denoise")]
-fn filter(beauty: &Image, guides: &Guides) -> Result<Image, String> {
-    let color: Vec<f32> = beauty.pixels.iter().flat_map(|p| p.to_array()).collect();
-    let device = oidn::Device::cpu().map_err(|e| e.to_string())?;
-    let mut filter = oidn::RayTracing::try_new(&device).map_err(|e| e.to_string())?;
-    filter.hdr(true).srgb(false).image_dimensions(beauty.width, beauty.height);
-    match (&guides.albedo, &guides.normal) {
-        (Some(albedo), Some(normal)) => filter.albedo_normal(albedo, normal),
-        (Some(albedo), None) => filter.albedo(albedo),
-        (None, _) => &mut filter,
-    };
-    let mut output = vec![0.0; color.len()];
-    filter.filter(&color, &mut output).map_err(|e| e.to_string())?;
-    device.get_error().map_err(|e| e.to_string())?;
-    let pixels = output.chunks_exact(3).map(glam::Vec3::from_slice).collect();
-    Ok(Image { width: beauty.width, height: beauty.height, pixels })
+/// What denoised an image guided by `aovs`: the `raydiance:denoised` attribute of its file.
+pub fn description(aovs: &AovImage) -> String {
+    format!("Open Image Denoise {OIDN_VERSION} RT filter, from {}", Guides::of(aovs).describe())
 }
 
-/// Never called: `denoise_file` stops first when the feature is off.
-#[cfg(not(feature = "denoise"))]
-fn filter(_: &Image, _: &Guides) -> Result<Image, String> {
-    Err(DenoiseError::NotBuilt.to_string())
+/// Open Image Denoise's CPU device, made once and used for every image (making it is costly),
+/// by one thread at a time. Without the feature there is none: the field's type has no value.
+pub struct Denoiser {
+    #[cfg(feature = "denoise")]
+    device: std::sync::Mutex<oidn::Device>,
+    #[cfg(not(feature = "denoise"))]
+    never: std::convert::Infallible,
+}
+
+impl Denoiser {
+    /// The device, or why there is none: the feature is off, or the machine cannot run it.
+    #[cfg(feature = "denoise")]
+    pub fn new() -> Result<Denoiser, DenoiseError> {
+        let device = oidn::Device::cpu().map_err(|e| DenoiseError::Device(e.to_string()))?;
+        Ok(Denoiser { device: std::sync::Mutex::new(device) })
+    }
+
+    #[cfg(not(feature = "denoise"))]
+    pub fn new() -> Result<Denoiser, DenoiseError> {
+        Err(DenoiseError::NotBuilt)
+    }
+
+    /// The `RT` filter over linear HDR radiance, guided by the albedo and normal of `aovs`
+    /// when it has them (any other AOV is not a guide).
+    #[cfg(feature = "denoise")]
+    pub fn denoise(&self, beauty: &Image, aovs: &AovImage) -> Result<Image, String> {
+        let guides = Guides::of(aovs);
+        // A panic while denoising leaves a device that can still be used.
+        let device = self.device.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let color: Vec<f32> = beauty.pixels.iter().flat_map(|p| p.to_array()).collect();
+        let mut filter = oidn::RayTracing::try_new(&device).map_err(|e| e.to_string())?;
+        filter.hdr(true).srgb(false).image_dimensions(beauty.width, beauty.height);
+        match (&guides.albedo, &guides.normal) {
+            (Some(albedo), Some(normal)) => filter.albedo_normal(albedo, normal),
+            (Some(albedo), None) => filter.albedo(albedo),
+            (None, _) => &mut filter,
+        };
+        let mut output = vec![0.0; color.len()];
+        filter.filter(&color, &mut output).map_err(|e| e.to_string())?;
+        device.get_error().map_err(|e| e.to_string())?;
+        let pixels = output.chunks_exact(3).map(glam::Vec3::from_slice).collect();
+        Ok(Image { width: beauty.width, height: beauty.height, pixels })
+    }
+
+    #[cfg(not(feature = "denoise"))]
+    pub fn denoise(&self, _: &Image, _: &AovImage) -> Result<Image, String> {
+        match self.never {}
+    }
 }

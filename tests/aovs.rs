@@ -52,6 +52,22 @@ fn the_albedo_of_a_diffuse_plane_is_its_diffuse_colour() {
     }
 }
 
+/// An emitter's albedo is its emission added to what it reflects, each channel at most 1 (the
+/// denoiser's guide then marks a light as the bright surface it is, not as a black one).
+#[test]
+fn the_albedo_of_an_emitter_is_its_emission_clamped_to_one() {
+    let scene = common::scene(
+        "settings { resolution 5, 4  samples 4 }
+        camera { location <0, 0, -3>  look_at <0, 0, 0>  angle 40 }
+        plane { <0, 0, -1>, 0  material { diffuse rgb 0.2  emission rgb <10, 0.5, 0> } }",
+    );
+    let aovs = render_aovs(&scene);
+    for pixel in 0..5 * 4 {
+        let albedo = vector(&aovs, "albedo", pixel);
+        assert!(close(albedo, Vec3::new(1.0, 0.7, 0.2), 1e-6), "pixel {pixel}: {albedo}");
+    }
+}
+
 /// At one sample a pixel, each pixel's normal is the sphere's at the point it records: there
 /// (p - c) / r, with |p - c| = r and depth the distance from the pinhole.
 #[test]

@@ -2,7 +2,7 @@
 //! refines, and renders the scene again as soon as it or a file it reads is saved.
 //!
 //! Threads share what the page shows (`Shown`): the renderer loads and renders, publishing each
-//! finished pass or the scene's error; the watcher polls the files the last load read; the
+//! finished pass (and, built with `denoise`, the pass denoised) or the scene's error; the watcher polls the files the last load read; the
 //! server answers the page, each event stream on a thread of its own.
 
 mod renderer;
@@ -14,6 +14,7 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use crate::denoise::{DenoiseError, Denoiser};
 use crate::{LoadError, RenderRequest};
 pub use server::MAX_STREAMS;
 use server::Site;
@@ -67,7 +68,15 @@ impl Server {
     /// Serves and renders until the process ends; the render runs on the calling thread (and
     /// so on the rayon pool it is in, `--threads`).
     pub fn serve(self) -> ! {
-        let shown = Arc::new(Shown::default());
+        let denoiser = match Denoiser::new() {
+            Ok(denoiser) => Some(denoiser),
+            Err(DenoiseError::NotBuilt) => None,
+            Err(error) => {
+                eprintln!("{error}: the preview shows its passes as they are");
+                None
+            }
+        };
+        let shown = Arc::new(Shown::new(denoiser.is_some()));
         let watch = Arc::new(Watch::default());
         let watcher = watch.clone();
         std::thread::spawn(move || {
@@ -84,6 +93,7 @@ impl Server {
                 std::thread::spawn(move || server::respond(request, &shown, &site));
             }
         });
-        renderer::run(&self.preview.scene, &self.preview.request, &shown, &watch)
+        let (scene, request) = (&self.preview.scene, &self.preview.request);
+        renderer::run(scene, request, &shown, &watch, denoiser.as_ref())
     }
 }

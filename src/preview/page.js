@@ -1,48 +1,67 @@
-// The page of `raydiance preview`: follows the server's event stream (each finished pass, the
-// scene's error) and sends the tone mapping chosen; the server tone-maps.
+// The page of `raydiance preview`: follows the server's event stream (each finished pass, its
+// denoised view when raydiance denoises, the scene's error) and sends the tone mapping chosen;
+// the server tone-maps.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
 
-// The number of the PNG shown, and of the newest asked for.
-let shownPng = 0;
-let askedPng = 0;
+// Images asked for, in order: the one shown is the newest that arrived.
+let asked = 0;
+let shown = 0;
+// What was last asked for: the PNG's number and the view (`render` or `denoised`).
+let askedKey = "";
+// The last state, shown again when the view changes.
+let last = null;
 
-function showPicture(picture) {
+function showPicture(picture, denoised) {
   $("spp").textContent = picture.spp;
   $("glance").hidden = !picture.glance;
+  $("view-denoised").hidden = !denoised;
   $("target").textContent = picture.target;
   $("seconds").textContent = picture.seconds.toFixed(2);
   $("render").textContent = picture.render;
 }
 
 function showState(state) {
+  last = state;
   $("status").textContent = "connected";
   $("operator").value = state.operator;
   $("exposure").value = state.exposure;
   $("exposure-value").textContent = state.exposure;
   $("error").hidden = !state.error;
+  $("denoise").hidden = !state.denoising;
   const picture = state.picture;
-  if (!picture || picture.png === askedPng) {
+  $("save-denoised").hidden = !(picture && picture.denoised);
+  // The denoised view when it is chosen and this pass has one; the pass as rendered until then.
+  const denoised = Boolean(picture && picture.denoised && $("denoised").checked);
+  const key = picture ? picture.png + (denoised ? "denoised" : "render") : "";
+  if (!picture || key === askedKey) {
     return;
   }
   // The new image is loaded aside and put in place whole, with its numbers: the page never
   // shows half an image, nor numbers newer than the image.
-  askedPng = picture.png;
+  askedKey = key;
+  const number = ++asked;
   const next = new Image();
   next.onload = () => {
-    if (picture.png > shownPng) {
-      shownPng = picture.png;
+    if (number > shown) {
+      shown = number;
       next.id = "picture";
-      next.alt = "the render";
+      next.alt = denoised ? "the render, denoised" : "the render";
       // A glance is smaller than the render: shown at the render's size.
       next.width = picture.width;
       next.height = picture.height;
       $("picture").replaceWith(next);
-      showPicture(picture);
+      showPicture(picture, denoised);
     }
   };
-  next.src = "/image.png?n=" + picture.png;
+  // A newer pass came first (its denoised view is not there yet): the next state asks again.
+  next.onerror = () => {
+    if (askedKey === key) {
+      askedKey = "";
+    }
+  };
+  next.src = (denoised ? "/denoised.png?n=" : "/image.png?n=") + picture.png;
 }
 
 const events = new EventSource("/events");
@@ -61,3 +80,4 @@ function sendToneMap() {
 }
 $("exposure").addEventListener("input", sendToneMap);
 $("operator").addEventListener("change", sendToneMap);
+$("denoised").addEventListener("change", () => last && showState(last));

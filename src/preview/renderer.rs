@@ -1,16 +1,20 @@
 //! The preview's render loop: load the scene, recording the files it reads; show a glance of
-//! it, then render it, each finished pass published; on a save of any of those files, stop and
-//! start again.
+//! it, then render it, each finished pass published, then denoised when raydiance denoises; on
+//! a save of any of those files, stop and start again.
 
 use std::path::Path;
+use std::sync::Mutex;
 use std::time::Instant;
 
 use crate::RenderRequest;
+use crate::aov::{self, Aov, AovImage, AovList};
+use crate::denoise::Denoiser;
 use crate::film::Film;
 use crate::graph::Settings;
-use crate::image::RenderInfo;
+use crate::image::{Image, RenderInfo};
 use crate::pipeline::{check_film_memory, check_render_memory};
 use crate::progress::Progress;
+use crate::region::Region;
 use crate::scene::Scene;
 
 use super::shown::Shown;
@@ -23,8 +27,20 @@ const MAX_BYTES: u64 = 8 << 30;
 /// down to it (a sixteenth of the work of the first full pass of a 512-pixel image).
 pub const GLANCE_SIDE: u32 = 128;
 
-/// Renders the scene again after each change of a file it read, forever.
-pub fn run(scene: &Path, request: &RenderRequest, shown: &Shown, watch: &Watch) -> ! {
+/// The most samples per pixel of the AOVs that guide the denoiser: each pass takes them again
+/// until then. Guides need not be free of noise (the filter is not told they are), and each of
+/// their samples costs a camera ray and a lobe sample, where the beauty's costs a whole path.
+const GUIDE_SAMPLES: u32 = 8;
+
+/// Renders the scene again after each change of a file it read, forever; each pass is denoised
+/// too when there is a `denoiser`.
+pub fn run(
+    scene: &Path,
+    request: &RenderRequest,
+    shown: &Shown,
+    watch: &Watch,
+    denoiser: Option<&Denoiser>,
+) -> ! {
     loop {
         let start = Instant::now();
         let render = shown.render_starts();
@@ -33,14 +49,14 @@ pub fn run(scene: &Path, request: &RenderRequest, shown: &Shown, watch: &Watch) 
         match loaded {
             Ok(mut scene) => {
                 let full = scene.settings.clone();
-                let passes = |glance| Passes { shown, watch, render, start, full: &full, glance };
+                let job = Job { shown, watch, render, start, full: &full, denoiser };
                 if let Some(glance) = glance_of(&full) {
                     scene.settings = glance;
-                    crate::render::render(&scene, &passes(true));
+                    crate::render::render(&scene, &Passes::new(&job, &scene, true));
                     scene.settings = full.clone();
                 }
                 if !watch.changed() {
-                    crate::render::render(&scene, &passes(false));
+                    crate::render::render(&scene, &Passes::new(&job, &scene, false));
                 }
             }
             Err(error) => shown.failed(error),
@@ -76,38 +92,90 @@ pub fn glance_of(settings: &Settings) -> Option<Settings> {
     })
 }
 
-/// The render's progress as the page sees it: each pass published, and a save stops it.
-struct Passes<'a> {
+/// One load's render, its glance and then the image at full size.
+struct Job<'a> {
     shown: &'a Shown,
     watch: &'a Watch,
     render: u64,
     start: Instant,
     /// The settings of the render at full size.
     full: &'a Settings,
+    denoiser: Option<&'a Denoiser>,
+}
+
+/// The render's progress as the page sees it: each pass published (and denoised), and a save
+/// stops it.
+struct Passes<'a> {
+    job: &'a Job<'a>,
+    /// The scene rendered (at the glance's size for the glance), for the guides' AOVs.
+    scene: &'a Scene,
     glance: bool,
+    /// The guides last taken, and their samples per pixel.
+    guides: Mutex<Option<(u32, AovImage)>>,
+}
+
+impl<'a> Passes<'a> {
+    fn new(job: &'a Job<'a>, scene: &'a Scene, glance: bool) -> Passes<'a> {
+        Passes { job, scene, glance, guides: Mutex::default() }
+    }
+
+    /// Denoises the pass just shown and shows it denoised, guided by the albedo and normal of
+    /// its first `GUIDE_SAMPLES` samples.
+    fn denoise(&self, denoiser: &Denoiser, image: &Image, mut info: RenderInfo) {
+        let guides = self.guides(info.samples_per_pixel.min(GUIDE_SAMPLES));
+        match denoiser.denoise(image, &guides) {
+            Ok(denoised) => {
+                info.parameters.push(("denoised", crate::denoise::description(&guides)));
+                self.job.shown.denoised(denoised, info);
+            }
+            Err(message) => eprintln!("warning: a pass was not denoised: {message}"),
+        }
+    }
+
+    /// The albedo and normal of the first `taken` samples of each pixel.
+    fn guides(&self, taken: u32) -> AovImage {
+        let mut guides = self.guides.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        match &*guides {
+            Some((samples, aovs)) if *samples == taken => aovs.clone(),
+            _ => {
+                let s = &self.scene.settings;
+                let whole = Region::whole(s.width, s.height, s.samples);
+                let list = AovList::new([Aov::Albedo, Aov::Normal]);
+                let aovs = aov::render(self.scene, &whole, taken, &list);
+                *guides = Some((taken, aovs.clone()));
+                aovs
+            }
+        }
+    }
 }
 
 impl Progress for Passes<'_> {
     fn advance(&self, _: u64) {}
 
     fn pass_done(&self, film: &Film) {
+        let job = self.job;
         let info = RenderInfo {
             samples_per_pixel: film.samples,
-            integrator: self.full.integrator.name().to_string(),
-            seed: self.full.seed,
-            seconds: self.start.elapsed().as_secs_f64(),
-            parameters: self.full.parameters(),
+            integrator: job.full.integrator.name().to_string(),
+            seed: job.full.seed,
+            seconds: job.start.elapsed().as_secs_f64(),
+            parameters: job.full.parameters(),
         };
-        let size = (self.full.width, self.full.height);
-        self.shown.pass(self.render, film.image(), info, self.full.samples, size, self.glance);
+        let size = (job.full.width, job.full.height);
+        let image = film.image();
+        let (render, target) = (job.render, job.full.samples);
+        job.shown.pass(render, image.clone(), info.clone(), target, size, self.glance);
+        if let Some(denoiser) = job.denoiser.filter(|_| !job.watch.changed()) {
+            self.denoise(denoiser, &image, info);
+        }
     }
 
     fn pass_limit(&self, _seconds_per_sample: f64) -> Option<u32> {
-        self.watch.changed().then_some(0)
+        self.job.watch.changed().then_some(0)
     }
 
     fn should_abandon(&self) -> bool {
-        self.watch.changed()
+        self.job.watch.changed()
     }
 }
 

@@ -1,5 +1,6 @@
 //! The preview's HTTP side: the page (embedded in the binary), the event stream of what it
-//! shows, the picture as PNG and EXR, and the tone mapping the page chooses. Nothing else is
+//! shows, the picture and its denoised view as PNG and EXR, and the tone mapping the page
+//! chooses. Nothing else is
 //! served: no path reaches the file system.
 
 use std::io::Write;
@@ -11,6 +12,7 @@ use std::time::Duration;
 use tiny_http::{Header, Method, Request, Response};
 
 use crate::OutputFormat;
+use crate::image::{Image, RenderInfo};
 use crate::tonemap::{Operator, ToneMap};
 
 use super::shown::Shown;
@@ -85,13 +87,20 @@ pub fn respond(request: Request, shown: &Shown, site: &Site) {
             Some(png) => request.respond(bytes(png, "image/png")),
             None => request.respond(not_found()),
         },
-        (Method::Get, "/image.exr") => match exr(shown) {
-            Some(Ok(exr)) => request.respond(bytes(exr, "image/x-exr")),
-            Some(Err(message)) => {
-                request.respond(text(message, "text/plain").with_status_code(500))
-            }
+        (Method::Get, "/denoised.png") => match shown.denoised_png() {
+            Some(png) => request.respond(bytes(png, "image/png")),
             None => request.respond(not_found()),
         },
+        // Copied out, so that passes are not held up while the file is written.
+        (Method::Get, "/image.exr") => {
+            let render = shown.with_picture(|p| (p.image.clone(), p.info.clone()));
+            respond_exr(request, render)
+        }
+        (Method::Get, "/denoised.exr") => {
+            let denoised = shown
+                .with_picture(|p| p.denoised.as_ref().map(|d| (d.image.clone(), d.info.clone())));
+            respond_exr(request, denoised.flatten())
+        }
         (Method::Post, "/tonemap") => match tone_map(query) {
             Ok(tone_map) => {
                 shown.set_tone_map(tone_map);
@@ -160,11 +169,9 @@ fn stream(request: Request, shown: &Shown) -> std::io::Result<()> {
     }
 }
 
-/// The picture as an OpenEXR file, with the render's metadata; `None` before the first pass.
-fn exr(shown: &Shown) -> Option<Result<Vec<u8>, String>> {
-    // Copied out, so that passes are not held up while the file is written.
-    let (image, info) =
-        shown.with_picture(|picture| (picture.image.clone(), picture.info.clone()))?;
+/// An image as an OpenEXR file, with its render's metadata; 404 before there is one.
+fn respond_exr(request: Request, image: Option<(Image, RenderInfo)>) -> std::io::Result<()> {
+    let Some((image, info)) = image else { return request.respond(not_found()) };
     let write = || {
         let folder = tempfile::tempdir().map_err(|e| e.to_string())?;
         let path = folder.path().join("preview.exr");
@@ -172,7 +179,10 @@ fn exr(shown: &Shown) -> Option<Result<Vec<u8>, String>> {
             .map_err(|e| e.to_string())?;
         std::fs::read(&path).map_err(|e| e.to_string())
     };
-    Some(write())
+    match write() {
+        Ok(exr) => request.respond(bytes(exr, "image/x-exr")),
+        Err(message) => request.respond(text(message, "text/plain").with_status_code(500)),
+    }
 }
 
 /// The tone mapping `op=NAME&exposure=EV` asks for.

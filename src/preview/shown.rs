@@ -1,6 +1,7 @@
 //! What the page shows, shared by the renderer (which publishes passes and errors), the server
-//! (which streams it) and the page's controls (the tone mapping): the last good picture, the
-//! scene's error if its last load failed, and a version that grows with every change.
+//! (which streams it) and the page's controls (the tone mapping): the last good picture (and its
+//! denoised view, when raydiance denoises), the scene's error if its last load failed, and a
+//! version that grows with every change.
 
 use std::sync::{Condvar, Mutex, MutexGuard};
 use std::time::Duration;
@@ -21,14 +22,27 @@ pub struct Picture {
     /// The render it belongs to (1 for the first load, one more for each reload).
     pub render: u64,
     png: Vec<u8>,
-    /// Which PNG this is (one more at each pass and each change of tone mapping): the page
-    /// loads the image again only when it changes.
+    /// Which PNG this is (one more at each pass, at its denoised view and at each change of
+    /// tone mapping): the page loads the image again only when it changes.
     png_number: u64,
+    /// The pass denoised, once the denoiser is done with it: a view beside the unbiased image,
+    /// never in its place.
+    pub denoised: Option<Denoised>,
+}
+
+/// A pass denoised: the image, with its `raydiance:denoised` parameter among the render's,
+/// and as the page shows it.
+pub struct Denoised {
+    pub image: Image,
+    pub info: RenderInfo,
+    png: Vec<u8>,
 }
 
 #[derive(Default)]
 struct State {
     version: u64,
+    /// Whether passes are denoised (raydiance built with `denoise`, and the device made).
+    denoising: bool,
     /// The render under way or last done.
     render: u64,
     picture: Option<Picture>,
@@ -44,6 +58,13 @@ pub struct Shown {
 }
 
 impl Shown {
+    /// What the page shows of a preview that denoises its passes or not.
+    pub fn new(denoising: bool) -> Shown {
+        let shown = Shown::default();
+        shown.state().denoising = denoising;
+        shown
+    }
+
     fn state(&self) -> MutexGuard<'_, State> {
         // A panic elsewhere while holding the lock leaves a state that is still whole.
         self.state.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
@@ -80,9 +101,24 @@ impl Shown {
         let png = encode(&image, &tone_map);
         self.publish(|state| {
             let png_number = state.picture.as_ref().map_or(1, |p| p.png_number + 1);
-            let picture = Picture { image, info, target, size, glance, render, png, png_number };
+            let denoised = None;
+            let picture =
+                Picture { image, info, target, size, glance, render, png, png_number, denoised };
             state.picture = Some(picture);
             state.error = None;
+        });
+    }
+
+    /// The last pass, denoised: shown beside it (the render thread publishes both, so it is
+    /// still the picture).
+    pub fn denoised(&self, image: Image, info: RenderInfo) {
+        let tone_map = self.state().tone_map.clone();
+        let png = encode(&image, &tone_map);
+        self.publish(|state| {
+            if let Some(picture) = &mut state.picture {
+                picture.denoised = Some(Denoised { image, info, png });
+                picture.png_number += 1;
+            }
         });
     }
 
@@ -96,6 +132,9 @@ impl Shown {
         self.publish(|state| {
             if let Some(picture) = &mut state.picture {
                 picture.png = encode(&picture.image, &tone_map);
+                if let Some(denoised) = &mut picture.denoised {
+                    denoised.png = encode(&denoised.image, &tone_map);
+                }
                 picture.png_number += 1;
             }
             state.tone_map = tone_map;
@@ -105,6 +144,12 @@ impl Shown {
     /// The picture as PNG, as the page shows it.
     pub fn png(&self) -> Option<Vec<u8>> {
         self.state().picture.as_ref().map(|picture| picture.png.clone())
+    }
+
+    /// The picture's denoised view as PNG, once it is there.
+    pub fn denoised_png(&self) -> Option<Vec<u8>> {
+        let state = self.state();
+        state.picture.as_ref()?.denoised.as_ref().map(|denoised| denoised.png.clone())
     }
 
     /// Runs `f` on the picture (to save it).
@@ -146,8 +191,9 @@ fn events(state: &State) -> String {
     }
     let picture = match &state.picture {
         Some(p) => format!(
-            r#"{{"png":{},"render":{},"glance":{},"spp":{},"target":{},"seconds":{:.3},"width":{},"height":{}}}"#,
+            r#"{{"png":{},"denoised":{},"render":{},"glance":{},"spp":{},"target":{},"seconds":{:.3},"width":{},"height":{}}}"#,
             p.png_number,
+            p.denoised.is_some(),
             p.render,
             p.glance,
             p.info.samples_per_pixel,
@@ -159,8 +205,9 @@ fn events(state: &State) -> String {
         None => "null".to_string(),
     };
     text.push_str(&format!(
-        "event: state\ndata: {{\"version\":{},\"render\":{},\"error\":{},\"operator\":\"{}\",\"exposure\":{},\"picture\":{picture}}}\n\n",
+        "event: state\ndata: {{\"version\":{},\"denoising\":{},\"render\":{},\"error\":{},\"operator\":\"{}\",\"exposure\":{},\"picture\":{picture}}}\n\n",
         state.version,
+        state.denoising,
         state.render,
         state.error.is_some(),
         state.tone_map.op,
