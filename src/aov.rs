@@ -200,11 +200,13 @@ fn seen(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Seen {
         let flags = bsdf.flags();
         let u_lobe = sampler.next_1d();
         let u = sampler.next_2d();
-        if flags.is_delta() && !flags.is_non_delta() && bounce < scene.settings.max_depth {
-            if let Some(sample) = bsdf.sample(wo, u_lobe, u, LobeFlags::DELTA) {
-                ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
-                continue;
-            }
+        if flags.is_delta()
+            && !flags.is_non_delta()
+            && bounce < scene.settings.max_depth
+            && let Some(sample) = bsdf.sample(wo, u_lobe, u, LobeFlags::DELTA)
+        {
+            ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
+            continue;
         }
         let reflected = bsdf
             .sample(wo, u_lobe, u, LobeFlags::NON_DELTA)

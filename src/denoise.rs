@@ -84,10 +84,10 @@ pub fn denoise_file(input: &Path, output: &Path) -> Result<String, DenoiseError>
         return Err(DenoiseError::OutputType(output.to_path_buf()));
     }
     image::check_writable(output)?;
-    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(output)) {
-        if a == b {
-            return Err(DenoiseError::OutputIsInput(output.to_path_buf()));
-        }
+    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(output))
+        && a == b
+    {
+        return Err(DenoiseError::OutputIsInput(output.to_path_buf()));
     }
     let beauty = image::exr::read(input)?;
     let mut attributes = image::exr::read_attributes(input)?;

@@ -8,12 +8,12 @@
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::{BVec4A, Vec3, Vec4};
-use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe, f32x8};
+use wide::{f32x8, f32x16};
 
 use crate::ray::{Hit, Ray};
 
-/// A number per lane: as wide as the CPU's vectors where that pays (AVX2's eight lanes; wide
-/// 0.7 has no sixteen-lane type for AVX-512), four elsewhere.
+/// A number per lane: eight where the CPU has AVX2 (AVX-512 too: sixteen lanes, `f32x16`, are
+/// ready but not yet measured against eight there), four elsewhere.
 #[cfg(target_feature = "avx2")]
 pub type Floats = f32x8;
 #[cfg(not(target_feature = "avx2"))]
@@ -241,135 +241,146 @@ impl MaskLanes for BVec4A {
     }
 }
 
-/// The lanes of an `f32x8` where a comparison held: all bits set there, none elsewhere.
-#[derive(Debug, Clone, Copy)]
-pub struct Mask8(f32x8);
+/// `Real`, `Lane` and `Wide` for one of `wide`'s vector types of `$width` lanes, and `$mask`,
+/// its lanes where a comparison held: all bits set there, none elsewhere. (Without the CPU's
+/// vectors of that width, `wide` computes the same in narrower ones.)
+macro_rules! wide_lanes {
+    ($floats:ident, $mask:ident, $width:literal) => {
+        #[derive(Debug, Clone, Copy)]
+        pub struct $mask($floats);
 
-/// The mask of one lane of eight.
-#[inline]
-fn lane_mask8(lane: usize) -> Mask8 {
-    let indices = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
-    Mask8(indices.cmp_eq(f32x8::splat(lane as f32)))
+        impl $mask {
+            /// The mask of one lane.
+            #[inline]
+            fn of_lane(lane: usize) -> $mask {
+                let indices = $floats::new(std::array::from_fn(|i| i as f32));
+                $mask(indices.simd_eq($floats::splat(lane as f32)))
+            }
+        }
+
+        impl BitAnd for $mask {
+            type Output = Self;
+            #[inline]
+            fn bitand(self, rhs: Self) -> Self {
+                $mask(self.0 & rhs.0)
+            }
+        }
+
+        impl BitOr for $mask {
+            type Output = Self;
+            #[inline]
+            fn bitor(self, rhs: Self) -> Self {
+                $mask(self.0 | rhs.0)
+            }
+        }
+
+        impl Not for $mask {
+            type Output = Self;
+            #[inline]
+            fn not(self) -> Self {
+                $mask(!self.0)
+            }
+        }
+
+        impl Lane<bool> for $mask {
+            #[inline]
+            fn lane(&self, lane: usize) -> bool {
+                self.bitmask() & (1 << lane) != 0
+            }
+
+            #[inline]
+            fn set_lane(&mut self, lane: usize, value: bool) {
+                let mask = $mask::of_lane(lane);
+                *self = if value { *self | mask } else { *self & !mask };
+            }
+        }
+
+        impl MaskLanes for $mask {
+            #[inline]
+            fn none() -> Self {
+                $mask($floats::ZERO)
+            }
+            #[inline]
+            fn any(self) -> bool {
+                self.0.any()
+            }
+            #[inline]
+            fn bitmask(self) -> u32 {
+                self.0.to_bitmask()
+            }
+        }
+
+        impl Real for $floats {
+            type Mask = $mask;
+            const ZERO: Self = $floats::new([0.0; $width]);
+            const ONE: Self = $floats::new([1.0; $width]);
+            const NAN: Self = $floats::new([f32::NAN; $width]);
+            #[inline]
+            fn splat(value: f32) -> Self {
+                $floats::splat(value)
+            }
+            #[inline]
+            fn sqrt(self) -> Self {
+                $floats::sqrt(self)
+            }
+            #[inline]
+            fn abs(self) -> Self {
+                $floats::abs(self)
+            }
+            #[inline]
+            fn gt(self, rhs: Self) -> $mask {
+                $mask(self.simd_gt(rhs))
+            }
+            #[inline]
+            fn lt(self, rhs: Self) -> $mask {
+                $mask(self.simd_lt(rhs))
+            }
+            #[inline]
+            fn ge(self, rhs: Self) -> $mask {
+                $mask(self.simd_ge(rhs))
+            }
+            #[inline]
+            fn le(self, rhs: Self) -> $mask {
+                $mask(self.simd_le(rhs))
+            }
+            #[inline]
+            fn eq(self, rhs: Self) -> $mask {
+                $mask(self.simd_eq(rhs))
+            }
+            #[inline]
+            fn ne(self, rhs: Self) -> $mask {
+                $mask(self.simd_ne(rhs))
+            }
+            #[inline]
+            fn select(mask: $mask, if_true: Self, if_false: Self) -> Self {
+                mask.0.select(if_true, if_false)
+            }
+        }
+
+        impl Lane<f32> for $floats {
+            #[inline]
+            fn lane(&self, lane: usize) -> f32 {
+                self.as_array()[lane]
+            }
+
+            #[inline]
+            fn set_lane(&mut self, lane: usize, value: f32) {
+                *self = $mask::of_lane(lane).0.select($floats::splat(value), *self);
+            }
+        }
+
+        impl Wide for $floats {
+            const WIDTH: usize = $width;
+            #[inline]
+            fn from_fn(lane: impl FnMut(usize) -> f32) -> Self {
+                $floats::new(std::array::from_fn(lane))
+            }
+        }
+    };
 }
 
-impl BitAnd for Mask8 {
-    type Output = Self;
-    #[inline]
-    fn bitand(self, rhs: Self) -> Self {
-        Mask8(self.0 & rhs.0)
-    }
-}
-
-impl BitOr for Mask8 {
-    type Output = Self;
-    #[inline]
-    fn bitor(self, rhs: Self) -> Self {
-        Mask8(self.0 | rhs.0)
-    }
-}
-
-impl Not for Mask8 {
-    type Output = Self;
-    #[inline]
-    fn not(self) -> Self {
-        Mask8(!self.0)
-    }
-}
-
-impl Lane<bool> for Mask8 {
-    #[inline]
-    fn lane(&self, lane: usize) -> bool {
-        self.bitmask() & (1 << lane) != 0
-    }
-
-    #[inline]
-    fn set_lane(&mut self, lane: usize, value: bool) {
-        let mask = lane_mask8(lane);
-        *self = if value { *self | mask } else { *self & !mask };
-    }
-}
-
-impl MaskLanes for Mask8 {
-    #[inline]
-    fn none() -> Self {
-        Mask8(f32x8::ZERO)
-    }
-    #[inline]
-    fn any(self) -> bool {
-        self.0.any()
-    }
-    #[inline]
-    fn bitmask(self) -> u32 {
-        self.0.move_mask() as u32
-    }
-}
-
-impl Real for f32x8 {
-    type Mask = Mask8;
-    const ZERO: Self = f32x8::new([0.0; 8]);
-    const ONE: Self = f32x8::new([1.0; 8]);
-    const NAN: Self = f32x8::new([f32::NAN; 8]);
-    #[inline]
-    fn splat(value: f32) -> Self {
-        f32x8::splat(value)
-    }
-    #[inline]
-    fn sqrt(self) -> Self {
-        f32x8::sqrt(self)
-    }
-    #[inline]
-    fn abs(self) -> Self {
-        f32x8::abs(self)
-    }
-    #[inline]
-    fn gt(self, rhs: Self) -> Mask8 {
-        Mask8(self.cmp_gt(rhs))
-    }
-    #[inline]
-    fn lt(self, rhs: Self) -> Mask8 {
-        Mask8(self.cmp_lt(rhs))
-    }
-    #[inline]
-    fn ge(self, rhs: Self) -> Mask8 {
-        Mask8(self.cmp_ge(rhs))
-    }
-    #[inline]
-    fn le(self, rhs: Self) -> Mask8 {
-        Mask8(self.cmp_le(rhs))
-    }
-    #[inline]
-    fn eq(self, rhs: Self) -> Mask8 {
-        Mask8(self.cmp_eq(rhs))
-    }
-    #[inline]
-    fn ne(self, rhs: Self) -> Mask8 {
-        Mask8(self.cmp_ne(rhs))
-    }
-    #[inline]
-    fn select(mask: Mask8, if_true: Self, if_false: Self) -> Self {
-        mask.0.blend(if_true, if_false)
-    }
-}
-
-impl Lane<f32> for f32x8 {
-    #[inline]
-    fn lane(&self, lane: usize) -> f32 {
-        self.as_array_ref()[lane]
-    }
-
-    #[inline]
-    fn set_lane(&mut self, lane: usize, value: f32) {
-        *self = lane_mask8(lane).0.blend(f32x8::splat(value), *self);
-    }
-}
-
-impl Wide for f32x8 {
-    const WIDTH: usize = 8;
-    #[inline]
-    fn from_fn(lane: impl FnMut(usize) -> f32) -> Self {
-        f32x8::new(std::array::from_fn(lane))
-    }
-}
+wide_lanes!(f32x8, Mask8, 8);
+wide_lanes!(f32x16, Mask16, 16);
 
 impl<F: Wide> Lane<Vec3> for Vector<F> {
     #[inline]
@@ -626,27 +637,34 @@ mod tests {
         }
     }
 
+    /// For every lane type, whichever one the CPU's vectors make `Floats`.
     #[test]
     fn set_lane_writes_that_lane_alone_and_lane_reads_it() {
-        for lane in 0..LANES {
-            let mut v = Floats::from_fn(|i| i as f32 + 1.0);
+        lanes_write_and_read_alone::<Vec4>();
+        lanes_write_and_read_alone::<f32x8>();
+        lanes_write_and_read_alone::<f32x16>();
+    }
+
+    fn lanes_write_and_read_alone<F: Wide>() {
+        for lane in 0..F::WIDTH {
+            let mut v = F::from_fn(|i| i as f32 + 1.0);
             v.set_lane(lane, -1.0);
-            for i in 0..LANES {
+            for i in 0..F::WIDTH {
                 assert_eq!(v.lane(i), if i == lane { -1.0 } else { i as f32 + 1.0 }, "lane {i}");
             }
 
-            let even = Floats::from_fn(|i| (i % 2) as f32).eq(Floats::ZERO);
+            let even = F::from_fn(|i| (i % 2) as f32).eq(F::ZERO);
             let mut mask = even;
             mask.set_lane(lane, lane % 2 == 1);
             assert_eq!(mask.bitmask(), even.bitmask() ^ (1 << lane));
-            for i in 0..LANES {
+            for i in 0..F::WIDTH {
                 assert_eq!(mask.lane(i), (i % 2 == 0) != (i == lane), "lane {i}");
             }
-            assert!(mask.any() && !Mask::none().any());
+            assert!(mask.any() && !F::Mask::none().any());
 
-            let mut v3 = Vec3Lanes::from_lanes([Vec3::ONE; LANES]);
+            let mut v3 = Vector { x: F::ONE, y: F::ONE, z: F::ONE };
             v3.set_lane(lane, Vec3::new(5.0, 6.0, 7.0));
-            for i in 0..LANES {
+            for i in 0..F::WIDTH {
                 let expected = if i == lane { Vec3::new(5.0, 6.0, 7.0) } else { Vec3::ONE };
                 assert_eq!(v3.lane(i), expected);
             }

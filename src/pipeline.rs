@@ -330,10 +330,10 @@ pub fn tonemap_file(
         _ => return Err(ToneMapFileError::OutputType(output.to_path_buf())),
     };
     image::check_writable(output)?;
-    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(output)) {
-        if a == b {
-            return Err(ToneMapFileError::OutputIsInput(output.to_path_buf()));
-        }
+    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(output))
+        && a == b
+    {
+        return Err(ToneMapFileError::OutputIsInput(output.to_path_buf()));
     }
     let hdr = image::read_hdr(input)?;
     let pixels = tonemap::quantise(&tonemap::tonemap(&hdr, params));
@@ -376,11 +376,10 @@ pub fn merge_files(
 ) -> Result<MergeReport, MergeError> {
     let start = Instant::now();
     let format = OutputFormat::for_path(output, ppm_res)?;
-    if let Ok(out) = std::fs::canonicalize(output) {
-        if let Some(part) = parts.iter().find(|p| std::fs::canonicalize(p).is_ok_and(|p| p == out))
-        {
-            return Err(MergeError::OutputIsAPart(part.clone()));
-        }
+    if let Ok(out) = std::fs::canonicalize(output)
+        && let Some(part) = parts.iter().find(|p| std::fs::canonicalize(p).is_ok_and(|p| p == out))
+    {
+        return Err(MergeError::OutputIsAPart(part.clone()));
     }
     let merged = merge::merge(parts, allow_partial)?;
     write_image(output, &format, &merged.image, merged.aovs.as_ref(), &merged.info)?;

@@ -24,7 +24,7 @@ pub struct Share {
 }
 
 /// A share or crop that names no work.
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RegionError {
     #[error("share {index}/0: the count must be at least 1")]
     NoShares { index: u32 },
@@ -42,6 +42,10 @@ pub enum RegionError {
         region.samples
     )]
     MoreSharesThanSamples { region: Region, total: u64 },
+    #[error("`{0}` is not a share I/N (e.g. 3/16: the 4th of 16)")]
+    NotAShare(String),
+    #[error("`{0}` is not a crop X0,X1,Y0,Y1 (pixels X0 <= x < X1, Y0 <= y < Y1)")]
+    NotACrop(String),
 }
 
 impl Share {
@@ -72,14 +76,14 @@ impl fmt::Display for Share {
 }
 
 impl FromStr for Share {
-    type Err = String;
+    type Err = RegionError;
 
     /// `I/N`.
-    fn from_str(s: &str) -> Result<Share, String> {
+    fn from_str(s: &str) -> Result<Share, RegionError> {
         let parse = |t: &str| t.trim().parse::<u32>().ok();
         match s.split_once('/').and_then(|(i, n)| Some((parse(i)?, parse(n)?))) {
-            Some((index, count)) => Share::new(index, count).map_err(|e| e.to_string()),
-            None => Err(format!("`{s}` is not a share I/N (e.g. 3/16: the 4th of 16)")),
+            Some((index, count)) => Share::new(index, count),
+            None => Err(RegionError::NotAShare(s.to_string())),
         }
     }
 }
@@ -133,16 +137,14 @@ impl fmt::Display for Crop {
 }
 
 impl FromStr for Crop {
-    type Err = String;
+    type Err = RegionError;
 
     /// `X0,X1,Y0,Y1`.
-    fn from_str(s: &str) -> Result<Crop, String> {
+    fn from_str(s: &str) -> Result<Crop, RegionError> {
         let values: Vec<Option<u32>> = s.split(',').map(|v| v.trim().parse().ok()).collect();
         match values[..] {
             [Some(x0), Some(x1), Some(y0), Some(y1)] => Ok(Crop { x0, x1, y0, y1 }),
-            _ => {
-                Err(format!("`{s}` is not a crop X0,X1,Y0,Y1 (pixels X0 <= x < X1, Y0 <= y < Y1)"))
-            }
+            _ => Err(RegionError::NotACrop(s.to_string())),
         }
     }
 }
@@ -273,11 +275,15 @@ mod tests {
     #[test]
     fn shares_and_crops_parse_and_refuse_with_reasons() {
         assert_eq!("3/16".parse::<Share>(), Ok(Share { index: 3, count: 16 }));
-        assert!("16/16".parse::<Share>().unwrap_err().contains("less than 16"));
-        assert!("1/0".parse::<Share>().unwrap_err().contains("at least 1"));
-        assert!("a/2".parse::<Share>().unwrap_err().contains("not a share I/N"));
+        let index = RegionError::ShareIndex { index: 16, count: 16 };
+        assert_eq!("16/16".parse::<Share>(), Err(index.clone()));
+        assert!(index.to_string().contains("less than 16"));
+        assert_eq!("1/0".parse::<Share>(), Err(RegionError::NoShares { index: 1 }));
+        let not_a_share = "a/2".parse::<Share>().unwrap_err();
+        assert_eq!(not_a_share, RegionError::NotAShare("a/2".into()));
+        assert!(not_a_share.to_string().contains("not a share I/N"));
         assert_eq!("0, 4,1,3".parse::<Crop>(), Ok(Crop { x0: 0, x1: 4, y0: 1, y1: 3 }));
-        assert!("0,4,1".parse::<Crop>().is_err());
+        assert_eq!("0,4,1".parse::<Crop>(), Err(RegionError::NotACrop("0,4,1".into())));
         let crop: Crop = "2,2,0,1".parse().unwrap();
         assert!(crop.check(4, 4).unwrap_err().to_string().contains("empty"));
         let crop: Crop = "0,5,0,1".parse().unwrap();

@@ -58,13 +58,13 @@ impl fmt::Display for Operator {
 }
 
 impl FromStr for Operator {
-    type Err = String;
+    type Err = ToneMapError;
 
-    fn from_str(s: &str) -> Result<Self, String> {
-        Operator::ALL.into_iter().find(|op| op.name() == s).ok_or_else(|| {
-            let names: Vec<&str> = Operator::ALL.iter().map(|op| op.name()).collect();
-            format!("unknown operator `{s}` (expected one of {})", names.join(", "))
-        })
+    fn from_str(s: &str) -> Result<Self, ToneMapError> {
+        Operator::ALL
+            .into_iter()
+            .find(|op| op.name() == s)
+            .ok_or_else(|| ToneMapError::Operator { name: s.to_string() })
     }
 }
 
@@ -121,9 +121,14 @@ impl ToneMap {
     }
 }
 
-/// A tone-mapping parameter out of its range.
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+/// A tone-mapping operator unknown, or a parameter out of its range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ToneMapError {
+    #[error(
+        "unknown operator `{name}` (expected one of {})",
+        Operator::ALL.map(Operator::name).join(", ")
+    )]
+    Operator { name: String },
     #[error("--v {0} must be a positive number")]
     V(f32),
     #[error("--gamma {0} must be a positive number")]
@@ -305,6 +310,8 @@ mod tests {
         for op in Operator::ALL {
             assert_eq!(op.name().parse::<Operator>(), Ok(op));
         }
-        assert!("filmic".parse::<Operator>().unwrap_err().contains("expected one of clamp"));
+        let unknown = "filmic".parse::<Operator>().unwrap_err();
+        assert_eq!(unknown, ToneMapError::Operator { name: "filmic".into() });
+        assert!(unknown.to_string().contains("expected one of clamp"));
     }
 }

@@ -102,7 +102,7 @@ fn malformed_ppms_say_where() {
     insta::glob!("bad_ppm/*.ppm", |path| {
         let bytes = std::fs::read(path).unwrap();
         let message = ppm::parse(&bytes).expect_err("a malformed file must be an error");
-        insta::assert_snapshot!(message);
+        insta::assert_snapshot!(message.to_string());
     });
 }
 

@@ -129,11 +129,11 @@ impl FewShapes {
         for (i, shape) in self.shapes.iter().enumerate() {
             let (t, shape_st) = shape.distances(rays);
             let hits = t.gt(Floats::ZERO) & t.lt(t_nearest);
-            t_nearest = Floats::select(hits, t, t_nearest);
-            index = Floats::select(hits, Floats::splat(i as f32), index);
+            t_nearest = Real::select(hits, t, t_nearest);
+            index = Real::select(hits, Floats::splat(i as f32), index);
             // Only planar shapes have coordinates; the others' lanes keep stale ones, unread.
             if let Some([s, u]) = shape_st {
-                st = [Floats::select(hits, s, st[0]), Floats::select(hits, u, st[1])];
+                st = [Real::select(hits, s, st[0]), Real::select(hits, u, st[1])];
             }
         }
         let (mut point, mut normal, mut error) = (Vec3Lanes::ZERO, Vec3Lanes::ZERO, Floats::ZERO);
@@ -144,7 +144,7 @@ impl FewShapes {
             let (p, n, e) = self.shapes[i as usize].hit(rays, t_nearest, st);
             point = Vec3Lanes::select(same, p, point);
             normal = Vec3Lanes::select(same, n, normal);
-            error = Floats::select(same, e, error);
+            error = Real::select(same, e, error);
             pending = pending & !same;
         }
         // Simple shapes shade with their geometric normal.

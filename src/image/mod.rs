@@ -58,6 +58,8 @@ pub enum ImageError {
     Io { path: PathBuf, source: std::io::Error },
     #[error("{path}: {source}")]
     Input { path: PathBuf, source: crate::input::InputError },
+    #[error("{path}: {source}")]
+    Ppm { path: PathBuf, source: ppm::PpmError },
 }
 
 impl ImageError {
@@ -72,6 +74,10 @@ impl ImageError {
     pub fn input(path: &Path, source: crate::input::InputError) -> Self {
         ImageError::Input { path: path.to_path_buf(), source }
     }
+
+    pub fn ppm(path: &Path, source: ppm::PpmError) -> Self {
+        ImageError::Ppm { path: path.to_path_buf(), source }
+    }
 }
 
 /// Reads an HDR image (`.exr`, or `.ppm` with or without `#MAX`) by its extension.
@@ -83,10 +89,10 @@ pub fn read_hdr(path: &Path) -> Result<Image, ImageError> {
             // file declaring 18000 x 18000 pixels took 27 s and 953 MB to refuse).
             let start = crate::input::read_prefix(path, ppm::HEADER_BYTES)
                 .map_err(|e| ImageError::input(path, e))?;
-            ppm::check_size(&start).map_err(|message| ImageError::format(path, message))?;
+            ppm::check_size(&start).map_err(|e| ImageError::ppm(path, e))?;
             let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
                 .map_err(|e| ImageError::input(path, e))?;
-            ppm::parse(&bytes).map_err(|message| ImageError::format(path, message))
+            ppm::parse(&bytes).map_err(|e| ImageError::ppm(path, e))
         }
         _ => Err(ImageError::format(path, "unknown image type (expected .exr or .ppm)")),
     }

@@ -73,17 +73,14 @@ struct Header {
 }
 
 impl Header {
-    fn read(reader: &mut Reader) -> Result<Header, String> {
-        let magic = reader.token()?.ok_or("the file is empty")?;
+    fn read(reader: &mut Reader) -> Result<Header, PpmError> {
+        let magic = reader.token()?.ok_or(PpmError::Empty)?;
         let binary = match magic.text {
             "P3" => false,
             "P6" => true,
             _ => {
-                let place = reader.place(magic.at);
-                return Err(format!(
-                    "{place}: expected `P3` or `P6`, found `{}`",
-                    printable(magic.text)
-                ));
+                let (place, found) = (reader.place(magic.at), printable(magic.text));
+                return Err(PpmError::Magic { place, found });
             }
         };
         let width = reader.number("the width", 1, u32::MAX.into())?;
@@ -94,12 +91,10 @@ impl Header {
         Ok(Header { binary, width, height, res })
     }
 
-    fn check_size(&self) -> Result<(), String> {
+    fn check_size(&self) -> Result<(), PpmError> {
         let Header { width, height, .. } = *self;
         if width.saturating_mul(height) > MAX_PIXELS as u64 {
-            return Err(format!(
-                "the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})"
-            ));
+            return Err(PpmError::TooLarge { width, height });
         }
         Ok(())
     }
@@ -107,13 +102,13 @@ impl Header {
 
 /// Refuses, from the start of a file, an image larger than raydiance reads. A header cut off
 /// by the end of `start` passes (a number cut short only reads smaller): `parse` decides.
-pub fn check_size(start: &[u8]) -> Result<(), String> {
+pub fn check_size(start: &[u8]) -> Result<(), PpmError> {
     let mut reader = Reader { bytes: start, at: 0, max: None };
     Header::read(&mut reader).map_or(Ok(()), |header| header.check_size())
 }
 
 /// Decodes a PPM: real value = stored * MAX / res (MAX = 1 without `#MAX`). Errors say where.
-pub fn parse(bytes: &[u8]) -> Result<Image, String> {
+pub fn parse(bytes: &[u8]) -> Result<Image, PpmError> {
     let mut reader = Reader { bytes, at: 0, max: None };
     let header = Header::read(&mut reader)?;
     header.check_size()?;
@@ -126,11 +121,8 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
         let size = if res < 256 { 1 } else { 2 };
         let data = bytes.get(start..).unwrap_or(&[]);
         if (data.len() as u64) < count * size {
-            return Err(format!(
-                "the pixel data ends after {} of {count} samples (at byte {})",
-                data.len() as u64 / size,
-                bytes.len()
-            ));
+            let (read, at) = (data.len() as u64 / size, bytes.len());
+            return Err(PpmError::DataEnds { read, count, at });
         }
         for (i, chunk) in data.chunks_exact(size as usize).take(count as usize).enumerate() {
             let value = if size == 1 {
@@ -139,31 +131,23 @@ pub fn parse(bytes: &[u8]) -> Result<Image, String> {
                 u64::from(u16::from_be_bytes([chunk[0], chunk[1]]))
             };
             if value > res {
-                return Err(format!(
-                    "byte {}: sample {value} is above the maximum value {res}",
-                    start + i * size as usize
-                ));
+                return Err(PpmError::ByteAbove { at: start + i * size as usize, value, res });
             }
             samples.push(value);
         }
     } else {
         for i in 0..count {
-            let token = reader.token()?.ok_or_else(|| {
-                let end = reader.place(bytes.len());
-                format!("{end}: the pixel data ends after {i} of {count} samples")
+            let token = reader.token()?.ok_or_else(|| PpmError::TextEnds {
+                place: reader.place(bytes.len()),
+                read: i,
+                count,
             })?;
-            let value: u64 = token.text.parse().map_err(|_| {
-                format!(
-                    "{}: expected a sample value, found `{}`",
-                    reader.place(token.at),
-                    printable(token.text)
-                )
+            let value: u64 = token.text.parse().map_err(|_| PpmError::NotASample {
+                place: reader.place(token.at),
+                found: printable(token.text),
             })?;
             if value > res {
-                return Err(format!(
-                    "{}: sample {value} is above the maximum value {res}",
-                    reader.place(token.at)
-                ));
+                return Err(PpmError::Above { place: reader.place(token.at), value, res });
             }
             samples.push(value);
         }
@@ -199,7 +183,7 @@ struct Reader<'a> {
 
 impl<'a> Reader<'a> {
     /// The next whitespace-separated token, skipping comments (and reading `#MAX=` ones).
-    fn token(&mut self) -> Result<Option<Token<'a>>, String> {
+    fn token(&mut self) -> Result<Option<Token<'a>>, PpmError> {
         loop {
             while self.bytes.get(self.at).is_some_and(u8::is_ascii_whitespace) {
                 self.at += 1;
@@ -216,14 +200,16 @@ impl<'a> Reader<'a> {
                     if let Some(value) = comment.trim_end().strip_prefix("#MAX=") {
                         // The line is file text: quoted clipped, its control characters escaped.
                         let quoted = printable(value);
-                        let max: f32 = value.trim().parse().map_err(|_| {
-                            format!("{}: `#MAX={quoted}` is not a number", self.place(start))
-                        })?;
+                        let max: f32 =
+                            value.trim().parse().map_err(|_| PpmError::MaxNotANumber {
+                                place: self.place(start),
+                                quoted: quoted.clone(),
+                            })?;
                         if !(max.is_finite() && max >= 0.0) {
-                            return Err(format!(
-                                "{}: `#MAX={quoted}` must be a finite number >= 0",
-                                self.place(start)
-                            ));
+                            return Err(PpmError::MaxOutOfRange {
+                                place: self.place(start),
+                                quoted,
+                            });
                         }
                         self.max = Some(max);
                     }
@@ -246,26 +232,73 @@ impl<'a> Reader<'a> {
         }
     }
 
-    fn number(&mut self, what: &str, min: u64, max: u64) -> Result<u64, String> {
-        let token = self.token()?.ok_or_else(|| {
-            format!("{}: the header ends before {what}", self.place(self.bytes.len()))
-        })?;
+    fn number(&mut self, what: &'static str, min: u64, max: u64) -> Result<u64, PpmError> {
+        let token = self
+            .token()?
+            .ok_or_else(|| PpmError::HeaderEnds { place: self.place(self.bytes.len()), what })?;
         match token.text.parse::<u64>() {
             Ok(n) if (min..=max).contains(&n) => Ok(n),
-            _ => Err(format!(
-                "{}: expected {what} (a whole number from {min} to {max}), found `{}`",
-                self.place(token.at),
-                printable(token.text)
-            )),
+            _ => Err(PpmError::Number {
+                place: self.place(token.at),
+                what,
+                min,
+                max,
+                found: printable(token.text),
+            }),
         }
     }
 
-    fn place(&self, offset: usize) -> String {
+    fn place(&self, offset: usize) -> Place {
         let before = &self.bytes[..offset];
         let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
         let column = offset - before.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1) + 1;
-        format!("line {line}, column {column}")
+        Place { line, column }
     }
+}
+
+/// Where in a PPM file's text: its line and column, from 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Place {
+    pub line: usize,
+    pub column: usize,
+}
+
+impl std::fmt::Display for Place {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "line {}, column {}", self.line, self.column)
+    }
+}
+
+/// Why a PPM file cannot be read; where in it, when that is in its text. Values quoted from
+/// the file are `printable`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PpmError {
+    #[error("the file is empty")]
+    Empty,
+    #[error("{place}: expected `P3` or `P6`, found `{found}`")]
+    Magic { place: Place, found: String },
+    #[error("{place}: the header ends before {what}")]
+    HeaderEnds { place: Place, what: &'static str },
+    #[error("{place}: expected {what} (a whole number from {min} to {max}), found `{found}`")]
+    Number { place: Place, what: &'static str, min: u64, max: u64, found: String },
+    #[error("the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})")]
+    TooLarge { width: u64, height: u64 },
+    #[error("{place}: `#MAX={quoted}` is not a number")]
+    MaxNotANumber { place: Place, quoted: String },
+    #[error("{place}: `#MAX={quoted}` must be a finite number >= 0")]
+    MaxOutOfRange { place: Place, quoted: String },
+    /// Binary (P6) data cut short.
+    #[error("the pixel data ends after {read} of {count} samples (at byte {at})")]
+    DataEnds { read: u64, count: u64, at: usize },
+    #[error("byte {at}: sample {value} is above the maximum value {res}")]
+    ByteAbove { at: usize, value: u64, res: u64 },
+    /// Text (P3) data cut short.
+    #[error("{place}: the pixel data ends after {read} of {count} samples")]
+    TextEnds { place: Place, read: u64, count: u64 },
+    #[error("{place}: expected a sample value, found `{found}`")]
+    NotASample { place: Place, found: String },
+    #[error("{place}: sample {value} is above the maximum value {res}")]
+    Above { place: Place, value: u64, res: u64 },
 }
 
 #[cfg(test)]

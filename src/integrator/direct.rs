@@ -184,7 +184,7 @@ pub(super) fn arrive(
     hit: Option<Hit>,
     max_depth: u32,
 ) -> Option<Vertex> {
-    let Some(hit) = hit else {
+    let Some(mut hit) = hit else {
         // Only delta bounces lead here: the camera sees what lies beyond.
         path.radiance += path.beta * scene.beyond(path.ray.dir.into(), true);
         return None;
@@ -195,7 +195,7 @@ pub(super) fn arrive(
     if path.bounces == max_depth {
         return None;
     }
-    let (hit, bsdf) = scene.shade(hit, wo, &material, TransportMode::Radiance);
+    let bsdf = scene.shade(&mut hit, wo, &material, TransportMode::Radiance);
     let gathered = if path.follows_near_specular {
         bsdf.gathered_lobes()
     } else {

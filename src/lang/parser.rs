@@ -93,11 +93,10 @@ fn convert(
     }
     if previous.starts_with(|c: char| c.is_alphabetic() || c == '_')
         && keywords::lookup(previous).is_none()
+        && let Some(guess) = closest(previous, keywords::words())
     {
-        if let Some(guess) = closest(previous, keywords::words()) {
-            let message = format!("unexpected `{previous}`; did you mean `{guess}`?");
-            return SceneError::at(&span_at(file, word_start), message);
-        }
+        let message = format!("unexpected `{previous}`; did you mean `{guess}`?");
+        return SceneError::at(&span_at(file, word_start), message);
     }
     if let Some(error) = unclosed_block(file, offset, found, previous, &blocks) {
         return error;

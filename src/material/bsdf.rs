@@ -80,7 +80,7 @@ pub struct Bsdf {
     /// Its lobes' flags together.
     flags: LobeFlags,
     /// The geometric normal, where bump mapping tilted the shading normal away from it
-    /// (`facing`); `None` otherwise.
+    /// (`face`); `None` otherwise.
     geometric: Option<Vec3>,
 }
 
@@ -120,17 +120,17 @@ impl Material {
 }
 
 impl Bsdf {
-    /// This BSDF on a surface of geometric normal `geometric` (bump mapping's tilted shading
+    /// Puts this BSDF on a surface of geometric normal `geometric` (bump mapping's tilted shading
     /// frame): a pair of directions that the geometric surface and the shading frame see on
     /// different sides (one reflects where the other transmits) carries nothing, so no light
     /// leaks through the surface and none reaches it from below.
     #[inline]
-    pub fn facing(self, geometric: Vec3) -> Bsdf {
-        Bsdf { geometric: Some(geometric), ..self }
+    pub fn face(&mut self, geometric: Vec3) {
+        self.geometric = Some(geometric);
     }
 
     /// Whether `wo` and `wi` (world) cross the surface differently in the shading frame than
-    /// geometrically (always false without `facing`).
+    /// geometrically (always false without `face`).
     #[inline]
     fn leaks(&self, wo: Vec3, wi: Vec3) -> bool {
         let Some(n) = self.geometric else { return false };

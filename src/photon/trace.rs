@@ -56,10 +56,10 @@ pub fn trace_photon(
     };
     let (mut ray, mut power, mut arrival) = (start.ray, start.power, Arrival::Direct);
     for bounces in 0.. {
-        let Some(hit) = scene.intersect(&ray) else { break };
+        let Some(mut hit) = scene.intersect(&ray) else { break };
         let wo = -Vec3::from(ray.dir);
         let material = scene.material(hit.primitive, hit.point);
-        let (hit, bsdf) = scene.shade(hit, wo, &material, TransportMode::Importance);
+        let bsdf = scene.shade(&mut hit, wo, &material, TransportMode::Importance);
         let gathered = bsdf.gathered_lobes();
         if !gathered.is_empty() {
             deposit(&Deposit { hit, wi: wo, power, arrival });

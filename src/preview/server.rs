@@ -13,7 +13,7 @@ use tiny_http::{Header, Method, Request, Response};
 
 use crate::OutputFormat;
 use crate::image::{Image, RenderInfo};
-use crate::tonemap::{Operator, ToneMap};
+use crate::tonemap::{Operator, ToneMap, ToneMapError};
 
 use super::shown::Shown;
 
@@ -190,7 +190,9 @@ fn tone_map(query: &str) -> Result<ToneMap, String> {
     let mut tone_map = ToneMap::default();
     for pair in query.split('&').filter(|pair| !pair.is_empty()) {
         match pair.split_once('=') {
-            Some(("op", name)) => tone_map.op = name.parse()?,
+            Some(("op", name)) => {
+                tone_map.op = name.parse().map_err(|e: ToneMapError| e.to_string())?;
+            }
             Some(("exposure", ev)) => {
                 tone_map.exposure =
                     ev.parse().map_err(|_| format!("exposure `{ev}` is not a number"))?;

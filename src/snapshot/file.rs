@@ -45,28 +45,49 @@ pub fn write(path: &Path, estimate: &Estimate) -> std::result::Result<(), ImageE
 pub fn read(path: &Path) -> std::result::Result<Estimate, ImageError> {
     let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
         .map_err(|e| ImageError::input(path, e))?;
-    read_bytes(&bytes).map_err(|message| {
-        ImageError::format(path, format!("not a readable raydiance snapshot: {message}"))
+    read_bytes(&bytes).map_err(|problem| {
+        ImageError::format(path, format!("not a readable raydiance snapshot: {problem}"))
     })
 }
 
-fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
-    let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
-        .map_err(|e| e.to_string())?;
-    let header = meta.headers.first().ok_or("the file has no image")?;
+/// Why a file is not a readable snapshot.
+#[derive(Debug, thiserror::Error)]
+enum Unreadable {
+    #[error("{0}")]
+    Exr(#[from] ::exr::error::Error),
+    #[error("the file has no image")]
+    NoImage,
+    #[error(transparent)]
+    TooLarge(#[from] super::TooLarge),
+    #[error("no `{SAMPLES_ATTRIBUTE}` of at least 2 in its header")]
+    NoSampleCount,
+    #[error("it has no channel `{0}`")]
+    NoChannel(&'static str),
+    #[error("pixel {0} has a mean that is not a finite number")]
+    Mean(usize),
+    #[error("pixel {0} has a variance that is not a finite number ≥ 0")]
+    Variance(usize),
+    #[error(
+        "pixel {pixel}'s variance {variance:e} is more than the square of its mean {mean:e} (no \
+         render gives that)"
+    )]
+    VarianceAboveMean { pixel: usize, variance: f32, mean: f32 },
+}
+
+fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, Unreadable> {
+    let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)?;
+    let header = meta.headers.first().ok_or(Unreadable::NoImage)?;
     let (width, height) = (header.layer_size.width(), header.layer_size.height());
     super::check_size(width, height)?;
     let samples_per_pixel = match header.own_attributes.other.get(&Text::from(SAMPLES_ATTRIBUTE)) {
         Some(AttributeValue::I32(n)) if *n >= 2 => *n as u32,
-        _ => return Err(format!("no `{SAMPLES_ATTRIBUTE}` of at least 2 in its header")),
+        _ => return Err(Unreadable::NoSampleCount),
     };
-    let image = crate::image::exr::read_all_channels(bytes).map_err(|e| e.to_string())?;
+    let image = crate::image::exr::read_all_channels(bytes)?;
     let channels = &image.layer_data.channel_data.list;
-    let values = |name: &str| -> std::result::Result<Vec<f32>, String> {
-        let channel = channels
-            .iter()
-            .find(|c| c.name == *name)
-            .ok_or_else(|| format!("it has no channel `{name}`"))?;
+    let values = |name: &'static str| -> std::result::Result<Vec<f32>, Unreadable> {
+        let channel =
+            channels.iter().find(|c| c.name == *name).ok_or(Unreadable::NoChannel(name))?;
         Ok(channel.sample_data.values_as_f32().collect())
     };
     let [r, g, b, vr, vg, vb] = CHANNELS.map(values);
@@ -76,21 +97,17 @@ fn read_bytes(bytes: &[u8]) -> std::result::Result<Estimate, String> {
     let mean = pixels(r?, g?, b?);
     let variance = pixels(vr?, vg?, vb?);
     if let Some(i) = mean.iter().position(|m| !m.is_finite()) {
-        return Err(format!("pixel {i} has a mean that is not a finite number"));
+        return Err(Unreadable::Mean(i));
     }
     if let Some(i) = variance.iter().position(|v| !(v.is_finite() && v.min_element() >= 0.0)) {
-        return Err(format!("pixel {i} has a variance that is not a finite number ≥ 0"));
+        return Err(Unreadable::Variance(i));
     }
     // Samples are never negative, so the variance of their mean is at most its square (all in one
     // sample): a larger one (1e30) would make every render match, and is a forged or damaged file.
     let values = mean.iter().zip(&variance).flat_map(|(m, v)| (0..3).map(move |c| (m[c], v[c])));
     let too_large = |(m, v): &(f32, f32)| f64::from(*v) > f64::from(*m).powi(2) * 1.001 + 1e-30;
-    if let Some((k, (m, v))) = values.enumerate().find(|(_, p)| too_large(p)) {
-        return Err(format!(
-            "pixel {}'s variance {v:e} is more than the square of its mean {m:e} (no render \
-             gives that)",
-            k / 3
-        ));
+    if let Some((k, (mean, variance))) = values.enumerate().find(|(_, p)| too_large(p)) {
+        return Err(Unreadable::VarianceAboveMean { pixel: k / 3, variance, mean });
     }
     Ok(Estimate { width, height, mean, variance, samples_per_pixel })
 }

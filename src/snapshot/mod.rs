@@ -32,11 +32,24 @@ pub enum SnapshotError {
     SizesDiffer { snapshot: PathBuf, source: SizesDiffer },
     #[error("error: {}: {source}", path.display())]
     Io { path: PathBuf, source: std::io::Error },
-    /// A scene whose snapshot's name would collide with another's files.
-    #[error("{0}")]
-    Refused(String),
+    /// A scene named `NAME.new.scn` or `NAME.diff.scn`: its snapshot's name would be the new
+    /// render or the heat map of `NAME.scn`.
+    #[error(
+        "error: {}: a scene named NAME.{suffix}.scn cannot be snapshotted: its snapshot would \
+         be the file NAME.scn's comparison writes (rename the scene)",
+        scene.display()
+    )]
+    NameTaken { scene: PathBuf, suffix: &'static str },
     #[error("error: --size {0}")]
-    Size(String),
+    Size(TooLarge),
+}
+
+/// A snapshot, stored or asked for, of more than `MAX_SNAPSHOT_PIXELS`.
+#[derive(Debug, thiserror::Error)]
+#[error("{width}x{height}: more pixels than a snapshot may have ({MAX_SNAPSHOT_PIXELS})")]
+pub struct TooLarge {
+    pub width: usize,
+    pub height: usize,
 }
 
 impl SnapshotError {
@@ -74,14 +87,10 @@ pub struct SnapshotFiles {
 impl SnapshotFiles {
     /// The files of `scene`; refused for a scene named `NAME.new.scn` or `NAME.diff.scn`, whose
     /// snapshot would be the new render or heat map of `NAME.scn`.
-    pub fn checked(scene: &Path) -> Result<SnapshotFiles, String> {
+    pub fn checked(scene: &Path) -> Result<SnapshotFiles, SnapshotError> {
         let stem = Path::new(scene.file_stem().unwrap_or_default());
         match ["new", "diff"].into_iter().find(|suffix| stem.extension() == Some(suffix.as_ref())) {
-            Some(suffix) => Err(format!(
-                "error: {}: a scene named NAME.{suffix}.scn cannot be snapshotted: its snapshot \
-                 would be the file NAME.scn's comparison writes (rename the scene)",
-                scene.display()
-            )),
+            Some(suffix) => Err(SnapshotError::NameTaken { scene: scene.to_path_buf(), suffix }),
             None => Ok(SnapshotFiles::of(scene)),
         }
     }
@@ -166,7 +175,7 @@ impl Outcome {
 /// written beside the snapshot as `.new` (with a heat map of the z-scores when it differs); a
 /// match removes any `.new` and heat map left from before.
 pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, SnapshotError> {
-    let files = SnapshotFiles::checked(scene_path).map_err(SnapshotError::Refused)?;
+    let files = SnapshotFiles::checked(scene_path)?;
     if let Some((width, height)) = options.size {
         check_size(width as usize, height as usize).map_err(SnapshotError::Size)?;
     }
@@ -237,11 +246,9 @@ pub fn check(scene_path: &Path, options: &Options) -> Result<Outcome, SnapshotEr
 }
 
 /// Refuses a snapshot of more than `MAX_SNAPSHOT_PIXELS`.
-fn check_size(width: usize, height: usize) -> Result<(), String> {
+fn check_size(width: usize, height: usize) -> Result<(), TooLarge> {
     match (width as u64).saturating_mul(height as u64) > MAX_SNAPSHOT_PIXELS {
-        true => Err(format!(
-            "{width}x{height}: more pixels than a snapshot may have ({MAX_SNAPSHOT_PIXELS})"
-        )),
+        true => Err(TooLarge { width, height }),
         false => Ok(()),
     }
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use glam::DVec3;
 
 use super::coverage;
-use super::part_file::{self, PartFileError, PartHeader};
+use super::part_file::{self, DamagedPixel, PartFileError, PartHeader};
 use crate::aov::{AovImage, AovSums};
 use crate::image::{Image, ImageError, RenderInfo};
 use crate::region::{Crop, Share};
@@ -198,27 +198,18 @@ fn add_part(
     part_file::read_pixels(part, |pixel, sum, count, aovs| {
         let expected = layout.samples_of(pixel as u64).len().min(part.taken as usize) as u32;
         let Some(seen) = seen.get_mut(pixel) else {
-            return Err(format!("pixel {pixel} lies outside its crop (the file is damaged)"));
+            return Err(DamagedPixel::OutsideCrop(pixel));
         };
         if count != expected || std::mem::replace(seen, true) {
-            return Err(format!(
-                "pixel {pixel} of the crop holds {count} samples where share {} has {expected} \
-                 (the file is damaged)",
-                region.share
-            ));
+            return Err(DamagedPixel::Samples { pixel, count, share: region.share, expected });
         }
         // Radiance is finite and never negative: anything else is a forged or damaged file.
         if !sum.is_finite() || sum.min_element() < 0.0 {
-            return Err(format!(
-                "pixel {pixel} of the crop holds the mean {} (the file is damaged)",
-                sum / f64::from(count.max(1))
-            ));
+            return Err(DamagedPixel::Mean { pixel, mean: sum / f64::from(count.max(1)) });
         }
         let (x, y) = (crop.x0 as usize + pixel % crop_width, crop.y0 as usize + pixel / crop_width);
-        if let Some(value) = aovs.iter().find(|v| !v.is_finite()) {
-            return Err(format!(
-                "pixel {pixel} of the crop holds the AOV value {value} (the file is damaged)"
-            ));
+        if let Some(&value) = aovs.iter().find(|v| !v.is_finite()) {
+            return Err(DamagedPixel::Aov { pixel, value });
         }
         sums[y * width + x] += sum;
         counts[y * width + x] += count;

@@ -69,8 +69,22 @@ pub enum PartProblem {
     #[error("cannot read its pixels (truncated or damaged?): {0}")]
     Pixels(::exr::error::Error),
     /// What the reader of its pixels found wrong with them.
-    #[error("{0}")]
-    Damaged(String),
+    #[error("{0} (the file is damaged)")]
+    Damaged(DamagedPixel),
+}
+
+/// A pixel of a part that no render writes (`read_pixels`' reader finds them).
+#[derive(Debug, thiserror::Error)]
+pub enum DamagedPixel {
+    #[error("pixel {0} lies outside its crop")]
+    OutsideCrop(usize),
+    #[error("pixel {pixel} of the crop holds {count} samples where share {share} has {expected}")]
+    Samples { pixel: usize, count: u32, share: Share, expected: u32 },
+    /// Radiance is finite and never negative.
+    #[error("pixel {pixel} of the crop holds the mean {mean}")]
+    Mean { pixel: usize, mean: DVec3 },
+    #[error("pixel {pixel} of the crop holds the AOV value {value}")]
+    Aov { pixel: usize, value: f32 },
 }
 
 /// What a part's header says.
@@ -282,7 +296,7 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem>
 /// AOV means (in the order of `PartHeader::aovs`' channels).
 pub fn read_pixels(
     part: &PartHeader,
-    mut visit: impl FnMut(usize, DVec3, u32, &[f32]) -> Result<(), String>,
+    mut visit: impl FnMut(usize, DVec3, u32, &[f32]) -> Result<(), DamagedPixel>,
 ) -> Result<()> {
     let named = |problem| PartFileError { path: part.path.clone(), problem };
     let reader = open(&part.path).map_err(named)?;
@@ -324,8 +338,8 @@ pub fn read_pixels(
                         *value = plane[i];
                     }
                     let sum = mean * f64::from(count);
-                    if let Err(message) = visit(y * width + x, sum, count, &pixel_aovs) {
-                        error.get_or_insert(message);
+                    if let Err(damage) = visit(y * width + x, sum, count, &pixel_aovs) {
+                        error.get_or_insert(damage);
                         return Err(Error::Aborted);
                     }
                 }
@@ -333,7 +347,7 @@ pub fn read_pixels(
             })
         });
     match (error, result) {
-        (Some(message), _) => Err(named(PartProblem::Damaged(message))),
+        (Some(damage), _) => Err(named(PartProblem::Damaged(damage))),
         (None, Err(e)) => Err(named(PartProblem::Pixels(e))),
         (None, Ok(())) => Ok(()),
     }

@@ -21,9 +21,9 @@ pub enum PartChoice {
 }
 
 impl std::str::FromStr for PartChoice {
-    type Err = String;
+    type Err = RegionError;
 
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, RegionError> {
         if s == "auto" { Ok(PartChoice::Auto) } else { s.parse().map(PartChoice::Share) }
     }
 }

@@ -113,7 +113,7 @@ pub fn task(
 /// A Slurm array's count must be a multiple of the frames, and of `--parts` when given.
 fn check_count(task: Task, parts: Option<u32>, frames: u32) -> Result<Task, SchedulerError> {
     let per_frame = task.count / frames;
-    if task.count % frames != 0 || parts.is_some_and(|p| p != per_frame) {
+    if !task.count.is_multiple_of(frames) || parts.is_some_and(|p| p != per_frame) {
         return Err(SchedulerError::ArrayCount { count: task.count, frames, parts });
     }
     Ok(task)

@@ -800,10 +800,10 @@ fn arithmetic(
         (Value::Numbers(n), _) | (_, Value::Numbers(n)) => Some(n.len()),
         _ => None,
     };
-    if let Some(n) = length {
-        if let (Some(x), Some(y)) = (numbers(&a, n), numbers(&b, n)) {
-            return Ok(Value::Numbers(x.iter().zip(&y).map(|(x, y)| f(*x, *y)).collect()));
-        }
+    if let Some(n) = length
+        && let (Some(x), Some(y)) = (numbers(&a, n), numbers(&b, n))
+    {
+        return Ok(Value::Numbers(x.iter().zip(&y).map(|(x, y)| f(*x, *y)).collect()));
     }
     match (&a, &b) {
         (Value::Float(x), Value::Float(y)) => Ok(Value::Float(f(*x, *y))),

@@ -43,10 +43,11 @@ impl Evaluator {
     ) -> Result<Arc<MaterialDesc>, SceneError> {
         let span = m.span.clone();
         let base = m.base.as_ref().map(|b| self.material_named(b)).transpose()?;
-        if m.items.is_empty() && name.is_none() {
-            if let Some(base) = base {
-                return Ok(base); // `material { White }`: the declared material itself, shared
-            }
+        if m.items.is_empty()
+            && name.is_none()
+            && let Some(base) = base
+        {
+            return Ok(base); // `material { White }`: the declared material itself, shared
         }
         let mut material = match base {
             Some(base) => MaterialDesc { name: None, span: self.here(&span), ..(*base).clone() },
