@@ -107,7 +107,7 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
 }
 
 /// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 15] = [
+const UNSUPPORTED_SHAPES: [&str; 14] = [
     "blob",
     "lathe",
     "sor",

@@ -312,8 +312,9 @@ fn built_in(f: Function) -> Option<Op> {
         Mod => Op::Binary(Binary::Mod),
         Atan2 => Op::Binary(Binary::Atan2),
         Select => Op::Select3,
-        Vlength | Vnormalize | Vdot | Vcross | Vrotate | Seed | Rand | Concat | Str
-        | DimensionSize => return None,
+        Vlength | Vnormalize | Vdot | Vcross | Vrotate | VaxisRotate | Seed | Rand | Concat
+        | Str | Vstr | Strlen | Substr | Strupr | Strlwr | Chr | Asc | Val | FileExists
+        | Defined | DimensionSize => return None,
     })
 }
 
