@@ -4,8 +4,9 @@
 
 use std::sync::Arc;
 
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, DVec3, Vec3};
 
+use crate::geometry::ScalarField;
 use crate::graph::FieldShape;
 use crate::texture::{noise, shaped_value};
 
@@ -149,6 +150,13 @@ impl Builder {
     pub fn finish(self) -> FloatFunction {
         debug_assert_eq!(self.depth, 1, "a function's program leaves its value");
         FloatFunction { parameters: self.parameters, program: self.program }
+    }
+}
+
+/// An isosurface's function of (x, y, z).
+impl ScalarField for FloatFunction {
+    fn value(&self, p: DVec3) -> f64 {
+        self.eval(&[p.x, p.y, p.z])
     }
 }
 

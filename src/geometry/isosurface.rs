@@ -13,7 +13,6 @@ use super::crossings::Crossings;
 use super::quadric::QuadricFrame;
 use super::shape::{Intersection, REL_ERROR};
 use super::{Aabb, Hit, Ray};
-use crate::function::FloatFunction;
 
 /// The most steps one ray takes through the container: the least step is at least its
 /// length over this, so a tiny `accuracy` in a large container cannot hang a render.
@@ -22,11 +21,16 @@ const MAX_STEPS: f64 = 100_000.0;
 /// `Intersection::triangle` of a hit on the container's wall (as a cone's parts).
 const WALL: u32 = 1;
 
+/// A function of a point of an isosurface's own space. The language's compiled functions
+/// (`function::FloatFunction`) are one; geometry sits below the layers that compile them.
+pub trait ScalarField: std::fmt::Debug + Send + Sync + std::panic::RefUnwindSafe {
+    fn value(&self, p: DVec3) -> f64;
+}
+
 /// What `isosurface { }` says, in the function's own space.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct IsosurfaceDesc {
-    /// Of three parameters: x, y and z.
-    pub function: Arc<FloatFunction>,
+    pub function: Arc<dyn ScalarField>,
     pub container: Container,
     pub threshold: f64,
     /// How near its true place a crossing is found (a distance in the function's space).
@@ -111,10 +115,23 @@ impl Container {
     }
 }
 
+/// Equal descriptions share their function (a function is compared by what it is, not by
+/// what it computes).
+impl PartialEq for IsosurfaceDesc {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.function, &other.function)
+            && self.container == other.container
+            && self.threshold == other.threshold
+            && self.accuracy == other.accuracy
+            && self.max_gradient == other.max_gradient
+            && self.open == other.open
+    }
+}
+
 impl IsosurfaceDesc {
     /// The function less the threshold at `p`: negative inside.
     fn level(&self, p: DVec3) -> f64 {
-        self.function.eval(&[p.x, p.y, p.z]) - self.threshold
+        self.function.value(p) - self.threshold
     }
 
     /// The largest slope of the function between neighbours of an `n`³ grid over the
@@ -290,7 +307,7 @@ impl Isosurface {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::function::{Binary, Builder, Op, Unary};
+    use crate::function::{Binary, Builder, FloatFunction, Op, Unary};
     use crate::geometry::{Csg, CsgNode, CsgOp, Shape};
 
     fn program(parameters: usize, ops: Vec<Op>) -> Arc<FloatFunction> {

@@ -24,7 +24,7 @@ pub use csg::{Csg, CsgNode, CsgOp};
 pub use cuboid::Cuboid;
 pub use few_shapes::{FewShapes, Nearest};
 pub use frame::{Frame, on_side};
-pub use isosurface::{Container, Isosurface, IsosurfaceDesc};
+pub use isosurface::{Container, Isosurface, IsosurfaceDesc, ScalarField};
 pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
 pub use quadric::{QuadricFrame, QuadricKind};
 pub use shape::{Intersection, Shape, SurfaceSample, similarity_scale, sphere_error};

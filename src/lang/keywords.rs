@@ -118,7 +118,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "light_source" => S, "power" => S, "colour" => S, "color" => S,
     "plane" => S, "sphere" => S, "box" => S, "triangle" => S, "quad" => S, "disk" => S, "disc" => S,
     "cylinder" => S, "cone" => S, "torus" => S, "open" => S, "mesh" => S, "union" => S,
-    "text" => S, "ttf" => S, "internal" => S,
+    "text" => S, "ttf" => S,
     "intersection" => S, "difference" => S, "merge" => S, "object" => S, "material" => S,
     "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
     "diffuse" => S, "specular" => S, "transmission" => S, "emission" => S, "ior" => S,

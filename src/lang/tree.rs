@@ -943,7 +943,7 @@ impl Builder {
         }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
-        let internal_font = inner.next_if(|p| p.as_rule() == Rule::kw_internal).is_some();
+        let internal_font = inner.next_if(|p| p.as_rule() == Rule::internal_font).is_some();
         inner.next_if(|p| p.as_rule() == Rule::kw_ttf);
         let mut first = true;
         let mut take = |b: &mut Self| {
