@@ -11,6 +11,7 @@ use glam::{DVec3, Vec3};
 
 mod appearance;
 mod array;
+mod blob;
 mod camera;
 mod expression;
 mod light;
@@ -19,6 +20,8 @@ mod medium;
 mod normal;
 mod object;
 mod pattern;
+mod polynomial;
+mod prism;
 mod scope;
 mod sky;
 
@@ -222,8 +225,12 @@ impl Body<'_> {
                 | ShapeNode::Cylinder { .. }
                 | ShapeNode::Cone { .. }
                 | ShapeNode::Torus { .. }
+                | ShapeNode::Algebraic { .. }
+                | ShapeNode::Prism { .. }
+                | ShapeNode::Superellipsoid { .. }
                 | ShapeNode::Mesh { .. }
                 | ShapeNode::Instance(_) => "in this object",
+                ShapeNode::Blob { .. } => "in this blob",
             },
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",
