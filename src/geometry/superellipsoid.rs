@@ -16,7 +16,7 @@ use super::{Aabb, Hit, Ray};
 /// The parts each smooth piece of the ray is cut into: within a part the sum has one least and
 /// one greatest value (the pinched shapes, exponents above 2, can turn more than once within a
 /// piece).
-const PARTS: usize = 32;
+const PARTS: usize = 8;
 
 #[derive(Debug, Clone)]
 pub struct Superellipsoid {
