@@ -312,8 +312,20 @@ fn check_inside_between_crossings(shape: &Shape, ray: &Ray, t_end: f32, toleranc
         // Between crossings close together (a ray grazing the surface) the solid is thinner
         // than the inside test's rounding.
         if pair[1] - pair[0] > 50.0 * tolerance {
-            let middle = ray.at(0.5 * (pair[0] + pair[1]));
-            assert_eq!(shape.contains(middle), inside, "{ray:?} {crossings:?}");
+            let t = 0.5 * (pair[0] + pair[1]);
+            let middle = ray.at(t);
+            // `ray.at` rounds each coordinate twice in f32 (a product and a sum): off the ray
+            // by up to f32::EPSILON (|origin| + t) along each axis, sqrt(3) times that in all,
+            // while the crossings are the exact ray's. A probe along an axis that far again
+            // times sqrt(3) reaches any surface within that rounding: where one does, the
+            // middle is a touch (a grazing ray inside the concave side of a pinched shape
+            // comes within 1e-7 of it over a long stretch) and only the side within reach
+            // is asserted.
+            let reach = 3.0 * f32::EPSILON * (Vec3::from(ray.origin).abs().max_element() + t);
+            let touch = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z]
+                .iter()
+                .any(|&a| shape.contains(middle + a * reach) == inside);
+            assert!(shape.contains(middle) == inside || touch, "{ray:?} {crossings:?}");
             checked += 1;
         }
     }
