@@ -123,6 +123,9 @@ struct Tally {
     rays: usize,
     hits: usize,
     slivers: usize,
+    /// Rays aimed from outside the bounds at a point in them, and those whose point is inside.
+    aimed: usize,
+    aimed_inside: usize,
 }
 
 /// The shape's first hit against the march: they agree within `tolerance`, or the analytic
@@ -185,6 +188,41 @@ fn check_ray(shape: &Shape, ray: &Ray, steps: usize, tolerance: f32, tally: &mut
              crossings {crossings:?}"
         ),
     }
+}
+
+/// A ray from outside the bounds aimed at `target`, a point in them: where the target is inside
+/// the solid (`target_inside`, by an inside test), the ray meets the solid no later than there.
+fn check_aimed(
+    shape: &Shape,
+    ray: &Ray,
+    target: Vec3,
+    target_inside: bool,
+    tolerance: f32,
+    tally: &mut Tally,
+) {
+    tally.aimed += 1;
+    if target_inside {
+        tally.aimed_inside += 1;
+        let distance = (target - Vec3::from(ray.origin)).length();
+        let hit = shape.intersection(ray, f32::INFINITY).map(|i| i.t);
+        assert!(
+            hit.is_some_and(|t| t <= distance + tolerance),
+            "{ray:?} aimed at {target}, inside: hit at {hit:?}, target at {distance}"
+        );
+    }
+}
+
+/// The floor of a march test. The targets of the aimed rays are uniform in the bounds, so the
+/// count of those inside the solid is binomial, of mean `aimed` times the solids' mean share of
+/// their bounds, at least `share` (each test derives its own from its solids' volumes). A
+/// quarter of `aimed * share` is at least 3 standard deviations (at most the square root of
+/// the mean) below the mean once `aimed * share >= 16`. Each of those rays met the solid first
+/// (`check_aimed`), so it is a hit or a sliver: a shape that returned no hits fails there.
+fn assert_aimed_floor(tally: &Tally, share: f32) {
+    let expected = tally.aimed as f32 * share;
+    assert!(expected >= 16.0, "too few aimed rays for the margin: {tally:?}");
+    assert!(tally.aimed_inside as f32 > 0.25 * expected, "{tally:?}");
+    assert!(tally.hits + tally.slivers >= tally.aimed_inside, "{tally:?}");
 }
 
 /// Rays through the shape's bounds from outside, and rays grazing its surface (a sampled
@@ -354,6 +392,7 @@ fn algebraic_surfaces_match_a_march_and_their_crossings_agree_with_inside() {
         for i in 0..600 {
             let origin = center + rng.direction() * 2.0 * size;
             let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
             let mut ray = Ray::new(origin, (target - origin).normalize());
             // Every other ray grazes the surface where the one before met it.
             if i % 2 == 1
@@ -361,6 +400,8 @@ fn algebraic_surfaces_match_a_march_and_their_crossings_agree_with_inside() {
             {
                 ray = graze;
                 grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
             }
             check_ray(&shape, &ray, 200, tolerance, &mut tally);
             // Alone, a closed surface is met first where the bounded one is.
@@ -376,7 +417,11 @@ fn algebraic_surfaces_match_a_march_and_their_crossings_agree_with_inside() {
         }
     }
     assert!(grazed > 500 && toggles > 2000, "{grazed} {toggles}");
-    assert!(tally.hits > tally.rays / 12 && tally.slivers < tally.rays / 6, "{tally:?}");
+    // The surfaces fill 6 to 24% of their ball's own cube (the torus 2 pi^2 R r^2 / 8 = 9%,
+    // the rounded cube 24%, the ellipsoid 6.5%), and the world box of that cube turned at random
+    // holds 2 to 5 times its volume: more than 1/100 of the bounds.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
 }
 
 /// A blob of two to four spheres and capsules, each under its own transforms, one of them
@@ -417,12 +462,15 @@ fn blobs_match_a_march_and_their_crossings_agree_with_inside() {
         for i in 0..500 {
             let origin = center + rng.direction() * 2.0 * size;
             let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
             let mut ray = Ray::new(origin, (target - origin).normalize());
             if i % 2 == 1
                 && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
             {
                 ray = graze;
                 grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
             }
             check_ray(&shape, &ray, 200, tolerance, &mut tally);
             toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
@@ -433,7 +481,12 @@ fn blobs_match_a_march_and_their_crossings_agree_with_inside() {
         }
     }
     assert!(grazed > 500 && toggles > 4000, "{grazed} {toggles}");
-    assert!(tally.hits > tally.rays / 10 && tally.slivers < tally.rays / 6, "{tally:?}");
+    // A component of strength s meets the threshold t at r sqrt(1 - sqrt(t / s)), 2/3 of its
+    // radius r for the middle values (t 0.45, s 1.4): 15% of its box. The boxes of the
+    // components, turned, and of the blob, turned again, hold 3 to 5 times that each, and a
+    // negative component carves: more than 1/100 of the bounds.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
 }
 
 #[test]
@@ -462,11 +515,16 @@ fn csg_with_blob_operands_matches_a_march_and_the_operands_inside_tests() {
         for _ in 0..300 {
             let origin = center + rng.direction() * 2.0 * size;
             let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
             let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
             check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
         }
     }
-    assert!(tally.hits > tally.rays / 8, "{tally:?}");
+    // The blobs fill more than 1/100 of their bounds (blobs_match_a_march_...); a merge only
+    // adds, and the other operand, a solid of half its box or more, keeps or takes away half
+    // of that or less on average: more than 1/200 of the bounds, which are the blob's.
+    assert_aimed_floor(&tally, 0.005);
     assert!(tally.slivers < tally.rays / 50, "{tally:?}");
 }
 
@@ -496,12 +554,16 @@ fn csg_with_algebraic_operands_matches_a_march_and_the_operands_inside_tests() {
         for _ in 0..300 {
             let origin = center + rng.direction() * 2.0 * size;
             let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
             let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
             check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
         }
     }
-    // (An intersection with the other operand is often small.)
-    assert!(tally.hits > tally.rays / 16, "{tally:?}");
+    // The surfaces fill more than 1/100 of their ball's bounds (algebraic_surfaces_match_...);
+    // the other operand, a solid of half its box or more, keeps or takes away half of that or
+    // less on average: more than 1/200 of the bounds.
+    assert_aimed_floor(&tally, 0.005);
     assert!(tally.slivers < tally.rays / 50, "{tally:?}");
 }
 
@@ -563,12 +625,15 @@ fn prisms_match_a_march_and_their_crossings_agree_with_inside() {
         for i in 0..400 {
             let origin = center + rng.direction() * 2.0 * size;
             let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
             let mut ray = Ray::new(origin, (target - origin).normalize());
             if i % 2 == 1
                 && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
             {
                 ray = graze;
                 grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
             }
             check_ray(&shape, &ray, 300, tolerance, &mut tally);
             toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
@@ -582,7 +647,12 @@ fn prisms_match_a_march_and_their_crossings_agree_with_inside() {
         }
     }
     assert!(grazed > 1000 && toggles > 3000, "{grazed} {toggles}");
-    assert!(tally.hits > tally.rays / 4 && tally.slivers < tally.rays / 6, "{tally:?}");
+    // A star of 5 to 8 points at radii 0.6 to 1 covers 0.86 or more of its square of side 2
+    // or less, a hole at most pi 0.35^2 = 0.38 of it: 12% of the box and more; a conic sweep
+    // keeps a third of its box, and the world box of the box turned at random holds 2 to 5
+    // times its volume: more than 1/50 of the bounds.
+    assert_aimed_floor(&tally, 0.02);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
 }
 
 #[test]
@@ -608,11 +678,15 @@ fn csg_with_prism_operands_matches_a_march_and_the_operands_inside_tests() {
         for _ in 0..300 {
             let origin = center + rng.direction() * 2.0 * size;
             let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
             let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
             check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
         }
     }
-    assert!(tally.hits > tally.rays / 8, "{tally:?}");
+    // The prisms fill more than 1/50 of their bounds (prisms_match_a_march_...); the ball
+    // keeps or takes away half of that or less on average: more than 1/100.
+    assert_aimed_floor(&tally, 0.01);
     assert!(tally.slivers < tally.rays / 50, "{tally:?}");
 }
 
@@ -633,19 +707,26 @@ fn superellipsoids_match_a_march_and_their_crossings_agree_with_inside() {
         for i in 0..400 {
             let origin = center + rng.direction() * 2.0 * size;
             let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
             let mut ray = Ray::new(origin, (target - origin).normalize());
             if i % 2 == 1
                 && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
             {
                 ray = graze;
                 grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
             }
             check_ray(&shape, &ray, 300, tolerance, &mut tally);
             toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
         }
     }
     assert!(grazed > 500 && toggles > 3000, "{grazed} {toggles}");
-    assert!(tally.hits > tally.rays / 4 && tally.slivers < tally.rays / 6, "{tally:?}");
+    // A superellipsoid <e, n> fills 2 e n B(e / 2, e / 2) B(n / 2 + 1, n) / 8 of its cube: 31% on
+    // average over e and n in [0.2, 3] (4.5% at least, at <3, 3>), and the world box of the
+    // cube turned at random holds 2 to 5 times its volume: more than 1/50 of the bounds.
+    assert_aimed_floor(&tally, 0.02);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
 }
 
 /// A random CSG tree of the given depth, its operands random solids under random transforms.
