@@ -66,7 +66,7 @@ impl Prism {
             };
             extend(0.0);
             extend(1.0);
-            for axis in 0..2 {
+            for axis in [0, 1] {
                 let slope = [s[1][axis], 2.0 * s[2][axis], 3.0 * s[3][axis]];
                 let degree = slope.iter().rposition(|&k| k != 0.0).unwrap_or(0);
                 for u in polynomial_roots(&slope[..=degree], 0.0, 1.0) {

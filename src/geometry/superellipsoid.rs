@@ -1,10 +1,10 @@
 //! POV-Ray's superellipsoid `<e, n>`: the points where (|x|^(2/e) + |y|^(2/e))^(e/n) +
-//! |z|^(2/n) = 1, within the cube [-1, 1]^3, under an affine map; solid where the sum is below
-//! 1. Along a ray the sum is not a polynomial: the ray's stretch in the cube is cut where it
-//! crosses the coordinate planes (within each piece every coordinate keeps its sign, and the
-//! sum is smooth) and each piece into `PARTS` equal parts, each part is cut again at the sum's
-//! least and greatest values (found by golden-section search), and each monotonic part where
-//! the sum crosses 1 is bisected.
+//! |z|^(2/n) = 1, within the cube [-1, 1]^3, under an affine map; solid where the sum is
+//! below 1. Along a ray the sum is not a polynomial: the ray's stretch in the cube is cut where
+//! it crosses the coordinate planes (within each piece every coordinate keeps its sign, and
+//! the sum is smooth) and each piece into `PARTS` equal parts, each part is cut again at the
+//! sum's least and greatest values (found by golden-section search), and each monotonic part
+//! where the sum crosses 1 is bisected.
 
 use glam::{Affine3A, DVec3, Vec3, Vec3A};
 
@@ -105,7 +105,7 @@ impl Superellipsoid {
         let f = |t: f64| self.value(o + t * d);
         for piece in cuts.windows(2) {
             let (a, b) = (piece[0], piece[1]);
-            let mut ends = vec![a, golden(&f, a, b, 1.0), golden(&f, a, b, -1.0), b];
+            let mut ends = [a, golden(&f, a, b, 1.0), golden(&f, a, b, -1.0), b];
             ends.sort_by(f64::total_cmp);
             for part in ends.windows(2) {
                 let (lo, hi) = (part[0], part[1]);
