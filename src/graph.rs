@@ -374,6 +374,10 @@ impl ShapeNode {
             | ShapeNode::Cone { .. }
             | ShapeNode::Torus { .. }
             | ShapeNode::Isosurface(_)
+            | ShapeNode::Algebraic { .. }
+            | ShapeNode::Blob { .. }
+            | ShapeNode::Prism { .. }
+            | ShapeNode::Superellipsoid { .. }
             | ShapeNode::Mesh { .. }
             | ShapeNode::Extrusion(_) => Below::Nothing,
         }
@@ -691,6 +695,33 @@ pub enum ShapeNode {
     },
     /// POV-Ray's `isosurface { }`: where a function is below its threshold in a container.
     Isosurface(Arc<crate::geometry::IsosurfaceDesc>),
+    /// The surface P(x, y, z) = 0 of the polynomial with these terms (POV-Ray's `quadric`,
+    /// `cubic`, `quartic`, `poly`), solid where P < 0; total degree at most
+    /// `geometry::MAX_DEGREE`, some term other than the constant not 0.
+    Algebraic {
+        terms: Vec<crate::geometry::Term>,
+    },
+    /// POV-Ray's blob: the solid where the components' summed field exceeds `threshold` (> 0);
+    /// some component of positive strength.
+    Blob {
+        threshold: f32,
+        components: Vec<crate::geometry::BlobComponent>,
+    },
+    /// POV-Ray's `superellipsoid { <e, n> }`: (|x|^(2/e) + |y|^(2/e))^(e/n) + |z|^(2/n) = 1,
+    /// e and n > 0.
+    Superellipsoid {
+        e: f32,
+        n: f32,
+    },
+    /// POV-Ray's prism: closed curves of `segments` in the x-z plane swept along y between
+    /// `heights` (distinct), solid by the even-odd rule unless `open` (the side alone, not a
+    /// solid).
+    Prism {
+        segments: Vec<crate::geometry::Segment>,
+        sweep: crate::geometry::Sweep,
+        heights: [f32; 2],
+        open: bool,
+    },
     /// `intersection`, `difference`, `merge { ... }`: a solid made of solid operands (sphere,
     /// box, closed cylinder and cone, torus, plane as the half-space n . p + d < 0, closed
     /// mesh, CSG, and `Union`/`Instance` nodes of solids; a union operand counts as the merge

@@ -2,7 +2,8 @@
 //! geometry: a scene in flat emissive colours rendered by both agrees pixel for pixel away from
 //! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`, transforms; orthographic and
 //! the wide projections),
-//! planes with offsets, `#default`, `inverse` and `clipped_by`.
+//! planes with offsets, `#default`, `inverse` and `clipped_by`; the algebraic surfaces,
+//! blobs, prisms and superellipsoids.
 
 mod common;
 
@@ -106,6 +107,143 @@ fn wide_projections_match_povray_away_from_edges() {
              look_at <0, 0, 0> }}"
         );
         agree_with_povray(&format!("{camera}\n{SCENE}"), projection);
+    }
+}
+
+/// POV-Ray's algebraic surfaces, each seen from outside: a `quartic` torus tilted towards the
+/// camera, a `quadric` ellipsoid with a cross term, a `cubic` cut by a sphere, and a `poly` of
+/// order 4 (a rounded cube) turned and mirrored.
+const ALGEBRAIC: &str = r#"
+camera { location <0, 2, -6> right x*image_width/image_height angle 38 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+quartic {
+  < 1, 0, 0, 0, 2, 0, 0, 2, 0, -104, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    1, 0, 0, 2, 0, 56, 0, 0, 0, 0, 1, 0, -104, 0, 784 >
+  sturm
+  scale 0.1 rotate -60*x translate <-1.4, 0.6, 0>
+  pigment { rgb <1, 0, 0> }
+}
+quadric { <1, 2, 1.5>, <0.8, 0, 0>, <0, 0, 0>, -0.8 translate <1.5, 0.7, 0> pigment { rgb <0, 1, 0> } }
+intersection {
+  cubic { <0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0.45, 0, 1, 0, 0, 0, 0, 1, 0, -1> sturm }
+  sphere { 0, 1.3 }
+  scale 0.8 translate <-1.2, -1.1, 0>
+  pigment { rgb <0, 0, 1> }
+}
+poly { 4, < 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+            1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, -0.4 >
+  scale <-1, 1, 1> rotate <20, 35, 0> translate <1.3, -1.1, 0>
+  pigment { rgb <1, 1, 0> }
+}
+"#;
+
+#[test]
+fn algebraic_surfaces_match_povray_away_from_edges() {
+    let test = "algebraic_surfaces_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(ALGEBRAIC, "quartic, quadric, cubic and poly");
+    }
+}
+
+/// POV-Ray's blobs: spheres with a negative one biting in, capsules (one turned in the
+/// blob), the old `component` form with a stretched sphere, the blob mirrored.
+const BLOBS: &str = r#"
+camera { location <0, 2, -6> right x*image_width/image_height angle 38 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+blob {
+  threshold 0.5
+  sphere { <-0.5, 0, 0>, 1.5, 1 }
+  sphere { <0.5, 0.2, 0>, 1.4, strength 1.2 }
+  sphere { <0.2, 0.5, -0.6>, 0.8, -3 }
+  scale 0.8 translate <-1.5, 0.8, 0>
+  pigment { rgb <1, 0, 0> }
+}
+blob {
+  threshold 0.4
+  cylinder { <-1, 0, 0>, <1, 0, 0>, 0.5, 1 }
+  cylinder { <0, -1, 0>, <0, 1, 0>, 0.45, 1 rotate 30*z }
+  rotate <-30, 20, 0> translate <1.4, 0.6, 0>
+  pigment { rgb <0, 1, 0> }
+}
+blob {
+  threshold 0.6
+  component 1.0, 1.4, <0.75, 0, 0>
+  component 1.0, 1.4, <-0.375, 0.64952, 0>
+  component 1.0, 1.4, <-0.375, -0.64952, 0>
+  sphere { 0, 0.8, 1 scale <1, 1, 2> }
+  scale <-0.7, 0.7, 0.7> rotate 40*x translate <0, -1.2, 0>
+  pigment { rgb <0, 0, 1> }
+}
+"#;
+
+#[test]
+fn blobs_match_povray_away_from_edges() {
+    let test = "blobs_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(BLOBS, "blobs");
+    }
+}
+
+/// POV-Ray's prisms, one of each spline: a square with a square hole, a conic sweep turned
+/// upside down, a mirrored cubic spline, a turned Bézier.
+const PRISMS: &str = r#"
+camera { location <0, 4, -7> right x*image_width/image_height angle 38 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+prism {
+  linear_sweep linear_spline 0, 0.2, 10,
+  <-1, -1>, <1, -1>, <1, 1>, <-1, 1>, <-1, -1>,
+  <-0.6, -0.6>, <0.6, -0.6>, <0.6, 0.6>, <-0.6, 0.6>, <-0.6, -0.6>
+  rotate 20*y translate <-1.8, 0.8, 0>
+  pigment { rgb <1, 0, 0> }
+}
+prism {
+  conic_sweep quadratic_spline 0.3, 1, 7,
+  <-1, 0>, <0, -1>, <1, 0>, <0, 1>, <-1, 0>, <0, -1>, <1, 0>
+  rotate 180*x translate <1.8, 1.8, 0>
+  pigment { rgb <0, 1, 0> }
+}
+prism {
+  cubic_spline 0, 0.6, 8,
+  <0, 1>, <-1, 0>, <0, -1>, <1, 0>, <0, 1>, <-1, 0>, <0, -1>, <1, 0>
+  scale <-1, 1, 1> translate <-1.5, -1.5, 0>
+  pigment { rgb <0, 0, 1> }
+}
+prism {
+  bezier_spline -0.3, 0.3, 8,
+  <-1, 0>, <-1, 1.2>, <1, 1.2>, <1, 0>, <1, 0>, <0.5, -1>, <-0.5, -1>, <-1, 0>
+  rotate <-30, 30, 0> translate <1.5, -1.2, 0>
+  pigment { rgb <1, 1, 0> }
+}
+"#;
+
+#[test]
+fn prisms_match_povray_away_from_edges() {
+    let test = "prisms_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(PRISMS, "prisms");
+    }
+}
+
+/// POV-Ray's superellipsoids: a rounded box, a stretched cushion, a pinched star (exponents
+/// above 2), a mirrored one.
+const SUPERELLIPSOIDS: &str = r#"
+camera { location <0, 3, -7> right x*image_width/image_height angle 38 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+superellipsoid { <0.25, 0.25> rotate <20, 30, 0> scale 0.8 translate <-1.6, 0.9, 0> pigment { rgb <1, 0, 0> } }
+superellipsoid { <1, 0.3> scale <1, 0.6, 0.8> rotate 60*x translate <1.6, 0.9, 0> pigment { rgb <0, 1, 0> } }
+superellipsoid { <2.5, 2.5> rotate <-20, 10, 0> translate <-1.4, -1.3, 0> pigment { rgb <0, 0, 1> } }
+superellipsoid { <0.6, 1.8> scale <-1, 1, 1> rotate <30, 20, 0> translate <1.4, -1.2, 0> pigment { rgb <1, 1, 0> } }
+"#;
+
+#[test]
+fn superellipsoids_match_povray_away_from_edges() {
+    let test = "superellipsoids_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(SUPERELLIPSOIDS, "superellipsoids");
     }
 }
 

@@ -1,5 +1,5 @@
 //! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
-//! cone, torus and CSG hits against a brute-force march along the ray with the point-inside
+//! cone, torus, algebraic surface, blob, prism, superellipsoid and CSG hits against a brute-force march along the ray with the point-inside
 //! test, inside tests against the operands', an emission-only render against the analytic
 //! silhouette, and build errors.
 
@@ -9,7 +9,9 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
-use raydiance::geometry::{Ray, Shape};
+use raydiance::geometry::{
+    BlobComponent, ComponentShape, Ray, Shape, SplineKind, Sweep, Term, spline_segments,
+};
 use raydiance::graph::{
     CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
     compose,
@@ -121,6 +123,9 @@ struct Tally {
     rays: usize,
     hits: usize,
     slivers: usize,
+    /// Rays aimed from outside the bounds at a point in them, and those whose point is inside.
+    aimed: usize,
+    aimed_inside: usize,
 }
 
 /// The shape's first hit against the march: they agree within `tolerance`, or the analytic
@@ -185,6 +190,41 @@ fn check_ray(shape: &Shape, ray: &Ray, steps: usize, tolerance: f32, tally: &mut
     }
 }
 
+/// A ray from outside the bounds aimed at `target`, a point in them: where the target is inside
+/// the solid (`target_inside`, by an inside test), the ray meets the solid no later than there.
+fn check_aimed(
+    shape: &Shape,
+    ray: &Ray,
+    target: Vec3,
+    target_inside: bool,
+    tolerance: f32,
+    tally: &mut Tally,
+) {
+    tally.aimed += 1;
+    if target_inside {
+        tally.aimed_inside += 1;
+        let distance = (target - Vec3::from(ray.origin)).length();
+        let hit = shape.intersection(ray, f32::INFINITY).map(|i| i.t);
+        assert!(
+            hit.is_some_and(|t| t <= distance + tolerance),
+            "{ray:?} aimed at {target}, inside: hit at {hit:?}, target at {distance}"
+        );
+    }
+}
+
+/// The floor of a march test. The targets of the aimed rays are uniform in the bounds, so the
+/// count of those inside the solid is binomial, of mean `aimed` times the solids' mean share of
+/// their bounds, at least `share` (each test derives its own from its solids' volumes). A
+/// quarter of `aimed * share` is at least 3 standard deviations (at most the square root of
+/// the mean) below the mean once `aimed * share >= 16`. Each of those rays met the solid first
+/// (`check_aimed`), so it is a hit or a sliver: a shape that returned no hits fails there.
+fn assert_aimed_floor(tally: &Tally, share: f32) {
+    let expected = tally.aimed as f32 * share;
+    assert!(expected >= 16.0, "too few aimed rays for the margin: {tally:?}");
+    assert!(tally.aimed_inside as f32 > 0.25 * expected, "{tally:?}");
+    assert!(tally.hits + tally.slivers >= tally.aimed_inside, "{tally:?}");
+}
+
 /// Rays through the shape's bounds from outside, and rays grazing its surface (a sampled
 /// point, a direction along the tangent plane tilted by a hair).
 fn check_shape(shape: &Shape, rng: &mut Rng, rays: usize, tally: &mut Tally) {
@@ -241,6 +281,452 @@ fn cone_and_torus_hits_match_a_march_on_100000_rays() {
     assert!(tally.rays >= 100_000, "{tally:?}");
     // Half the rays graze on purpose: many meet a sliver thinner than the march's step.
     assert!(tally.hits > tally.rays / 4 && tally.slivers < tally.rays / 6, "{tally:?}");
+}
+
+/// The surface P = 0 of the polynomial with these (coefficient, powers of x, y, z) terms.
+fn algebraic(terms: &[(f64, [u32; 3])]) -> ShapeNode {
+    let terms = terms.iter().map(|&(coefficient, powers)| Term { coefficient, powers }).collect();
+    ShapeNode::Algebraic { terms }
+}
+
+/// Closed algebraic surfaces within the unit ball, and a cubic that is not (the ball cuts it).
+fn algebraic_surfaces() -> [(ShapeNode, bool); 4] {
+    // The torus (|p|^2 + R^2 - r^2)^2 - 4 R^2 (x^2 + z^2), R = 0.6, r = 0.25.
+    let (r2, k) = (0.36, 0.36 - 0.0625);
+    let torus = algebraic(&[
+        (1.0, [4, 0, 0]),
+        (1.0, [0, 4, 0]),
+        (1.0, [0, 0, 4]),
+        (2.0, [2, 2, 0]),
+        (2.0, [2, 0, 2]),
+        (2.0, [0, 2, 2]),
+        (2.0 * k - 4.0 * r2, [2, 0, 0]),
+        (2.0 * k, [0, 2, 0]),
+        (2.0 * k - 4.0 * r2, [0, 0, 2]),
+        (k * k, [0, 0, 0]),
+    ]);
+    let ellipsoid = algebraic(&[
+        (1.5, [2, 0, 0]),
+        (2.0, [0, 2, 0]),
+        (3.0, [0, 0, 2]),
+        (0.8, [1, 1, 0]),
+        (0.2, [1, 0, 0]),
+        (-0.5, [0, 0, 0]),
+    ]);
+    let rounded_cube =
+        algebraic(&[(1.0, [4, 0, 0]), (1.0, [0, 4, 0]), (1.0, [0, 0, 4]), (-0.2, [0, 0, 0])]);
+    let cubic = algebraic(&[
+        (1.0, [2, 0, 0]),
+        (1.0, [0, 2, 0]),
+        (1.0, [0, 0, 2]),
+        (0.9, [3, 0, 0]),
+        (-0.6, [0, 1, 2]),
+        (-0.3, [0, 0, 0]),
+    ]);
+    [(torus, true), (ellipsoid, true), (rounded_cube, true), (cubic, false)]
+}
+
+/// The ray turned to graze the shape where it meets it (along the tangent plane, tilted by a
+/// hair), from as far back; `None` where it misses.
+fn grazing(shape: &Shape, ray: &Ray, rng: &mut Rng, size: f32) -> Option<Ray> {
+    let hit = shape.intersect(ray, f32::INFINITY)?;
+    let tangent = hit.normal.cross(rng.direction()).normalize();
+    let dir = (tangent + hit.normal * rng.range(-1e-3, 1e-3)).normalize();
+    Some(Ray::new(hit.point - dir * 2.0 * size, dir))
+}
+
+/// Asserts that the shape's inside test agrees with its crossings up to `t_end`: at the start,
+/// and between each two that are further apart than `tolerance`; the latter counted.
+fn check_inside_between_crossings(shape: &Shape, ray: &Ray, t_end: f32, tolerance: f32) -> usize {
+    let crossings = shape.crossings(ray, t_end);
+    let mut inside = crossings.inside_at_start;
+    assert_eq!(inside, shape.contains(ray.at(0.0)), "{ray:?}");
+    let mut ends: Vec<f32> = crossings.list.iter().map(|c| c.at.t).collect();
+    ends.push(t_end);
+    let mut checked = 0;
+    for (c, pair) in crossings.list.iter().zip(ends.windows(2)) {
+        inside = !inside;
+        assert_eq!(c.entering, inside);
+        // Between crossings close together (a ray grazing the surface) the solid is thinner
+        // than the inside test's rounding.
+        if pair[1] - pair[0] > 50.0 * tolerance {
+            let t = 0.5 * (pair[0] + pair[1]);
+            let middle = ray.at(t);
+            // `ray.at` rounds each coordinate twice in f32 (a product and a sum): off the ray
+            // by up to f32::EPSILON (|origin| + t) along each axis, sqrt(3) times that in all,
+            // while the crossings are the exact ray's. A probe along an axis that far again
+            // times sqrt(3) reaches any surface within that rounding: where one does, the
+            // middle is a touch (a grazing ray inside the concave side of a pinched shape
+            // comes within 1e-7 of it over a long stretch) and only the side within reach
+            // is asserted.
+            let reach = 3.0 * f32::EPSILON * (Vec3::from(ray.origin).abs().max_element() + t);
+            let touch = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z]
+                .iter()
+                .any(|&a| shape.contains(middle + a * reach) == inside);
+            assert!(shape.contains(middle) == inside || touch, "{ray:?} {crossings:?}");
+            checked += 1;
+        }
+    }
+    checked
+}
+
+#[test]
+fn algebraic_surfaces_match_a_march_and_their_crossings_agree_with_inside() {
+    let graph = empty_graph();
+    let mut rng = Rng(23);
+    let mut tally = Tally::default();
+    let (mut grazed, mut toggles) = (0, 0);
+    for k in 0..12 {
+        let (surface, closed) = algebraic_surfaces()[k % 4].clone();
+        let transforms = random_transforms(&mut rng, k % 6 == 5);
+        let alone = built_shape(&graph, node(&graph, surface.clone(), transforms.clone()));
+        assert!(alone.bounds().is_none(), "unbounded as POV-Ray's polynomials are");
+        // Bounded by the unit ball, as a scene bounds them, for the march.
+        let ball = ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.0 };
+        let operands = vec![node(&graph, surface, vec![]), node(&graph, ball, vec![])];
+        let csg = ShapeNode::Csg { op: CsgOp::Intersection, operands };
+        let shape = built_shape(&graph, node(&graph, csg, transforms));
+        let bounds = shape.bounds().expect("bounded by the ball");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        let tolerance = 2e-4 * size + 1e-5 * center.abs().max_element();
+        for i in 0..600 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            // Every other ray grazes the surface where the one before met it.
+            if i % 2 == 1
+                && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
+            {
+                ray = graze;
+                grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
+            }
+            check_ray(&shape, &ray, 200, tolerance, &mut tally);
+            // Alone, a closed surface is met first where the bounded one is.
+            if closed {
+                let first = alone.intersection(&ray, f32::INFINITY).map(|i| i.t);
+                let bounded = shape.intersection(&ray, f32::INFINITY).map(|i| i.t);
+                assert_eq!(first.is_some(), bounded.is_some(), "{ray:?}");
+                if let (Some(a), Some(b)) = (first, bounded) {
+                    assert!((a - b).abs() <= tolerance, "{a} {b}");
+                }
+            }
+            toggles += check_inside_between_crossings(&alone, &ray, 4.0 * size, tolerance);
+        }
+    }
+    assert!(grazed > 500 && toggles > 2000, "{grazed} {toggles}");
+    // The surfaces fill 6 to 24% of their ball's own cube (the torus 2 pi^2 R r^2 / 8 = 9%,
+    // the rounded cube 24%, the ellipsoid 6.5%), and the world box of that cube turned at random
+    // holds 2 to 5 times its volume: more than 1/100 of the bounds.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
+}
+
+/// A blob of two to four spheres and capsules, each under its own transforms, one of them
+/// perhaps of negative strength.
+fn random_blob(rng: &mut Rng) -> ShapeNode {
+    let count = 2 + (rng.next() * 3.0) as usize;
+    let components = (0..count)
+        .map(|i| {
+            let shape = if rng.next() < 0.5 {
+                ComponentShape::Sphere { center: rng.vec(-0.4, 0.4) }
+            } else {
+                ComponentShape::Capsule { a: rng.vec(-0.5, 0.0), b: rng.vec(0.0, 0.5) }
+            };
+            let strength = if i == 2 { rng.range(-1.5, 1.5) } else { rng.range(0.8, 2.0) };
+            let to_blob = compose(&[
+                Transform::Scale(rng.vec(0.6, 1.3)),
+                Transform::Rotate(rng.vec(-180.0, 180.0)),
+            ]);
+            let strength = if strength.abs() < 0.1 { 1.0 } else { strength };
+            BlobComponent { shape, radius: rng.range(0.3, 0.7), strength, to_blob }
+        })
+        .collect();
+    ShapeNode::Blob { threshold: rng.range(0.2, 0.7), components }
+}
+
+#[test]
+fn blobs_match_a_march_and_their_crossings_agree_with_inside() {
+    let graph = empty_graph();
+    let mut rng = Rng(31);
+    let mut tally = Tally::default();
+    let (mut grazed, mut toggles) = (0, 0);
+    for k in 0..16 {
+        let transforms = random_transforms(&mut rng, k % 8 == 7);
+        let shape = built_shape(&graph, node(&graph, random_blob(&mut rng), transforms));
+        let bounds = shape.bounds().expect("bounded by its components");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        let tolerance = 2e-4 * size + 1e-5 * center.abs().max_element();
+        for i in 0..500 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            if i % 2 == 1
+                && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
+            {
+                ray = graze;
+                grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
+            }
+            check_ray(&shape, &ray, 200, tolerance, &mut tally);
+            toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
+            // From inside too: a ray starting at a point of the solid.
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let from_inside = Ray::new(p, rng.direction());
+            toggles += check_inside_between_crossings(&shape, &from_inside, 2.0 * size, tolerance);
+        }
+    }
+    assert!(grazed > 500 && toggles > 4000, "{grazed} {toggles}");
+    // A component of strength s meets the threshold t at r sqrt(1 - sqrt(t / s)), 2/3 of its
+    // radius r for the middle values (t 0.45, s 1.4): 15% of its box. The boxes of the
+    // components, turned, and of the blob, turned again, hold 3 to 5 times that each, and a
+    // negative component carves: more than 1/100 of the bounds.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
+}
+
+#[test]
+fn csg_with_blob_operands_matches_a_march_and_the_operands_inside_tests() {
+    let graph = empty_graph();
+    let mut rng = Rng(37);
+    let mut tally = Tally::default();
+    for k in 0..12 {
+        let blob = node(&graph, random_blob(&mut rng), random_transforms(&mut rng, false));
+        let other = random_tree(&graph, &mut rng, 0);
+        let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
+        let other = if op == CsgOp::Merge && matches!(other.shape, ShapeNode::Plane { .. }) {
+            node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 0.5 }, vec![])
+        } else {
+            other
+        };
+        let tree = ShapeNode::Csg { op, operands: vec![blob, other] };
+        let tree = node(&graph, tree, random_transforms(&mut rng, false));
+        let shape = built_shape(&graph, tree.clone());
+        let bounds = shape.bounds().expect("a bounded first operand");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..300 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    // The blobs fill more than 1/100 of their bounds (blobs_match_a_march_...); a merge only
+    // adds, and the other operand, a solid of half its box or more, keeps or takes away half
+    // of that or less on average: more than 1/200 of the bounds, which are the blob's.
+    assert_aimed_floor(&tally, 0.005);
+    assert!(tally.slivers < tally.rays / 50, "{tally:?}");
+}
+
+#[test]
+fn csg_with_algebraic_operands_matches_a_march_and_the_operands_inside_tests() {
+    let graph = empty_graph();
+    let mut rng = Rng(29);
+    let mut tally = Tally::default();
+    for k in 0..16 {
+        let (surface, _) = algebraic_surfaces()[k % 4].clone();
+        let other = random_tree(&graph, &mut rng, 0);
+        let surface = node(&graph, surface, random_transforms(&mut rng, false));
+        let ball = node(&graph, ShapeNode::Sphere { center: Vec3::ZERO, radius: 1.2 }, vec![]);
+        let op = [CsgOp::Difference, CsgOp::Intersection][k % 2];
+        // A bounded first operand: the surface in the ball, and the other operand taken away
+        // from it or kept where both are.
+        let bounded = ShapeNode::Csg { op: CsgOp::Intersection, operands: vec![ball, surface] };
+        let tree = ShapeNode::Csg { op, operands: vec![node(&graph, bounded, vec![]), other] };
+        let tree = node(&graph, tree, random_transforms(&mut rng, false));
+        let shape = built_shape(&graph, tree.clone());
+        let bounds = shape.bounds().expect("bounded by the ball");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..300 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    // The surfaces fill more than 1/100 of their ball's bounds (algebraic_surfaces_match_...);
+    // the other operand, a solid of half its box or more, keeps or takes away half of that or
+    // less on average: more than 1/200 of the bounds.
+    assert_aimed_floor(&tally, 0.005);
+    assert!(tally.slivers < tally.rays / 50, "{tally:?}");
+}
+
+/// The points of a star-shaped curve of `k` points about the origin, radii in [lo, hi].
+fn star(rng: &mut Rng, k: usize, lo: f32, hi: f32) -> Vec<Vec2> {
+    let turn = std::f32::consts::TAU / k as f32;
+    (0..k).map(|i| Vec2::from_angle(turn * i as f32) * rng.range(lo, hi)).collect()
+}
+
+/// A prism of each spline kind in turn: a star with a star-shaped hole, swept either way.
+fn random_prism(rng: &mut Rng, kind: SplineKind, sweep: Sweep) -> ShapeNode {
+    let mut points = Vec::new();
+    for (lo, hi) in [(0.6, 1.0), (0.15, 0.35)] {
+        let k = 5 + (rng.next() * 4.0) as usize;
+        let p = star(rng, k, lo, hi);
+        let k = p.len();
+        match kind {
+            SplineKind::Linear => points.extend(p.iter().chain([&p[0]])),
+            SplineKind::Quadratic => {
+                points.extend([p[k - 1]].iter().chain(&p).chain([&p[0]]));
+            }
+            SplineKind::Cubic => {
+                points.extend([p[k - 1]].iter().chain(&p).chain([&p[0], &p[1]]));
+            }
+            SplineKind::Bezier => {
+                for i in 0..k {
+                    let (a, b) = (p[i], p[(i + 1) % k]);
+                    let bulge = Vec2::new(a.y - b.y, b.x - a.x) * rng.range(-0.3, 0.3);
+                    points.extend([a, a + (b - a) / 3.0 + bulge, b - (b - a) / 3.0 + bulge, b]);
+                }
+            }
+        }
+    }
+    let segments = spline_segments(kind, &points).expect("closed curves");
+    let heights = match sweep {
+        Sweep::Linear => [rng.range(-0.6, -0.1), rng.range(0.1, 0.6)],
+        Sweep::Conic => [rng.range(0.2, 0.5), rng.range(0.7, 1.0)],
+    };
+    ShapeNode::Prism { segments, sweep, heights, open: false }
+}
+
+const SPLINES: [SplineKind; 4] =
+    [SplineKind::Linear, SplineKind::Quadratic, SplineKind::Cubic, SplineKind::Bezier];
+
+#[test]
+fn prisms_match_a_march_and_their_crossings_agree_with_inside() {
+    let graph = empty_graph();
+    let mut rng = Rng(41);
+    let mut tally = Tally::default();
+    let (mut grazed, mut toggles) = (0, 0);
+    for k in 0..16 {
+        let sweep = if k % 2 == 0 { Sweep::Linear } else { Sweep::Conic };
+        let prism = random_prism(&mut rng, SPLINES[(k / 2) % 4], sweep);
+        let transforms = random_transforms(&mut rng, k % 8 == 7);
+        let shape = built_shape(&graph, node(&graph, prism, transforms));
+        let bounds = shape.bounds().expect("bounded");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        let tolerance = 2e-4 * size + 1e-5 * center.abs().max_element();
+        for i in 0..400 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            if i % 2 == 1
+                && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
+            {
+                ray = graze;
+                grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
+            }
+            check_ray(&shape, &ray, 300, tolerance, &mut tally);
+            toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
+            // Normals point out of the solid.
+            if let Some(hit) = shape.intersect(&ray, f32::INFINITY) {
+                let (out, back) = (hit.point + hit.normal * 1e-3, hit.point - hit.normal * 1e-3);
+                if shape.contains(out) != shape.contains(back) {
+                    assert!(shape.contains(back), "{hit:?}");
+                }
+            }
+        }
+    }
+    assert!(grazed > 1000 && toggles > 3000, "{grazed} {toggles}");
+    // A star of 5 to 8 points at radii 0.6 to 1 covers 0.86 or more of its square of side 2
+    // or less, a hole at most pi 0.35^2 = 0.38 of it: 12% of the box and more; a conic sweep
+    // keeps a third of its box, and the world box of the box turned at random holds 2 to 5
+    // times its volume: more than 1/50 of the bounds.
+    assert_aimed_floor(&tally, 0.02);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
+}
+
+#[test]
+fn csg_with_prism_operands_matches_a_march_and_the_operands_inside_tests() {
+    let graph = empty_graph();
+    let mut rng = Rng(43);
+    let mut tally = Tally::default();
+    for k in 0..12 {
+        let sweep = if k % 2 == 0 { Sweep::Linear } else { Sweep::Conic };
+        let prism = random_prism(&mut rng, SPLINES[k % 4], sweep);
+        let prism = node(&graph, prism, random_transforms(&mut rng, false));
+        let ball = ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.3, 0.7) };
+        let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
+        let tree = ShapeNode::Csg { op, operands: vec![prism, node(&graph, ball, vec![])] };
+        let tree = node(&graph, tree, random_transforms(&mut rng, false));
+        let shape = built_shape(&graph, tree.clone());
+        let bounds = shape.bounds().expect("a bounded first operand");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..300 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    // The prisms fill more than 1/50 of their bounds (prisms_match_a_march_...); the ball
+    // keeps or takes away half of that or less on average: more than 1/100.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 50, "{tally:?}");
+}
+
+#[test]
+fn superellipsoids_match_a_march_and_their_crossings_agree_with_inside() {
+    let graph = empty_graph();
+    let mut rng = Rng(47);
+    let mut tally = Tally::default();
+    let (mut grazed, mut toggles) = (0, 0);
+    for k in 0..16 {
+        // Rounded boxes, ellipsoids, and pinched stars (exponents above 2).
+        let shape = ShapeNode::Superellipsoid { e: rng.range(0.2, 3.0), n: rng.range(0.2, 3.0) };
+        let transforms = random_transforms(&mut rng, k % 8 == 7);
+        let shape = built_shape(&graph, node(&graph, shape, transforms));
+        let bounds = shape.bounds().expect("bounded by its cube");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        let tolerance = 2e-4 * size + 1e-5 * center.abs().max_element();
+        for i in 0..400 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            if i % 2 == 1
+                && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
+            {
+                ray = graze;
+                grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
+            }
+            check_ray(&shape, &ray, 300, tolerance, &mut tally);
+            toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
+        }
+    }
+    assert!(grazed > 500 && toggles > 3000, "{grazed} {toggles}");
+    // A superellipsoid <e, n> fills 2 e n B(e / 2, e / 2) B(n / 2 + 1, n) / 8 of its cube: 31% on
+    // average over e and n in [0.2, 3] (4.5% at least, at <3, 3>), and the world box of the
+    // cube turned at random holds 2 to 5 times its volume: more than 1/50 of the bounds.
+    assert_aimed_floor(&tally, 0.02);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
 }
 
 /// A random CSG tree of the given depth, its operands random solids under random transforms.

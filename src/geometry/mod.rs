@@ -1,6 +1,8 @@
 //! The shapes rays hit. Rays, hits and boxes live below the acceleration structures (`ray`,
 //! `aabb`), which the meshes here build on, and are re-exported here with the shapes they meet.
 
+mod algebraic;
+mod blob;
 mod cone;
 mod crossings;
 mod csg;
@@ -9,15 +11,20 @@ mod few_shapes;
 mod frame;
 mod isosurface;
 mod planar;
+mod polynomial;
+mod prism;
 mod quadratic;
 mod quadric;
 mod shape;
 mod solid_angle;
+mod superellipsoid;
 mod torus;
 mod triangle_mesh;
 
 pub use crate::aabb::Aabb;
 pub use crate::ray::{Hit, Ray, offset_origin};
+pub use algebraic::{Algebraic, Term, pov_ray_term_count, pov_ray_terms};
+pub use blob::{Blob, BlobComponent, ComponentShape};
 pub use cone::Cone;
 pub use crossings::{Crossing, Crossings, MAX_CROSSINGS};
 pub use csg::{Csg, CsgNode, CsgOp};
@@ -26,8 +33,11 @@ pub use few_shapes::{FewShapes, Nearest};
 pub use frame::{Frame, on_side};
 pub use isosurface::{Container, Isosurface, IsosurfaceDesc, ScalarField};
 pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
+pub use polynomial::{MAX_DEGREE, polynomial_roots};
+pub use prism::{Prism, Segment, SplineKind, Sweep, spline_segments};
 pub use quadric::{QuadricFrame, QuadricKind};
 pub use shape::{Intersection, Shape, SurfaceSample, similarity_scale, sphere_error};
 pub use solid_angle::DirectionSample;
-pub use torus::{Torus, polynomial_roots};
+pub use superellipsoid::Superellipsoid;
+pub use torus::Torus;
 pub use triangle_mesh::{Placement, TriangleMesh};

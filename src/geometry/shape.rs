@@ -6,14 +6,18 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 
+use super::algebraic::Algebraic;
+use super::blob::Blob;
 use super::cone::Cone;
 use super::crossings::Crossings;
 use super::csg::Csg;
 use super::cuboid::Cuboid;
 use super::isosurface::Isosurface;
 use super::planar::Planar;
+use super::prism::Prism;
 use super::quadratic::quadratic_roots_in_lanes;
 use super::quadric::{QuadricFrame, QuadricKind};
+use super::superellipsoid::Superellipsoid;
 use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
 use super::{Aabb, Hit, Ray};
@@ -55,6 +59,15 @@ pub enum Shape {
     Cone(Box<Cone>),
     /// POV-Ray's torus under an affine map.
     Torus(Box<Torus>),
+    /// The surface P(x, y, z) = 0 of a polynomial under an affine map (POV-Ray's `quadric`,
+    /// `cubic`, `quartic`, `poly`), solid where P < 0. Unbounded.
+    Algebraic(Box<Algebraic>),
+    /// POV-Ray's blob: spheres and capsules summed into a field, under an affine map.
+    Blob(Box<Blob>),
+    /// POV-Ray's prism under an affine map.
+    Prism(Box<Prism>),
+    /// POV-Ray's superellipsoid under an affine map.
+    Superellipsoid(Box<Superellipsoid>),
     /// A CSG solid: one primitive whose surfaces belong to its operands.
     Csg(Box<Csg>),
     /// POV-Ray's isosurface under an affine map.
@@ -119,6 +132,10 @@ impl Shape {
             Shape::Box(cuboid) => cuboid.intersection(ray, t_max),
             Shape::Cone(cone) => cone.intersection(ray, t_max),
             Shape::Torus(torus) => torus.intersection(ray, t_max),
+            Shape::Algebraic(surface) => surface.intersection(ray, t_max),
+            Shape::Blob(blob) => blob.intersection(ray, t_max),
+            Shape::Prism(prism) => prism.intersection(ray, t_max),
+            Shape::Superellipsoid(s) => s.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
@@ -157,6 +174,10 @@ impl Shape {
             Shape::Box(cuboid) => cuboid.hit(at),
             Shape::Cone(cone) => cone.hit(ray, at),
             Shape::Torus(torus) => torus.hit(ray, at),
+            Shape::Algebraic(surface) => surface.hit(ray, at),
+            Shape::Blob(blob) => blob.hit(ray, at),
+            Shape::Prism(prism) => prism.hit(ray, at),
+            Shape::Superellipsoid(s) => s.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
             Shape::Isosurface(isosurface) => isosurface.hit(ray, at),
         }
@@ -179,14 +200,18 @@ impl Shape {
             | Shape::Cone(_)
             | Shape::Torus(_)
             | Shape::Csg(_)
-            | Shape::Isosurface(_) => self.intersection(ray, t_max).is_some(),
+            | Shape::Isosurface(_)
+            | Shape::Algebraic(_)
+            | Shape::Blob(_)
+            | Shape::Prism(_)
+            | Shape::Superellipsoid(_) => self.intersection(ray, t_max).is_some(),
         }
     }
 
     /// `None` for the unbounded plane.
     pub fn bounds(&self) -> Option<Aabb> {
         match self {
-            Shape::Plane { .. } => None,
+            Shape::Plane { .. } | Shape::Algebraic(_) => None,
             Shape::Sphere { center, radius } => Some(Aabb {
                 min: center - Vec3::splat(*radius),
                 max: center + Vec3::splat(*radius),
@@ -206,6 +231,9 @@ impl Shape {
             Shape::Box(cuboid) => Some(cuboid.bounds()),
             Shape::Cone(cone) => Some(cone.bounds()),
             Shape::Torus(torus) => Some(torus.bounds()),
+            Shape::Blob(blob) => Some(blob.bounds()),
+            Shape::Prism(prism) => Some(prism.bounds()),
+            Shape::Superellipsoid(s) => Some(s.bounds()),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Isosurface(isosurface) => Some(isosurface.bounds()),
         }
@@ -214,7 +242,12 @@ impl Shape {
     /// Surface area, when it is finite and known in closed form (meshes are not sampled as lights).
     pub fn area(&self) -> Option<f32> {
         match self {
-            Shape::Plane { .. } | Shape::Mesh { .. } => None,
+            Shape::Plane { .. }
+            | Shape::Mesh { .. }
+            | Shape::Algebraic(_)
+            | Shape::Blob(_)
+            | Shape::Prism(_)
+            | Shape::Superellipsoid(_) => None,
             Shape::Sphere { radius, .. } => Some(4.0 * std::f32::consts::PI * radius * radius),
             Shape::Planar(planar) => Some(planar.area()),
             Shape::Quadric { frame, .. } => frame.area,
@@ -233,7 +266,14 @@ impl Shape {
     #[inline(always)]
     pub fn sample_area(&self, u: Vec2) -> Option<SurfaceSample> {
         match self {
-            Shape::Plane { .. } | Shape::Mesh { .. } | Shape::Csg(_) | Shape::Isosurface(_) => None,
+            Shape::Plane { .. }
+            | Shape::Mesh { .. }
+            | Shape::Csg(_)
+            | Shape::Isosurface(_)
+            | Shape::Algebraic(_)
+            | Shape::Blob(_)
+            | Shape::Prism(_)
+            | Shape::Superellipsoid(_) => None,
             Shape::Box(cuboid) => Some(cuboid.sample(u)),
             Shape::Cone(cone) => cone.sample(u),
             Shape::Torus(torus) => torus.sample(u),
@@ -259,6 +299,10 @@ impl Shape {
             Shape::Box(cuboid) => cuboid.crossings(ray, t_max),
             Shape::Cone(cone) => cone.crossings(ray, t_max),
             Shape::Torus(torus) => torus.crossings(ray, t_max),
+            Shape::Algebraic(surface) => surface.crossings(ray, t_max),
+            Shape::Blob(blob) => blob.crossings(ray, t_max),
+            Shape::Prism(prism) => prism.crossings(ray, t_max),
+            Shape::Superellipsoid(s) => s.crossings(ray, t_max),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.crossings(ray, t_max),
                 Some(placement) => mesh.crossings(&placement.ray_to_object(ray), t_max),
@@ -278,6 +322,10 @@ impl Shape {
             Shape::Box(cuboid) => cuboid.contains(p),
             Shape::Cone(cone) => cone.contains(p),
             Shape::Torus(torus) => torus.contains(p),
+            Shape::Algebraic(surface) => surface.contains(p),
+            Shape::Blob(blob) => blob.contains(p),
+            Shape::Prism(prism) => prism.contains(p),
+            Shape::Superellipsoid(s) => s.contains(p),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.contains(p),
                 Some(placement) => mesh.contains(placement.to_object.transform_point3(p)),

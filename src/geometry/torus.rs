@@ -3,7 +3,7 @@
 //! quartic, found robustly: in the torus' own space scaled to major radius 1, from a ray
 //! origin moved to the torus' bounding sphere first (so a torus far from the origin or seen
 //! from far away is as precise as one nearby), by isolating each root between the roots of the
-//! derivatives and refining it with safeguarded Newton steps in f64.
+//! derivatives and refining it with safeguarded Newton steps in f64 (`polynomial`).
 
 use std::f64::consts::PI as PI64;
 
@@ -11,6 +11,7 @@ use arrayvec::ArrayVec;
 use glam::{Affine3A, Vec2, Vec3, Vec3A};
 
 use super::crossings::Crossings;
+use super::polynomial::polynomial_roots;
 use super::quadric::QuadricFrame;
 use super::shape::{Intersection, REL_ERROR, SurfaceSample};
 use super::{Aabb, Hit, Ray};
@@ -94,9 +95,9 @@ impl Torus {
             1.0,
         ];
         let margin = 1e-9 * reach;
-        for s in polynomial_roots(&quartic, -half_chord - margin, half_chord + margin) {
-            roots.push(((shift + s) / speed) as f32);
-        }
+        let found = polynomial_roots(&quartic, -half_chord - margin, half_chord + margin);
+        // A quartic has four roots at most (rounding never makes more of them).
+        roots.extend(found.into_iter().take(4).map(|s| ((shift + s) / speed) as f32));
         roots
     }
 
@@ -168,110 +169,9 @@ impl Torus {
     }
 }
 
-/// `c[0] + c[1] x + c[2] x^2 + ...` at `x`.
-fn evaluate(c: &[f64], x: f64) -> f64 {
-    c.iter().rev().fold(0.0, |acc, &k| acc * x + k)
-}
-
-/// The real roots of the polynomial `c` (lowest degree first, degree at most 4) in [lo, hi],
-/// in order. Between consecutive roots of the derivative the polynomial is monotonic, so each
-/// such interval holds at most one root, found by bisection-safeguarded Newton steps. A root
-/// of even multiplicity (a grazing ray) is kept when the polynomial reaches zero at the
-/// derivative's root to within rounding.
-pub fn polynomial_roots(c: &[f64], lo: f64, hi: f64) -> ArrayVec<f64, 4> {
-    let mut roots = ArrayVec::new();
-    let degree = c.len() - 1;
-    if degree == 1 {
-        if c[1] != 0.0 {
-            let x = -c[0] / c[1];
-            if (lo..=hi).contains(&x) {
-                roots.push(x);
-            }
-        }
-        return roots;
-    }
-    let derivative: ArrayVec<f64, 4> = (1..=degree).map(|i| c[i] * i as f64).collect();
-    let mut ends = ArrayVec::<f64, 6>::new();
-    ends.push(lo);
-    ends.extend(polynomial_roots(&derivative, lo, hi));
-    ends.push(hi);
-    // The size of the terms, for what counts as zero at a touching extremum.
-    let scale = |x: f64| c.iter().rev().fold(0.0, |acc, &k| acc * x.abs() + k.abs());
-    // An extremum that reaches zero within rounding is a touching root (a grazing ray): in and
-    // out at once, so it counts twice and the monotonic pieces beside it hold no other root.
-    let last = ends.len() - 1;
-    let touching: ArrayVec<bool, 6> = (0..ends.len())
-        .map(|i| i > 0 && i < last && evaluate(c, ends[i]).abs() <= 1e-12 * scale(ends[i]))
-        .collect();
-    for i in 0..last {
-        let (a, b) = (ends[i], ends[i + 1]);
-        if !touching[i] && !touching[i + 1] {
-            let (fa, fb) = (evaluate(c, a), evaluate(c, b));
-            if fa == 0.0 {
-                push_distinct(&mut roots, a);
-            } else if fa.signum() != fb.signum() && fb != 0.0 {
-                push_distinct(&mut roots, refine(c, &derivative, a, b, fa));
-            }
-        }
-        if touching[i + 1] && roots.len() + 2 <= roots.capacity() {
-            roots.push(b);
-            roots.push(b);
-        }
-    }
-    roots
-}
-
-fn push_distinct(roots: &mut ArrayVec<f64, 4>, x: f64) {
-    if roots.last() != Some(&x) && !roots.is_full() {
-        roots.push(x);
-    }
-}
-
-/// The root in [a, b], where the polynomial changes sign (`fa` at a) and is monotonic.
-fn refine(c: &[f64], derivative: &[f64], mut a: f64, mut b: f64, fa: f64) -> f64 {
-    let mut x = 0.5 * (a + b);
-    for _ in 0..100 {
-        let fx = evaluate(c, x);
-        if fx == 0.0 {
-            return x;
-        }
-        if fx.signum() == fa.signum() {
-            a = x;
-        } else {
-            b = x;
-        }
-        let slope = evaluate(derivative, x);
-        let newton = x - fx / slope;
-        let next = if newton > a && newton < b { newton } else { 0.5 * (a + b) };
-        if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) || b - a <= 1e-15 * (1.0 + x.abs()) {
-            return next;
-        }
-        x = next;
-    }
-    x
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn polynomial_roots_of_known_factors() {
-        // (x - 1)(x - 2)(x + 3)(x - 0.5) = x^4 - 0.5 x^3 - 7 x^2 + 9.5 x - 3
-        let c = [-3.0, 9.5, -7.0, -0.5, 1.0];
-        let roots = polynomial_roots(&c, -10.0, 10.0);
-        let expected = [-3.0, 0.5, 1.0, 2.0];
-        assert_eq!(roots.len(), 4, "{roots:?}");
-        for (r, e) in roots.iter().zip(expected) {
-            assert!((r - e).abs() < 1e-12, "{roots:?}");
-        }
-        // A double root (x - 1)^2 (x^2 + 1): touching, counted twice.
-        let c = [1.0, -2.0, 2.0, -2.0, 1.0];
-        let roots = polynomial_roots(&c, -10.0, 10.0);
-        assert_eq!(roots.len(), 2, "{roots:?}");
-        assert!(roots.iter().all(|r| (r - 1.0).abs() < 1e-6));
-        assert!(polynomial_roots(&[1.0, 0.0, 1.0, 0.0, 1.0], -10.0, 10.0).is_empty());
-    }
 
     #[test]
     fn torus_seen_along_an_axis_and_from_far() {

@@ -78,7 +78,8 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         }
         shape if UNSUPPORTED_SHAPES.contains(&shape) => {
             "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
-             quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG"
+             quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG (and, in `.pov` \
+             scenes, POV-Ray's quadric, cubic, quartic, poly, blob, prism and superellipsoid)"
         }
         "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
         | "clipped_by" => {
@@ -107,12 +108,9 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
 }
 
 /// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 14] = [
-    "blob",
+const UNSUPPORTED_SHAPES: [&str; 11] = [
     "lathe",
     "sor",
-    "prism",
-    "superellipsoid",
     "height_field",
     "julia_fractal",
     "polygon",

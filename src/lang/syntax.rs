@@ -627,6 +627,47 @@ pub enum Shape {
         thickness: Expr,
         offset: Expr,
     },
+    /// POV-Ray's `quadric { <A,B,C>, <D,E,F>, <G,H,I>, J }`: A x^2 + B y^2 + C z^2 + D xy +
+    /// E xz + F yz + G x + H y + I z + J = 0.
+    Quadric {
+        squares: Expr,
+        products: Expr,
+        linear: Expr,
+        constant: Expr,
+    },
+    /// POV-Ray's `cubic`, `quartic` and `poly { order, <...> }`: the coefficients of every
+    /// term of the order, in POV-Ray's order.
+    Poly {
+        order: PolyOrder,
+        coefficients: Expr,
+    },
+    /// POV-Ray's `blob`: its components and `threshold` are among its items.
+    Blob,
+    /// POV-Ray's `superellipsoid { <e, n> }`.
+    Superellipsoid {
+        exponents: Expr,
+    },
+    /// POV-Ray's `prism`: `count` points (x, z) joined by a spline, swept between two heights.
+    Prism {
+        spline: crate::geometry::SplineKind,
+        sweep: crate::geometry::Sweep,
+        heights: [Expr; 2],
+        count: Expr,
+        points: Vec<Expr>,
+        open: bool,
+    },
+    /// A component of a blob: a sphere, or a cylinder with hemispherical ends, and its strength.
+    BlobSphere {
+        center: Expr,
+        radius: Expr,
+        strength: Expr,
+    },
+    BlobCylinder {
+        a: Expr,
+        b: Expr,
+        radius: Expr,
+        strength: Expr,
+    },
     Union,
     /// CSG: the operands are the objects among the items.
     Intersection,
@@ -674,6 +715,14 @@ pub struct Isosurface {
 pub enum FontName {
     File(Expr),
     Internal(Expr),
+}
+
+/// The order of a polynomial surface: fixed by its keyword, or written.
+#[derive(Debug, Clone)]
+pub enum PolyOrder {
+    Cubic,
+    Quartic,
+    Written(Expr),
 }
 
 #[derive(Debug, Clone)]

@@ -615,6 +615,21 @@ impl Builder {
                 let items = self.items(inner)?;
                 Item::PovParam { key, value: None, items }
             }
+            Rule::blob_component => Item::Object(self.blob_component(pair)?),
+            Rule::blob_setting => {
+                let mut inner = pair.into_inner();
+                let word = inner.next().expect("the setting");
+                let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                let value = match inner.next() {
+                    Some(value) if value.as_rule() == Rule::truth_value => None,
+                    Some(value) => {
+                        let span = self.span(&value);
+                        Some(Colour { value: self.expr(value)?, span })
+                    }
+                    None => None,
+                };
+                Item::PovParam { key, value, items: Vec::new() }
+            }
             Rule::clipped_by => {
                 self.pov_only(&inner_pair(&pair), None)?;
                 self.enter(&pair)?;
@@ -941,6 +956,21 @@ impl Builder {
         if rule == Rule::isosurface {
             return self.isosurface(pair, span);
         }
+        if matches!(
+            rule,
+            Rule::quadric
+                | Rule::cubic
+                | Rule::quartic
+                | Rule::poly
+                | Rule::blob
+                | Rule::prism
+                | Rule::superellipsoid
+        ) {
+            self.pov_only(&inner_pair(&pair), None)?;
+        }
+        if rule == Rule::prism {
+            return self.prism(pair);
+        }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
         let internal_font = inner.next_if(|p| p.as_rule() == Rule::internal_font).is_some();
@@ -1002,6 +1032,20 @@ impl Builder {
                 thickness: take(self)?,
                 offset: take(self)?,
             },
+            Rule::quadric => Shape::Quadric {
+                squares: take(self)?,
+                products: take(self)?,
+                linear: take(self)?,
+                constant: take(self)?,
+            },
+            Rule::cubic => Shape::Poly { order: PolyOrder::Cubic, coefficients: take(self)? },
+            Rule::quartic => Shape::Poly { order: PolyOrder::Quartic, coefficients: take(self)? },
+            Rule::poly => {
+                Shape::Poly { order: PolyOrder::Written(take(self)?), coefficients: take(self)? }
+            }
+            Rule::blob => Shape::Blob,
+            Rule::superellipsoid => Shape::Superellipsoid { exponents: take(self)? },
+            Rule::prism => unreachable!("read by `prism`"),
             Rule::instance | Rule::looks_like => Shape::Instance { of: take(self)? },
             Rule::union => Shape::Union,
             Rule::intersection => Shape::Intersection,
@@ -1013,6 +1057,80 @@ impl Builder {
         if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } = &mut shape {
             *open = inner.next_if(|p| p.as_rule() == Rule::kw_open).is_some();
         }
+        let items = self.items(inner)?;
+        self.leave();
+        Ok(Object { shape, items, span })
+    }
+
+    /// POV-Ray's `prism { [spline] [sweep] h1, h2, count, points... [open] items }`.
+    fn prism(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        use crate::geometry::{SplineKind, Sweep};
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1).peekable();
+        let (mut spline, mut sweep) = (SplineKind::Linear, Sweep::Linear);
+        while let Some(word) =
+            inner.next_if(|p| matches!(p.as_rule(), Rule::prism_spline | Rule::prism_sweep))
+        {
+            match inner_pair(&word).as_rule() {
+                Rule::kw_linear_spline => spline = SplineKind::Linear,
+                Rule::kw_quadratic_spline => spline = SplineKind::Quadratic,
+                Rule::kw_cubic_spline => spline = SplineKind::Cubic,
+                Rule::kw_bezier_spline => spline = SplineKind::Bezier,
+                Rule::kw_linear_sweep => sweep = Sweep::Linear,
+                Rule::kw_conic_sweep => sweep = Sweep::Conic,
+                rule => unreachable!("no prism word {rule:?}"),
+            }
+        }
+        let mut arguments = Vec::new();
+        while let Some(p) = inner.next_if(|p| matches!(p.as_rule(), Rule::expr | Rule::arg_comma)) {
+            if p.as_rule() == Rule::expr {
+                arguments.push(self.expr(p)?);
+            }
+        }
+        let open = inner.next_if(|p| p.as_rule() == Rule::kw_open).is_some();
+        let mut arguments = arguments.into_iter();
+        let mut next = || arguments.next().expect("the grammar gives three arguments");
+        let heights = [next(), next()];
+        let count = next();
+        let points = arguments.collect();
+        let items = self.items(inner)?;
+        self.leave();
+        let shape = Shape::Prism { spline, sweep, heights, count, points, open };
+        Ok(Object { shape, items, span })
+    }
+
+    /// A blob's `sphere { c, r, [strength] s items }`, `cylinder { a, b, r, [strength] s items }`
+    /// or `component s, r, c`.
+    fn blob_component(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().peekable();
+        let word = inner.next().expect("the component's word");
+        let mut take = |b: &mut Self| {
+            inner.next_if(|p| matches!(p.as_rule(), Rule::arg_comma | Rule::kw_strength));
+            inner.next_if(|p| p.as_rule() == Rule::kw_strength);
+            b.expr(inner.next().expect("the grammar gives the arguments"))
+        };
+        let shape = match word.as_rule() {
+            Rule::kw_sphere => Shape::BlobSphere {
+                center: take(self)?,
+                radius: take(self)?,
+                strength: take(self)?,
+            },
+            Rule::kw_cylinder => Shape::BlobCylinder {
+                a: take(self)?,
+                b: take(self)?,
+                radius: take(self)?,
+                strength: take(self)?,
+            },
+            Rule::kw_component => {
+                let strength = take(self)?;
+                let radius = take(self)?;
+                Shape::BlobSphere { center: take(self)?, radius, strength }
+            }
+            rule => unreachable!("no blob component {rule:?}"),
+        };
         let items = self.items(inner)?;
         self.leave();
         Ok(Object { shape, items, span })

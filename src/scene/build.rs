@@ -13,8 +13,9 @@ use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
-    Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Placement, Planar, PlanarKind,
-    QuadricFrame, QuadricKind, Shape, Torus, TriangleMesh, similarity_scale,
+    Algebraic, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Placement, Planar,
+    PlanarKind, Prism, QuadricFrame, QuadricKind, Shape, Superellipsoid, Torus, TriangleMesh,
+    similarity_scale,
 };
 use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
@@ -438,7 +439,7 @@ impl Flattener {
                 format!(
                     "{what} is not a solid: the operands of intersection, difference and merge \
                      must be solids (sphere, box, closed cylinder or cone, torus, plane, closed \
-                     mesh, CSG, or objects and unions of these)"
+                     mesh, a polynomial surface, a blob, CSG, or objects and unions of these)"
                 ),
             )
         };
@@ -458,6 +459,7 @@ impl Flattener {
                     if base_radius == cap_radius { "an open cylinder" } else { "an open cone" };
                 return Err(not_solid(what));
             }
+            ShapeNode::Prism { open: true, .. } => return Err(not_solid("an open prism")),
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
                 closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
@@ -740,6 +742,18 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         }
         ShapeNode::Isosurface(ref desc) => {
             vec![Shape::Isosurface(Box::new(Isosurface::new(desc.clone(), m)))]
+        }
+        ShapeNode::Algebraic { ref terms } => {
+            vec![Shape::Algebraic(Box::new(Algebraic::new(terms, m)))]
+        }
+        ShapeNode::Blob { threshold, ref components } => {
+            vec![Shape::Blob(Box::new(Blob::new(components, threshold, m)))]
+        }
+        ShapeNode::Superellipsoid { e, n } => {
+            vec![Shape::Superellipsoid(Box::new(Superellipsoid::new(e, n, m)))]
+        }
+        ShapeNode::Prism { ref segments, sweep, heights, open } => {
+            vec![Shape::Prism(Box::new(Prism::new(segments, sweep, heights, open, m)))]
         }
         ShapeNode::Union(_)
         | ShapeNode::Instance(_)

@@ -11,6 +11,7 @@ use glam::{DVec3, Vec3};
 
 mod appearance;
 mod array;
+mod blob;
 mod camera;
 mod expression;
 mod function;
@@ -21,6 +22,8 @@ mod medium;
 mod normal;
 mod object;
 mod pattern;
+mod polynomial;
+mod prism;
 mod scope;
 mod sky;
 mod text;
@@ -228,9 +231,13 @@ impl Body<'_> {
                 | ShapeNode::Cone { .. }
                 | ShapeNode::Torus { .. }
                 | ShapeNode::Isosurface(_)
+                | ShapeNode::Algebraic { .. }
+                | ShapeNode::Prism { .. }
+                | ShapeNode::Superellipsoid { .. }
                 | ShapeNode::Mesh { .. }
                 | ShapeNode::Extrusion(_)
                 | ShapeNode::Instance(_) => "in this object",
+                ShapeNode::Blob { .. } => "in this blob",
             },
             Body::Material(_) => "in a material",
             Body::Texture(_) => "in a texture",

@@ -126,6 +126,43 @@ impl Evaluator {
             Shape::Isosurface(isosurface) => {
                 ShapeNode::Isosurface(Arc::new(self.isosurface(isosurface, &object.span)?))
             }
+            Shape::Quadric { squares, products, linear, constant } => {
+                self.quadric(squares, products, linear, constant)?
+            }
+            Shape::Poly { order, coefficients } => self.poly(order, coefficients)?,
+            // POV-Ray's default threshold; the components are among the items.
+            Shape::Blob => ShapeNode::Blob { threshold: 1.0, components: Vec::new() },
+            Shape::Superellipsoid { exponents } => {
+                let [e, n] = match self.value(exponents)? {
+                    Value::Numbers(v) if v.len() == 2 => [v[0], v[1]],
+                    other => {
+                        return Err(SceneError::at(
+                            &exponents.span,
+                            format!(
+                                "a superellipsoid takes a 2-vector <e, n>, not {}",
+                                other.kind()
+                            ),
+                        ));
+                    }
+                };
+                if !(e > 0.0 && n > 0.0) {
+                    return Err(SceneError::at(
+                        &exponents.span,
+                        format!("a superellipsoid's exponents <{e}, {n}> must be above 0"),
+                    ));
+                }
+                let [e, n] = [single(e, &exponents.span)?, single(n, &exponents.span)?];
+                ShapeNode::Superellipsoid { e, n }
+            }
+            Shape::Prism { spline, sweep, heights, count, points, open } => {
+                self.prism((*spline, *sweep), heights, count, points, *open, &object.span)?
+            }
+            Shape::BlobSphere { .. } | Shape::BlobCylinder { .. } => {
+                return Err(SceneError::at(
+                    &object.span,
+                    "a blob's component stands only in a blob",
+                ));
+            }
             Shape::Mesh { file } => {
                 let name = self.string(file, "`mesh`")?;
                 ShapeNode::Mesh { path: resolve(&file.span.file.path, &name) }
@@ -173,6 +210,7 @@ impl Evaluator {
         let look = self.looks.pop().flatten();
         let shaping = self.shapings.pop().unwrap_or_default();
         items?;
+        self.check_blob(&node.shape, &object.span)?;
         let mut node = shaping.shaped(node);
         if let Some(look) = look {
             node.material = Some(self.look_material(&look, &object.span));
@@ -276,13 +314,27 @@ impl Evaluator {
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
             // POV-Ray's object modifiers: `hollow` and `double_illuminate` change nothing without
             // media and with two-sided shading; the others are not honoured, and say so.
+            Item::PovParam { key, value: Some(value), .. } if key.name == "threshold" => {
+                let ShapeNode::Blob { threshold, .. } = &mut node.shape else {
+                    return Err(Self::misplaced(item, &Body::Object(node)));
+                };
+                *threshold = self.single(&value.value)?;
+            }
+            Item::Object(object) if matches!(node.shape, ShapeNode::Blob { .. }) => {
+                let component = self.blob_component(object)?;
+                if let ShapeNode::Blob { components, .. } = &mut node.shape {
+                    components.push(component);
+                }
+            }
             Item::PovParam { key, value, .. } => {
                 let on = match value {
                     Some(v) => self.number(&v.value, &format!("`{}`", key.name))? != 0.0,
                     None => true,
                 };
                 match key.name.as_str() {
-                    "hollow" | "double_illuminate" | "bounded_by" => {}
+                    // The roots of every polynomial are found robustly: POV-Ray's `sturm`
+                    // asks for nothing more.
+                    "hollow" | "double_illuminate" | "bounded_by" | "sturm" | "hierarchy" => {}
                     "inverse" => {
                         if let Some(shaping) = self.shapings.last_mut() {
                             shaping.inverse = !shaping.inverse;
@@ -517,6 +569,10 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Cone { .. }
         | ShapeNode::Torus { .. }
         | ShapeNode::Isosurface(_)
+        | ShapeNode::Algebraic { .. }
+        | ShapeNode::Blob { .. }
+        | ShapeNode::Prism { .. }
+        | ShapeNode::Superellipsoid { .. }
         | ShapeNode::Mesh { .. }
         | ShapeNode::Extrusion(_)
         | ShapeNode::Instance(_) => None,
