@@ -6,7 +6,7 @@
 //! the surface's own size however far away the ray starts) by `polynomial`.
 
 use arrayvec::ArrayVec;
-use glam::{Affine3A, DVec3, Vec3, Vec3A};
+use glam::{Affine3A, DVec3, Vec3};
 
 use super::crossings::Crossings;
 use super::polynomial::{MAX_DEGREE, Roots, polynomial_roots, root_bound};
@@ -162,21 +162,9 @@ impl Algebraic {
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
-        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
-        let own = o + f64::from(at.t) * d;
-        let gradient = Vec3A::from(self.gradient(own).as_vec3());
-        // Where the gradient vanishes (a singular point), the ray's own direction stands in.
-        let gradient = gradient.try_normalize().unwrap_or(-Vec3A::from(d.as_vec3()));
-        let normal: Vec3 = (self.frame.normal_to_world * gradient).normalize().into();
-        let point = self.frame.to_world.transform_point3a(Vec3A::from(own.as_vec3()));
-        Hit {
-            t: at.t,
-            point: point.into(),
-            normal,
-            shading_normal: normal,
-            error: REL_ERROR * self.frame.magnitude.max(point.abs().max_element()),
-            primitive: 0,
-        }
+        let hit = self.frame.hit_along(ray, at, |own, _| self.gradient(own));
+        // Far from the frame's origin the polynomial's terms lose more.
+        Hit { error: hit.error.max(REL_ERROR * hit.point.abs().max_element()), ..hit }
     }
 
     pub fn contains(&self, p: Vec3) -> bool {

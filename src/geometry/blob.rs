@@ -7,12 +7,12 @@
 //! threshold is solved, stretch by stretch, by `polynomial`.
 
 use arrayvec::ArrayVec;
-use glam::{Affine3A, DAffine3, DVec3, Vec3, Vec3A};
+use glam::{Affine3A, DAffine3, DVec3, Vec3};
 
 use super::crossings::Crossings;
 use super::polynomial::polynomial_roots;
 use super::quadric::QuadricFrame;
-use super::shape::{Intersection, REL_ERROR};
+use super::shape::Intersection;
 use super::{Aabb, Hit, Ray};
 
 /// A component's shape in its own space.
@@ -194,21 +194,8 @@ impl Blob {
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
-        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
-        let own = o + f64::from(at.t) * d;
         // The field falls outwards: the normal is against its gradient.
-        let outward = Vec3A::from((-self.field(own).1).as_vec3());
-        let outward = outward.try_normalize().unwrap_or(-Vec3A::from(d.as_vec3()));
-        let normal: Vec3 = (self.frame.normal_to_world * outward).normalize().into();
-        let point = self.frame.to_world.transform_point3a(Vec3A::from(own.as_vec3()));
-        Hit {
-            t: at.t,
-            point: point.into(),
-            normal,
-            shading_normal: normal,
-            error: REL_ERROR * self.frame.magnitude,
-            primitive: 0,
-        }
+        self.frame.hit_along(ray, at, |own, _| -self.field(own).1)
     }
 
     pub fn contains(&self, p: Vec3) -> bool {

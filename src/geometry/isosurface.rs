@@ -270,23 +270,10 @@ impl Isosurface {
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
-        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
-        let p = o + f64::from(at.t) * d;
-        let own_normal = if at.triangle == WALL {
-            self.desc.container.normal(p)
-        } else {
-            self.gradient(p).try_normalize().unwrap_or(-d.normalize())
-        };
-        let normal = self.frame.normal_to_world * glam::Vec3A::from(own_normal.as_vec3());
-        let normal = Vec3::from(normal.normalize());
-        Hit {
-            t: at.t,
-            point: self.frame.to_world.transform_point3(p.as_vec3()),
-            normal,
-            shading_normal: normal,
-            error: self.error,
-            primitive: 0,
-        }
+        let hit = self.frame.hit_along(ray, at, |p, _| {
+            if at.triangle == WALL { self.desc.container.normal(p) } else { self.gradient(p) }
+        });
+        Hit { error: self.error, ..hit }
     }
 
     /// The function's gradient at `p` by central differences a step of `accuracy` apart.

@@ -6,12 +6,12 @@
 //! where a cubic in u is zero, solved by `polynomial`, and the end caps where the section of
 //! its crossing point is inside.
 
-use glam::{Affine3A, DVec2, DVec3, Vec2, Vec3, Vec3A};
+use glam::{Affine3A, DVec2, DVec3, Vec2, Vec3};
 
 use super::crossings::Crossings;
 use super::polynomial::polynomial_roots;
 use super::quadric::QuadricFrame;
-use super::shape::{Intersection, REL_ERROR};
+use super::shape::Intersection;
 use super::{Aabb, Hit, Ray};
 
 /// How the section is swept along y.
@@ -233,8 +233,6 @@ impl Prism {
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
-        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
-        let own = o + f64::from(at.t) * d;
         let surface = at.triangle & !ENTERING;
         let normal = match surface {
             BOTTOM => -DVec3::Y,
@@ -255,19 +253,9 @@ impl Prism {
         // Outward: against the ray where it goes in, along it where it comes out (the even-odd
         // rule gives a segment no side of its own). An open prism faces the ray.
         let entering = self.open || at.triangle & ENTERING != 0;
-        let facing = if (normal.dot(d) < 0.0) == entering { normal } else { -normal };
-        let facing =
-            Vec3A::from(facing.as_vec3()).try_normalize().unwrap_or(-Vec3A::from(d.as_vec3()));
-        let normal: Vec3 = (self.frame.normal_to_world * facing).normalize().into();
-        let point = self.frame.to_world.transform_point3a(Vec3A::from(own.as_vec3()));
-        Hit {
-            t: at.t,
-            point: point.into(),
-            normal,
-            shading_normal: normal,
-            error: REL_ERROR * self.frame.magnitude,
-            primitive: 0,
-        }
+        self.frame.hit_along(ray, at, |_, d| {
+            if (normal.dot(d) < 0.0) == entering { normal } else { -normal }
+        })
     }
 
     pub fn contains(&self, p: Vec3) -> bool {

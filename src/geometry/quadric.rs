@@ -54,6 +54,31 @@ impl QuadricFrame {
         (*m * (p.as_dvec3() - self.origin), *m * v.as_dvec3())
     }
 
+    /// The hit `at` along `ray` on a surface of the own space whose outward direction at an
+    /// own-space point, for the own ray direction, is `outward` (not normalised). Where it
+    /// vanishes (a singular point) the ray's reversed direction stands in.
+    pub(super) fn hit_along(
+        &self,
+        ray: &Ray,
+        at: &super::shape::Intersection,
+        outward: impl FnOnce(DVec3, DVec3) -> DVec3,
+    ) -> Hit {
+        let (o, d) = self.ray_to_own_space(ray);
+        let own = o + f64::from(at.t) * d;
+        let outward = Vec3A::from(outward(own, d).as_vec3());
+        let outward = outward.try_normalize().unwrap_or(-Vec3A::from(d.as_vec3()));
+        let normal: Vec3 = (self.normal_to_world * outward).normalize().into();
+        let point = self.to_world.transform_point3a(Vec3A::from(own.as_vec3()));
+        Hit {
+            t: at.t,
+            point: point.into(),
+            normal,
+            shading_normal: normal,
+            error: REL_ERROR * self.magnitude,
+            primitive: 0,
+        }
+    }
+
     /// The ray in canonical space, in f64, direction not normalised.
     fn ray_to_own_space(&self, ray: &Ray) -> (DVec3, DVec3) {
         self.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir))

@@ -6,11 +6,11 @@
 //! sum's least and greatest values (found by golden-section search), and each monotonic part
 //! where the sum crosses 1 is bisected.
 
-use glam::{Affine3A, DVec3, Vec3, Vec3A};
+use glam::{Affine3A, DVec3, Vec3};
 
 use super::crossings::Crossings;
 use super::quadric::QuadricFrame;
-use super::shape::{Intersection, REL_ERROR};
+use super::shape::Intersection;
 use super::{Aabb, Hit, Ray};
 
 /// The parts each smooth piece of the ray is cut into: within a part the sum has one least and
@@ -138,20 +138,7 @@ impl Superellipsoid {
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
-        let (o, d) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::from(ray.dir));
-        let own = o + f64::from(at.t) * d;
-        let gradient = Vec3A::from(self.gradient(own).as_vec3());
-        let gradient = gradient.try_normalize().unwrap_or(-Vec3A::from(d.as_vec3()));
-        let normal: Vec3 = (self.frame.normal_to_world * gradient).normalize().into();
-        let point = self.frame.to_world.transform_point3a(Vec3A::from(own.as_vec3()));
-        Hit {
-            t: at.t,
-            point: point.into(),
-            normal,
-            shading_normal: normal,
-            error: REL_ERROR * self.frame.magnitude,
-            primitive: 0,
-        }
+        self.frame.hit_along(ray, at, |own, _| self.gradient(own))
     }
 
     fn inside(&self, p: DVec3) -> bool {
