@@ -65,9 +65,10 @@ impl QuadricFrame {
     ) -> Hit {
         let (o, d) = self.ray_to_own_space(ray);
         let own = o + f64::from(at.t) * d;
-        let outward = Vec3A::from(outward(own, d).as_vec3());
-        let outward = outward.try_normalize().unwrap_or(-Vec3A::from(d.as_vec3()));
-        let normal: Vec3 = (self.normal_to_world * outward).normalize().into();
+        // Normalised in f64: a steep function's gradient may not fit in f32.
+        let outward = outward(own, d).try_normalize().unwrap_or(-d.normalize());
+        let normal: Vec3 =
+            (self.normal_to_world * Vec3A::from(outward.as_vec3())).normalize().into();
         let point = self.to_world.transform_point3a(Vec3A::from(own.as_vec3()));
         Hit {
             t: at.t,
