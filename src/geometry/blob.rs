@@ -184,13 +184,7 @@ impl Blob {
 
     pub fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
         let (inside_at_start, roots) = self.roots(ray, t_max);
-        let mut crossings = Crossings { inside_at_start, list: Default::default() };
-        let mut inside = inside_at_start;
-        for t in roots {
-            inside = !inside;
-            crossings.push(Intersection::at(t), inside);
-        }
-        crossings
+        Crossings::alternating(inside_at_start, roots.into_iter().map(Intersection::at))
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {

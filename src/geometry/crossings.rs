@@ -66,11 +66,20 @@ impl Crossings {
     /// outside before the first.
     pub fn from_roots(roots: &[f32], t_max: f32, at: impl Fn(f32) -> Intersection) -> Self {
         let before = roots.iter().filter(|&&t| t <= 0.0).count();
-        let mut crossings = Crossings { inside_at_start: before % 2 == 1, list: ArrayVec::new() };
-        let mut inside = crossings.inside_at_start;
-        for &t in roots.iter().filter(|&&t| t > 0.0 && t < t_max) {
+        let ahead = roots.iter().filter(|&&t| t > 0.0 && t < t_max).map(|&t| at(t));
+        Crossings::alternating(before % 2 == 1, ahead)
+    }
+
+    /// Crossings that enter and leave in turn, from inside or outside at the ray's start.
+    pub fn alternating(
+        inside_at_start: bool,
+        ahead: impl IntoIterator<Item = Intersection>,
+    ) -> Self {
+        let mut crossings = Crossings { inside_at_start, list: ArrayVec::new() };
+        let mut inside = inside_at_start;
+        for at in ahead {
             inside = !inside;
-            crossings.push(at(t), inside);
+            crossings.push(at, inside);
         }
         crossings
     }

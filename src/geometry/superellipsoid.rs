@@ -128,13 +128,10 @@ impl Superellipsoid {
     pub fn crossings(&self, ray: &Ray, t_max: f32) -> Crossings {
         let (o, _) = self.frame.to_own_space(Vec3::from(ray.origin), Vec3::ZERO);
         let inside_at_start = self.inside(o);
-        let mut crossings = Crossings { inside_at_start, list: Default::default() };
-        let mut inside = inside_at_start;
-        for t in self.roots(ray, t_max) {
-            inside = !inside;
-            crossings.push(Intersection::at(t), inside);
-        }
-        crossings
+        Crossings::alternating(
+            inside_at_start,
+            self.roots(ray, t_max).into_iter().map(Intersection::at),
+        )
     }
 
     pub fn hit(&self, ray: &Ray, at: &Intersection) -> Hit {
