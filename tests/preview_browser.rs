@@ -139,7 +139,9 @@ fn the_page_refines_follows_saves_and_shows_errors_beside_the_last_image() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let scene = small_scene(dir.path(), 1024);
+    // As many samples as a scene may ask: the render must still be refining when the browser
+    // first looks (a fast machine finished 1024 before Chromium had started).
+    let scene = small_scene(dir.path(), raydiance::MAX_SAMPLES);
     let good = std::fs::read_to_string(&scene).unwrap();
     let preview = Preview::start(&scene, &["--listen", "127.0.0.1:0"]);
     let browser = Browser::start();
