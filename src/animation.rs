@@ -96,29 +96,40 @@ fn replace_runs(name: &str, number: u32) -> String {
     out
 }
 
-/// Parses `A..B` of two values of type `T`.
-fn parse_range<T: std::str::FromStr>(s: &str, what: &str) -> Result<(T, T), String> {
+/// A `--frames` or `--clock` value that is not a range of frames or clock values.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RangeError {
+    #[error("{option} `{text}` is not a range A..B (e.g. 0..99)")]
+    NotARange { option: &'static str, text: String },
+    #[error("--frames `{0}`: the first frame must not come after the last")]
+    FramesBackwards(String),
+    #[error("--clock `{0}`: the values must be finite numbers")]
+    ClockNotFinite(String),
+}
+
+/// Parses `A..B` of two values of type `T`, given to `option`.
+fn parse_range<T: std::str::FromStr>(s: &str, option: &'static str) -> Result<(T, T), RangeError> {
     let parse = |t: &str| t.trim().parse::<T>().ok();
     s.split_once("..")
         .and_then(|(a, b)| Some((parse(a)?, parse(b)?)))
-        .ok_or_else(|| format!("{what} `{s}` is not a range A..B (e.g. 0..99)"))
+        .ok_or_else(|| RangeError::NotARange { option, text: s.to_string() })
 }
 
 /// `--frames F0..F1` (whole numbers, F0 <= F1).
-pub fn parse_frames(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_frames(s: &str) -> Result<(u32, u32), RangeError> {
     match parse_range(s, "--frames")? {
         (a, b) if a <= b => Ok((a, b)),
-        _ => Err(format!("--frames `{s}`: the first frame must not come after the last")),
+        _ => Err(RangeError::FramesBackwards(s.to_string())),
     }
 }
 
 /// `--clock C0..C1` (finite numbers; the clock may run backwards).
-pub fn parse_clock(s: &str) -> Result<(f64, f64), String> {
+pub fn parse_clock(s: &str) -> Result<(f64, f64), RangeError> {
     let (a, b): (f64, f64) = parse_range(s, "--clock")?;
     if a.is_finite() && b.is_finite() {
         Ok((a, b))
     } else {
-        Err(format!("--clock `{s}`: the values must be finite numbers"))
+        Err(RangeError::ClockNotFinite(s.to_string()))
     }
 }
 
@@ -154,9 +165,9 @@ mod tests {
     #[test]
     fn ranges_parse_and_refuse_with_reasons() {
         assert_eq!(parse_frames("0..99"), Ok((0, 99)));
-        assert!(parse_frames("5..1").unwrap_err().contains("must not come after"));
-        assert!(parse_frames("0-99").unwrap_err().contains("not a range"));
+        assert!(parse_frames("5..1").unwrap_err().to_string().contains("must not come after"));
+        assert!(parse_frames("0-99").unwrap_err().to_string().contains("not a range"));
         assert_eq!(parse_clock("-1..0.5"), Ok((-1.0, 0.5)));
-        assert!(parse_clock("0..inf").unwrap_err().contains("finite"));
+        assert!(parse_clock("0..inf").unwrap_err().to_string().contains("finite"));
     }
 }

@@ -131,22 +131,28 @@ impl fmt::Display for AovList {
     }
 }
 
+/// A list of AOVs that names one that is not, or one twice.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum AovListError {
+    /// The name, printable.
+    #[error("unknown AOV `{0}` (expected albedo, normal, depth or position, separated by commas)")]
+    Unknown(String),
+    #[error("the AOV `{0}` is named twice")]
+    Twice(&'static str),
+}
+
 /// `albedo,normal,depth,position`, any of them in any order.
 impl FromStr for AovList {
-    type Err = String;
+    type Err = AovListError;
 
-    fn from_str(text: &str) -> Result<AovList, String> {
+    fn from_str(text: &str) -> Result<AovList, AovListError> {
         let mut aovs = AovList::default();
         for name in text.split(',').map(str::trim) {
             let Some(aov) = Aov::ALL.into_iter().find(|aov| aov.name() == name) else {
-                return Err(format!(
-                    "unknown AOV `{}` (expected albedo, normal, depth or position, separated by \
-                     commas)",
-                    crate::diagnostic::printable(name)
-                ));
+                return Err(AovListError::Unknown(crate::diagnostic::printable(name)));
             };
             if aovs.contains(aov) {
-                return Err(format!("the AOV `{name}` is named twice"));
+                return Err(AovListError::Twice(aov.name()));
             }
             aovs = AovList::new(aovs.iter().chain([aov]));
         }

@@ -42,9 +42,14 @@ pub enum DenoiseError {
     Image(#[from] ImageError),
     #[error("error: Open Image Denoise cannot run on this machine: {0}")]
     Device(String),
-    #[error("error: {}: Open Image Denoise failed: {message}", path.display())]
-    Filter { path: PathBuf, message: String },
+    #[error("error: {}: Open Image Denoise failed: {source}", path.display())]
+    Filter { path: PathBuf, source: FilterFailed },
 }
+
+/// Open Image Denoise's own word for why its filter failed.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct FilterFailed(String);
 
 /// The guides of the filter a file's AOVs give, interleaved RGB / XYZ as the filter reads them.
 struct Guides {
@@ -97,7 +102,7 @@ pub fn denoise_file(input: &Path, output: &Path) -> Result<String, DenoiseError>
     let aovs = image::exr::read_aovs(input)?;
     let denoised = denoiser
         .denoise(&beauty, &aovs)
-        .map_err(|message| DenoiseError::Filter { path: input.to_path_buf(), message })?;
+        .map_err(|source| DenoiseError::Filter { path: input.to_path_buf(), source })?;
     let what = description(&aovs);
     attributes.push(("denoised".to_string(), AttributeValue::Text(Text::from(what.as_str()))));
     image::exr::write_with_attributes(output, &denoised, None, attributes)?;
@@ -141,12 +146,13 @@ impl Denoiser {
     /// The `RT` filter over linear HDR radiance, guided by the albedo and normal of `aovs`
     /// when it has them (any other AOV is not a guide).
     #[cfg(feature = "denoise")]
-    pub fn denoise(&self, beauty: &Image, aovs: &AovImage) -> Result<Image, String> {
+    pub fn denoise(&self, beauty: &Image, aovs: &AovImage) -> Result<Image, FilterFailed> {
         let guides = Guides::of(aovs);
         // A panic while denoising leaves a device that can still be used.
         let device = self.device.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         let color: Vec<f32> = beauty.pixels.iter().flat_map(|p| p.to_array()).collect();
-        let mut filter = oidn::RayTracing::try_new(&device).map_err(|e| e.to_string())?;
+        let mut filter =
+            oidn::RayTracing::try_new(&device).map_err(|e| FilterFailed(e.to_string()))?;
         filter.hdr(true).srgb(false).image_dimensions(beauty.width, beauty.height);
         match (&guides.albedo, &guides.normal) {
             (Some(albedo), Some(normal)) => filter.albedo_normal(albedo, normal),
@@ -154,14 +160,14 @@ impl Denoiser {
             (None, _) => &mut filter,
         };
         let mut output = vec![0.0; color.len()];
-        filter.filter(&color, &mut output).map_err(|e| e.to_string())?;
-        device.get_error().map_err(|e| e.to_string())?;
+        filter.filter(&color, &mut output).map_err(|e| FilterFailed(e.to_string()))?;
+        device.get_error().map_err(|e| FilterFailed(e.to_string()))?;
         let pixels = output.chunks_exact(3).map(glam::Vec3::from_slice).collect();
         Ok(Image { width: beauty.width, height: beauty.height, pixels })
     }
 
     #[cfg(not(feature = "denoise"))]
-    pub fn denoise(&self, _: &Image, _: &AovImage) -> Result<Image, String> {
+    pub fn denoise(&self, _: &Image, _: &AovImage) -> Result<Image, FilterFailed> {
         match self.never {}
     }
 }

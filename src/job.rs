@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use crate::aov::{self, AovList};
 use crate::graph::{IntegratorKind, Settings};
-use crate::image::{self, ImageError};
+use crate::image::{self, ImageError, SignalError};
 use crate::integrator::sppm;
 use crate::pipeline::{
     FilmTooLarge, LoadError, OutputFormat, RenderRequest, RenderTooLarge, check_film_memory,
@@ -75,8 +75,8 @@ pub enum RenderJobError {
     FilmTooLarge(#[from] FilmTooLarge),
     #[error(transparent)]
     RenderTooLarge(#[from] RenderTooLarge),
-    #[error("error: cannot handle signals: {0}")]
-    Signals(String),
+    #[error(transparent)]
+    Signals(#[from] SignalError),
     #[error("interrupted before the first pass: nothing written ({} left as it was)", .0.display())]
     InterruptedBeforeFirstPass(PathBuf),
     #[error("error: {0}")]

@@ -14,7 +14,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use raydiance::animation;
 use raydiance::aov::AovList;
 use raydiance::graph::IntegratorKind;
-use raydiance::image::end_cleanly_on_signal;
+use raydiance::image::{SignalError, end_cleanly_on_signal};
 use raydiance::job::{Ended, Observer, RenderJob, RenderJobError};
 use raydiance::progress::Progress;
 use raydiance::region::Crop;
@@ -214,10 +214,19 @@ enum Command {
     },
 }
 
-fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
-    IntegratorKind::named(s).ok_or_else(|| {
-        format!("unknown integrator `{s}` (expected `direct`, `path`, `photon`, `final_gather` or `sppm`)")
-    })
+/// A command-line value that clap's own parsers cannot check.
+#[derive(Debug, thiserror::Error)]
+enum ValueError {
+    #[error(
+        "unknown integrator `{0}` (expected `direct`, `path`, `photon`, `final_gather` or `sppm`)"
+    )]
+    UnknownIntegrator(String),
+    #[error("`{0}` is not a size WxH with sides from 1 to {max} (e.g. 64x48)", max = raydiance::MAX_RESOLUTION)]
+    NotASize(String),
+}
+
+fn parse_integrator(s: &str) -> Result<IntegratorKind, ValueError> {
+    IntegratorKind::named(s).ok_or_else(|| ValueError::UnknownIntegrator(s.to_string()))
 }
 
 /// `println!` and `eprintln!` panic when their stream is closed (`raydiance ... | head`); these
@@ -236,12 +245,12 @@ macro_rules! tell {
     }};
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+fn parse_size(s: &str) -> Result<(u32, u32), ValueError> {
     let max = raydiance::MAX_RESOLUTION;
     let side = |v: &str| v.trim().parse::<u32>().ok().filter(|v| (1..=max).contains(v));
     s.split_once(['x', 'X'])
         .and_then(|(w, h)| Some((side(w)?, side(h)?)))
-        .ok_or_else(|| format!("`{s}` is not a size WxH with sides from 1 to {max} (e.g. 64x48)"))
+        .ok_or_else(|| ValueError::NotASize(s.to_string()))
 }
 
 fn main() -> ExitCode {
@@ -401,8 +410,8 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 /// Ctrl-C, SIGTERM and SIGHUP stop the render within a task; a second one ends the process at
 /// once, leaving no temporary file. Installed when the first render starts: one before it ends
 /// the process as usual.
-fn handle_signals() -> Result<(), String> {
-    static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
+fn handle_signals() -> Result<(), SignalError> {
+    static INSTALLED: OnceLock<Result<(), SignalError>> = OnceLock::new();
     INSTALLED
         .get_or_init(|| {
             ctrlc::set_handler(|| {
@@ -411,7 +420,7 @@ fn handle_signals() -> Result<(), String> {
                     std::process::exit(130);
                 }
             })
-            .map_err(|e| e.to_string())
+            .map_err(|e| SignalError(e.to_string()))
         })
         .clone()
 }

@@ -6,7 +6,7 @@ mod common;
 use common::{LAB_BOX, OneAtATime, scene};
 use glam::{Vec2, Vec3};
 use raydiance::film::Film;
-use raydiance::integrator::{Direct, Path, SampleIntegrator, Strategy};
+use raydiance::integrator::{CameraSample, Direct, Path, SampleIntegrator, Strategy};
 use raydiance::progress::Silent;
 use raydiance::render::render_with;
 use raydiance::sampling::Sampler;
@@ -235,18 +235,25 @@ fn error_falls_like_one_over_root_spp() {
 fn paths_traced_together_get_the_radiance_each_gets_alone() {
     // Lanes share nothing but their tests against the scene: a path's radiance must not depend
     // on which paths it was traced beside (glass and mirrors end paths at different bounces).
+    // Every seventh slot has no sample (as where the film is dark): it is left as it was.
     let scene = common::scene_file("scenes/cornell-specular.scn");
     let integrator = Path { max_depth: 32, strategy: Strategy::Mis };
-    let camera_sample = |i: u64| {
-        let mut sampler = Sampler::new(9, i % 4000, i / 4000);
+    let camera_sample = |i: usize| {
+        let mut sampler = Sampler::new(9, i as u64 % 4000, i as u64 / 4000);
         let (x, y) = (sampler.next_1d(), sampler.next_1d());
-        (scene.camera.ray(x, y, Vec2::ZERO), sampler)
+        CameraSample { slot: i, ray: scene.camera.ray(x, y, Vec2::ZERO), sampler }
     };
     let count = 1001; // not a multiple of the lane count
-    let mut together = vec![Vec3::ZERO; count];
-    integrator.radiance_of_all(&scene, &mut (0..count as u64).map(camera_sample), &mut together);
+    let untouched = Vec3::splat(-1.0);
+    let mut together = vec![untouched; count];
+    let mut samples = (0..count).filter(|i| i % 7 != 3).map(camera_sample);
+    integrator.radiance_of_all(&scene, &mut samples, &mut together);
     for (i, radiance) in together.iter().enumerate() {
-        let (ray, mut sampler) = camera_sample(i as u64);
+        if i % 7 == 3 {
+            assert_eq!(*radiance, untouched, "slot {i} has no sample");
+            continue;
+        }
+        let CameraSample { ray, mut sampler, .. } = camera_sample(i);
         assert_eq!(*radiance, integrator.radiance(&scene, ray, &mut sampler), "sample {i}");
     }
     assert!(together.iter().filter(|r| r.max_element() > 0.0).count() > count / 2);

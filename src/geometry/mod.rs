@@ -34,7 +34,7 @@ pub use frame::{Frame, on_side};
 pub use isosurface::{Container, Isosurface, IsosurfaceDesc, ScalarField};
 pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
 pub use polynomial::{MAX_DEGREE, polynomial_roots};
-pub use prism::{Prism, Segment, SplineKind, Sweep, spline_segments};
+pub use prism::{Prism, Segment, SplineError, SplineKind, Sweep, spline_segments};
 pub use quadric::{QuadricFrame, QuadricKind};
 pub use shape::{Intersection, Shape, SurfaceSample, similarity_scale, sphere_error};
 pub use solid_angle::DirectionSample;

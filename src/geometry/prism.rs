@@ -273,7 +273,7 @@ fn point(s: &[DVec2; 4], u: f64) -> DVec2 {
 /// `points`: each as POV-Ray 3.7 computes them, a sub-curve closing where a point repeats the
 /// sub-curve's first (for quadratic and cubic splines the first point after the leading
 /// control point); `Err` with what is wrong when the points do not close.
-pub fn spline_segments(kind: SplineKind, points: &[Vec2]) -> Result<Vec<Segment>, String> {
+pub fn spline_segments(kind: SplineKind, points: &[Vec2]) -> Result<Vec<Segment>, SplineError> {
     let n = points.len();
     let (needed, first_index) = match kind {
         SplineKind::Linear => (1, 0),
@@ -283,16 +283,14 @@ pub fn spline_segments(kind: SplineKind, points: &[Vec2]) -> Result<Vec<Segment>
     };
     let mut segments = Vec::new();
     let Some(&start) = points.get(first_index) else {
-        return Err(format!("{n} points are too few for this spline"));
+        return Err(SplineError::TooFew(n));
     };
     let mut first = start;
     let same = |a: Vec2, b: Vec2| (a - b).abs().max_element() < 1e-10;
     let mut i = 0;
     while i + 1 < n {
         if i + needed >= n {
-            return Err(format!(
-                "{n} points do not close the last curve (or its control points are missing)"
-            ));
+            return Err(SplineError::Open(n));
         }
         let p = |k: usize| points[i + k];
         let segment = match kind {
@@ -336,6 +334,15 @@ pub fn spline_segments(kind: SplineKind, points: &[Vec2]) -> Result<Vec<Segment>
         i += 1;
     }
     Ok(segments)
+}
+
+/// Points that make no closed spline, with how many there are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum SplineError {
+    #[error("{0} points are too few for this spline")]
+    TooFew(usize),
+    #[error("{0} points do not close the last curve (or its control points are missing)")]
+    Open(usize),
 }
 
 /// POV-Ray's kinds of spline through a prism's (or lathe's) points.

@@ -64,7 +64,7 @@ pub(crate) fn write_with_attributes(
         exr_image.attributes.other.insert(Text::from(format!("raydiance:{name}").as_str()), value);
     }
     write_atomic(path, |writer| {
-        exr_image.write().to_buffered(writer).map_err(|e| ImageError::format(path, e.to_string()))
+        exr_image.write().to_buffered(writer).map_err(|e| ImageError::exr(path, ExrError::Codec(e)))
     })
 }
 
@@ -73,7 +73,7 @@ pub(crate) fn read_attributes(
     path: &Path,
 ) -> std::result::Result<Vec<(String, AttributeValue)>, ImageError> {
     let meta = ::exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| ImageError::format(path, unreadable(e)))?;
+        .map_err(|e| ImageError::exr(path, e.into()))?;
     let Some(header) = meta.headers.first() else { return Ok(Vec::new()) };
     let all = header.shared_attributes.other.iter().chain(&header.own_attributes.other);
     let named = all.filter_map(|(key, value)| {
@@ -87,24 +87,29 @@ pub(crate) fn read_attributes(
 pub fn read(path: &Path) -> std::result::Result<Image, ImageError> {
     let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
         .map_err(|e| ImageError::input(path, e))?;
-    read_bytes(&bytes).map_err(|message| ImageError::format(path, message))
+    read_bytes(&bytes).map_err(|e| ImageError::exr(path, e))
 }
 
-/// The decoder's words ("reference to missing bytes") need saying what failed.
-fn unreadable(e: ::exr::error::Error) -> String {
-    format!("not a readable OpenEXR file ({e})")
+/// An OpenEXR file that raydiance does not read.
+#[derive(Debug, thiserror::Error)]
+pub enum ExrError {
+    /// The decoder's words ("reference to missing bytes") need saying what failed.
+    #[error("not a readable OpenEXR file ({0})")]
+    Unreadable(#[from] ::exr::error::Error),
+    #[error("the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})")]
+    TooLarge { width: usize, height: usize },
+    /// Writing, or reading the header of a file raydiance wrote: the codec's words say enough.
+    #[error("{0}")]
+    Codec(::exr::error::Error),
 }
 
 /// Refuses, from its headers, a file with more pixels than raydiance reads.
-fn check_size(bytes: &[u8]) -> std::result::Result<(), String> {
-    let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
-        .map_err(unreadable)?;
+fn check_size(bytes: &[u8]) -> std::result::Result<(), ExrError> {
+    let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)?;
     for header in &meta.headers {
         let (width, height) = (header.layer_size.width(), header.layer_size.height());
         if width.saturating_mul(height) > MAX_PIXELS {
-            return Err(format!(
-                "the image is {width} x {height} pixels, more than raydiance reads ({MAX_PIXELS})"
-            ));
+            return Err(ExrError::TooLarge { width, height });
         }
     }
     Ok(())
@@ -115,14 +120,14 @@ fn check_size(bytes: &[u8]) -> std::result::Result<(), String> {
 pub fn read_aovs(path: &Path) -> std::result::Result<AovImage, ImageError> {
     let bytes = crate::input::read(path, crate::input::MAX_HDR_BYTES)
         .map_err(|e| ImageError::input(path, e))?;
-    let format = |message| ImageError::format(path, message);
-    check_size(&bytes).map_err(format)?;
-    let image = read_all_channels(&bytes).map_err(|e| format(unreadable(e)))?;
+    check_size(&bytes).map_err(|e| ImageError::exr(path, e))?;
+    let image = read_all_channels(&bytes).map_err(|e| ImageError::exr(path, e.into()))?;
     let layer = image.layer_data;
     let channels = &layer.channel_data.list;
     let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
-    let list = AovList::in_channels(&names)
-        .map_err(|name| format(format!("it has some channels of an AOV but not `{name}`")))?;
+    let list = AovList::in_channels(&names).map_err(|name| {
+        ImageError::format(path, format!("it has some channels of an AOV but not `{name}`"))
+    })?;
     let planes = list
         .channels()
         .filter_map(|name| channels.iter().find(|c| c.name == *name))
@@ -149,7 +154,7 @@ pub fn read_all_channels(
 }
 
 /// Decodes an OpenEXR file's contents.
-pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
+pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, ExrError> {
     check_size(bytes)?;
     let image = ::exr::prelude::read()
         .no_deep_data()
@@ -163,15 +168,14 @@ pub fn read_bytes(bytes: &[u8]) -> std::result::Result<Image, String> {
         )
         .first_valid_layer()
         .all_attributes()
-        .from_buffered(std::io::Cursor::new(bytes))
-        .map_err(unreadable)?;
+        .from_buffered(std::io::Cursor::new(bytes))?;
     Ok(image.layer_data.channel_data.pixels)
 }
 
 /// The samples per pixel recorded in a file raydiance wrote.
 pub fn read_samples_per_pixel(path: &Path) -> std::result::Result<Option<i32>, ImageError> {
     let meta = ::exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| ImageError::format(path, e.to_string()))?;
+        .map_err(|e| ImageError::exr(path, ExrError::Codec(e)))?;
     let key = Text::from("raydiance:samples_per_pixel");
     Ok(meta.headers.first().and_then(|h| {
         match h.shared_attributes.other.get(&key).or_else(|| h.own_attributes.other.get(&key)) {

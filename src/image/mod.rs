@@ -60,6 +60,10 @@ pub enum ImageError {
     Input { path: PathBuf, source: crate::input::InputError },
     #[error("{path}: {source}")]
     Ppm { path: PathBuf, source: ppm::PpmError },
+    #[error("{path}: {source}")]
+    Exr { path: PathBuf, source: exr::ExrError },
+    #[error("{path}: {source}")]
+    Png { path: PathBuf, source: ::image::ImageError },
 }
 
 impl ImageError {
@@ -77,6 +81,14 @@ impl ImageError {
 
     pub fn ppm(path: &Path, source: ppm::PpmError) -> Self {
         ImageError::Ppm { path: path.to_path_buf(), source }
+    }
+
+    pub fn exr(path: &Path, source: exr::ExrError) -> Self {
+        ImageError::Exr { path: path.to_path_buf(), source }
+    }
+
+    pub fn png(path: &Path, source: ::image::ImageError) -> Self {
+        ImageError::Png { path: path.to_path_buf(), source }
     }
 }
 
@@ -185,13 +197,19 @@ pub fn remove_pending_files() -> MutexGuard<'static, Vec<PathBuf>> {
 /// For a command that only writes files, with nothing to keep when stopped (`merge`,
 /// `tonemap`): Ctrl-C, SIGTERM and SIGHUP end the process at once with status 130, leaving no
 /// temporary file (by default the process would die with its `.tmpXXXXXX` beside the output).
-pub fn end_cleanly_on_signal() -> Result<(), String> {
+pub fn end_cleanly_on_signal() -> Result<(), SignalError> {
     ctrlc::set_handler(|| {
         let _no_more_renames = remove_pending_files();
         std::process::exit(130);
     })
-    .map_err(|e| format!("error: cannot handle signals: {e}"))
+    .map_err(|e| SignalError(e.to_string()))
 }
+
+/// The handler of Ctrl-C, SIGTERM and SIGHUP could not be installed: ctrlc's message (kept as
+/// text, so that a handler installed once can give its outcome to each render that asks).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("error: cannot handle signals: {0}")]
+pub struct SignalError(pub String);
 
 fn folder_of(path: &Path) -> &Path {
     match path.parent() {

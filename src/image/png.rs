@@ -14,7 +14,7 @@ pub fn write(
     pixels: &[[u8; 3]],
 ) -> Result<(), ImageError> {
     write_atomic(path, |writer| {
-        encode(writer, width, height, pixels).map_err(|e| ImageError::format(path, e))
+        encode(writer, width, height, pixels).map_err(|e| ImageError::png(path, e))
     })
 }
 
@@ -24,9 +24,12 @@ pub fn encode(
     width: usize,
     height: usize,
     pixels: &[[u8; 3]],
-) -> Result<(), String> {
+) -> Result<(), image::ImageError> {
     let bytes: Vec<u8> = pixels.iter().flatten().copied().collect();
-    PngEncoder::new(writer)
-        .write_image(&bytes, width as u32, height as u32, image::ExtendedColorType::Rgb8)
-        .map_err(|e| e.to_string())
+    PngEncoder::new(writer).write_image(
+        &bytes,
+        width as u32,
+        height as u32,
+        image::ExtendedColorType::Rgb8,
+    )
 }

@@ -5,7 +5,9 @@
 
 use glam::Vec3;
 
-use super::{Lanes, SampleIntegrator, ShadowLanes, direct_from_light, power_heuristic};
+use super::{
+    CameraSample, Lanes, SampleIntegrator, ShadowLanes, direct_from_light, power_heuristic,
+};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
 use crate::light::{Light, ShadowRay};
@@ -61,13 +63,12 @@ impl SampleIntegrator for Direct {
     fn radiance_of_all(
         &self,
         scene: &Scene,
-        samples: &mut dyn Iterator<Item = (Ray, Sampler)>,
+        samples: &mut dyn Iterator<Item = CameraSample>,
         radiance: &mut [Vec3],
     ) {
-        let mut samples = samples.enumerate();
         let mut lanes: Lanes<WhittedLane> = Lanes::new();
         let start = |ray| WhittedLane { path: WhittedPath::new(ray), vertex: None };
-        while let Some(active) = lanes.fill(&mut samples, start) {
+        while let Some(active) = lanes.fill(samples, start) {
             let found = scene.intersect_lanes(&lanes.rays(|lane| lane.path.ray), active);
             for (lane, path) in lanes.paths_mut() {
                 let state = &mut path.state;

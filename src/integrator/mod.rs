@@ -15,7 +15,9 @@ pub use direct::Direct;
 pub use final_gather::{CAUSTIC_K, FinalGather};
 pub use path::{Path, Strategy};
 pub use photon::{PHOTON_TASK, PhotonMapping, STORED_PHOTON_BYTES, most_stored, trace_pass};
-pub use samples::{SampleIntegrator, TASK_SAMPLES, render_samples, stopped_before_a_pass};
+pub use samples::{
+    CameraSample, SampleIntegrator, TASK_SAMPLES, render_samples, stopped_before_a_pass,
+};
 pub use sppm::Sppm;
 
 use glam::{Vec2, Vec3};
@@ -140,16 +142,16 @@ impl<S> Lanes<S> {
         Lanes { paths: std::array::from_fn(|_| None) }
     }
 
-    /// Gives each free lane the next camera sample (numbered by `samples`), its state made by
-    /// `start` from the camera ray; the lanes with a path after that, or `None` when none has
-    /// one: every sample is traced.
+    /// Gives each free lane the next camera sample, its state made by `start` from the camera
+    /// ray; the lanes with a path after that, or `None` when none has one: every sample is
+    /// traced.
     fn fill(
         &mut self,
-        samples: &mut impl Iterator<Item = (usize, (Ray, Sampler))>,
+        samples: &mut dyn Iterator<Item = CameraSample>,
         start: impl Fn(Ray) -> S,
     ) -> Option<[bool; LANES]> {
         for path in self.paths.iter_mut().filter(|path| path.is_none()) {
-            let Some((slot, (ray, sampler))) = samples.next() else { break };
+            let Some(CameraSample { slot, ray, sampler }) = samples.next() else { break };
             *path = Some(LanePath { slot, sampler, state: start(ray) });
         }
         let active = self.paths.each_ref().map(Option::is_some);

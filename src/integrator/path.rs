@@ -4,7 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Lanes, SampleIntegrator, ShadowLanes, power_heuristic};
+use super::{CameraSample, Lanes, SampleIntegrator, ShadowLanes, power_heuristic};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
 use crate::light::{Light, ShadowRay};
@@ -118,18 +118,17 @@ impl SampleIntegrator for Path {
     fn radiance_of_all(
         &self,
         scene: &Scene,
-        samples: &mut dyn Iterator<Item = (Ray, Sampler)>,
+        samples: &mut dyn Iterator<Item = CameraSample>,
         radiance: &mut [Vec3],
     ) {
         if scene.has_media() {
-            for (out, (ray, mut sampler)) in radiance.iter_mut().zip(samples) {
-                *out = self.radiance_in_media(scene, ray, &mut sampler);
+            for CameraSample { slot, ray, mut sampler } in samples {
+                radiance[slot] = self.radiance_in_media(scene, ray, &mut sampler);
             }
             return;
         }
-        let mut samples = samples.enumerate();
         let mut lanes: Lanes<PathState> = Lanes::new();
-        while let Some(active) = lanes.fill(&mut samples, PathState::new) {
+        while let Some(active) = lanes.fill(samples, PathState::new) {
             let rays = lanes.rays(|path| path.ray);
             let found = scene.intersect_lanes(&rays, active);
             let mut shadows = ShadowLanes::new();

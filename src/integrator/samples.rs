@@ -24,21 +24,30 @@ use crate::scene::{Scene, camera_sample};
 /// `Progress::should_abandon`: a few milliseconds of work, whatever the image or pass size.
 pub const TASK_SAMPLES: usize = 4096;
 
+/// A camera sample whose ray leaves the camera: where its radiance goes among a task's
+/// samples (`slot`), the ray, and the sampler that drew it, to draw the rest of its path.
+pub struct CameraSample {
+    pub slot: usize,
+    pub ray: Ray,
+    pub sampler: Sampler,
+}
+
 /// An estimator of the radiance arriving along camera rays, one camera sample at a time.
 pub trait SampleIntegrator: Sync {
     /// An estimate of the radiance arriving at the ray's origin from along `-ray.dir`.
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3;
 
-    /// The radiance of each camera sample, in order, into `radiance` (as long as the samples).
+    /// The radiance of each camera sample into `radiance[sample.slot]`; the slots of samples
+    /// without a ray (where the film is dark) are not among them and stay as they are.
     /// Integrators that trace several paths at once override this.
     fn radiance_of_all(
         &self,
         scene: &Scene,
-        samples: &mut dyn Iterator<Item = (Ray, Sampler)>,
+        samples: &mut dyn Iterator<Item = CameraSample>,
         radiance: &mut [Vec3],
     ) {
-        for (out, (ray, mut sampler)) in radiance.iter_mut().zip(samples) {
-            *out = self.radiance(scene, ray, &mut sampler);
+        for CameraSample { slot, ray, mut sampler } in samples {
+            radiance[slot] = self.radiance(scene, ray, &mut sampler);
         }
     }
 }
@@ -127,8 +136,6 @@ fn render_pass(
             let y = y0 + row;
             let mut radiance = vec![Vec3::ZERO; pixels_per_task * samples_per_task as usize];
             let mut task: Vec<(usize, Range<u32>)> = Vec::with_capacity(pixels_per_task);
-            // The task's samples where the camera's film is dark (`camera_sample`'s `None`).
-            let mut dark: Vec<usize> = Vec::new();
             for first_x in (0..width).step_by(pixels_per_task) {
                 let columns = first_x..(first_x + pixels_per_task).min(width);
                 for first in offsets.clone().step_by(samples_per_task as usize) {
@@ -144,8 +151,9 @@ fn render_pass(
                         let start = (share.start + first).min(share.end);
                         (column, start..(share.start + last).min(share.end))
                     }));
-                    // The task's camera samples, pixel by pixel, each pixel's in index order.
-                    dark.clear();
+                    // The task's camera samples, pixel by pixel, each pixel's in index order;
+                    // those without a ray (where the film is dark) are traced by no integrator
+                    // and stay black.
                     let mut camera_samples = task
                         .iter()
                         .flat_map(|(column, indices)| {
@@ -153,21 +161,13 @@ fn render_pass(
                             indices.clone().map(move |index| camera_sample(scene, x, y, index))
                         })
                         .enumerate()
-                        .map(|(k, (ray, sampler))| {
-                            // A dark sample's path is traced from the camera's origin, and its
-                            // radiance replaced by 0 below.
-                            let ray = ray.unwrap_or_else(|| {
-                                dark.push(k);
-                                Ray::new(scene.camera.origin, scene.camera.forward)
-                            });
-                            (ray, sampler)
+                        .filter_map(|(slot, (ray, sampler))| {
+                            Some(CameraSample { slot, ray: ray?, sampler })
                         });
                     let taken: usize = task.iter().map(|(_, indices)| indices.len()).sum();
                     let radiance = &mut radiance[..taken];
+                    radiance.fill(Vec3::ZERO);
                     integrator.radiance_of_all(scene, &mut camera_samples, radiance);
-                    for &k in &dark {
-                        radiance[k] = Vec3::ZERO;
-                    }
                     let mut task_dropped = 0;
                     let mut samples = radiance.iter();
                     for (column, indices) in &task {

@@ -259,7 +259,7 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
     fn skies_inc_s_rainy_sky_is_dark_at_the_horizon_with_clouds_above() {
         let graph = pov("#include \"skies.inc\"\nsky_sphere { S_Cloud4 }");
         let sky = graph.sky.expect("S_Cloud4 is the scene's sky");
-        let texture = crate::texture::Texture::new(&sky.pigment, &mut |_| Err("no image".into()));
+        let texture = crate::texture::Texture::new(&sky.pigment, &mut |_| unreachable!("no image"));
         let texture = texture.expect("a texture without images");
         let horizon = texture.eval(glam::Vec3::new(0.6, 0.0, 0.8));
         assert!((horizon - glam::Vec3::new(0.184, 0.184, 0.309)).abs().max_element() < 1e-6);
@@ -275,7 +275,7 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
             let graph = pov(&format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}"));
             let sky = graph.sky.expect("the scene's sky");
             let texture =
-                crate::texture::Texture::new(&sky.pigment, &mut |_| Err("no image".into()));
+                crate::texture::Texture::new(&sky.pigment, &mut |_| unreachable!("no image"));
             texture.expect("a texture without images")
         };
         let pink = glam::Vec3::new(0.847, 0.749, 0.847);
@@ -344,7 +344,8 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
 "#);
         let texture = |i: usize| {
             let material = graph.objects[i].material.clone().expect("a material");
-            let texture = crate::texture::Texture::new(&material.diffuse, &mut |_| Err("".into()));
+            let texture =
+                crate::texture::Texture::new(&material.diffuse, &mut |_| unreachable!("no image"));
             texture.expect("a texture without images")
         };
         // T_Grnt0's granite runs through five colours, back to the first: every value lies on
@@ -379,7 +380,7 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
     fn object_texture(scene: &str) -> crate::texture::Texture {
         let graph = pov(scene);
         let material = graph.objects[0].material.clone().expect("a material");
-        crate::texture::Texture::new(&material.diffuse, &mut |_| Err("no image".into()))
+        crate::texture::Texture::new(&material.diffuse, &mut |_| unreachable!("no image"))
             .expect("a texture without images")
     }
 

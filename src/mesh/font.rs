@@ -18,6 +18,15 @@ pub struct Font {
     data: Vec<u8>,
 }
 
+/// Bytes that are not a font raydiance can read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum FontError {
+    #[error("not a TrueType or OpenType font: {0}")]
+    NotAFont(#[from] ttf_parser::FaceParsingError),
+    #[error("the font's em is 0 units")]
+    NoEm,
+}
+
 /// A glyph of a string and where its origin goes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlacedGlyph {
@@ -27,11 +36,10 @@ pub struct PlacedGlyph {
 
 impl Font {
     /// The font in `data`, or why it is not one.
-    pub fn parse(data: Vec<u8>) -> Result<Font, String> {
-        let face =
-            Face::parse(&data, 0).map_err(|e| format!("not a TrueType or OpenType font: {e}"))?;
+    pub fn parse(data: Vec<u8>) -> Result<Font, FontError> {
+        let face = Face::parse(&data, 0)?;
         if face.units_per_em() == 0 {
-            return Err("the font's em is 0 units".to_string());
+            return Err(FontError::NoEm);
         }
         Ok(Font { data })
     }
@@ -238,7 +246,8 @@ mod tests {
 
     #[test]
     fn a_damaged_font_is_an_error_never_a_panic() {
-        assert!(Font::parse(b"not a font at all".to_vec()).unwrap_err().contains("TrueType"));
+        let error = Font::parse(b"not a font at all".to_vec()).unwrap_err();
+        assert!(matches!(error, FontError::NotAFont(_)) && error.to_string().contains("TrueType"));
         for length in 0..BLOCKS.len() {
             let mut bytes = BLOCKS[..length].to_vec();
             bytes.extend(std::iter::repeat_n(0xA5, BLOCKS.len() - length));

@@ -1,5 +1,6 @@
 //! Triangle meshes from files (PLY, ASCII and binary, and Wavefront OBJ) and from fonts (`text`).
 
+mod error;
 pub mod extrude;
 pub mod font;
 mod obj;
@@ -10,6 +11,9 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::diagnostic::printable;
+use crate::input::InputError;
+
+pub use error::{ContentError, Place};
 
 /// An indexed triangle mesh in its own (object) space.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,37 +25,51 @@ pub struct Mesh {
 }
 
 /// A mesh file that cannot be used, with where in it: `file: line N: ...` or `file: element ...`.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}: {message}")]
+/// The problem may quote the file's bytes (a 20 MB token, escape sequences): it is clipped and
+/// escaped.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {}", printable(&file.display().to_string()), printable(&problem.to_string()))]
 pub struct MeshError {
-    pub file: String,
-    pub message: String,
+    pub file: std::path::PathBuf,
+    pub problem: MeshProblem,
+}
+
+/// Why a mesh file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshProblem {
+    #[error("unknown mesh format (expected a .ply or .obj file)")]
+    UnknownFormat,
+    #[error("cannot read: {0}")]
+    Unreadable(InputError),
+    #[error(
+        "cannot read: {source}; this mesh is generated, not shipped: run `{command}` at the top \
+         of the repository"
+    )]
+    NotGenerated { source: InputError, command: &'static str },
+    #[error(transparent)]
+    Content(#[from] ContentError),
 }
 
 /// Reads a `.ply` or `.obj` file by its extension.
 pub fn load(path: &Path) -> Result<Mesh, MeshError> {
-    // A message may quote the file's bytes (a 20 MB token, escape sequences): clipped and escaped.
-    let error = |message: String| MeshError {
-        file: printable(&path.display().to_string()),
-        message: printable(&message),
-    };
+    read(path).map_err(|problem| MeshError { file: path.to_path_buf(), problem })
+}
+
+fn read(path: &Path) -> Result<Mesh, MeshProblem> {
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let format = match extension.as_deref() {
         Some("ply") => MeshFormat::Ply,
         Some("obj") => MeshFormat::Obj,
-        _ => return Err(error("unknown mesh format (expected a .ply or .obj file)".to_string())),
+        _ => return Err(MeshProblem::UnknownFormat),
     };
-    let bytes = crate::input::read(path, crate::input::MAX_MESH_BYTES).map_err(|e| {
+    let bytes = crate::input::read(path, crate::input::MAX_MESH_BYTES).map_err(|source| {
         let how = GENERATED.iter().find(|(name, _)| path.ends_with(name));
         match how {
-            Some((_, command)) if !path.exists() => error(format!(
-                "cannot read: {e}; this mesh is generated, not shipped: run `{command}` at the \
-                 top of the repository"
-            )),
-            _ => error(format!("cannot read: {e}")),
+            Some(&(_, command)) if !path.exists() => MeshProblem::NotGenerated { source, command },
+            _ => MeshProblem::Unreadable(source),
         }
     })?;
-    parse(&bytes, format).map_err(error)
+    Ok(parse(&bytes, format)?)
 }
 
 /// Meshes of the shipped scenes too large for the repository, and the command that makes each.
@@ -65,7 +83,7 @@ pub enum MeshFormat {
 }
 
 /// Parses and checks a mesh file's contents; the message says where in it the problem is.
-pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Mesh, String> {
+pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Mesh, ContentError> {
     let mesh = match format {
         MeshFormat::Ply => ply::parse(bytes),
         MeshFormat::Obj => obj::parse(bytes),
@@ -75,19 +93,17 @@ pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Mesh, String> {
 }
 
 /// Checks what the parsers cannot see locally: indices in range, finite coordinates, a face.
-fn validate(mesh: &Mesh) -> Result<(), String> {
+fn validate(mesh: &Mesh) -> Result<(), ContentError> {
     if mesh.triangles.is_empty() {
-        return Err("the mesh has no faces".to_string());
+        return Err(ContentError::NoFaces);
     }
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        return Err(format!("vertex {i} has a coordinate that is not a finite number"));
+        return Err(ContentError::NotFinite(i));
     }
     let count = mesh.positions.len();
     for (face, triangle) in mesh.triangles.iter().enumerate() {
         if let Some(&index) = triangle.iter().find(|&&i| i as usize >= count) {
-            return Err(format!(
-                "face {face} uses vertex {index}, but there are only {count} vertices"
-            ));
+            return Err(ContentError::FaceVertexOutOfRange { face, index, count });
         }
     }
     let has_area = |t: &[u32; 3]| {
@@ -95,11 +111,7 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
         (b - a).cross(c - a) != Vec3::ZERO
     };
     if !mesh.triangles.iter().any(has_area) {
-        let which = match mesh.triangles.len() {
-            1 => "its one triangle is".to_string(),
-            n => format!("all {n} triangles of the mesh are"),
-        };
-        return Err(format!("{which} degenerate (of no area): it would be invisible"));
+        return Err(ContentError::AllDegenerate(mesh.triangles.len()));
     }
     Ok(())
 }
@@ -110,10 +122,10 @@ fn validate(mesh: &Mesh) -> Result<(), String> {
 pub const MAX_TRIANGLES: usize = 1 << 24;
 
 /// Adds the fan of triangles of `polygon`; an error once the mesh has more than `MAX_TRIANGLES`.
-fn triangulate(polygon: &[u32], triangles: &mut Vec<[u32; 3]>) -> Result<(), String> {
+fn triangulate(polygon: &[u32], triangles: &mut Vec<[u32; 3]>) -> Result<(), ContentError> {
     let fan = polygon.len().saturating_sub(2);
     if triangles.len() + fan > MAX_TRIANGLES {
-        return Err(format!("the mesh has more than {MAX_TRIANGLES} triangles"));
+        return Err(ContentError::TooManyTriangles);
     }
     for i in 1..=fan {
         triangles.push([polygon[0], polygon[i], polygon[i + 1]]);

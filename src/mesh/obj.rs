@@ -3,10 +3,10 @@
 
 use glam::Vec3;
 
-use super::{Mesh, triangulate};
+use super::{ContentError, Mesh, Place, triangulate};
 
-pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
-    let text = std::str::from_utf8(bytes).map_err(|e| format!("not UTF-8 text: {e}"))?;
+pub fn parse(bytes: &[u8]) -> Result<Mesh, ContentError> {
+    let text = std::str::from_utf8(bytes)?;
     let mut positions = Vec::new();
     let mut file_normals = Vec::new();
     let mut texcoords = 0usize;
@@ -16,7 +16,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     let mut all_corners_have_normals = true;
     let mut polygon = Vec::new();
     for (number, line) in text.lines().enumerate() {
-        let at = |message: String| format!("line {}: {message}", number + 1);
+        let at = |problem: ContentError| problem.at(Place::Line(number + 1));
         let mut words = line.split_whitespace();
         match words.next() {
             Some("v") => positions.push(vector(&mut words).map_err(at)?),
@@ -42,10 +42,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                     polygon.push(position);
                 }
                 if polygon.len() < 3 {
-                    return Err(at(format!(
-                        "a face needs 3 vertices, this one has {}",
-                        polygon.len()
-                    )));
+                    return Err(at(ContentError::ObjFaceTooSmall(polygon.len())));
                 }
                 triangulate(&polygon, &mut triangles).map_err(at)?;
             }
@@ -59,22 +56,23 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     Ok(Mesh { positions, normals, triangles })
 }
 
-fn vector<'a>(words: &mut impl Iterator<Item = &'a str>) -> Result<Vec3, String> {
+fn vector<'a>(words: &mut impl Iterator<Item = &'a str>) -> Result<Vec3, ContentError> {
     let mut xyz = [0.0f32; 3];
     for c in &mut xyz {
-        let word = words.next().ok_or("expected three numbers")?;
-        *c = word.parse().map_err(|_| format!("`{word}` is not a number"))?;
+        let word = words.next().ok_or(ContentError::NotThreeNumbers)?;
+        *c = word.parse().map_err(|_| ContentError::NotANumber(word.to_string()))?;
     }
     Ok(Vec3::from(xyz))
 }
 
 /// A 1-based (or negative, from the end) OBJ index into a list of `count`, as 0-based.
-fn index(word: Option<&str>, count: usize, what: &str) -> Result<u32, String> {
-    let word = word.ok_or(format!("missing {what} index"))?;
-    let i: i64 = word.parse().map_err(|_| format!("`{word}` is not a {what} index"))?;
+fn index(word: Option<&str>, count: usize, what: &'static str) -> Result<u32, ContentError> {
+    let word = word.ok_or(ContentError::MissingIndex(what))?;
+    let i: i64 =
+        word.parse().map_err(|_| ContentError::NotAnIndex { word: word.to_string(), what })?;
     let resolved = if i < 0 { count as i64 + i } else { i - 1 };
     if i == 0 || resolved < 0 || resolved >= count as i64 {
-        return Err(format!("{what} index {i} is out of range (there are {count} so far)"));
+        return Err(ContentError::IndexOutOfRange { what, index: i, count });
     }
     Ok(resolved as u32)
 }
@@ -97,14 +95,12 @@ mod tests {
 
     #[test]
     fn errors_name_the_line() {
-        assert_eq!(parse(b"v 0 0 0\nv 1 x 0\n").unwrap_err(), "line 2: `x` is not a number");
+        let error = |bytes: &[u8]| parse(bytes).unwrap_err().to_string();
+        assert_eq!(error(b"v 0 0 0\nv 1 x 0\n"), "line 2: `x` is not a number");
         assert_eq!(
-            parse(b"v 0 0 0\nf 1 2 3\n").unwrap_err(),
+            error(b"v 0 0 0\nf 1 2 3\n"),
             "line 2: vertex index 2 is out of range (there are 1 so far)"
         );
-        assert_eq!(
-            parse(b"v 0 0 0\nf 1 1\n").unwrap_err(),
-            "line 2: a face needs 3 vertices, this one has 2"
-        );
+        assert_eq!(error(b"v 0 0 0\nf 1 1\n"), "line 2: a face needs 3 vertices, this one has 2");
     }
 }

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::{Mesh, triangulate};
+use super::{ContentError, Mesh, Place, triangulate};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Scalar {
@@ -63,12 +63,12 @@ enum Format {
     BigEndian,
 }
 
-pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
+pub fn parse(bytes: &[u8]) -> Result<Mesh, ContentError> {
     let (format, elements, body) = header(bytes)?;
     let mut reader = match format {
         Format::Ascii => Reader::Ascii(
             std::str::from_utf8(body)
-                .map_err(|_| "the ASCII body is not text".to_string())?
+                .map_err(|_| ContentError::BodyNotText)?
                 .split_ascii_whitespace(),
         ),
         Format::LittleEndian | Format::BigEndian => {
@@ -93,7 +93,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
             let xyz = [find("x"), find("y"), find("z")];
             let nxyz = [find("nx"), find("ny"), find("nz")];
             let [Some(x), Some(y), Some(z)] = xyz else {
-                return Err("element vertex: needs properties x, y and z".to_string());
+                return Err(ContentError::NoCoordinates);
             };
             has_normals = nxyz.iter().all(Option::is_some);
             positions.reserve(plausible);
@@ -106,7 +106,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                             reader.skip_list(*count, *item).map(|_| 0.0)
                         }
                     }
-                    .map_err(|e| format!("vertex {i}: {e}"))?;
+                    .map_err(|e| e.at(Place::Item { element: "vertex".to_string(), index: i }))?;
                 }
                 positions.push(Vec3::new(values[x] as f32, values[y] as f32, values[z] as f32));
                 if let [Some(nx), Some(ny), Some(nz)] = nxyz {
@@ -122,19 +122,18 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                 |p| matches!(p, Property::List { name, .. } if name == "vertex_indices" || name == "vertex_index"),
             );
             let Some(indices) = indices else {
-                return Err("element face: needs a list property vertex_indices".to_string());
+                return Err(ContentError::NoVertexIndices);
             };
             triangles.reserve(plausible);
             for i in 0..element.count {
-                let at = |e: String| format!("face {i}: {e}");
+                let at =
+                    |e: ContentError| e.at(Place::Item { element: "face".to_string(), index: i });
                 for (k, property) in element.properties.iter().enumerate() {
                     match property {
                         Property::List { count, item, .. } if k == indices => {
                             let n = reader.scalar(*count).map_err(at)?;
                             if !(3.0..=1e6).contains(&n) {
-                                return Err(at(format!(
-                                    "a face needs 3 or more vertices, this one has {n}"
-                                )));
+                                return Err(at(ContentError::PlyFaceTooSmall(n)));
                             }
                             polygon.clear();
                             for _ in 0..n as usize {
@@ -143,7 +142,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                                     || index.fract() != 0.0
                                     || index > f64::from(u32::MAX)
                                 {
-                                    return Err(at(format!("{index} is not a vertex index")));
+                                    return Err(at(ContentError::NotAVertexIndex(index)));
                                 }
                                 polygon.push(index as u32);
                             }
@@ -164,7 +163,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                         Property::List { count, item, .. } => reader.skip_list(*count, *item),
                         Property::Scalar { ty, .. } => reader.scalar(*ty).map(drop),
                     }
-                    .map_err(|e| format!("{} {i}: {e}", element.name))?;
+                    .map_err(|e| e.at(Place::Item { element: element.name.clone(), index: i }))?;
                 }
             }
         }
@@ -173,11 +172,11 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
 }
 
 /// Parses the header; returns the format, the elements and the body's bytes.
-fn header(bytes: &[u8]) -> Result<(Format, Vec<Element>, &[u8]), String> {
+fn header(bytes: &[u8]) -> Result<(Format, Vec<Element>, &[u8]), ContentError> {
     if !bytes.starts_with(b"ply") {
-        return Err("not a PLY file (it does not start with `ply`)".to_string());
+        return Err(ContentError::NotPly);
     }
-    let end = find(bytes, b"end_header").ok_or("the header has no `end_header`")?;
+    let end = find(bytes, b"end_header").ok_or(ContentError::NoEndHeader)?;
     let mut body_start = end + b"end_header".len();
     // The header's last line ends with \n or \r\n.
     if bytes.get(body_start) == Some(&b'\r') {
@@ -186,12 +185,11 @@ fn header(bytes: &[u8]) -> Result<(Format, Vec<Element>, &[u8]), String> {
     if bytes.get(body_start) == Some(&b'\n') {
         body_start += 1;
     }
-    let text =
-        std::str::from_utf8(&bytes[..end]).map_err(|_| "the header is not text".to_string())?;
+    let text = std::str::from_utf8(&bytes[..end]).map_err(|_| ContentError::HeaderNotText)?;
     let mut format = None;
     let mut elements: Vec<Element> = Vec::new();
     for (number, line) in text.lines().enumerate().skip(1) {
-        let at = |message: &str| format!("header line {}: {message}", number + 1);
+        let at = |problem: ContentError| problem.at(Place::HeaderLine(number + 1));
         let words: Vec<&str> = line.split_whitespace().collect();
         match words.as_slice() {
             [] | ["comment", ..] | ["obj_info", ..] => {}
@@ -200,21 +198,20 @@ fn header(bytes: &[u8]) -> Result<(Format, Vec<Element>, &[u8]), String> {
                     "ascii" => Format::Ascii,
                     "binary_little_endian" => Format::LittleEndian,
                     "binary_big_endian" => Format::BigEndian,
-                    _ => return Err(at(&format!("unknown format `{name}`"))),
+                    _ => return Err(at(ContentError::UnknownFormat(name.to_string()))),
                 })
             }
             ["element", name, count] => elements.push(Element {
                 name: name.to_string(),
-                count: count
-                    .parse()
-                    .map_err(|_| at(&format!("`{count}` is not an element count")))?,
+                count: count.parse().map_err(|_| at(ContentError::NotACount(count.to_string())))?,
                 properties: Vec::new(),
             }),
             ["property", "list", count, item, name] => {
                 let element =
-                    elements.last_mut().ok_or_else(|| at("a property before any element"))?;
-                let ty =
-                    |t: &str| Scalar::parse(t).ok_or_else(|| at(&format!("unknown type `{t}`")));
+                    elements.last_mut().ok_or_else(|| at(ContentError::PropertyBeforeElement))?;
+                let ty = |t: &str| {
+                    Scalar::parse(t).ok_or_else(|| at(ContentError::UnknownType(t.to_string())))
+                };
                 element.properties.push(Property::List {
                     name: name.to_string(),
                     count: ty(count)?,
@@ -223,14 +220,15 @@ fn header(bytes: &[u8]) -> Result<(Format, Vec<Element>, &[u8]), String> {
             }
             ["property", ty, name] => {
                 let element =
-                    elements.last_mut().ok_or_else(|| at("a property before any element"))?;
-                let ty = Scalar::parse(ty).ok_or_else(|| at(&format!("unknown type `{ty}`")))?;
+                    elements.last_mut().ok_or_else(|| at(ContentError::PropertyBeforeElement))?;
+                let ty = Scalar::parse(ty)
+                    .ok_or_else(|| at(ContentError::UnknownType(ty.to_string())))?;
                 element.properties.push(Property::Scalar { name: name.to_string(), ty });
             }
-            _ => return Err(at(&format!("cannot read `{line}`"))),
+            _ => return Err(at(ContentError::UnreadableLine(line.to_string()))),
         }
     }
-    let format = format.ok_or("the header has no `format` line")?;
+    let format = format.ok_or(ContentError::NoFormat)?;
     Ok((format, elements, &bytes[body_start..]))
 }
 
@@ -244,17 +242,15 @@ enum Reader<'a> {
 }
 
 impl Reader<'_> {
-    fn scalar(&mut self, ty: Scalar) -> Result<f64, String> {
+    fn scalar(&mut self, ty: Scalar) -> Result<f64, ContentError> {
         match self {
             Reader::Ascii(words) => {
-                let word = words.next().ok_or("the file ends too early")?;
-                word.parse::<f64>().map_err(|_| format!("`{word}` is not a number"))
+                let word = words.next().ok_or(ContentError::EndsEarly)?;
+                word.parse::<f64>().map_err(|_| ContentError::NotANumber(word.to_string()))
             }
             Reader::Binary { bytes, at, big_endian } => {
                 let size = ty.size();
-                let chunk = bytes
-                    .get(*at..*at + size)
-                    .ok_or_else(|| format!("the file ends too early (at byte {at} of the data)"))?;
+                let chunk = bytes.get(*at..*at + size).ok_or(ContentError::EndsEarlyAtByte(*at))?;
                 *at += size;
                 let mut raw = [0u8; 8];
                 raw[..size].copy_from_slice(chunk);
@@ -275,10 +271,10 @@ impl Reader<'_> {
         }
     }
 
-    fn skip_list(&mut self, count: Scalar, item: Scalar) -> Result<(), String> {
+    fn skip_list(&mut self, count: Scalar, item: Scalar) -> Result<(), ContentError> {
         let n = self.scalar(count)?;
         if !(0.0..=1e6).contains(&n) {
-            return Err(format!("a list of {n} items"));
+            return Err(ContentError::LongList(n));
         }
         (0..n as usize).try_for_each(|_| self.scalar(item).map(drop))
     }
@@ -321,19 +317,17 @@ mod tests {
 
     #[test]
     fn errors_name_the_element_or_header_line() {
+        let error = |bytes: &[u8]| parse(bytes).unwrap_err().to_string();
         let truncated = &binary_square(false)[..binary_square(false).len() - 3];
-        assert_eq!(
-            parse(truncated).unwrap_err(),
-            "face 0: the file ends too early (at byte 65 of the data)"
-        );
-        assert_eq!(parse(b"plx").unwrap_err(), "not a PLY file (it does not start with `ply`)");
+        assert_eq!(error(truncated), "face 0: the file ends too early (at byte 65 of the data)");
+        assert_eq!(error(b"plx"), "not a PLY file (it does not start with `ply`)");
         let bad_type = ASCII_SQUARE.replace("property float y", "property quad y");
-        assert_eq!(parse(bad_type.as_bytes()).unwrap_err(), "header line 6: unknown type `quad`");
+        assert_eq!(error(bad_type.as_bytes()), "header line 6: unknown type `quad`");
         let bad_value = ASCII_SQUARE.replace("1 1 0", "1 one 0");
-        assert_eq!(parse(bad_value.as_bytes()).unwrap_err(), "vertex 2: `one` is not a number");
+        assert_eq!(error(bad_value.as_bytes()), "vertex 2: `one` is not a number");
         let huge = ASCII_SQUARE.replace("element vertex 4", "element vertex 4000000000000");
         // The face's numbers are read as vertex 4; vertex 5 runs out.
-        assert_eq!(parse(huge.as_bytes()).unwrap_err(), "vertex 5: the file ends too early");
+        assert_eq!(error(huge.as_bytes()), "vertex 5: the file ends too early");
         // Found by fuzzing: a huge count of an element with no properties took forever.
         let empty_element = "ply\nformat ascii 1.0\nelement junk 376000000000000000\nend_header\n";
         assert!(parse(empty_element.as_bytes()).unwrap().triangles.is_empty());

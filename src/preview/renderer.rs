@@ -12,7 +12,9 @@ use crate::denoise::Denoiser;
 use crate::film::Film;
 use crate::graph::Settings;
 use crate::image::{Image, RenderInfo};
-use crate::pipeline::{check_film_memory, check_render_memory};
+use crate::pipeline::{
+    FilmTooLarge, LoadError, RenderTooLarge, check_film_memory, check_render_memory,
+};
 use crate::progress::Progress;
 use crate::region::Region;
 use crate::scene::Scene;
@@ -59,18 +61,28 @@ pub fn run(
                     crate::render::render(&scene, &Passes::new(&job, &scene, false));
                 }
             }
-            Err(error) => shown.failed(error),
+            Err(error) => shown.failed(error.to_string()),
         }
         watch.wait_for_change();
     }
 }
 
-/// The scene ready to render, or the error the terminal would print.
-fn load(path: &Path, request: &RenderRequest) -> Result<Scene, String> {
-    let scene = crate::load(path, request).map_err(|e| e.to_string())?;
-    check_film_memory(&scene.settings, &crate::aov::AovList::default(), MAX_BYTES)
-        .map_err(|e| e.to_string())?;
-    check_render_memory(&scene, MAX_BYTES).map_err(|e| e.to_string())?;
+/// Why the preview has no scene to render: what the terminal would print.
+#[derive(Debug, thiserror::Error)]
+enum Unrenderable {
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    #[error(transparent)]
+    Film(#[from] FilmTooLarge),
+    #[error(transparent)]
+    Render(#[from] RenderTooLarge),
+}
+
+/// The scene ready to render.
+fn load(path: &Path, request: &RenderRequest) -> Result<Scene, Unrenderable> {
+    let scene = crate::load(path, request)?;
+    check_film_memory(&scene.settings, &crate::aov::AovList::default(), MAX_BYTES)?;
+    check_render_memory(&scene, MAX_BYTES)?;
     Ok(scene)
 }
 

@@ -106,7 +106,7 @@ pub fn respond(request: Request, shown: &Shown, site: &Site) {
                 shown.set_tone_map(tone_map);
                 request.respond(text(String::new(), "text/plain").with_status_code(204))
             }
-            Err(message) => request.respond(text(message, "text/plain").with_status_code(400)),
+            Err(e) => request.respond(text(e.to_string(), "text/plain").with_status_code(400)),
         },
         _ => request.respond(not_found()),
     };
@@ -185,22 +185,31 @@ fn respond_exr(request: Request, image: Option<(Image, RenderInfo)>) -> std::io:
     }
 }
 
+/// A tone mapping the page cannot ask for.
+#[derive(Debug, thiserror::Error)]
+enum ToneMapQueryError {
+    #[error(transparent)]
+    ToneMap(#[from] ToneMapError),
+    #[error("exposure `{0}` is not a number")]
+    Exposure(String),
+    #[error("unknown tone-mapping parameter `{0}`")]
+    Unknown(String),
+}
+
 /// The tone mapping `op=NAME&exposure=EV` asks for.
-fn tone_map(query: &str) -> Result<ToneMap, String> {
+fn tone_map(query: &str) -> Result<ToneMap, ToneMapQueryError> {
     let mut tone_map = ToneMap::default();
     for pair in query.split('&').filter(|pair| !pair.is_empty()) {
         match pair.split_once('=') {
-            Some(("op", name)) => {
-                tone_map.op = name.parse().map_err(|e: ToneMapError| e.to_string())?;
-            }
+            Some(("op", name)) => tone_map.op = name.parse()?,
             Some(("exposure", ev)) => {
                 tone_map.exposure =
-                    ev.parse().map_err(|_| format!("exposure `{ev}` is not a number"))?;
+                    ev.parse().map_err(|_| ToneMapQueryError::Exposure(ev.to_string()))?;
             }
-            _ => return Err(format!("unknown tone-mapping parameter `{pair}`")),
+            _ => return Err(ToneMapQueryError::Unknown(pair.to_string())),
         }
     }
-    tone_map.validate().map_err(|e| e.to_string())?;
+    tone_map.validate()?;
     Ok(tone_map)
 }
 
@@ -223,9 +232,9 @@ mod tests {
         let aces = tone_map("op=aces&exposure=-1.5").unwrap();
         assert_eq!((aces.op, aces.exposure), (Operator::Aces, -1.5));
         assert_eq!(tone_map("").unwrap(), ToneMap::default());
-        assert!(tone_map("op=sepia").unwrap_err().contains("sepia"));
-        assert!(tone_map("exposure=bright").unwrap_err().contains("bright"));
+        assert!(tone_map("op=sepia").unwrap_err().to_string().contains("sepia"));
+        assert!(tone_map("exposure=bright").unwrap_err().to_string().contains("bright"));
         assert!(tone_map("exposure=inf").is_err());
-        assert!(tone_map("white=2").unwrap_err().contains("white=2"));
+        assert!(tone_map("white=2").unwrap_err().to_string().contains("white=2"));
     }
 }

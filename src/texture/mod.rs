@@ -9,7 +9,7 @@ mod warp;
 
 pub use bump::{Bump, tilt};
 pub use field::{default_wave, shaped_value, wave};
-pub use image_map::ImageMap;
+pub use image_map::{ImageMap, ImageMapError};
 pub use noise::{Octaves, fbm, noise, perlin};
 
 use std::f32::consts::PI;
@@ -77,8 +77,8 @@ impl Texture {
     /// Compiles a texture node; `load` reads `image_map` files (errors are the caller's).
     pub fn new(
         node: &TextureNode,
-        load: &mut dyn FnMut(&std::path::Path) -> Result<Arc<ImageMap>, String>,
-    ) -> Result<Texture, String> {
+        load: &mut dyn FnMut(&std::path::Path) -> Result<Arc<ImageMap>, ImageMapError>,
+    ) -> Result<Texture, ImageMapError> {
         let mut sub = |t: &TextureNode| Texture::new(t, load).map(Box::new);
         let kind = match &node.pattern {
             Pattern::Solid(c) => Kind::Solid(*c),
@@ -191,7 +191,7 @@ mod tests {
     use crate::graph::Transform;
 
     fn texture(pattern: Pattern, transforms: Vec<Transform>) -> Texture {
-        Texture::new(&TextureNode { pattern, transforms }, &mut |_| Err("no images".into()))
+        Texture::new(&TextureNode { pattern, transforms }, &mut |_| unreachable!("no image"))
             .unwrap()
     }
 
