@@ -456,4 +456,3 @@ fn lights_are_as_bright_as_povray_s_at_look_at() {
         );
     }
 }
-
