@@ -66,6 +66,18 @@ impl Light {
         }
     }
 
+    /// The sphere (centre, radius) across which the light's photons leave a disc upstream, for
+    /// a light from infinitely far away (a distant light, the environment); `None` for a
+    /// light whose photons leave it in every direction it shines, which reach everything it lights.
+    pub fn photon_sphere(&self) -> Option<(Vec3, f32)> {
+        match self {
+            &Light::Distant { centre, radius, .. } => Some((centre, radius)),
+            Light::Environment(sky) => Some(sky.sphere()),
+            Light::Point { .. } | Light::Area { .. } | Light::Spot(_) => None,
+            Light::Modified { light, .. } => light.photon_sphere(),
+        }
+    }
+
     /// Emitted power (mean over RGB), for choosing lights in proportion to it (`power_rgb`).
     pub fn power(&self) -> f32 {
         self.power_rgb().element_sum() / 3.0
@@ -293,4 +305,52 @@ fn shadow_ray(hit: &Hit, target: Vec3, wi: Vec3) -> ShadowRay {
     let distance = to_target.length();
     // Stop just short of the target so that the light's own surface does not occlude it.
     ShadowRay { ray: Ray::new(origin, to_target / distance), t_max: distance * (1.0 - 1e-4) }
+}
+
+/// Whether photons leaving a disc of radius `radius` at distance `radius` from `centre` towards
+/// it (`Light::photon_sphere`) reach `point` from direction `wi` (towards the light) when
+/// nothing is in the way: the line through `point` along `wi` must cross the disc, upstream of
+/// `point`. Inside the sphere every direction does.
+pub fn photons_reach(centre: Vec3, radius: f32, point: Vec3, wi: Vec3) -> bool {
+    let offset = point - centre;
+    let along = offset.dot(wi);
+    along < radius && (offset - along * wi).length_squared() < radius * radius
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+
+    /// Every photon of a distant light and of the sky reaches the points along its ray from
+    /// where it starts, by `photons_reach`; a point outside the sphere is reached from the
+    /// directions that cross it and not from those that miss it.
+    #[test]
+    fn photons_reach_where_the_lights_photons_go() {
+        let (centre, radius) = (Vec3::new(1.0, 2.0, 3.0), 2.0);
+        let distant = Light::Distant {
+            direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+            irradiance: Vec3::ONE,
+            centre,
+            radius,
+        };
+        let sky = Light::Environment(Box::new(Environment::constant(Vec3::ONE, centre, radius)));
+        for light in [distant, sky] {
+            assert_eq!(light.photon_sphere(), Some((centre, radius)));
+            for i in 0..1000 {
+                let mut s = Sampler::new(1, i, 0);
+                let photon = light.sample_emission(1000, s.next_2d(), s.next_2d()).unwrap();
+                for t in [0.01, 1.0, 3.0, 10.0] {
+                    let point = photon.ray.at(t);
+                    let wi = -Vec3::from(photon.ray.dir);
+                    assert!(photons_reach(centre, radius, point, wi), "{point} from {wi}");
+                }
+            }
+        }
+        let outside = centre + Vec3::new(5.0, 0.0, 0.0);
+        assert!(photons_reach(centre, radius, outside, -Vec3::X), "a line through the sphere");
+        assert!(!photons_reach(centre, radius, outside, Vec3::X), "the disc is downstream");
+        assert!(!photons_reach(centre, radius, outside, Vec3::Y), "a line beside the sphere");
+        assert!(photons_reach(centre, radius, centre + Vec3::splat(0.5), -Vec3::Y), "inside");
+    }
 }

@@ -19,6 +19,7 @@ use std::f32::consts::PI;
 use std::time::Instant;
 
 use super::direct::{Vertex, WhittedPath, arrive, follow, whitted};
+use super::missed_light::MissedLight;
 use super::photon::{estimate, trace_pass};
 use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
 use crate::film::Film;
@@ -62,6 +63,7 @@ impl Integrator for FinalGather {
             gather: self,
             caustic: PhotonMap::build(caustic),
             global: PhotonMap::build(global),
+            missed: MissedLight::of(scene),
         };
         let (film, stats) = render_samples(scene, &estimate, region, progress);
         (film, RenderStats { seconds: start.elapsed().as_secs_f64(), ..stats })
@@ -76,6 +78,7 @@ struct GatherEstimate<'a> {
     gather: &'a FinalGather,
     caustic: PhotonMap,
     global: PhotonMap,
+    missed: Option<MissedLight>,
 }
 
 impl GatherEstimate<'_> {
@@ -149,7 +152,10 @@ impl GatherEstimate<'_> {
 impl SampleIntegrator for GatherEstimate<'_> {
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
         let indirect = |vertex: &Vertex, sampler: &mut Sampler| {
-            self.caustic(vertex) + self.final_gather(scene, vertex, sampler)
+            let max_depth = self.gather.max_depth;
+            let missed = (self.missed.as_ref())
+                .map_or(Vec3::ZERO, |m| m.at(scene, vertex, max_depth, sampler));
+            self.caustic(vertex) + self.final_gather(scene, vertex, sampler) + missed
         };
         whitted(scene, ray, sampler, self.gather.max_depth, Some(&indirect))
     }

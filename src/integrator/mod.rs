@@ -5,6 +5,7 @@
 
 mod direct;
 mod final_gather;
+mod missed_light;
 mod path;
 mod photon;
 mod samples;

@@ -42,7 +42,7 @@ pub(super) struct PathState {
     pub(super) beta: Vec3,
     /// Product of eta^2 over refractions: undoes their radiance scaling for Russian roulette,
     /// so paths through glass are not cut for a throughput drop that the exit restores.
-    eta_scale: f32,
+    pub(super) eta_scale: f32,
     /// Where the last direction was sampled from a non-delta lobe (or a phase function), that
     /// vertex's point and the direction's solid-angle pdf (for MIS where the path meets an
     /// emitter).

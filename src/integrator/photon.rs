@@ -14,6 +14,7 @@ use std::f32::consts::PI;
 use std::time::Instant;
 
 use super::direct::{Vertex, whitted};
+use super::missed_light::MissedLight;
 use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
 use crate::film::Film;
 use crate::geometry::Ray;
@@ -74,7 +75,8 @@ impl Integrator for PhotonMapping {
         let Some([photons]) = trace_pass(scene, &emission, 0, progress, maps) else {
             return stopped_before_a_pass(scene, start);
         };
-        let estimate = PhotonEstimate { mapping: self, map: PhotonMap::build(photons) };
+        let map = PhotonMap::build(photons);
+        let estimate = PhotonEstimate { mapping: self, map, missed: MissedLight::of(scene) };
         let (film, stats) = render_samples(scene, &estimate, region, progress);
         (film, RenderStats { seconds: start.elapsed().as_secs_f64(), ..stats })
     }
@@ -88,13 +90,16 @@ impl Integrator for PhotonMapping {
 struct PhotonEstimate<'a> {
     mapping: &'a PhotonMapping,
     map: PhotonMap,
+    missed: Option<MissedLight>,
 }
 
 impl PhotonEstimate<'_> {
     /// Light from other surfaces scattered towards `wo` by the gathered lobes at `vertex`, from
-    /// the nearest photons.
-    fn indirect(&self, vertex: &Vertex) -> Vec3 {
-        estimate(&self.map, vertex, self.mapping.k)
+    /// the nearest photons, and the light they miss (`missed_light`).
+    fn indirect(&self, scene: &Scene, vertex: &Vertex, sampler: &mut Sampler) -> Vec3 {
+        let missed = (self.missed.as_ref())
+            .map_or(Vec3::ZERO, |m| m.at(scene, vertex, self.mapping.max_depth, sampler));
+        estimate(&self.map, vertex, self.mapping.k) + missed
     }
 }
 
@@ -121,7 +126,8 @@ pub(super) fn estimate(map: &PhotonMap, vertex: &Vertex, k: usize) -> Vec3 {
 
 impl SampleIntegrator for PhotonEstimate<'_> {
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
-        let indirect = |vertex: &Vertex, _: &mut Sampler| self.indirect(vertex);
+        let indirect =
+            |vertex: &Vertex, sampler: &mut Sampler| self.indirect(scene, vertex, sampler);
         whitted(scene, ray, sampler, self.mapping.max_depth, Some(&indirect))
     }
 }

@@ -20,6 +20,7 @@ use rayon::prelude::*;
 use super::direct::{
     Vertex, WhittedPath, arrive, direct_from_environment, follow, lit_one_at_a_time,
 };
+use super::missed_light::MissedLight;
 use super::{Integrator, PHOTON_TASK};
 use crate::film::{BYTES_PER_PIXEL, Film};
 use crate::light::Light;
@@ -157,10 +158,11 @@ fn render(scene: &Scene, progress: &dyn Progress) -> (Film, RenderStats) {
         direct: DVec3::ZERO,
     };
     let mut pixels = vec![initial; width * height];
+    let missed = MissedLight::of(scene);
     let mut iterations = 0;
     while iterations < settings.samples {
         let iteration_start = Instant::now();
-        if !iterate(scene, &emission, iterations, &mut pixels, progress) {
+        if !iterate(scene, &emission, missed.as_ref(), iterations, &mut pixels, progress) {
             break;
         }
         iterations += 1;
@@ -202,6 +204,7 @@ fn film_of(pixels: &[PixelState], iterations: u32, width: usize, height: usize) 
 fn iterate(
     scene: &Scene,
     emission: &Emission,
+    missed: Option<&MissedLight>,
     iteration: u32,
     pixels: &mut [PixelState],
     progress: &dyn Progress,
@@ -213,7 +216,7 @@ fn iterate(
             if progress.should_abandon() {
                 return None;
             }
-            let row = (0..width).map(|x| visible_point(scene, x, y, iteration)).collect();
+            let row = (0..width).map(|x| visible_point(scene, missed, x, y, iteration)).collect();
             progress.advance(width as u64);
             Some(row)
         })
@@ -285,9 +288,16 @@ fn iterate(
     true
 }
 
-/// Iteration `iteration`'s camera path of pixel (x, y): the emission it saw and the direct light
-/// at its visible point (weighted by the path's throughput), and the visible point if any.
-fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPath {
+/// Iteration `iteration`'s camera path of pixel (x, y): the emission it saw, the direct light
+/// at its visible point and the light photons miss there (`missed`'s), weighted by the path's
+/// throughput; and the visible point if any.
+fn visible_point(
+    scene: &Scene,
+    missed: Option<&MissedLight>,
+    x: usize,
+    y: usize,
+    iteration: u32,
+) -> CameraPath {
     let (Some(ray), mut sampler) = camera_sample(scene, x, y, iteration) else {
         return (Vec3::ZERO, None); // the film is dark there
     };
@@ -321,6 +331,10 @@ fn visible_point(scene: &Scene, x: usize, y: usize, iteration: u32) -> CameraPat
                 let environment =
                     direct_from_environment(scene, hit, *wo, bsdf, gathered, &mut sampler);
                 path.radiance += path.beta * environment;
+                if let Some(missed) = missed {
+                    let max_depth = scene.settings.max_depth;
+                    path.radiance += path.beta * missed.at(scene, &vertex, max_depth, &mut sampler);
+                }
                 return (path.radiance, Some(VisiblePoint { vertex, beta: path.beta }));
             }
             path.beta /= 1.0 - p;

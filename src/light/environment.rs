@@ -88,6 +88,11 @@ impl Environment {
         Environment { sky: Sky::Textured { pigment, to_sky, emission, cells }, centre, radius }
     }
 
+    /// The sphere its photons enter (centre, radius): they leave a disc across it.
+    pub fn sphere(&self) -> (Vec3, f32) {
+        (self.centre, self.radius)
+    }
+
     /// Radiance arriving from direction `wi` (a unit vector pointing at the sky).
     pub fn le(&self, wi: Vec3) -> Vec3 {
         match &self.sky {

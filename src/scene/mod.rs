@@ -310,6 +310,12 @@ impl Scene {
             && m.coat.is_none()
     }
 
+    /// Whether the scene has unbounded primitives (planes): they reach beyond any sphere
+    /// around the others.
+    pub fn has_unbounded(&self) -> bool {
+        self.others.end > self.bounded
+    }
+
     /// The environment light, if the scene has one, and its index in `lights`.
     pub fn environment(&self) -> Option<(usize, &Environment)> {
         let index = self.environment?;
