@@ -5,24 +5,40 @@
 /// The text of the built-in include file `name`, if there is one.
 pub fn file(name: &str) -> Option<&'static str> {
     match name {
+        "ash.map" => Some(include_str!("library/ash.map")),
+        "benediti.map" => Some(include_str!("library/benediti.map")),
+        "bubinga.map" => Some(include_str!("library/bubinga.map")),
+        "cedar.map" => Some(include_str!("library/cedar.map")),
         "colors.inc" => Some(include_str!("library/colors.inc")),
         "consts.inc" => Some(include_str!("library/consts.inc")),
+        "debug.inc" => Some(include_str!("library/debug.inc")),
         "finish.inc" => Some(include_str!("library/finish.inc")),
         "functions.inc" => Some(include_str!("library/functions.inc")),
         "glass.inc" => Some(include_str!("library/glass.inc")),
         "glass_old.inc" => Some(include_str!("library/glass_old.inc")),
         "golds.inc" => Some(include_str!("library/golds.inc")),
+        "marbteal.map" => Some(include_str!("library/marbteal.map")),
+        "math.inc" => Some(include_str!("library/math.inc")),
         "metals.inc" => Some(include_str!("library/metals.inc")),
+        "orngwood.map" => Some(include_str!("library/orngwood.map")),
+        "pinkmarb.map" => Some(include_str!("library/pinkmarb.map")),
         "rad_def.inc" => Some(include_str!("library/rad_def.inc")),
+        "rdgranit.map" => Some(include_str!("library/rdgranit.map")),
         "shapes.inc" => Some(include_str!("library/shapes.inc")),
         "shapes2.inc" => Some(include_str!("library/shapes2.inc")),
         "shapes_old.inc" => Some(include_str!("library/shapes_old.inc")),
+        "shapesq.inc" => Some(include_str!("library/shapesq.inc")),
         "skies.inc" => Some(include_str!("library/skies.inc")),
+        "stars.inc" => Some(include_str!("library/stars.inc")),
+        "stdcam.inc" => Some(include_str!("library/stdcam.inc")),
         "stones.inc" => Some(include_str!("library/stones.inc")),
         "stones1.inc" => Some(include_str!("library/stones1.inc")),
         "stones2.inc" => Some(include_str!("library/stones2.inc")),
+        "sunpos.inc" => Some(include_str!("library/sunpos.inc")),
+        "teak.map" => Some(include_str!("library/teak.map")),
         "textures.inc" => Some(include_str!("library/textures.inc")),
         "woodmaps.inc" => Some(include_str!("library/woodmaps.inc")),
+        "whiteash.map" => Some(include_str!("library/whiteash.map")),
         "woods.inc" => Some(include_str!("library/woods.inc")),
         _ => None,
     }
@@ -119,6 +135,18 @@ pub fn left_out(name: &str) -> Option<&'static str> {
                  leaves it out (a finite `cylinder` or `cone` may stand for it)",
             )
         }
+        "Starfield1" | "Starfield2" | "Starfield3" | "Starfield4" | "Starfield5" | "Starfield6" => {
+            Some(
+                "POV-Ray's stars.inc declares it as a pattern of glowing stars, and raydiance's glow \
+             is one colour over a whole surface (the starfield would glow white everywhere): \
+             raydiance's stars.inc leaves it out",
+            )
+        }
+        "fn_Gradient" | "fn_Gradient_Directional" | "fn_Divergence" => Some(
+            "POV-Ray's math.inc declares it as a macro that makes a function, which raydiance's \
+             macros cannot: raydiance's math.inc leaves it out (vGradient, vCurl and Divergence \
+             give the values at a point)",
+        ),
         name if FUNCTIONS_LEFT_OUT.contains(&name) => Some(
             "POV-Ray's functions.inc declares it as one of its internal functions, which \
              raydiance does not build in: raydiance's functions.inc leaves it out (docs/povray.md \
@@ -132,24 +160,39 @@ pub fn left_out(name: &str) -> Option<&'static str> {
 mod tests {
     use std::path::Path;
 
-    const NAMES: [&str; 19] = [
+    const NAMES: [&str; 34] = [
+        "ash.map",
+        "benediti.map",
+        "bubinga.map",
+        "cedar.map",
         "colors.inc",
         "consts.inc",
+        "debug.inc",
         "finish.inc",
         "functions.inc",
         "glass.inc",
         "glass_old.inc",
         "golds.inc",
+        "marbteal.map",
+        "math.inc",
         "metals.inc",
+        "orngwood.map",
+        "pinkmarb.map",
         "rad_def.inc",
+        "rdgranit.map",
         "shapes.inc",
         "shapes2.inc",
         "shapes_old.inc",
+        "shapesq.inc",
         "skies.inc",
+        "stars.inc",
         "stones.inc",
         "stones1.inc",
         "stones2.inc",
+        "sunpos.inc",
+        "teak.map",
         "textures.inc",
+        "whiteash.map",
         "woodmaps.inc",
         "woods.inc",
     ];
@@ -492,6 +535,195 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
                 let neighbours = faces.iter().filter(|(m, _)| (n.dot(*m) - cos).abs() < 1e-4);
                 assert_eq!(neighbours.count(), sides, "{n}");
             }
+        }
+    }
+
+    #[test]
+    fn math_inc_s_macros_and_functions_agree_with_their_formulas() {
+        // Each value against its formula worked out by hand; `Near` stops the scene where one
+        // differs, and the last line shows that it can.
+        let checks = r#"
+#include "math.inc"
+#macro Near(A, B, What)
+  #if (abs(A - B) > 1e-9 * max(1, abs(B))) #error concat(What, " differs: ", str(A, 0, 12), " ", str(B, 0, 12)) #end
+#end
+#declare Arr = array[4] { 1, 2, 4, 9 }
+Near(Mean(Arr), 4, "Mean")
+Near(Std_Dev(Arr, 4), sqrt((9 + 4 + 0 + 25) / 4), "Std_Dev")
+GetStats(Arr)
+Near(StatisticsArray[0], 4, "N") Near(StatisticsArray[2], 1, "min") Near(StatisticsArray[3], 9, "max")
+Near(StatisticsArray[4], sqrt((9 + 4 + 0 + 25) / 4), "stddev")
+Histogram(Arr, 2)
+Near(HistogramArray[0][1], 3, "hist0") Near(HistogramArray[1][1], 1, "hist1") Near(HistogramArray[1][0], 7, "hist c")
+Near(sind(30), 0.5, "sind") Near(acosd(0.5), 60, "acosd") Near(atan2d(1, 1), 45, "atan2d")
+Near(even(4), 1, "even") Near(odd(4), 0, "odd") Near(odd(-3), 1, "odd-3") Near(sgn(-2), -1, "sgn")
+Near(clip(5, 0, 2), 2, "clip") Near(clamp(5, 0, 2), 1, "clamp") Near(adj_range(0.5, 2, 4), 3, "adj")
+Near(adj_range2(3, 2, 4, 10, 20), 15, "adj2")
+Near(Interpolate(0.5, 0, 1, 10, 20, 0), 15, "interp0") Near(Interpolate(0.5, 0, 1, 10, 20, 2), 12.5, "interp2")
+Near(Interpolate(0.25, 0, 1, 10, 20, 0), 10 + 10 * (1 - cos(pi / 4)) / 2, "interp0b")
+Near(VLength5D(rgbft <1, 2, 2, 0, 4>), 5, "vlen5")
+Near(VAngleD(x, y), 90, "angle") Near(VRotationD(x, y, -z), -90, "rot")
+#if (!VEq(VPerp_To_Vector(<1, 2, 3>), vnormalize(vcross(<1, 2, 3>, x)))) #error "perp" #end
+#if (!VEq(VPerp_To_Vector(<3, 2, 1>), vnormalize(vcross(<3, 2, 1>, z)))) #error "perp2" #end
+#if (!VZero(VPerp_To_Vector(0))) #error "perp0" #end
+#declare GF = function { x * x + 3 * y }
+#declare G = vGradient(GF, <2, 0, 0>);
+Near(G.x, 4, "grad x") Near(G.y, 3, "grad y")
+#declare FX = function { x * y } #declare FY = function { y * z } #declare FZ = function { z * x }
+Near(Divergence(FX, FY, FZ, <1, 2, 3>), 2 + 3 + 1, "div")
+#declare Curl = vCurl(FX, FY, FZ, <1, 2, 3>);
+Near(Curl.x, -2, "curl x") Near(Curl.y, -3, "curl y") Near(Curl.z, -1, "curl z")
+Near(Gradient_Length(FX, <1, 2, 3>), sqrt(5), "glen")
+Near(VMax(<1, 7, 3>), 7, "vmax")
+"#;
+        pov(checks);
+        let wrong = format!("{checks}\nNear(Mean(Arr), 5, \"Mean\")");
+        let message = crate::lang::parse_scene(Path::new("m.pov"), &wrong).map(|_| ()).unwrap_err();
+        assert!(message.to_string().contains("Mean differs"), "{message}");
+        let left_out =
+            "#include \"math.inc\"\n#declare F = function { x }\n#declare G = fn_Gradient(F);";
+        let message =
+            crate::lang::parse_scene(Path::new("m.pov"), left_out).map(|_| ()).unwrap_err();
+        assert!(message.to_string().contains("makes a function"), "{message}");
+    }
+
+    #[test]
+    fn sunpos_inc_places_the_sun_where_povray_does() {
+        // Altitude and azimuth that POV-Ray 3.7 prints for its own sunpos.inc at these dates,
+        // times and places (#debug with str(.., 0, 6)).
+        for (call, altitude, azimuth) in [
+            ("SunPos(2000, 6, 21, 12, 0, 0, 23.44, 0)", 89.579727, 90.102753),
+            ("SunPos(2000, 3, 20, 6, 0, 0, 0, 0)", -1.864872, 90.021484),
+            ("SunPos(2004, 11, 3, 15, 30, 15, 52, 5)", 11.549895, 225.677236),
+        ] {
+            pov(&format!(
+                "#include \"sunpos.inc\"\n#declare P = {call};\n\
+                 #if (abs(Al - {altitude}) > 2e-6 | abs(Az - {azimuth}) > 2e-6) #error \"Al, Az\" #end\n\
+                 #if (vlength(P - vrotate(<0, 0, 1e9>, <-Al, Az, 0>)) > 1) #error \"P\" #end"
+            ));
+        }
+    }
+
+    #[test]
+    fn debug_inc_s_macros_speak_only_on_their_condition() {
+        let scene = |condition: &str| {
+            let text = format!("#include \"debug.inc\"\nError({condition}, \"stopped\")");
+            crate::lang::parse_scene(Path::new("d.pov"), &text).map(|_| ())
+        };
+        assert!(scene("0").is_ok());
+        let message = scene("1").unwrap_err().to_string();
+        assert!(message.contains("stopped"), "{message}");
+    }
+
+    #[test]
+    fn stdcam_inc_sets_a_camera_a_light_and_a_plum_floor() {
+        let graph = pov("#include \"colors.inc\"\n#include \"stdcam.inc\"");
+        assert_eq!(graph.objects.len(), 1);
+        assert_eq!(graph.lights.len(), 1);
+        let floor = object_texture("#include \"colors.inc\"\n#include \"stdcam.inc\"");
+        let plum = glam::Vec3::new(0.917647, 0.678431, 0.917647) * 0.6;
+        assert!((floor.eval(glam::Vec3::ZERO) - plum).abs().max_element() < 1e-5);
+    }
+
+    #[test]
+    fn stars_inc_s_glowing_starfields_are_refused_with_the_reason() {
+        let text = "#include \"stars.inc\"\nsphere { 0, 1 texture { Starfield3 } }";
+        let message = crate::lang::parse_scene(Path::new("s.pov"), text).map(|_| ()).unwrap_err();
+        assert!(message.to_string().contains("glow white everywhere"), "{message}");
+    }
+
+    #[test]
+    fn the_map_files_hold_povray_s_colour_maps() {
+        // The first colour of three, as POV-Ray's files give it; each holds 255 colours.
+        for (file, map, first) in [
+            ("ash.map", "M_Ash", glam::Vec3::new(0.298039, 0.188235, 0.125490)),
+            ("rdgranit.map", "M_RedGranite", glam::Vec3::new(0.439216, 0.407843, 0.454902)),
+            ("whiteash.map", "M_WhiteAsh", glam::Vec3::new(0.345098, 0.219608, 0.109804)),
+        ] {
+            let scene = format!(
+                "#include \"{file}\"\nsphere {{ 0, 1 pigment {{ gradient x color_map {{ {map} }} }} }}"
+            );
+            let seen = object_texture(&scene).eval(glam::Vec3::new(0.0, 0.0, 0.0)) / 0.6;
+            assert!((seen - first).abs().max_element() < 1e-5, "{map}: {seen}");
+        }
+        for file in NAMES.iter().filter(|name| name.ends_with(".map")) {
+            let text = super::file(file).expect("built in");
+            assert_eq!(text.matches("rgb <").count(), 255, "{file}");
+        }
+    }
+
+    #[test]
+    fn textures_inc_s_added_names_hold_povray_s_colours() {
+        let wood =
+            object_texture("#include \"textures.inc\"\nsphere { 0, 1 pigment { DMFWood5 } }");
+        let scene = "#include \"textures.inc\"\nsphere { 0, 1 pigment { Red_Marble } }\n\
+                     sphere { 0, 1 pigment { Sapphire_Agate } }\nsphere { 0, 1 texture { New_Brass } }";
+        assert_eq!(pov(scene).objects.len(), 3);
+        for i in 0..50 {
+            let seen = wood.eval(glam::Vec3::new(i as f32 * 0.013, i as f32 * 0.007, 0.0)) / 0.6;
+            // Between <0.3, 0.1, 0.05> and <0.25, 0.07, 0.038>.
+            assert!(seen.x >= 0.25 - 1e-5 && seen.x <= 0.3 + 1e-5, "{seen}");
+            assert!(seen.z >= 0.038 - 1e-5 && seen.z <= 0.05 + 1e-5, "{seen}");
+        }
+    }
+
+    #[test]
+    fn shapesq_inc_s_torus_is_the_torus_polynomial() {
+        let names = [
+            "Bicorn",
+            "Crossed_Trough",
+            "Cubic_Cylinder",
+            "Cubic_Saddle_1",
+            "Devils_Curve",
+            "Folium",
+            "Glob_5",
+            "Twin_Glob",
+            "Helix",
+            "Helix_1",
+            "Hyperbolic_Torus_40_12",
+            "Lemniscate",
+            "Quartic_Loop_1",
+            "Monkey_Saddle",
+            "Parabolic_Torus_40_12",
+            "Piriform",
+            "Quartic_Paraboloid",
+            "Quartic_Cylinder",
+            "Steiner_Surface",
+            "Torus_40_12",
+            "Witch_Hat",
+            "Sinsurf",
+        ];
+        let mut scene = String::from("#include \"shapesq.inc\"\n");
+        for name in names {
+            scene += &format!("object {{ {name} }}\n");
+        }
+        let graph = pov(&scene);
+        assert_eq!(graph.objects.len(), names.len());
+        let torus = &graph.objects[19];
+        let crate::graph::ShapeNode::Instance(declared) = &torus.shape else {
+            panic!("the declared torus: {:?}", torus.shape);
+        };
+        let crate::graph::ShapeNode::Algebraic { terms } = &declared.shape else {
+            panic!("a quartic: {:?}", declared.shape);
+        };
+        // (x² + y² + z² + R² − r²)² − 4R²(x² + z²), R² = 40, r² = 12, is the quartic's value
+        // up to one factor at every point.
+        let p = |x: f64, y: f64, z: f64| {
+            terms
+                .iter()
+                .map(|t| {
+                    let [i, j, k] = t.powers;
+                    t.coefficient * x.powi(i as i32) * y.powi(j as i32) * z.powi(k as i32)
+                })
+                .sum::<f64>()
+        };
+        let formula = |x: f64, y: f64, z: f64| {
+            (x * x + y * y + z * z + 28.0).powi(2) - 160.0 * (x * x + z * z)
+        };
+        let factor = p(0.0, 0.0, 0.0) / formula(0.0, 0.0, 0.0);
+        for (x, y, z) in [(1.0, 2.0, 3.0), (-4.0, 0.5, 2.5), (6.0, -1.0, 0.0), (0.3, 3.0, -7.0)] {
+            let (seen, expected) = (p(x, y, z), factor * formula(x, y, z));
+            assert!((seen - expected).abs() < 1e-9 * expected.abs().max(1.0), "{seen} {expected}");
         }
     }
 }
