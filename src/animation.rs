@@ -3,17 +3,21 @@
 
 use std::path::{Path, PathBuf};
 
-/// The values a scene sees of its frame: `clock` and `frame_number`.
+/// The values a scene sees of its frame: `clock`, `frame_number`, and POV-Ray's `clock_on` and
+/// `clock_delta`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Frame {
     pub number: u32,
     pub clock: f64,
+    /// The clock's step from one frame to the next when the frame is one of an animation
+    /// (`--frames`); `None` for a still image.
+    pub step: Option<f64>,
 }
 
 impl Default for Frame {
     /// Without animation options `clock` is 0 and `frame_number` 0.
     fn default() -> Self {
-        Frame { number: 0, clock: 0.0 }
+        Frame { number: 0, clock: 0.0, step: None }
     }
 }
 
@@ -48,12 +52,14 @@ impl Frames {
             return Err(FrameError { number, first: self.first, last: self.last });
         }
         let (c0, c1) = self.clock;
-        let clock = if self.last == self.first {
-            c0
-        } else {
-            c0 + (c1 - c0) * (f64::from(number - self.first) / f64::from(self.last - self.first))
+        let (clock, step) = match self.last - self.first {
+            0 => (c0, 0.0),
+            intervals => {
+                let share = f64::from(number - self.first) / f64::from(intervals);
+                (c0 + (c1 - c0) * share, (c1 - c0) / f64::from(intervals))
+            }
         };
-        Ok(Frame { number, clock })
+        Ok(Frame { number, clock, step: Some(step) })
     }
 
     /// The name of frame `number`'s file: each run of `#` in the file name (not its folder)
@@ -142,7 +148,7 @@ mod tests {
         let frames = Frames { first: 10, last: 14, clock: DEFAULT_CLOCK };
         assert_eq!(frames.frame(10).unwrap().clock, 0.0);
         assert_eq!(frames.frame(12).unwrap().clock, 0.5);
-        assert_eq!(frames.frame(14).unwrap(), Frame { number: 14, clock: 1.0 });
+        assert_eq!(frames.frame(14).unwrap(), Frame { number: 14, clock: 1.0, step: Some(0.25) });
         assert!(frames.frame(15).unwrap_err().to_string().contains("not one of --frames 10..14"));
         let one = Frames { first: 3, last: 3, clock: (2.0, 5.0) };
         assert_eq!(one.frame(3).unwrap().clock, 2.0);

@@ -506,7 +506,7 @@ fn forged_part(path: &Path, size: (u32, u32), crop: &str, share: &str, samples: 
         integrator: "path".to_string(),
         max_depth: 8,
         digest: "forged".to_string(),
-        frame: raydiance::animation::Frame { number: 0, clock: 0.0 },
+        frame: raydiance::animation::Frame::default(),
         seconds: 1.0,
         aovs: Default::default(),
     };

@@ -29,6 +29,10 @@ pub enum Constant {
     Clock,
     /// The frame's number: 0 without animation options.
     FrameNumber,
+    /// POV-Ray's `clock_on`: 1 when the frame is one of an animation, else 0.
+    ClockOn,
+    /// POV-Ray's `clock_delta`: the clock's step between frames; 0 for a still image.
+    ClockDelta,
 }
 
 /// The built-in functions (`docs/language.md`, Expressions and Comparisons).
@@ -74,6 +78,10 @@ pub enum Function {
     Concat,
     Str,
     DimensionSize,
+    /// POV-Ray's `dimensions(array)`: how many dimensions the array has.
+    Dimensions,
+    /// POV-Ray's `div(a, b)`: the integer part of a / b.
+    Div,
     /// POV-Ray's `vaxis_rotate(v, axis, degrees)`: v turned about the axis.
     VaxisRotate,
     /// POV-Ray's string functions: `strlen(s)`, `substr(s, start, length)` (from 1),
@@ -143,6 +151,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "true" => C(Constant::True), "yes" => C(Constant::True), "on" => C(Constant::True),
     "false" => C(Constant::False), "no" => C(Constant::False), "off" => C(Constant::False),
     "clock" => C(Constant::Clock), "frame_number" => C(Constant::FrameNumber),
+    "clock_on" => C(Constant::ClockOn), "clock_delta" => C(Constant::ClockDelta),
     "sin" => F(Function::Sin), "cos" => F(Function::Cos), "tan" => F(Function::Tan),
     "asin" => F(Function::Asin), "acos" => F(Function::Acos), "atan" => F(Function::Atan),
     "sinh" => F(Function::Sinh), "cosh" => F(Function::Cosh), "tanh" => F(Function::Tanh),
@@ -157,7 +166,8 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "vcross" => F(Function::Vcross), "vrotate" => F(Function::Vrotate),
     "select" => F(Function::Select), "rand" => F(Function::Rand),
     "concat" => F(Function::Concat), "str" => F(Function::Str),
-    "dimension_size" => F(Function::DimensionSize),
+    "dimension_size" => F(Function::DimensionSize), "dimensions" => F(Function::Dimensions),
+    "div" => F(Function::Div),
     "vaxis_rotate" => F(Function::VaxisRotate),
     "strlen" => F(Function::Strlen), "substr" => F(Function::Substr), "strupr" => F(Function::Strupr),
     "strlwr" => F(Function::Strlwr), "chr" => F(Function::Chr), "asc" => F(Function::Asc),
@@ -187,8 +197,10 @@ impl Function {
             Sin | Cos | Tan | Asin | Acos | Atan | Sinh | Cosh | Tanh | Asinh | Acosh | Atanh
             | Sqrt | Sqr | Abs | Radians | Degrees | Floor | Ceil | Int | Exp | Ln | Log
             | Vlength | Vnormalize | Seed | Rand | Strlen | Strupr | Strlwr | Chr | Asc | Val
-            | FileExists | Defined => Some(1),
-            Pow | Min | Max | Mod | Atan2 | Vdot | Vcross | Vrotate | DimensionSize => Some(2),
+            | FileExists | Defined | Dimensions => Some(1),
+            Pow | Min | Max | Mod | Div | Atan2 | Vdot | Vcross | Vrotate | DimensionSize => {
+                Some(2)
+            }
             Select | Str | VaxisRotate | Substr => Some(3),
             Vstr => Some(5),
             Concat => None,

@@ -198,7 +198,7 @@ fn unclosed_block(
 }
 
 /// The directives, each with its parse rule and the form it takes, for messages.
-const DIRECTIVES: [(&str, Rule, &str); 20] = [
+const DIRECTIVES: [(&str, Rule, &str); 24] = [
     ("#declare", Rule::declare, "#declare Name = value"),
     ("#local", Rule::local, "#local Name = value"),
     ("#undef", Rule::undef, "#undef Name"),
@@ -219,6 +219,10 @@ const DIRECTIVES: [(&str, Rule, &str); 20] = [
     ("#debug", Rule::message, "#debug \"text\""),
     ("#warning", Rule::message, "#warning \"text\""),
     ("#error", Rule::message, "#error \"text\""),
+    ("#fopen", Rule::fopen, "#fopen Handle \"file\" read (or write, append)"),
+    ("#read", Rule::fread, "#read (Handle, Name, ...)"),
+    ("#write", Rule::fwrite, "#write (Handle, value, ...)"),
+    ("#fclose", Rule::fclose, "#fclose Handle"),
 ];
 
 /// A parse error at a `#`: an unknown directive (with a suggestion), or a known one whose own
@@ -317,7 +321,14 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::case
         | Rule::range
         | Rule::break_
+        | Rule::fopen
+        | Rule::fread
+        | Rule::fwrite
+        | Rule::fclose
         | Rule::message_kind => "a directive (`#declare`, `#if`, ...)",
+        Rule::open_mode => "`read`, `write` or `append`",
+        Rule::write_item => "a value to write",
+        Rule::binary_word => "a binary word type (`uint8`, `sint16be`, ...)",
         Rule::settings => "`settings`",
         Rule::resolution => "`resolution`",
         Rule::samples => "`samples`",
@@ -445,6 +456,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::and
         | Rule::or => "an operator",
         Rule::component => "a component (`.x`, `.y`, `.z`)",
+        Rule::gray => "`.gray`",
         Rule::index => "an index (`[i]`)",
         Rule::string | Rule::string_text => "a file name in quotes",
         Rule::ident | Rule::name => "a name",

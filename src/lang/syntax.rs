@@ -56,6 +56,8 @@ pub enum Item {
         text: Expr,
         span: Span,
     },
+    /// POV-Ray's `#fopen`, `#read`, `#write` or `#fclose` (`.pov`).
+    File(FileDirective),
     /// POV-Ray's `#version` or `global_settings`: accepted, with a warning.
     Ignored {
         what: Ignored,
@@ -316,6 +318,12 @@ impl Item {
             Item::For { .. } => "`#for`",
             Item::Macro(_) => "`#macro`",
             Item::Message { .. } => "a message",
+            Item::File(directive) => match directive.action {
+                FileAction::Open { .. } => "`#fopen`",
+                FileAction::Read(_) => "`#read`",
+                FileAction::Write(_) => "`#write`",
+                FileAction::Close => "`#fclose`",
+            },
             Item::Ignored { what: Ignored::Version, .. } => "`#version`",
             Item::Ignored { what: Ignored::GlobalSettings, .. } => "`global_settings`",
             Item::Ignored { what: Ignored::LightMedia, .. } => "a light's media flag",
@@ -371,6 +379,7 @@ impl Item {
             | Item::While { span, .. }
             | Item::For { span, .. }
             | Item::Message { span, .. }
+            | Item::File(FileDirective { span, .. })
             | Item::Ignored { span, .. }
             | Item::Settings { span, .. }
             | Item::Camera { span, .. }
@@ -519,6 +528,56 @@ pub enum Condition {
         name: Ident,
         defined: bool,
     },
+}
+
+/// A directive on a text file named by its handle (`.pov`).
+#[derive(Debug, Clone)]
+pub struct FileDirective {
+    pub handle: Ident,
+    pub action: FileAction,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum FileAction {
+    /// `#fopen Handle "name" read|write|append`.
+    Open { name: Expr, mode: OpenMode },
+    /// `#read (Handle, A, B, ...)`: the names the values read are bound to.
+    Read(Vec<Ident>),
+    /// `#write (Handle, items...)`.
+    Write(Vec<WriteItem>),
+    /// `#fclose Handle`.
+    Close,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OpenMode {
+    Read,
+    /// Writes a new file, replacing one of the same name.
+    Write,
+    /// Writes after what the file holds.
+    Append,
+}
+
+/// A value `#write` writes: as text, or as binary integers of a word type.
+#[derive(Debug, Clone)]
+pub struct WriteItem {
+    pub word: Option<BinaryWord>,
+    pub value: Expr,
+}
+
+/// POV-Ray's binary word types: each value is rounded to the nearest integer of the type's
+/// range and written in two's complement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BinaryWord {
+    Uint8,
+    Sint8,
+    Uint16Be,
+    Uint16Le,
+    Sint16Be,
+    Sint16Le,
+    Sint32Be,
+    Sint32Le,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -909,6 +968,11 @@ pub enum ExprKind {
     Component {
         value: Box<Expr>,
         axis: usize,
+        span: Span,
+    },
+    /// POV-Ray's `.gray` of a colour: its grey value by POV-Ray's weights (`.pov`).
+    Gray {
+        value: Box<Expr>,
         span: Span,
     },
     Index {

@@ -357,6 +357,59 @@ impl Builder {
         Ok(Ident { name: name.to_string(), span: self.span(&pair) })
     }
 
+    /// `#fopen`, `#read`, `#write` or `#fclose` (`.pov`).
+    fn file_directive(&mut self, pair: Pair<'_, Rule>) -> Result<FileDirective, SceneError> {
+        if self.dialect == Dialect::Scn {
+            let word = pair.as_str().split(|c: char| !(c == '#' || c.is_alphabetic())).next();
+            let message =
+                format!("`{}` is POV-Ray's (a `.pov` scene's) directive", word.unwrap_or(""));
+            return Err(self.error(&pair, message));
+        }
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        let mut inner = pair.into_inner();
+        let handle = self.name(inner.next().expect("the handle"))?;
+        let action = match rule {
+            Rule::fopen => {
+                let name = self.expr(inner.next().expect("the file's name"))?;
+                let mode = match inner.next().expect("the mode").as_str() {
+                    "read" => OpenMode::Read,
+                    "write" => OpenMode::Write,
+                    "append" => OpenMode::Append,
+                    other => unreachable!("no open mode `{other}`"),
+                };
+                FileAction::Open { name, mode }
+            }
+            Rule::fread => FileAction::Read(inner.map(|p| self.name(p)).collect::<Result<_, _>>()?),
+            Rule::fwrite => {
+                let mut items = Vec::new();
+                for item in inner {
+                    let mut parts = item.into_inner().peekable();
+                    let word = match parts.next_if(|p| p.as_rule() == Rule::binary_word) {
+                        Some(word) => Some(match word.as_str() {
+                            "uint8" => BinaryWord::Uint8,
+                            "sint8" => BinaryWord::Sint8,
+                            "uint16be" => BinaryWord::Uint16Be,
+                            "uint16le" => BinaryWord::Uint16Le,
+                            "sint16be" => BinaryWord::Sint16Be,
+                            "sint16le" => BinaryWord::Sint16Le,
+                            "sint32be" => BinaryWord::Sint32Be,
+                            "sint32le" => BinaryWord::Sint32Le,
+                            other => unreachable!("no binary word `{other}`"),
+                        }),
+                        None => None,
+                    };
+                    let value = self.expr(parts.next().expect("the value"))?;
+                    items.push(WriteItem { word, value });
+                }
+                FileAction::Write(items)
+            }
+            Rule::fclose => FileAction::Close,
+            other => unreachable!("no file directive {other:?}"),
+        };
+        Ok(FileDirective { handle, action, span })
+    }
+
     fn item(&mut self, pair: Pair<'_, Rule>) -> Result<Item, SceneError> {
         let span = self.span(&pair);
         let rule = pair.as_rule();
@@ -375,6 +428,9 @@ impl Builder {
                     other => unreachable!("no message `{other}`"),
                 };
                 Item::Message { kind, text: self.expr(inner.next().expect("the text"))?, span }
+            }
+            Rule::fopen | Rule::fread | Rule::fwrite | Rule::fclose => {
+                Item::File(self.file_directive(pair)?)
             }
             Rule::version => Item::Ignored { what: Ignored::Version, span },
             Rule::global_settings => Item::Ignored { what: Ignored::GlobalSettings, span },
@@ -1524,6 +1580,14 @@ impl Builder {
                             axis,
                             span: self.span(&part),
                         },
+                        span,
+                    }
+                }
+                (Rule::gray, Some(v)) => {
+                    self.pov_only(&part, None)?;
+                    let span = v.span.clone();
+                    Expr {
+                        kind: ExprKind::Gray { value: Box::new(v), span: self.span(&part) },
                         span,
                     }
                 }

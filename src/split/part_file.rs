@@ -285,7 +285,8 @@ fn parse_header(path: &Path, header: &Header) -> Result<PartHeader, PartProblem>
         integrator,
         max_depth: int_of("max_depth")?,
         digest: printable(&text_of("digest")?),
-        frame: Frame { number: int_of("frame")?, clock: float_of("clock")? },
+        // A part records its frame's number and clock, which say which image it is a part of.
+        frame: Frame { number: int_of("frame")?, clock: float_of("clock")?, step: None },
         seconds: float_of("render_seconds")?,
         aovs,
     })

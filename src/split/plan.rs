@@ -186,7 +186,7 @@ mod tests {
         assert_eq!(
             plan.jobs,
             vec![Job {
-                frame: Frame { number: 11, clock: 0.5 },
+                frame: Frame { number: 11, clock: 0.5, step: Some(0.5) },
                 share: Some(Share { index: 1, count: 4 }),
                 crop: None,
                 output: PathBuf::from("f11.exr"),

@@ -11,7 +11,10 @@ use crate::lang::keywords::{Constant, Function};
 use crate::lang::syntax::{
     BinaryOp, Colour, Declare, Declared, Expr, ExprKind, PovColourKind, UnaryOp,
 };
-use crate::lang::value::{MAX_STRING_BYTES, Value};
+use crate::lang::value::{Array, MAX_STRING_BYTES, Value};
+
+/// The weights of red, green and blue in POV-Ray 3.7's `.gray` of a colour (they sum to 1).
+const POV_GRAY_WEIGHTS: DVec3 = DVec3::new(0.297, 0.589, 0.114);
 
 impl Evaluator {
     /// Evaluates an expression; a result that is not finite is an error at the expression.
@@ -37,7 +40,8 @@ impl Evaluator {
             | Value::ColorMap(_)
             | Value::Camera(_)
             | Value::Sky(_)
-            | Value::Function(_) => true,
+            | Value::Function(_)
+            | Value::File(_) => true,
         };
         if !finite {
             return Err(SceneError::at(
@@ -235,6 +239,8 @@ impl Evaluator {
                 Constant::False => Value::Float(0.0),
                 Constant::Clock => Value::Float(self.frame.clock),
                 Constant::FrameNumber => Value::Float(f64::from(self.frame.number)),
+                Constant::ClockOn => Value::Float(f64::from(u8::from(self.frame.step.is_some()))),
+                Constant::ClockDelta => Value::Float(self.frame.step.unwrap_or(0.0)),
             },
             ExprKind::Ident(name) => match self.lookup(name) {
                 Some(v) => v.clone(),
@@ -327,6 +333,17 @@ impl Evaluator {
                     ));
                 }
             },
+            ExprKind::Gray { value, span } => match self.eval(value)? {
+                // A number is the grey colour of that value.
+                Value::Float(f) => Value::Float(f),
+                Value::Vector(c) => Value::Float(c.dot(POV_GRAY_WEIGHTS)),
+                Value::Numbers(c) if c.len() >= 3 => {
+                    Value::Float(DVec3::new(c[0], c[1], c[2]).dot(POV_GRAY_WEIGHTS))
+                }
+                other => {
+                    return Err(SceneError::at(span, format!("{} has no `.gray`", other.kind())));
+                }
+            },
             ExprKind::Index { .. } => self.index(expr)?,
             ExprKind::Function(f, args) => self.function(*f, args, at)?,
             ExprKind::Call(call) => {
@@ -383,6 +400,17 @@ impl Evaluator {
         })
     }
 
+    /// The array `f` takes as its argument `arg`.
+    fn array_argument(&mut self, f: Function, arg: &Expr) -> Result<Arc<Array>, SceneError> {
+        match self.value(arg)? {
+            Value::Array(a) => Ok(a),
+            other => Err(SceneError::at(
+                &arg.span,
+                format!("`{}` takes an array, not {}", f.name(), other.kind()),
+            )),
+        }
+    }
+
     fn function(&mut self, f: Function, args: &[Expr], at: &Span) -> Result<Value, SceneError> {
         let name = f.name();
         let number = |this: &mut Self, i: usize| -> Result<f64, SceneError> {
@@ -436,7 +464,7 @@ impl Evaluator {
                     _ => unreachable!("a function of one number"),
                 })
             }
-            Pow | Min | Max | Mod | Atan2 => {
+            Pow | Min | Max | Mod | Div | Atan2 => {
                 let (x, y) = (number(self, 0)?, number(self, 1)?);
                 Value::Float(match f {
                     Pow => x.powf(y),
@@ -449,6 +477,12 @@ impl Evaluator {
                             return Err(SceneError::at(at, "`mod` by zero"));
                         }
                         x % y
+                    }
+                    Div => {
+                        if y == 0.0 {
+                            return Err(SceneError::at(at, "`div` by zero"));
+                        }
+                        (x / y).trunc()
                     }
                     _ => unreachable!("a function of two numbers"),
                 })
@@ -504,16 +538,9 @@ impl Evaluator {
                 let decimals = number(self, 2)?;
                 Value::String(Arc::new(format_number(x, width, decimals)))
             }
+            Dimensions => Value::Float(self.array_argument(f, &args[0])?.dimensions.len() as f64),
             DimensionSize => {
-                let array = match self.value(&args[0])? {
-                    Value::Array(a) => a,
-                    other => {
-                        return Err(SceneError::at(
-                            &args[0].span,
-                            format!("`dimension_size` takes an array, not {}", other.kind()),
-                        ));
-                    }
-                };
+                let array = self.array_argument(f, &args[0])?;
                 let n = number(self, 1)?;
                 let count = array.dimensions.len();
                 if n.fract() != 0.0 || n < 1.0 || n > count as f64 {

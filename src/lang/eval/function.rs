@@ -92,7 +92,9 @@ impl Evaluator {
                     | Constant::True
                     | Constant::False
                     | Constant::Clock
-                    | Constant::FrameNumber => return self.constant(expr, program),
+                    | Constant::FrameNumber
+                    | Constant::ClockOn
+                    | Constant::ClockDelta => return self.constant(expr, program),
                 };
                 match parameter(word) {
                     Some(i) => Op::Parameter(i),
@@ -172,7 +174,7 @@ impl Evaluator {
             },
             ExprKind::Call(call) => return self.compile_call(call, parameters, program),
             // An element of a declared array or vector: its value as the function is declared.
-            ExprKind::Component { .. } | ExprKind::Index { .. } => {
+            ExprKind::Component { .. } | ExprKind::Gray { .. } | ExprKind::Index { .. } => {
                 return self.constant(expr, program);
             }
             ExprKind::Vector(_)
@@ -314,7 +316,7 @@ fn built_in(f: Function) -> Option<Op> {
         Select => Op::Select3,
         Vlength | Vnormalize | Vdot | Vcross | Vrotate | VaxisRotate | Seed | Rand | Concat
         | Str | Vstr | Strlen | Substr | Strupr | Strlwr | Chr | Asc | Val | FileExists
-        | Defined | DimensionSize => return None,
+        | Defined | DimensionSize | Dimensions | Div => return None,
     })
 }
 

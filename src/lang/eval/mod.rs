@@ -14,6 +14,7 @@ mod array;
 mod blob;
 mod camera;
 mod expression;
+mod file_io;
 mod function;
 mod isosurface;
 mod light;
@@ -47,6 +48,7 @@ use appearance::PigmentState;
 pub use appearance::{Finish, Look, Pigment};
 use array::element_index;
 pub use camera::CameraParams;
+pub use file_io::{MAX_FILES_OPENED, MAX_WRITTEN_BYTES};
 use light::{LightState, PovLight};
 pub use material::TextureState;
 pub use medium::Interior;
@@ -178,6 +180,8 @@ pub struct Evaluator {
     warned_map_filter: bool,
     /// `.pov`: whether the warning that a surface's negative colour is clamped has been given.
     warned_negative_colour: bool,
+    /// `.pov`: the files opened by `#fopen`.
+    files: file_io::Files,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).
@@ -417,6 +421,7 @@ impl Evaluator {
                 }
                 Ok(())
             }
+            Item::File(directive) => self.file_directive(directive),
             Item::Ignored { what, span } => {
                 self.warnings.push(format!("{:?}: warning: {}", self.here(span), what.warning()));
                 Ok(())
