@@ -385,8 +385,10 @@ impl Builder {
                 let mut items = Vec::new();
                 for item in inner {
                     let mut parts = item.into_inner().peekable();
-                    let word = match parts.next_if(|p| p.as_rule() == Rule::binary_word) {
-                        Some(word) => Some(match word.as_str() {
+                    let word =
+                        parts.next_if(|p| p.as_rule() == Rule::binary_word).map(|word| match word
+                            .as_str()
+                        {
                             "uint8" => BinaryWord::Uint8,
                             "sint8" => BinaryWord::Sint8,
                             "uint16be" => BinaryWord::Uint16Be,
@@ -396,9 +398,7 @@ impl Builder {
                             "sint32be" => BinaryWord::Sint32Be,
                             "sint32le" => BinaryWord::Sint32Le,
                             other => unreachable!("no binary word `{other}`"),
-                        }),
-                        None => None,
-                    };
+                        });
                     let value = self.expr(parts.next().expect("the value"))?;
                     items.push(WriteItem { word, value });
                 }
