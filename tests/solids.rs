@@ -1295,12 +1295,14 @@ fn cones_and_tori_with_impossible_dimensions_are_located_errors() {
     }
 }
 
-/// A bicubic patch's control points: a dome over [0, 3]², sheared up towards one corner.
+/// A bicubic patch's control points: a bowl over [0, 3]², z = f(x) + f(y) with f convex
+/// (f(x) = -1.8 t (1 - t), t = x / 3: f'' = 0.4), so the surface lies on the side of its
+/// normal dP/du x dP/dv (+z) of each of its tangent planes.
 fn dome() -> [Vec3; 16] {
     std::array::from_fn(|k| {
         let (column, row) = ((k % 4) as f32, (k / 4) as f32);
         let inner = [column, row].iter().filter(|&&c| c == 1.0 || c == 2.0).count() as f32;
-        Vec3::new(column, row, -0.6 * inner + 0.1 * column * row)
+        Vec3::new(column, row, -0.6 * inner)
     })
 }
 
@@ -1313,9 +1315,11 @@ fn patch_scene(points: &[Vec3; 16], items: &str) -> String {
     )
 }
 
-/// Rays aimed from either side at points of the patch's surface (from `patch_point`, under a
-/// mirroring, non-uniform transform), up to 70° off its normal, meet it there (within the
-/// chord error of 32 x 32 pieces) with the surface's normal there.
+/// Rays aimed at points of the patch's surface (from `patch_point`, under a mirroring,
+/// non-uniform transform) from the side its tangent plane keeps free of it, up to 60° off its
+/// normal, meet it there with the surface's normal there. The 32 x 32 pieces are within
+/// f'' h² / 8 = 4.4e-4 of the surface along each of x and y (h = 3/32), 1.3e-3 in all once
+/// stretched 1.5 times: 2.6e-3 along a ray at 60°.
 #[test]
 fn bicubic_patches_meet_rays_on_their_surface_with_its_normals() {
     use raydiance::mesh::bezier_patch::{patch_normal, patch_point};
@@ -1332,18 +1336,17 @@ fn bicubic_patches_meet_rays_on_their_surface_with_its_normals() {
         let (u, v) = (rng.range(0.02, 0.98), rng.range(0.02, 0.98));
         let target = to_world.transform_point3(patch_point(&points, u, v));
         let normal = (normal_to_world * patch_normal(&points, u, v)).normalize();
-        // Within 70° of the normal, on either side.
-        let side = if rng.next() < 0.5 { 1.0 } else { -1.0 };
+        // Within 60° of the normal, on the side away from the surface.
         let off = loop {
             let d = rng.direction();
-            if d.dot(normal) * side > 0.34 {
+            if d.dot(-normal) > 0.5 {
                 break d;
             }
         };
         let origin = target + 3.0 * off;
         let ray = Ray::new(origin, (target - origin).normalize());
         let hit = shape.intersect(&ray, f32::INFINITY).expect("the ray meets the patch");
-        assert!((hit.t - 3.0).abs() < 2e-3, "({u}, {v}): t {} for 3", hit.t);
+        assert!((hit.t - 3.0).abs() < 3e-3, "({u}, {v}): t {} for 3", hit.t);
         assert!(hit.shading_normal.dot(normal).abs() > 0.999, "({u}, {v}): {}", hit.shading_normal);
         assert!(hit.shading_normal.dot(hit.normal) > 0.0, "shading normal on the face's side");
     }
