@@ -378,6 +378,7 @@ impl ShapeNode {
             | ShapeNode::Blob { .. }
             | ShapeNode::Prism { .. }
             | ShapeNode::Superellipsoid { .. }
+            | ShapeNode::JuliaFractal(_)
             | ShapeNode::Mesh { .. }
             | ShapeNode::Extrusion(_) => Below::Nothing,
         }
@@ -713,6 +714,9 @@ pub enum ShapeNode {
         e: f32,
         n: f32,
     },
+    /// POV-Ray's `julia_fractal`: its parameter, algebra, function, iterations, precision and
+    /// slice, checked.
+    JuliaFractal(Box<crate::geometry::JuliaDesc>),
     /// POV-Ray's prism: closed curves of `segments` in the x-z plane swept along y between
     /// `heights` (distinct), solid by the even-odd rule unless `open` (the side alone, not a
     /// solid).
@@ -736,8 +740,9 @@ pub enum ShapeNode {
     Mesh {
         path: PathBuf,
     },
-    /// A closed mesh the scene makes, in its own space: a glyph of a `text` extruded (shared
-    /// by every instance of the glyph).
+    /// A mesh the scene makes, in its own space: a glyph of a `text` extruded (closed, shared
+    /// by every instance of the glyph), a `bicubic_patch` cut into smooth triangles, POV-Ray's
+    /// triangles written in the scene (`smooth_triangle`, `mesh { triangle { } }`, `mesh2`).
     Extrusion(Arc<crate::mesh::Mesh>),
     /// `union { ... }`: a group.
     Union(Vec<ObjectNode>),

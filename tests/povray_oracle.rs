@@ -3,7 +3,9 @@
 //! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`, transforms; orthographic and
 //! the wide projections),
 //! planes with offsets, `#default`, `inverse` and `clipped_by`; the algebraic surfaces,
-//! blobs, prisms and superellipsoids.
+//! blobs, prisms and superellipsoids; shapes_old.inc's infinite quadrics cut by CSG; bicubic
+//! patches; meshes of triangles and smooth triangles, `smooth_triangle` and `mesh2`; julia
+//! fractals.
 
 mod common;
 
@@ -244,6 +246,135 @@ fn superellipsoids_match_povray_away_from_edges() {
     let test = "superellipsoids_match_povray_away_from_edges";
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(SUPERELLIPSOIDS, "superellipsoids");
+    }
+}
+
+/// shapes_old.inc's infinite quadrics bounded by CSG: a cylinder cut by a box, a paraboloid
+/// by a plane, a box less a cone, a hyperboloid cut by a box.
+const QUADRICS: &str = r#"
+#include "shapes.inc"
+camera { location <0, 4, -7> right x*image_width/image_height angle 40 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+intersection { object { Cylinder_X } box { <-1, -2, -2>, <1, 2, 2> } scale 0.8 translate <-1.8, 1, 0> pigment { rgb <1, 0, 0> } }
+intersection { object { Paraboloid_Y } plane { y, 1.5 } translate <1.6, 0.3, 0> pigment { rgb <0, 1, 0> } }
+difference { box { <-1, -1, -1>, <1, 1, 1> } object { QCone_Y scale <0.8, 1, 0.8> } rotate 20*y translate <-1.5, -1.5, 0> pigment { rgb <0, 0, 1> } }
+intersection { object { Hyperboloid_Y } box { -1.2, 1.2 } scale 0.7 translate <1.6, -1.5, 0> pigment { rgb <1, 1, 0> } }
+"#;
+
+#[test]
+fn shapes_old_quadrics_match_povray_away_from_edges() {
+    let test = "shapes_old_quadrics_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(QUADRICS, "shapes_old.inc's quadrics");
+    }
+}
+
+/// POV-Ray's bicubic patches, each facing the camera (an emitter here glows on its outer side
+/// only): a dome of type 1, a bent sheet under non-uniform scale, a patch of type 0 with an
+/// edge collapsed to a point.
+const PATCHES: &str = r#"
+camera { location <0, 4, -7> right x*image_width/image_height angle 34 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+bicubic_patch { type 1 flatness 0 u_steps 4 v_steps 3
+  <0, 3, 0>, <1, 3, -0.5>, <2, 3, -0.5>, <3, 3, 0>,
+  <0, 2, -0.5>, <1, 2, -1.5>, <2, 2, -1.5>, <3, 2, -0.5>,
+  <0, 1, -0.5>, <1, 1, -1.5>, <2, 1, -1.5>, <3, 1, -0.5>,
+  <0, 0, 0>, <1, 0, -0.5>, <2, 0, -0.5>, <3, 0, 0>
+  translate <-1.5, -1.5, 0> scale 0.6 rotate <-20, 15, 0> translate <-1.6, 0.6, 0>
+  pigment { rgb <1, 0, 0> }
+}
+bicubic_patch { type 1 u_steps 3 v_steps 4
+  <0, 0, 3> <1, 0.5, 3> <2, -0.5, 3> <3, 0, 3>
+  <0, 0.5, 2> <1, 1.5, 2> <2, 1.5, 2> <3, 0.5, 2>
+  <0, 0.5, 1> <1, 1.5, 1> <2, 1.5, 1> <3, 0.5, 1>
+  <0, 0, 0> <1, 0.5, 0> <2, -0.5, 0> <3, 0, 0>
+  translate <-1.5, 0, -1.5> scale <0.7, 0.9, 0.7> rotate 25*y translate <1.5, 0.2, 0>
+  pigment { rgb <0, 1, 0> }
+}
+// An edge collapsed to a point, as at the top of the teapot's lid.
+bicubic_patch { type 0 flatness 0.05 u_steps 3 v_steps 3
+  <1.5, 3, 0>, <1.5, 3, 0>, <1.5, 3, 0>, <1.5, 3, 0>,
+  <0.5, 2, -0.3>, <1.2, 2, -0.8>, <1.8, 2, -0.8>, <2.5, 2, -0.3>,
+  <0, 1, -0.3>, <1, 1, -1>, <2, 1, -1>, <3, 1, -0.3>,
+  <0, 0, 0>, <1, 0, -0.5>, <2, 0, -0.5>, <3, 0, 0>
+  translate <-1.5, -1.5, 0> scale 0.6 translate <0, -1.6, 0>
+  pigment { rgb <0, 0, 1> }
+}
+"#;
+
+#[test]
+fn bicubic_patches_match_povray_away_from_edges() {
+    let test = "bicubic_patches_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(PATCHES, "bicubic patches");
+    }
+}
+
+/// POV-Ray's triangles written in the scene, each facing the camera: a mesh of flat and smooth
+/// triangles, a smooth triangle, a mesh2 with normals and one without.
+const MESHES: &str = r#"
+camera { location <0, 4, -7> right x*image_width/image_height angle 31 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+mesh {
+  triangle { <0, 0, -0.5>, <0.5, 0.866, 0>, <1, 0, 0> }
+  smooth_triangle { <0, 0, -0.5>, <0, 0, -1>, <-0.5, 0.866, 0>, <-0.5, 0.866, -1>, <0.5, 0.866, 0>, <0.5, 0.866, -1> }
+  triangle { <0, 0, -0.5>, <-1, 0, 0>, <-0.5, 0.866, 0> }
+  smooth_triangle { <0, 0, -0.5>, <0, 0, -1>, <-0.5, -0.866, 0>, <-0.5, -0.866, -1>, <-1, 0, 0>, <-1, 0, -1> }
+  triangle { <0, 0, -0.5>, <0.5, -0.866, 0>, <-0.5, -0.866, 0> }
+  smooth_triangle { <0, 0, -0.5>, <0, 0, -1>, <1, 0, 0>, <1, 0, -1>, <0.5, -0.866, 0>, <0.5, -0.866, -1> }
+  rotate <-20, 10, 0> translate <-1.2, 0.8, 0>
+  pigment { rgb <1, 0, 0> }
+}
+smooth_triangle { <0, 0, 0>, <0, 0.3, -1>, <0, 1.6, 0>, <0.2, 0, -1>, <1.8, 0, 0>, <0, 0, -1>
+  scale <1, 0.8, 1> rotate <-30, -20, 0> translate <0.8, 0.3, 0> pigment { rgb <0, 1, 0> } }
+mesh2 {
+  vertex_vectors { 6, <0, 0, 0>, <1, 0, -0.4>, <2, 0, 0>, <0, 1, 0>, <1, 1, -0.4>, <2, 1, 0> }
+  normal_vectors { 3, <-0.4, 0, -1>, <0, 0, -1>, <0.4, 0, -1> }
+  face_indices { 4, <0, 3, 1>, <1, 3, 4>, <1, 4, 2>, <2, 4, 5> }
+  normal_indices { 4, <0, 0, 1>, <1, 0, 1>, <1, 1, 2>, <2, 1, 2> }
+  scale <1.2, 1, 1> rotate -15*x translate <-2.2, -1.7, 0>
+  pigment { rgb <0, 0, 1> }
+}
+mesh2 {
+  vertex_vectors { 4, <0, 0, 0>, <0, 1.4, 0.3>, <1.6, 0, 0>, <1.6, 1.4, -0.3> }
+  face_indices { 2, <0, 1, 2>, <2, 1, 3> }
+  rotate <-10, 20, 0> translate <0.6, -1.8, 0>
+  pigment { rgb <1, 1, 0> }
+}
+"#;
+
+#[test]
+fn meshes_of_triangles_and_mesh2_match_povray_away_from_edges() {
+    let test = "meshes_of_triangles_and_mesh2_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(MESHES, "meshes");
+    }
+}
+
+/// POV-Ray's julia fractals: squares and cubes in the quaternions, squares in the hypercomplex
+/// numbers, one in a slice other than w = 0 (the hypercomplex cube is not yet POV-Ray's).
+const JULIA: &str = r#"
+camera { location <0, 3, -7> right x*image_width/image_height angle 44 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+julia_fractal { <-0.083, 0.0, -0.83, -0.025> quaternion sqr max_iteration 8 precision 50
+  rotate <20, 30, 0> scale 0.75 translate <-1.5, 1, 0> pigment { rgb <1, 0, 0> } }
+julia_fractal { <-0.3, 0.4, 0.2, 0.1> quaternion cube max_iteration 6 precision 50
+  scale <1.2, 0.9, 1> translate <1.5, 1, 0> pigment { rgb <0, 1, 0> } }
+julia_fractal { <0.2, 0.1, 0.59, -0.2> hypercomplex sqr max_iteration 7 precision 50
+  rotate <83, 0, -70> translate <-1.5, -1.2, 0> pigment { rgb <0, 0, 1> } }
+julia_fractal { <-0.2, 0.3, 0.1, 0.2> hypercomplex sqr max_iteration 6 precision 50 slice <0.2, 0, 0, 1>, 0.1
+  translate <1.5, -1.2, 0> pigment { rgb <1, 1, 0> } }
+"#;
+
+#[test]
+fn julia_fractals_match_povray_away_from_edges() {
+    let test = "julia_fractals_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(JULIA, "julia fractals");
     }
 }
 

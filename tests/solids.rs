@@ -1,5 +1,5 @@
 //! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
-//! cone, torus, algebraic surface, blob, prism, superellipsoid and CSG hits against a brute-force march along the ray with the point-inside
+//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal and CSG hits against a brute-force march along the ray with the point-inside
 //! test, inside tests against the operands', an emission-only render against the analytic
 //! silhouette, and build errors.
 
@@ -10,7 +10,8 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{
-    BlobComponent, ComponentShape, Ray, Shape, SplineKind, Sweep, Term, spline_segments,
+    Algebra, BlobComponent, ComponentShape, JuliaDesc, JuliaFunction, Ray, Shape, SplineKind,
+    Sweep, Term, spline_segments,
 };
 use raydiance::graph::{
     CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
@@ -1292,4 +1293,175 @@ fn cones_and_tori_with_impossible_dimensions_are_located_errors() {
         graph.objects = vec![node(&graph, ShapeNode::Csg { op: CsgOp::Merge, operands }, vec![])];
         assert!(build(&graph).is_err());
     }
+}
+
+/// A bicubic patch's control points: a bowl over [0, 3]², z = f(x) + f(y) with f convex
+/// (f(x) = -1.8 t (1 - t), t = x / 3: f'' = 0.4), so the surface lies on the side of its
+/// normal dP/du x dP/dv (+z) of each of its tangent planes.
+fn dome() -> [Vec3; 16] {
+    std::array::from_fn(|k| {
+        let (column, row) = ((k % 4) as f32, (k / 4) as f32);
+        let inner = [column, row].iter().filter(|&&c| c == 1.0 || c == 2.0).count() as f32;
+        Vec3::new(column, row, -0.6 * inner)
+    })
+}
+
+fn patch_scene(points: &[Vec3; 16], items: &str) -> String {
+    let list: Vec<String> = points.iter().map(|p| format!("<{}, {}, {}>", p.x, p.y, p.z)).collect();
+    format!(
+        "camera {{ location <0, 0, -5> look_at 0 }}\nbicubic_patch {{ type 1 u_steps 5 v_steps 5 \
+         {} {items} }}",
+        list.join(", ")
+    )
+}
+
+/// Rays aimed at points of the patch's surface (from `patch_point`, under a mirroring,
+/// non-uniform transform) from the side its tangent plane keeps free of it, up to 60° off its
+/// normal, meet it there with the surface's normal there. The 32 x 32 pieces are within
+/// f'' h² / 8 = 4.4e-4 of the surface along each of x and y (h = 3/32), 1.3e-3 in all once
+/// stretched 1.5 times: 2.6e-3 along a ray at 60°.
+#[test]
+fn bicubic_patches_meet_rays_on_their_surface_with_its_normals() {
+    use raydiance::mesh::bezier_patch::{patch_normal, patch_point};
+    let points = dome();
+    let items = "scale <-1, 0.5, 1.5> rotate <20, -30, 10> translate <0.3, -1, 2>";
+    let text = patch_scene(&points, items);
+    let graph = raydiance::lang::parse_scene(Path::new("patch.pov"), &text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let to_world = compose(&graph.objects[0].transforms);
+    let normal_to_world = to_world.matrix3.inverse().transpose();
+    let shape = built_shape(&graph, graph.objects[0].clone());
+    let mut rng = Rng(34);
+    for _ in 0..2000 {
+        let (u, v) = (rng.range(0.02, 0.98), rng.range(0.02, 0.98));
+        let target = to_world.transform_point3(patch_point(&points, u, v));
+        let normal = (normal_to_world * patch_normal(&points, u, v)).normalize();
+        // Within 60° of the normal, on the side away from the surface.
+        let off = loop {
+            let d = rng.direction();
+            if d.dot(-normal) > 0.5 {
+                break d;
+            }
+        };
+        let origin = target + 3.0 * off;
+        let ray = Ray::new(origin, (target - origin).normalize());
+        let hit = shape.intersect(&ray, f32::INFINITY).expect("the ray meets the patch");
+        assert!((hit.t - 3.0).abs() < 3e-3, "({u}, {v}): t {} for 3", hit.t);
+        assert!(hit.shading_normal.dot(normal).abs() > 0.999, "({u}, {v}): {}", hit.shading_normal);
+        assert!(hit.shading_normal.dot(hit.normal) > 0.0, "shading normal on the face's side");
+    }
+}
+
+#[test]
+fn bicubic_patches_are_not_solids_and_their_settings_are_checked() {
+    let points = dome();
+    let located = |text: &str| {
+        raydiance::lang::parse_scene(Path::new("patch.pov"), text)
+            .and_then(|graph| build(&graph).map(|_| ()))
+            .expect_err("refused")
+            .to_string()
+    };
+    let patch = patch_scene(&points, "");
+    let operand = patch.replace("bicubic_patch", "intersection { sphere { 0, 1 } bicubic_patch");
+    let error = located(&format!("{operand} }}"));
+    assert!(error.starts_with("patch.pov:2:") && error.contains("not a solid"), "{error}");
+    for (setting, said) in [
+        ("u_steps 9", "u_steps is a whole number from 0 to 8"),
+        ("v_steps 1.5", "v_steps is a whole number from 0 to 8"),
+        ("type 2", "type is 0 or 1, not 2"),
+        ("flatness -1", "flatness is 0 or more"),
+    ] {
+        let error = located(&patch.replace("v_steps 5", &format!("v_steps 5 {setting}")));
+        assert!(error.starts_with("patch.pov:2:") && error.contains(said), "{setting}: {error}");
+    }
+    let error = located(&patch.replace("type 1", ""));
+    assert!(error.contains("needs its `type`"), "{error}");
+}
+
+/// A julia fractal of parameter |c| <= 0.2 (quaternion) or 0.4, sampled finer than the march.
+fn random_julia(rng: &mut Rng, algebra: Algebra, function: JuliaFunction, c: f64) -> ShapeNode {
+    let parameter = glam::DVec4::new(
+        f64::from(rng.range(-1.0, 1.0)),
+        f64::from(rng.range(-1.0, 1.0)),
+        f64::from(rng.range(-1.0, 1.0)),
+        f64::from(rng.range(-1.0, 1.0)),
+    );
+    let slice = glam::DVec4::new(f64::from(rng.range(-0.3, 0.3)), 0.0, 0.0, 1.0);
+    ShapeNode::JuliaFractal(Box::new(JuliaDesc {
+        parameter: parameter.normalize() * c * f64::from(rng.range(0.3, 1.0)),
+        algebra,
+        function,
+        max_iteration: 6,
+        precision: 200.0,
+        slice: (slice, f64::from(rng.range(-0.2, 0.2))),
+    }))
+}
+
+#[test]
+fn julia_fractals_match_a_march_and_their_crossings_agree_with_inside() {
+    let graph = empty_graph();
+    let mut rng = Rng(34);
+    let (mut quaternions, mut hypercomplex) = (Tally::default(), Tally::default());
+    let (mut grazed, mut toggles) = (0, 0);
+    for k in 0..12 {
+        let function = if k % 2 == 0 { JuliaFunction::Square } else { JuliaFunction::Cube };
+        let (algebra, c, tally) = if k < 8 {
+            (Algebra::Quaternion, 0.2, &mut quaternions)
+        } else {
+            (Algebra::Hypercomplex, 0.4, &mut hypercomplex)
+        };
+        let shape = random_julia(&mut rng, algebra, function, c);
+        let transforms = random_transforms(&mut rng, k == 7);
+        let shape = built_shape(&graph, node(&graph, shape, transforms));
+        let bounds = shape.bounds().expect("bounded by its sphere");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        let tolerance = 2e-4 * size + 1e-5 * center.abs().max_element();
+        for i in 0..240 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            if i % 2 == 1
+                && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
+            {
+                ray = graze;
+                grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, tally);
+            }
+            check_ray(&shape, &ray, 200, tolerance, tally);
+            toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
+        }
+    }
+    assert!(grazed > 300 && toggles > 1000, "{grazed} {toggles}");
+    // For |c| <= 0.2 the ball of radius (1 + sqrt(1 - 4 |c|)) / 2 >= 0.72 (squaring) or 0.8
+    // (cubing: r^3 + |c| <= r) maps into itself, so it is inside: 11% of the cube of side
+    // 2 (1 + |c|) <= 2.4 that bounds the sphere, and the world box of the cube turned at random
+    // holds 2 to 5 times its volume: more than 1/50 of the bounds.
+    assert_aimed_floor(&quaternions, 0.02);
+    for tally in [&quaternions, &hypercomplex] {
+        assert!(tally.hits + tally.slivers >= tally.aimed_inside, "{tally:?}");
+        assert!(tally.slivers < tally.rays / 6, "{tally:?}");
+    }
+}
+
+#[test]
+fn julia_fractals_settings_are_checked() {
+    let located = |text: &str| {
+        raydiance::lang::parse_scene(Path::new("julia.pov"), text)
+            .map(|_| ())
+            .expect_err("refused")
+            .to_string()
+    };
+    for (settings, said) in [
+        ("hypercomplex exp", "function `exp` is not supported"),
+        ("cube max_iteration 0", "max_iteration is a whole number from 1"),
+        ("precision 1e6", "precision is at most"),
+        ("slice <1, 0, 0, 0>, 0", "fourth component other than 0"),
+    ] {
+        let error = located(&format!("julia_fractal {{ <0.1, 0.2, 0, 0> {settings} }}"));
+        assert!(error.starts_with("julia.pov:1:") && error.contains(said), "{settings}: {error}");
+    }
+    let error = located("julia_fractal { <0.1, 0.2, 0> }");
+    assert!(error.contains("4-vector"), "{error}");
 }

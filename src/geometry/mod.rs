@@ -10,6 +10,7 @@ mod cuboid;
 mod few_shapes;
 mod frame;
 mod isosurface;
+mod julia;
 mod planar;
 mod polynomial;
 mod prism;
@@ -32,6 +33,9 @@ pub use cuboid::Cuboid;
 pub use few_shapes::{FewShapes, Nearest};
 pub use frame::{Frame, on_side};
 pub use isosurface::{Container, Isosurface, IsosurfaceDesc, ScalarField};
+pub use julia::{
+    Algebra, Julia, JuliaDesc, JuliaFunction, MAX_JULIA_ITERATIONS, MAX_JULIA_PRECISION,
+};
 pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
 pub use polynomial::{MAX_DEGREE, polynomial_roots};
 pub use prism::{Prism, Segment, SplineError, SplineKind, Sweep, spline_segments};

@@ -13,6 +13,7 @@ use super::crossings::Crossings;
 use super::csg::Csg;
 use super::cuboid::Cuboid;
 use super::isosurface::Isosurface;
+use super::julia::Julia;
 use super::planar::Planar;
 use super::prism::Prism;
 use super::quadratic::quadratic_roots_in_lanes;
@@ -68,6 +69,8 @@ pub enum Shape {
     Prism(Box<Prism>),
     /// POV-Ray's superellipsoid under an affine map.
     Superellipsoid(Box<Superellipsoid>),
+    /// POV-Ray's julia_fractal under an affine map.
+    Julia(Box<Julia>),
     /// A CSG solid: one primitive whose surfaces belong to its operands.
     Csg(Box<Csg>),
     /// POV-Ray's isosurface under an affine map.
@@ -136,6 +139,7 @@ impl Shape {
             Shape::Blob(blob) => blob.intersection(ray, t_max),
             Shape::Prism(prism) => prism.intersection(ray, t_max),
             Shape::Superellipsoid(s) => s.intersection(ray, t_max),
+            Shape::Julia(julia) => julia.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
@@ -178,6 +182,7 @@ impl Shape {
             Shape::Blob(blob) => blob.hit(ray, at),
             Shape::Prism(prism) => prism.hit(ray, at),
             Shape::Superellipsoid(s) => s.hit(ray, at),
+            Shape::Julia(julia) => julia.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
             Shape::Isosurface(isosurface) => isosurface.hit(ray, at),
         }
@@ -204,7 +209,8 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
-            | Shape::Superellipsoid(_) => self.intersection(ray, t_max).is_some(),
+            | Shape::Superellipsoid(_)
+            | Shape::Julia(_) => self.intersection(ray, t_max).is_some(),
         }
     }
 
@@ -234,6 +240,7 @@ impl Shape {
             Shape::Blob(blob) => Some(blob.bounds()),
             Shape::Prism(prism) => Some(prism.bounds()),
             Shape::Superellipsoid(s) => Some(s.bounds()),
+            Shape::Julia(julia) => Some(julia.bounds()),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Isosurface(isosurface) => Some(isosurface.bounds()),
         }
@@ -247,7 +254,8 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
-            | Shape::Superellipsoid(_) => None,
+            | Shape::Superellipsoid(_)
+            | Shape::Julia(_) => None,
             Shape::Sphere { radius, .. } => Some(4.0 * std::f32::consts::PI * radius * radius),
             Shape::Planar(planar) => Some(planar.area()),
             Shape::Quadric { frame, .. } => frame.area,
@@ -273,7 +281,8 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
-            | Shape::Superellipsoid(_) => None,
+            | Shape::Superellipsoid(_)
+            | Shape::Julia(_) => None,
             Shape::Box(cuboid) => Some(cuboid.sample(u)),
             Shape::Cone(cone) => cone.sample(u),
             Shape::Torus(torus) => torus.sample(u),
@@ -303,6 +312,7 @@ impl Shape {
             Shape::Blob(blob) => blob.crossings(ray, t_max),
             Shape::Prism(prism) => prism.crossings(ray, t_max),
             Shape::Superellipsoid(s) => s.crossings(ray, t_max),
+            Shape::Julia(julia) => julia.crossings(ray, t_max),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.crossings(ray, t_max),
                 Some(placement) => mesh.crossings(&placement.ray_to_object(ray), t_max),
@@ -326,6 +336,7 @@ impl Shape {
             Shape::Blob(blob) => blob.contains(p),
             Shape::Prism(prism) => prism.contains(p),
             Shape::Superellipsoid(s) => s.contains(p),
+            Shape::Julia(julia) => julia.contains(p),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.contains(p),
                 Some(placement) => mesh.contains(placement.to_object.transform_point3(p)),

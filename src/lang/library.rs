@@ -127,14 +127,6 @@ pub fn left_out(name: &str) -> Option<&'static str> {
              raydiance's pigments do not have: raydiance's skies.inc leaves it out (it has \
              P_Cloud2 to P_Cloud4 and S_Cloud1 to S_Cloud4)",
         ),
-        "Cylinder_X" | "Cylinder_Y" | "Cylinder_Z" | "QCone_X" | "QCone_Y" | "QCone_Z"
-        | "Paraboloid_X" | "Paraboloid_Y" | "Paraboloid_Z" | "Hyperboloid" | "Hyperboloid_Y" => {
-            Some(
-                "POV-Ray's shapes_old.inc declares it as an infinite quadric, a shape raydiance \
-                 does not have (its one unbounded shape is the plane): raydiance's shapes_old.inc \
-                 leaves it out (a finite `cylinder` or `cone` may stand for it)",
-            )
-        }
         "Starfield1" | "Starfield2" | "Starfield3" | "Starfield4" | "Starfield5" | "Starfield6" => {
             Some(
                 "POV-Ray's stars.inc declares it as a pattern of glowing stars, and raydiance's glow \
@@ -335,7 +327,7 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
 
     #[test]
     fn names_the_library_leaves_out_are_refused_with_the_reason() {
-        for (name, why) in [("S_Cloud5", "transparent colours"), ("Cylinder_X", "infinite quadric")]
+        for (name, why) in [("S_Cloud5", "transparent colours"), ("f_bicorn", "internal functions")]
         {
             let text = format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}");
             let error = crate::lang::parse_scene(Path::new("library.pov"), &text)

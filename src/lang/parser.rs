@@ -141,7 +141,8 @@ fn convert(
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
 /// The words that begin an object, and those of the blocks objects may stand in.
-const OBJECTS: [&str; 22] = [
+const OBJECTS: [&str; 26] = [
+    "bicubic_patch",
     "blob",
     "box",
     "cone",
@@ -150,8 +151,10 @@ const OBJECTS: [&str; 22] = [
     "difference",
     "disk",
     "intersection",
+    "julia_fractal",
     "merge",
     "mesh",
+    "mesh2",
     "object",
     "plane",
     "poly",
@@ -159,6 +162,7 @@ const OBJECTS: [&str; 22] = [
     "quad",
     "quadric",
     "quartic",
+    "smooth_triangle",
     "sphere",
     "superellipsoid",
     "torus",
@@ -395,6 +399,32 @@ fn describe(rule: Rule) -> &'static str {
         Rule::blob_setting => "`threshold`",
         Rule::prism => "`prism`",
         Rule::superellipsoid => "`superellipsoid`",
+        Rule::bicubic_patch => "`bicubic_patch`",
+        Rule::smooth_triangle => "`smooth_triangle`",
+        Rule::mesh2 => "`mesh2`",
+        Rule::julia_fractal => "`julia_fractal`",
+        Rule::julia_setting
+        | Rule::julia_algebra
+        | Rule::julia_function
+        | Rule::julia_pwr
+        | Rule::julia_max_iteration
+        | Rule::julia_precision
+        | Rule::julia_slice => {
+            "a julia_fractal setting (`quaternion`, `sqr`, `max_iteration`, `precision`, `slice`)"
+        }
+        Rule::mesh2_list
+        | Rule::mesh2_vertices
+        | Rule::mesh2_normals
+        | Rule::mesh2_uvs
+        | Rule::mesh2_faces
+        | Rule::mesh2_normal_indices
+        | Rule::mesh2_uv_indices => "a mesh2 list (`vertex_vectors`, `face_indices`, ...)",
+        Rule::patch_setting
+        | Rule::patch_type
+        | Rule::patch_flatness
+        | Rule::patch_u_steps
+        | Rule::patch_v_steps
+        | Rule::patch_uv_vectors => "a patch setting (`type`, `flatness`, `u_steps`, `v_steps`)",
         Rule::prism_spline => "a spline (`linear_spline`, ...)",
         Rule::prism_sweep => "a sweep (`linear_sweep`, `conic_sweep`)",
         Rule::union => "`union`",

@@ -706,6 +706,21 @@ pub enum Shape {
     Superellipsoid {
         exponents: Expr,
     },
+    /// POV-Ray's `bicubic_patch`.
+    BicubicPatch(Box<BicubicPatch>),
+    /// POV-Ray's `smooth_triangle { p1, n1, p2, n2, p3, n3 }`.
+    SmoothTriangle {
+        corners: Box<[Expr; 3]>,
+        normals: Box<[Expr; 3]>,
+    },
+    /// POV-Ray's `mesh { triangle { } smooth_triangle { } ... }`: the triangles as objects.
+    TriangleMesh {
+        triangles: Vec<Object>,
+    },
+    /// POV-Ray's `mesh2`.
+    Mesh2(Box<Mesh2>),
+    /// POV-Ray's `julia_fractal`.
+    JuliaFractal(Box<JuliaFractal>),
     /// POV-Ray's `prism`: `count` points (x, z) joined by a spline, swept between two heights.
     Prism {
         spline: crate::geometry::SplineKind,
@@ -767,6 +782,51 @@ pub struct Isosurface {
     /// `threshold`, `accuracy`, `max_gradient`, `max_trace`, `evaluate`, `open`,
     /// `all_intersections`: the word and its values.
     pub settings: Vec<(Ident, Vec<Expr>)>,
+}
+
+/// `bicubic_patch { settings... 16 points }`: each setting as written (the last of a word
+/// counts, as in POV-Ray), the control points row by row.
+#[derive(Debug, Clone)]
+pub struct BicubicPatch {
+    pub patch_type: Option<Expr>,
+    pub flatness: Option<Expr>,
+    pub u_steps: Option<Expr>,
+    pub v_steps: Option<Expr>,
+    /// `uv_vectors`: the corners' uv coordinates, none if not given.
+    pub uv_vectors: Vec<Expr>,
+    pub points: Vec<Expr>,
+}
+
+/// `mesh2 { vertex_vectors { } normal_vectors { } uv_vectors { } face_indices { }
+/// normal_indices { } uv_indices { } }`: each list as written (the last of a word counts).
+#[derive(Debug, Clone)]
+pub struct Mesh2 {
+    pub vertices: Option<VectorList>,
+    pub normals: Option<VectorList>,
+    pub uvs: Option<VectorList>,
+    pub faces: Option<VectorList>,
+    pub normal_indices: Option<VectorList>,
+    pub uv_indices: Option<VectorList>,
+}
+
+/// `julia_fractal { <c> settings... }`: each setting as written (the last of a word counts).
+#[derive(Debug, Clone)]
+pub struct JuliaFractal {
+    pub parameter: Expr,
+    pub algebra: crate::geometry::Algebra,
+    /// The function's word (`sqr`, `cube`, `exp`, `pwr`, ...), where written.
+    pub function: Option<Ident>,
+    pub max_iteration: Option<Expr>,
+    pub precision: Option<Expr>,
+    /// The slice's 4-D normal and distance.
+    pub slice: Option<(Expr, Expr)>,
+}
+
+/// A list of a `mesh2`: the count it says, then its entries.
+#[derive(Debug, Clone)]
+pub struct VectorList {
+    pub count: Expr,
+    pub entries: Vec<Expr>,
 }
 
 /// The font of a `text`: a file (`ttf "name"`) or POV-Ray's built-in font number (`internal N`).

@@ -1021,11 +1021,29 @@ impl Builder {
                 | Rule::blob
                 | Rule::prism
                 | Rule::superellipsoid
+                | Rule::bicubic_patch
+                | Rule::smooth_triangle
+                | Rule::mesh2
+                | Rule::julia_fractal
         ) {
             self.pov_only(&inner_pair(&pair), None)?;
         }
         if rule == Rule::prism {
             return self.prism(pair);
+        }
+        if rule == Rule::bicubic_patch {
+            return self.bicubic_patch(pair);
+        }
+        if rule == Rule::mesh2 {
+            return self.mesh2(pair);
+        }
+        if rule == Rule::julia_fractal {
+            return self.julia_fractal(pair);
+        }
+        if rule == Rule::mesh
+            && pair.clone().into_inner().nth(1).is_some_and(|p| p.as_rule() != Rule::expr)
+        {
+            return self.triangle_mesh(pair);
         }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
@@ -1102,6 +1120,22 @@ impl Builder {
             Rule::blob => Shape::Blob,
             Rule::superellipsoid => Shape::Superellipsoid { exponents: take(self)? },
             Rule::prism => unreachable!("read by `prism`"),
+            Rule::bicubic_patch => unreachable!("read by `bicubic_patch`"),
+            Rule::mesh2 => unreachable!("read by `mesh2`"),
+            Rule::julia_fractal => unreachable!("read by `julia_fractal`"),
+            Rule::smooth_triangle => {
+                let mut six = Vec::with_capacity(6);
+                for _ in 0..6 {
+                    six.push(take(self)?);
+                }
+                let mut six = six.into_iter();
+                let mut next = || six.next().expect("six arguments");
+                let [p1, n1, p2, n2, p3, n3] = std::array::from_fn(|_| next());
+                Shape::SmoothTriangle {
+                    corners: Box::new([p1, p2, p3]),
+                    normals: Box::new([n1, n2, n3]),
+                }
+            }
             Rule::instance | Rule::looks_like => Shape::Instance { of: take(self)? },
             Rule::union => Shape::Union,
             Rule::intersection => Shape::Intersection,
@@ -1154,6 +1188,157 @@ impl Builder {
         self.leave();
         let shape = Shape::Prism { spline, sweep, heights, count, points, open };
         Ok(Object { shape, items, span })
+    }
+
+    /// POV-Ray's `bicubic_patch { settings... 16 points items }`.
+    fn bicubic_patch(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1).peekable();
+        let mut patch = BicubicPatch {
+            patch_type: None,
+            flatness: None,
+            u_steps: None,
+            v_steps: None,
+            uv_vectors: Vec::new(),
+            points: Vec::new(),
+        };
+        while let Some(setting) = inner.next_if(|p| p.as_rule() == Rule::patch_setting) {
+            let mut parts = setting.into_inner().filter(|p| p.as_rule() != Rule::arg_comma);
+            let word = parts.next().expect("the setting's word");
+            if word.as_rule() == Rule::patch_uv_vectors {
+                patch.uv_vectors.clear();
+                for corner in parts {
+                    patch.uv_vectors.push(self.expr(corner)?);
+                }
+                continue;
+            }
+            let value = Some(self.expr(parts.next().expect("the setting's value"))?);
+            match word.as_rule() {
+                Rule::patch_type => patch.patch_type = value,
+                Rule::patch_flatness => patch.flatness = value,
+                Rule::patch_u_steps => patch.u_steps = value,
+                Rule::patch_v_steps => patch.v_steps = value,
+                Rule::patch_uv_vectors => unreachable!("read above"),
+                rule => unreachable!("no patch setting {rule:?}"),
+            }
+        }
+        while let Some(p) = inner.next_if(|p| matches!(p.as_rule(), Rule::expr | Rule::arg_comma)) {
+            if p.as_rule() == Rule::expr {
+                patch.points.push(self.expr(p)?);
+            }
+        }
+        let items = self.items(inner)?;
+        self.leave();
+        Ok(Object { shape: Shape::BicubicPatch(Box::new(patch)), items, span })
+    }
+
+    /// POV-Ray's `mesh { triangle { } smooth_triangle { } ... items }`.
+    fn triangle_mesh(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1).peekable();
+        if self.dialect == Dialect::Scn {
+            let first = inner.peek().expect("the grammar gives a triangle");
+            return Err(self.error(
+                first,
+                "a mesh of `triangle` blocks is POV-Ray's (a `.pov` scene's); a `.scn` mesh reads \
+                 a file: `mesh { \"file.ply\" }`",
+            ));
+        }
+        let mut triangles = Vec::new();
+        while let Some(triangle) =
+            inner.next_if(|p| matches!(p.as_rule(), Rule::triangle | Rule::smooth_triangle))
+        {
+            triangles.push(self.object(triangle)?);
+        }
+        let items = self.items(inner)?;
+        self.leave();
+        Ok(Object { shape: Shape::TriangleMesh { triangles }, items, span })
+    }
+
+    /// POV-Ray's `julia_fractal { <c> settings... items }`, settings and items in any order.
+    fn julia_fractal(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        use crate::geometry::Algebra;
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1);
+        let parameter = self.expr(inner.next().expect("the grammar gives the parameter"))?;
+        let mut fractal = JuliaFractal {
+            parameter,
+            algebra: Algebra::Quaternion,
+            function: None,
+            max_iteration: None,
+            precision: None,
+            slice: None,
+        };
+        let mut rest = Vec::new();
+        for part in inner {
+            if part.as_rule() != Rule::julia_setting {
+                rest.push(part);
+                continue;
+            }
+            let mut parts = part.into_inner().filter(|p| p.as_rule() != Rule::arg_comma);
+            let word = parts.next().expect("the setting's word");
+            let mut value = |b: &mut Self| b.expr(parts.next().expect("the setting's value"));
+            match word.as_rule() {
+                Rule::julia_algebra => {
+                    fractal.algebra = match word.as_str() {
+                        "quaternion" => Algebra::Quaternion,
+                        "hypercomplex" => Algebra::Hypercomplex,
+                        other => unreachable!("no algebra {other}"),
+                    }
+                }
+                Rule::julia_function | Rule::julia_pwr => {
+                    let name = word.as_str().to_string();
+                    fractal.function = Some(Ident { name, span: self.span(&word) });
+                }
+                Rule::julia_max_iteration => fractal.max_iteration = Some(value(self)?),
+                Rule::julia_precision => fractal.precision = Some(value(self)?),
+                Rule::julia_slice => fractal.slice = Some((value(self)?, value(self)?)),
+                rule => unreachable!("no julia_fractal setting {rule:?}"),
+            }
+        }
+        let items = self.items(rest.into_iter())?;
+        self.leave();
+        Ok(Object { shape: Shape::JuliaFractal(Box::new(fractal)), items, span })
+    }
+
+    /// POV-Ray's `mesh2 { lists... items }`.
+    fn mesh2(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        let span = self.span(&pair);
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1).peekable();
+        let mut mesh = Mesh2 {
+            vertices: None,
+            normals: None,
+            uvs: None,
+            faces: None,
+            normal_indices: None,
+            uv_indices: None,
+        };
+        while let Some(list) = inner.next_if(|p| p.as_rule() == Rule::mesh2_list) {
+            let mut parts = list.into_inner();
+            let word = parts.next().expect("the list's word");
+            let mut entries = Vec::new();
+            for part in parts.filter(|p| p.as_rule() == Rule::expr) {
+                entries.push(self.expr(part)?);
+            }
+            let count = entries.remove(0);
+            let list = Some(VectorList { count, entries });
+            match word.as_rule() {
+                Rule::mesh2_vertices => mesh.vertices = list,
+                Rule::mesh2_normals => mesh.normals = list,
+                Rule::mesh2_uvs => mesh.uvs = list,
+                Rule::mesh2_faces => mesh.faces = list,
+                Rule::mesh2_normal_indices => mesh.normal_indices = list,
+                Rule::mesh2_uv_indices => mesh.uv_indices = list,
+                rule => unreachable!("no mesh2 list {rule:?}"),
+            }
+        }
+        let items = self.items(inner)?;
+        self.leave();
+        Ok(Object { shape: Shape::Mesh2(Box::new(mesh)), items, span })
     }
 
     /// A blob's `sphere { c, r, [strength] s items }`, `cylinder { a, b, r, [strength] s items }`

@@ -1,5 +1,6 @@
 //! Triangle meshes from files (PLY, ASCII and binary, and Wavefront OBJ) and from fonts (`text`).
 
+pub mod bezier_patch;
 mod error;
 pub mod extrude;
 pub mod font;

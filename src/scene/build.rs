@@ -13,9 +13,9 @@ use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
-    Algebraic, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Placement, Planar,
-    PlanarKind, Prism, QuadricFrame, QuadricKind, Shape, Superellipsoid, Torus, TriangleMesh,
-    similarity_scale,
+    Algebraic, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia, JuliaDesc,
+    Placement, Planar, PlanarKind, Prism, QuadricFrame, QuadricKind, Shape, Superellipsoid, Torus,
+    TriangleMesh, similarity_scale,
 };
 use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
@@ -751,6 +751,9 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         }
         ShapeNode::Superellipsoid { e, n } => {
             vec![Shape::Superellipsoid(Box::new(Superellipsoid::new(e, n, m)))]
+        }
+        ShapeNode::JuliaFractal(ref desc) => {
+            vec![Shape::Julia(Box::new(Julia::new(JuliaDesc::clone(desc), m)))]
         }
         ShapeNode::Prism { ref segments, sweep, heights, open } => {
             vec![Shape::Prism(Box::new(Prism::new(segments, sweep, heights, open, m)))]

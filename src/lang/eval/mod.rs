@@ -17,17 +17,20 @@ mod expression;
 mod file_io;
 mod function;
 mod isosurface;
+mod julia;
 mod light;
 mod material;
 mod medium;
 mod normal;
 mod object;
+mod patch;
 mod pattern;
 mod polynomial;
 mod prism;
 mod scope;
 mod sky;
 mod text;
+mod triangles;
 
 use super::syntax::{
     Call, CaseTest, Condition, Declare, Declared, Ident, Item, MapKind, MessageKind, SettingKind,
@@ -238,6 +241,7 @@ impl Body<'_> {
                 | ShapeNode::Algebraic { .. }
                 | ShapeNode::Prism { .. }
                 | ShapeNode::Superellipsoid { .. }
+                | ShapeNode::JuliaFractal(_)
                 | ShapeNode::Mesh { .. }
                 | ShapeNode::Extrusion(_)
                 | ShapeNode::Instance(_) => "in this object",

@@ -157,6 +157,11 @@ impl Evaluator {
             Shape::Prism { spline, sweep, heights, count, points, open } => {
                 self.prism((*spline, *sweep), heights, count, points, *open, &object.span)?
             }
+            Shape::BicubicPatch(patch) => self.bicubic_patch(patch, &object.span)?,
+            Shape::SmoothTriangle { corners, normals } => self.smooth_triangle(corners, normals)?,
+            Shape::TriangleMesh { triangles } => self.triangle_mesh(triangles)?,
+            Shape::Mesh2(mesh) => self.mesh2(mesh, &object.span)?,
+            Shape::JuliaFractal(fractal) => self.julia_fractal(fractal)?,
             Shape::BlobSphere { .. } | Shape::BlobCylinder { .. } => {
                 return Err(SceneError::at(
                     &object.span,
@@ -573,6 +578,7 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Blob { .. }
         | ShapeNode::Prism { .. }
         | ShapeNode::Superellipsoid { .. }
+        | ShapeNode::JuliaFractal(_)
         | ShapeNode::Mesh { .. }
         | ShapeNode::Extrusion(_)
         | ShapeNode::Instance(_) => None,
