@@ -1455,6 +1455,7 @@ fn julia_fractals_settings_are_checked() {
     };
     for (settings, said) in [
         ("hypercomplex exp", "function `exp` is not supported"),
+        ("hypercomplex cube", "function `cube` is not supported in the hypercomplex numbers"),
         ("cube max_iteration 0", "max_iteration is a whole number from 1"),
         ("precision 1e6", "precision is at most"),
         ("slice <1, 0, 0, 0>, 0", "fourth component other than 0"),

@@ -21,6 +21,16 @@ impl Evaluator {
             None => JuliaFunction::Square,
             Some(word) => match word.name.as_str() {
                 "sqr" => JuliaFunction::Square,
+                // POV-Ray 3.7's hypercomplex cube is not h·h·h (the shapes differ visibly), and
+                // its formula is not in the manual: refused rather than drawn unlike POV-Ray.
+                "cube" if fractal.algebra == Algebra::Hypercomplex => {
+                    return Err(SceneError::at(
+                        &word.span,
+                        "the julia_fractal's function `cube` is not supported in the hypercomplex \
+                         numbers: raydiance's would not be POV-Ray's shape (`quaternion cube` and \
+                         `hypercomplex sqr` are)",
+                    ));
+                }
                 "cube" => JuliaFunction::Cube,
                 other => {
                     let why = match fractal.algebra {
