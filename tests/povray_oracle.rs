@@ -3,7 +3,7 @@
 //! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`, transforms; orthographic and
 //! the wide projections),
 //! planes with offsets, `#default`, `inverse` and `clipped_by`; the algebraic surfaces,
-//! blobs, prisms and superellipsoids.
+//! blobs, prisms and superellipsoids; boxes flat in one coordinate.
 
 mod common;
 
@@ -244,6 +244,24 @@ fn superellipsoids_match_povray_away_from_edges() {
     let test = "superellipsoids_match_povray_away_from_edges";
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(SUPERELLIPSOIDS, "superellipsoids");
+    }
+}
+
+/// Boxes whose corners are equal in one coordinate: POV-Ray draws the rectangle; equal in two,
+/// a line, nothing. (An emitting rectangle glows towards +y here, towards the camera.)
+const FLAT_BOXES: &str = r#"
+camera { location <0.5, 3, -3> right x*image_width/image_height look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+box { <-2.5, 0, -1.5>, <1.5, 0, 2> pigment { rgb <0, 1, 0> } }
+box { <1, 1, -1>, <2, 1, -1> pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn flat_boxes_match_povray_away_from_edges() {
+    let test = "flat_boxes_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(FLAT_BOXES, "flat boxes");
     }
 }
 
