@@ -200,7 +200,7 @@ fn a_spotlight_wider_than_90_degrees_is_read_as_povray_reads_it() {
 fn bad_light_values_are_located_errors() {
     let camera = "camera { location <0, 2, -4> look_at 0 }\n";
     let cases = [
-        ("light_source { <0, 4, 0> rgb 1 spotlight radius 200 }", ":2:49", "more than 180"),
+        ("light_source { <0, 4, 0> rgb 1 spotlight radius -1 }", ":2:49", "negative"),
         (
             "union { light_source { 0, rgb 1 } sphere { 0, 1 } }\n#declare U = union { \
           light_source { 0, rgb 1 } sphere { 0, 1 } }",

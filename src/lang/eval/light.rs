@@ -277,15 +277,9 @@ impl Evaluator {
     /// POV-Ray takes more (laser.pov's `radius 50 falloff 100`) and uses the cosine as it
     /// comes: a `radius` past 90 lights the whole front half at full strength, a `falloff` past
     /// 90 only widens the fade, and no light goes behind the spotlight. So does raydiance, with
-    /// a warning; past 180 degrees is an error.
+    /// a warning (laser.pov has `falloff 250`: its cosine is cos 110°).
     fn angle(&mut self, expr: &Expr, word: &str) -> Result<f32, SceneError> {
         let degrees = self.non_negative(expr, &format!("`{word}`"))?;
-        if degrees > 180.0 {
-            return Err(SceneError::at(
-                &expr.span,
-                format!("`{word}` {degrees} is more than 180 degrees from the spotlight's axis"),
-            ));
-        }
         if degrees > 90.0 {
             let at = self.here(&expr.span);
             self.warnings.push(format!(
