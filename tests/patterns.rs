@@ -107,20 +107,21 @@ fn pattern_maps_interpolate_between_their_entries() {
          [1 rgb 1] [3 rgb <0, 0, 1>] }} }} }} }}"
     ));
     assert!((kd(&s, Vec3::ONE) - Vec3::new(0.25, 0.25, 1.0)).length() < 1e-5);
-    // A .pov texture_map of textures that differ only in pigment, and one that is refused.
+    // A .pov texture_map of textures that differ only in pigment, and one whose finishes
+    // differ: the first's is used, with a warning.
     let s = pov("box { -100, 100  texture { gradient x  texture_map { \
                  [0 pigment { rgb <1, 0, 0> } finish { diffuse 1 ambient 0 }] \
                  [1 pigment { rgb <0, 0, 1> } finish { diffuse 1 ambient 0 }] } } }");
     let c = kd(&s, Vec3::new(0.5, 3.0, 1.0));
     assert!((c - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-5, "their finish: diffuse 1, {c}");
-    let refused = parse_scene(
+    let graph = parse_scene(
         Path::new("tests/inline.pov"),
         "box { -1, 1  texture { gradient x  texture_map { [0 pigment { rgb 1 }] \
          [1 pigment { rgb 1 } finish { phong 1 }] } } }",
     )
-    .unwrap_err()
-    .to_string();
-    assert!(refused.contains("texture_map") && refused.contains(":1:"), "{refused}");
+    .unwrap_or_else(|e| panic!("{e}"));
+    let warned = graph.warnings.iter().any(|w| w.contains(":1:") && w.contains("first texture"));
+    assert!(warned, "{:?}", graph.warnings);
     // Block patterns take their colours in order: hexagon's three.
     let s =
         pov("box { -100, 100  pigment { hexagon rgb <1, 0, 0>, rgb <0, 1, 0>, rgb <0, 0, 1> } \
@@ -134,6 +135,36 @@ fn pattern_maps_interpolate_between_their_entries() {
         }
     }
     assert_eq!(seen.len(), 3);
+}
+
+/// POV-Ray's manual: `checker texture { A } texture { B }` (and `brick`, `hexagon`) takes
+/// textures where the colours stand; `tiles { A tile2 B }` is the old name of `checker`'s.
+#[test]
+fn block_patterns_and_tiles_take_textures_in_place_of_colours() {
+    let finish = "finish { diffuse 1 ambient 0 }";
+    let red = format!("texture {{ pigment {{ rgb <1, 0, 0> }} {finish} }}");
+    let blue = format!("texture {{ pigment {{ rgb <0, 0, 1> }} {finish} }}");
+    let checker = pov(&format!("box {{ -100, 100  texture {{ checker {red} {blue} }} }}"));
+    let plain = pov(&format!(
+        "box {{ -100, 100  pigment {{ checker rgb <1, 0, 0>, rgb <0, 0, 1> }} {finish} }}"
+    ));
+    let tiles = pov(&format!("box {{ -100, 100  texture {{ tiles {{ {red} tile2 {blue} }} }} }}"));
+    let mut seen = Vec::new();
+    for p in POINTS.iter().chain(&[Vec3::new(1.5, 0.5, 0.5), Vec3::new(0.5, 0.5, 0.5)]) {
+        let c = kd(&checker, *p);
+        assert_eq!(c, kd(&plain, *p), "as the pigment's checker at {p}");
+        assert_eq!(c, kd(&tiles, *p), "tiles as checker at {p}");
+        seen.push(c);
+    }
+    assert!(seen.contains(&Vec3::X) && seen.contains(&Vec3::Z), "both textures show: {seen:?}");
+    // A pattern that takes a map refuses textures, where it is written.
+    let refused = parse_scene(
+        Path::new("tests/inline.pov"),
+        &format!("box {{ -1, 1  texture {{ gradient x {red} {blue} }} }}"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(refused.contains(":1:24") && refused.contains("texture_map"), "{refused}");
 }
 
 #[test]

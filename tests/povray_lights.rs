@@ -161,11 +161,52 @@ fn media_and_photon_hints_of_a_light_are_read_with_a_warning() {
     assert!(error.to_string().contains(":2:38: error: `media_interaction`"), "{error}");
 }
 
+/// POV-Ray lets a light be part of an object (drums.pov, iortest.pov): the object's
+/// transforms, and those of the objects around it, move it as they move a light's own.
+#[test]
+fn a_light_in_an_object_moves_with_it() {
+    let g = pov("camera { location <0, 2, -4> look_at 0 }\n\
+         union { union { light_source { <1, 0, 0> rgb 1 spotlight point_at <1, -1, 0> } \
+         sphere { 0, 0.1 } translate <0, 5, 0> } rotate 90*z }\n\
+         light_source { <1, 0, 0> rgb 1 translate <0, 5, 0> rotate 90*z }");
+    assert_eq!(g.lights.len(), 2);
+    let (held, own) = (&g.lights[0], &g.lights[1]);
+    assert!(held.position.abs_diff_eq(Vec3::new(-5.0, 1.0, 0.0), 1e-5), "{}", held.position);
+    assert!(held.position.abs_diff_eq(own.position, 1e-6));
+    assert_eq!(held.power, own.power, "the same distance to look_at: the same power");
+    let LightForm::Spot { point_at, .. } = held.form else { panic!("{:?}", held.form) };
+    assert!(point_at.abs_diff_eq(Vec3::new(-4.0, 1.0, 0.0), 1e-5), "point_at moves: {point_at}");
+}
+
+/// laser.pov's `radius 50 falloff 100`: past the manual's 90 degrees, POV-Ray uses the angles'
+/// cosines as they come, and so does raydiance, with a warning.
+#[test]
+fn a_spotlight_wider_than_90_degrees_is_read_as_povray_reads_it() {
+    let g = pov("camera { location <0, 2, -4> look_at 0 }\n\
+         light_source { <0, 4, 0> rgb 1 spotlight radius 50 falloff 100 }");
+    let LightForm::Spot { cone, .. } = g.lights[0].form else { panic!("{:?}", g.lights[0].form) };
+    assert_eq!((cone.radius, cone.falloff), (50.0, 100.0));
+    assert!(g.warnings.iter().any(|w| w.contains(":2:60") && w.contains("more than 90")));
+    let spot = raydiance::light::SpotProfile::from_degrees(50.0, 100.0, 0.0);
+    for degrees in [10.0f64, 60.0, 80.0, 89.0, 95.0, 120.0] {
+        let mu = degrees.to_radians().cos();
+        let expected = profile(mu, 50.0, 100.0, 0.0);
+        assert!((f64::from(spot.eval(mu as f32)) - expected).abs() < 1e-5, "{degrees}°");
+    }
+    assert!(profile(80f64.to_radians().cos(), 50.0, 100.0, 0.0) > 0.0, "the fade reaches 80°");
+}
+
 #[test]
 fn bad_light_values_are_located_errors() {
     let camera = "camera { location <0, 2, -4> look_at 0 }\n";
     let cases = [
-        ("light_source { <0, 4, 0> rgb 1 spotlight radius 100 }", ":2:49", "more than 90"),
+        ("light_source { <0, 4, 0> rgb 1 spotlight radius -1 }", ":2:49", "negative"),
+        (
+            "union { light_source { 0, rgb 1 } sphere { 0, 1 } }\n#declare U = union { \
+          light_source { 0, rgb 1 } sphere { 0, 1 } }",
+            ":3:22",
+            "declared object",
+        ),
         ("light_source { <0, 4, 0> rgb 1 spotlight tightness -1 }", ":2:52", "negative"),
         ("light_source { <0, 4, 0> rgb 1 radius 10 }", ":2:32", "add `spotlight`"),
         ("light_source { <0, 4, 0> rgb 1 point_at 0 }", ":2:32", "add `spotlight` or"),

@@ -3,9 +3,9 @@
 //! edges — the camera (`right`, `up`, `sky`, `angle`, `look_at`, transforms; orthographic and
 //! the wide projections),
 //! planes with offsets, `#default`, `inverse` and `clipped_by`; the algebraic surfaces,
-//! blobs, prisms and superellipsoids; shapes_old.inc's infinite quadrics cut by CSG; bicubic
-//! patches; meshes of triangles and smooth triangles, `smooth_triangle` and `mesh2`; julia
-//! fractals.
+//! blobs, prisms and superellipsoids; boxes flat in one coordinate; shapes_old.inc's infinite
+//! quadrics cut by CSG; bicubic patches; meshes of triangles and smooth triangles,
+//! `smooth_triangle` and `mesh2`; julia fractals.
 
 mod common;
 
@@ -375,6 +375,24 @@ fn julia_fractals_match_povray_away_from_edges() {
     let test = "julia_fractals_match_povray_away_from_edges";
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(JULIA, "julia fractals");
+    }
+}
+
+/// Boxes whose corners are equal in one coordinate: POV-Ray draws the rectangle; equal in two,
+/// a line, nothing. (An emitting rectangle glows towards +y here, towards the camera.)
+const FLAT_BOXES: &str = r#"
+camera { location <0.5, 3, -3> right x*image_width/image_height look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+box { <-2.5, 0, -1.5>, <1.5, 0, 2> pigment { rgb <0, 1, 0> } }
+box { <1, 1, -1>, <2, 1, -1> pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn flat_boxes_match_povray_away_from_edges() {
+    let test = "flat_boxes_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(FLAT_BOXES, "flat boxes");
     }
 }
 

@@ -358,6 +358,8 @@ fn describe(rule: Rule) -> &'static str {
         Rule::pigment => "`pigment`",
         Rule::finish => "`finish`",
         Rule::pov_texture | Rule::layered_texture => "`texture`",
+        Rule::tiles | Rule::tile | Rule::tiles_word => "`tiles`",
+        Rule::tile2_word => "`tile2`",
         Rule::interior => "`interior`",
         Rule::normal => "`normal`",
         Rule::pattern => "a pattern (`checker`, `gradient`, `marble`, `wood`, `bozo`)",

@@ -626,6 +626,7 @@ impl Builder {
             Rule::pigment | Rule::finish | Rule::pov_texture | Rule::interior | Rule::normal => {
                 Item::Appearance(self.appearance(pair)?)
             }
+            Rule::tiles => Item::Appearance(self.tiles(pair)?),
             Rule::pattern => {
                 let mut inner = pair.into_inner();
                 let word = inner.next().expect("the pattern's word").as_str();
@@ -803,6 +804,30 @@ impl Builder {
         let items = self.items(pair.into_inner().skip(1))?;
         self.leave();
         Ok(Appearance { kind, items, span })
+    }
+
+    /// POV-Ray's `tiles { A tile2 B }` as what it is: `texture { checker texture { A }
+    /// texture { B } }` (each tile's textures in a texture of their own).
+    fn tiles(&mut self, pair: Pair<'_, Rule>) -> Result<Appearance, SceneError> {
+        let span = self.span(&pair);
+        self.pov_only(&inner_pair(&pair), None)?;
+        let mut items = vec![Item::Pattern {
+            kind: PatternKind::Checker,
+            arguments: Vec::new(),
+            span: span.clone(),
+        }];
+        for tile in pair.into_inner().filter(|p| p.as_rule() == Rule::tile) {
+            let tile_span = self.span(&tile);
+            self.enter(&tile)?;
+            let textures = self.items(tile.into_inner())?;
+            self.leave();
+            items.push(Item::Appearance(Appearance {
+                kind: AppearanceKind::Texture,
+                items: textures,
+                span: tile_span,
+            }));
+        }
+        Ok(Appearance { kind: AppearanceKind::Texture, items, span })
     }
 
     /// A vector literal's components. Its commas are optional in `.pov`, and a last one may

@@ -28,7 +28,8 @@ pub struct SpotProfile {
 }
 
 impl SpotProfile {
-    /// From angles in degrees, 0 <= radius <= falloff <= 90 (checked by the scene's reader).
+    /// From angles in degrees, not negative (past 90 they are read as POV-Ray reads them:
+    /// through their cosines).
     pub fn from_degrees(radius: f32, falloff: f32, tightness: f32) -> Self {
         SpotProfile {
             cos_radius: radius.to_radians().cos(),

@@ -8,11 +8,13 @@ use glam::{DVec3, Vec3};
 
 use super::expression::single;
 use super::medium::Interior;
-use super::pattern::PatternState;
+use super::pattern::{PatternState, block_colours};
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, NormalNode, Pattern, TextureNode};
-use crate::lang::syntax::{Appearance, AppearanceKind, Colour, Ident, Item};
+use crate::lang::syntax::{
+    Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
+};
 use crate::lang::value::Value;
 
 /// A pigment: a colour or a pattern of colours, and how much light passes through its colour
@@ -133,7 +135,8 @@ impl Evaluator {
                     // modifiers and transforms make its pigment (`pattern_texture` reads the
                     // map's textures).
                     let black = Look::default().pigment;
-                    let (pigment, finish) = self.patterned(&appearance.items, &black)?;
+                    let items = textures_as_map(&appearance.items)?;
+                    let (pigment, finish) = self.patterned(&items, &black)?;
                     texture.pigment = pigment;
                     texture.finish = finish.unwrap_or(texture.finish);
                 } else {
@@ -491,6 +494,46 @@ impl Evaluator {
             span: at,
         })
     }
+}
+
+/// A patterned texture's items with the textures a block pattern takes in place of colours
+/// (`checker texture { A } texture { B }`) made the texture_map they stand for: the i-th of n
+/// at i / (n - 1), where the pattern's colours stand.
+fn textures_as_map(items: &[Item]) -> Result<Vec<Item>, SceneError> {
+    let is_texture =
+        |item: &Item| matches!(item, Item::Appearance(a) if a.kind == AppearanceKind::Texture);
+    let textures: Vec<&Item> = items.iter().filter(|item| is_texture(item)).collect();
+    let mut rest: Vec<Item> = items.iter().filter(|item| !is_texture(item)).cloned().collect();
+    let Some(first) = textures.first() else { return Ok(rest) };
+    let pattern = items.iter().rev().find_map(|item| match item {
+        Item::Pattern { kind, span, .. } => Some((*kind, span)),
+        _ => None,
+    });
+    if let Some((kind, span)) = pattern
+        && block_colours(kind).is_none()
+    {
+        return Err(SceneError::at(
+            span,
+            format!(
+                "`{}` takes a texture_map, not textures (only `checker`, `brick` and `hexagon` \
+                 take textures in place of colours)",
+                kind.word()
+            ),
+        ));
+    }
+    let last = (textures.len() - 1).max(1) as f64;
+    let entries = textures
+        .iter()
+        .enumerate()
+        .map(|(i, texture)| {
+            let span = texture.span().clone();
+            let position = Expr { kind: ExprKind::Number(i as f64 / last), span: span.clone() };
+            Item::MapBlock { position: Some(position), items: vec![(*texture).clone()], span }
+        })
+        .collect();
+    let span = first.span().clone();
+    rest.push(Item::PatternMap { kind: MapKind::Texture, entries, span });
+    Ok(rest)
 }
 
 /// A value where POV-Ray takes a colour: a number (grey), `<r, g, b>`, `<r, g, b, f>` or

@@ -95,10 +95,25 @@ impl Evaluator {
         items: &[Item],
         span: &Span,
     ) -> Result<(), SceneError> {
+        let state = self.light_state(position, items)?;
+        self.place_light(state, span)
+    }
+
+    /// A light's items read where it stands; it is placed in the scene by `place_light`.
+    pub(super) fn light_state(
+        &mut self,
+        position: &Expr,
+        items: &[Item],
+    ) -> Result<LightState, SceneError> {
         let at = position.span.clone();
         let position = single_vector(as_vector(&self.value(position)?, &at, "this value")?, &at)?;
         let mut state = LightState::at(position);
         self.exec(items, &mut Body::Light(&mut state))?;
+        Ok(state)
+    }
+
+    /// Adds the light read into `state` to the scene.
+    pub(super) fn place_light(&mut self, state: LightState, span: &Span) -> Result<(), SceneError> {
         let Some(power) = state.power else {
             let message = match self.dialect {
                 Dialect::Pov => "the light_source needs a colour",
@@ -171,15 +186,7 @@ impl Evaluator {
         state: &mut LightState,
     ) -> Result<(), SceneError> {
         let moving = self.transform(t)?.to_affine();
-        state.position = moving.transform_point3(state.position);
-        if let Some((point_at, _)) = &mut state.point_at {
-            *point_at = moving.transform_point3(*point_at);
-        }
-        if let Some(area) = &mut state.area {
-            area.axis1 = moving.transform_vector3(area.axis1);
-            area.axis2 = moving.transform_vector3(area.axis2);
-        }
-        state.moved = moving * state.moved;
+        state.moved_by(moving);
         Ok(())
     }
 
@@ -266,13 +273,18 @@ impl Evaluator {
         Ok(())
     }
 
-    /// A spotlight's angle in degrees, from 0 to 90.
+    /// A spotlight's angle in degrees from its axis. The manual asks for less than 90, but
+    /// POV-Ray takes more (laser.pov's `radius 50 falloff 100`) and uses the cosine as it
+    /// comes: a `radius` past 90 lights the whole front half at full strength, a `falloff` past
+    /// 90 only widens the fade, and no light goes behind the spotlight. So does raydiance, with
+    /// a warning (laser.pov has `falloff 250`: its cosine is cos 110°).
     fn angle(&mut self, expr: &Expr, word: &str) -> Result<f32, SceneError> {
         let degrees = self.non_negative(expr, &format!("`{word}`"))?;
         if degrees > 90.0 {
-            return Err(SceneError::at(
-                &expr.span,
-                format!("`{word}` {degrees} is more than 90 degrees from the spotlight's axis"),
+            let at = self.here(&expr.span);
+            self.warnings.push(format!(
+                "{at:?}: warning: `{word}` {degrees} is more than 90 degrees from the spotlight's \
+                 axis: read as POV-Ray reads it (no light goes behind the spotlight)"
             ));
         }
         Ok(degrees)
@@ -336,6 +348,20 @@ impl LightState {
             shadowless: false,
             looks_like: None,
         }
+    }
+
+    /// Moves the light, its `point_at` and its area as they stand now (items read after are
+    /// not moved), as POV-Ray's transforms of a light do.
+    pub(super) fn moved_by(&mut self, moving: Affine3A) {
+        self.position = moving.transform_point3(self.position);
+        if let Some((point_at, _)) = &mut self.point_at {
+            *point_at = moving.transform_point3(*point_at);
+        }
+        if let Some(area) = &mut self.area {
+            area.axis1 = moving.transform_vector3(area.axis1);
+            area.axis2 = moving.transform_vector3(area.axis2);
+        }
+        self.moved = moving * self.moved;
     }
 }
 

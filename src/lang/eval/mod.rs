@@ -161,6 +161,9 @@ pub struct Evaluator {
     pov_look_at: Option<Vec3>,
     /// `.pov`: the lights given a POV-Ray colour, whose power is set once the camera is known.
     pov_lights: Vec<PovLight>,
+    /// `.pov`: the lights written in the objects being evaluated (POV-Ray lets a light be part
+    /// of an object): moved by each object's transforms, placed when the outermost is done.
+    held_lights: Vec<(LightState, Span)>,
     /// `.pov`: what `#default` has made POV-Ray's default texture.
     default_look: Look,
     /// `.pov`: the look of each object being evaluated, innermost last (`None` until one of its
@@ -181,6 +184,8 @@ pub struct Evaluator {
     /// `.pov`: whether the warning that a color_map's filter and transmit are not rendered has
     /// been given.
     warned_map_filter: bool,
+    /// `.pov`: whether the warning that a pattern's textures share one finish has been given.
+    warned_map_finish: bool,
     /// `.pov`: whether the warning that a surface's negative colour is clamped has been given.
     warned_negative_colour: bool,
     /// `.pov`: the files opened by `#fopen`.
@@ -513,6 +518,9 @@ impl Evaluator {
             Item::Light { position, items, span } => self.light(position, items, span),
             Item::Object(object) => {
                 let mut node = self.object(object)?;
+                for (light, span) in std::mem::take(&mut self.held_lights) {
+                    self.place_light(light, &span)?;
+                }
                 if self.dialect == Dialect::Pov && node.material.is_none() {
                     // POV-Ray's default texture, where nothing gives the object one.
                     let look = self.default_look.clone();
@@ -598,7 +606,7 @@ impl Evaluator {
     fn value_item(&mut self, item: &Item, slot: &mut Option<Value>) -> Result<(), SceneError> {
         let value = match item {
             Item::Value(expr) => self.value(expr)?,
-            Item::Object(object) => Value::Object(Arc::new(self.object(object)?)),
+            Item::Object(object) => Value::Object(Arc::new(self.unlit_object(object)?)),
             Item::Material(material) => self.material_value(material, None)?,
             Item::Texture(texture) => Value::Texture(Arc::new(self.texture(texture)?)),
             // POV-Ray's pigment, finish, texture or interior, as if declared.
@@ -636,7 +644,7 @@ impl Evaluator {
     fn declared(&mut self, value: &Declared, name: Option<&str>) -> Result<Value, SceneError> {
         Ok(match value {
             Declared::Material(m) => self.material_value(m, name)?,
-            Declared::Object(o) => Value::Object(Arc::new(self.object(o)?)),
+            Declared::Object(o) => Value::Object(Arc::new(self.unlit_object(o)?)),
             Declared::Texture(t) => Value::Texture(Arc::new(self.texture(t)?)),
             Declared::Array(a) => self.array(a)?,
             Declared::Value(e) => self.value(e)?,

@@ -11,7 +11,7 @@ use super::{
 };
 use super::{Look, Pigment};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{Below, CsgOp, ObjectNode, Pattern, ShapeNode, TextureNode, Transform};
+use crate::graph::{Below, CsgOp, ObjectNode, Pattern, ShapeNode, TextureNode, Transform, compose};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{self, AppearanceKind, Item, Shape, TransformKind};
 use crate::lang::value::Value;
@@ -38,13 +38,7 @@ impl Evaluator {
             Shape::Box { corner_a, corner_b } => {
                 let at = corner_b.span.clone();
                 let (corner_a, corner_b) = (self.vec3(corner_a)?, self.vec3(corner_b)?);
-                if (corner_a - corner_b).abs().min_element() == 0.0 {
-                    return Err(SceneError::at(
-                        &at,
-                        "the box's corners are equal in one coordinate: it has no volume",
-                    ));
-                }
-                ShapeNode::Box { corner_a, corner_b }
+                self.box_shape(corner_a, corner_b, &at)?
             }
             Shape::Triangle { a, b, c } => {
                 let at = c.span.clone();
@@ -211,10 +205,15 @@ impl Evaluator {
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.looks.push(None);
         self.shapings.push(Shaping::default());
+        let held = self.held_lights.len();
         let items = self.exec(&object.items, &mut Body::Object(&mut node));
         let look = self.looks.pop().flatten();
         let shaping = self.shapings.pop().unwrap_or_default();
         items?;
+        let moving = compose(&node.transforms);
+        for (light, _) in &mut self.held_lights[held..] {
+            light.moved_by(moving);
+        }
         self.check_blob(&node.shape, &object.span)?;
         let mut node = shaping.shaped(node);
         if let Some(look) = look {
@@ -259,6 +258,67 @@ impl Evaluator {
             }
         }
         Ok(node)
+    }
+
+    /// An object made to be a value (`#declare`d): a light in it would be placed once, where
+    /// it is declared, not wherever the object is used, so it is refused.
+    pub(super) fn unlit_object(
+        &mut self,
+        object: &syntax::Object,
+    ) -> Result<ObjectNode, SceneError> {
+        let held = self.held_lights.len();
+        let node = self.object(object)?;
+        if let Some((_, span)) = self.held_lights.get(held) {
+            return Err(SceneError::at(
+                span,
+                "a light_source in a declared object is not supported: write the light in the \
+                 object where it is placed in the scene",
+            ));
+        }
+        Ok(node)
+    }
+
+    /// A box from two corners. POV-Ray draws a box whose corners are equal in one coordinate
+    /// as the rectangle it is (`Orthographic_scene.pov`, `transmitfx.pov`): here a quad, with
+    /// a warning; one equal in two or three coordinates is a line or a point and shows nothing:
+    /// an empty union, with a warning. `.scn` refuses such a box.
+    fn box_shape(
+        &mut self,
+        corner_a: Vec3,
+        corner_b: Vec3,
+        at: &Span,
+    ) -> Result<ShapeNode, SceneError> {
+        let size = corner_b - corner_a;
+        let flat = size.cmpeq(Vec3::ZERO);
+        if flat.bitmask() == 0 {
+            return Ok(ShapeNode::Box { corner_a, corner_b });
+        }
+        if self.dialect == Dialect::Scn {
+            return Err(SceneError::at(
+                at,
+                "the box's corners are equal in one coordinate: it has no volume",
+            ));
+        }
+        let here = self.here(at);
+        if flat.bitmask().count_ones() > 1 {
+            self.warnings.push(format!(
+                "{here:?}: warning: the box's corners are equal in more than one coordinate: it \
+                 is a line or a point, and shows nothing (as in POV-Ray)"
+            ));
+            return Ok(ShapeNode::Union(Vec::new()));
+        }
+        self.warnings.push(format!(
+            "{here:?}: warning: the box's corners are equal in one coordinate: it is drawn as \
+             the rectangle it is (as in POV-Ray), a surface without an inside"
+        ));
+        let axis = flat.bitmask().trailing_zeros() as usize;
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        let edge = |i: usize| {
+            let mut e = Vec3::ZERO;
+            e[i] = size[i];
+            e
+        };
+        Ok(ShapeNode::Quad { corner: corner_a, edge1: edge(u), edge2: edge(v) })
     }
 
     /// The levels of CSG operations that tracing `node` as an operand takes: one per CSG node and
@@ -317,6 +377,11 @@ impl Evaluator {
                 node.material = Some(self.material_named(&name)?)
             }
             Item::Transform(t) => node.transforms.push(self.transform(t)?),
+            // POV-Ray lets a light be part of an object; it moves with it.
+            Item::Light { position, items, span } if self.dialect == Dialect::Pov => {
+                let light = self.light_state(position, items)?;
+                self.held_lights.push((light, span.clone()));
+            }
             // POV-Ray's object modifiers: `hollow` and `double_illuminate` change nothing without
             // media and with two-sided shading; the others are not honoured, and say so.
             Item::PovParam { key, value: Some(value), .. } if key.name == "threshold" => {

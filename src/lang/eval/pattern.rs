@@ -389,12 +389,16 @@ impl Evaluator {
                         let mut look = self.default_look.clone();
                         self.exec(items, &mut Body::Look(&mut look))?;
                         let first = state.finish.get_or_insert_with(|| look.finish.clone());
-                        if look.finish != *first || look.normal.is_some() {
-                            return Err(SceneError::at(
-                                span,
-                                "a texture_map's textures may differ only in their pigments \
-                                 (raydiance's materials vary only their diffuse colour across \
-                                 a surface): give them one finish and no normal",
+                        if (look.finish != *first || look.normal.is_some())
+                            && !self.warned_map_finish
+                        {
+                            self.warned_map_finish = true;
+                            let here = self.here(span);
+                            self.warnings.push(format!(
+                                "{here:?}: warning: the textures of a pattern differ in their \
+                                 finish or normal: raydiance's materials vary only their diffuse \
+                                 colour across a surface, so the first texture's finish is used \
+                                 everywhere and the normals are not rendered (said once a scene)"
                             ));
                         }
                         look.pigment.colour
