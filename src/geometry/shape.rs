@@ -13,10 +13,13 @@ use super::crossings::Crossings;
 use super::csg::Csg;
 use super::cuboid::Cuboid;
 use super::isosurface::Isosurface;
+use super::lathe::Lathe;
 use super::planar::Planar;
+use super::polygon::Polygon;
 use super::prism::Prism;
 use super::quadratic::quadratic_roots_in_lanes;
 use super::quadric::{QuadricFrame, QuadricKind};
+use super::sor::Sor;
 use super::superellipsoid::Superellipsoid;
 use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
@@ -66,6 +69,12 @@ pub enum Shape {
     Blob(Box<Blob>),
     /// POV-Ray's prism under an affine map.
     Prism(Box<Prism>),
+    /// POV-Ray's lathe under an affine map.
+    Lathe(Box<Lathe>),
+    /// POV-Ray's surface of revolution (`sor`) under an affine map.
+    Sor(Box<Sor>),
+    /// POV-Ray's polygon (not a solid), in world space.
+    Polygon(Box<Polygon>),
     /// POV-Ray's superellipsoid under an affine map.
     Superellipsoid(Box<Superellipsoid>),
     /// A CSG solid: one primitive whose surfaces belong to its operands.
@@ -135,6 +144,9 @@ impl Shape {
             Shape::Algebraic(surface) => surface.intersection(ray, t_max),
             Shape::Blob(blob) => blob.intersection(ray, t_max),
             Shape::Prism(prism) => prism.intersection(ray, t_max),
+            Shape::Lathe(lathe) => lathe.intersection(ray, t_max),
+            Shape::Sor(sor) => sor.intersection(ray, t_max),
+            Shape::Polygon(polygon) => polygon.intersection(ray, t_max),
             Shape::Superellipsoid(s) => s.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.intersection(ray, t_max),
@@ -177,6 +189,9 @@ impl Shape {
             Shape::Algebraic(surface) => surface.hit(ray, at),
             Shape::Blob(blob) => blob.hit(ray, at),
             Shape::Prism(prism) => prism.hit(ray, at),
+            Shape::Lathe(lathe) => lathe.hit(ray, at),
+            Shape::Sor(sor) => sor.hit(ray, at),
+            Shape::Polygon(polygon) => polygon.hit(ray, at),
             Shape::Superellipsoid(s) => s.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
             Shape::Isosurface(isosurface) => isosurface.hit(ray, at),
@@ -204,6 +219,9 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
+            | Shape::Lathe(_)
+            | Shape::Sor(_)
+            | Shape::Polygon(_)
             | Shape::Superellipsoid(_) => self.intersection(ray, t_max).is_some(),
         }
     }
@@ -233,6 +251,9 @@ impl Shape {
             Shape::Torus(torus) => Some(torus.bounds()),
             Shape::Blob(blob) => Some(blob.bounds()),
             Shape::Prism(prism) => Some(prism.bounds()),
+            Shape::Lathe(lathe) => Some(lathe.bounds()),
+            Shape::Sor(sor) => Some(sor.bounds()),
+            Shape::Polygon(polygon) => Some(polygon.bounds()),
             Shape::Superellipsoid(s) => Some(s.bounds()),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Isosurface(isosurface) => Some(isosurface.bounds()),
@@ -247,6 +268,9 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
+            | Shape::Lathe(_)
+            | Shape::Sor(_)
+            | Shape::Polygon(_)
             | Shape::Superellipsoid(_) => None,
             Shape::Sphere { radius, .. } => Some(4.0 * std::f32::consts::PI * radius * radius),
             Shape::Planar(planar) => Some(planar.area()),
@@ -273,6 +297,9 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
+            | Shape::Lathe(_)
+            | Shape::Sor(_)
+            | Shape::Polygon(_)
             | Shape::Superellipsoid(_) => None,
             Shape::Box(cuboid) => Some(cuboid.sample(u)),
             Shape::Cone(cone) => cone.sample(u),
@@ -302,6 +329,8 @@ impl Shape {
             Shape::Algebraic(surface) => surface.crossings(ray, t_max),
             Shape::Blob(blob) => blob.crossings(ray, t_max),
             Shape::Prism(prism) => prism.crossings(ray, t_max),
+            Shape::Lathe(lathe) => lathe.crossings(ray, t_max),
+            Shape::Sor(sor) => sor.crossings(ray, t_max),
             Shape::Superellipsoid(s) => s.crossings(ray, t_max),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.crossings(ray, t_max),
@@ -309,7 +338,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.crossings(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.crossings(ray, t_max),
-            Shape::Planar(_) => Crossings::outside(),
+            Shape::Planar(_) | Shape::Polygon(_) => Crossings::outside(),
         }
     }
 
@@ -325,6 +354,8 @@ impl Shape {
             Shape::Algebraic(surface) => surface.contains(p),
             Shape::Blob(blob) => blob.contains(p),
             Shape::Prism(prism) => prism.contains(p),
+            Shape::Lathe(lathe) => lathe.contains(p),
+            Shape::Sor(sor) => sor.contains(p),
             Shape::Superellipsoid(s) => s.contains(p),
             Shape::Mesh { mesh, placement } => match placement {
                 None => mesh.contains(p),
@@ -332,7 +363,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.contains(p),
             Shape::Isosurface(isosurface) => isosurface.contains(p),
-            Shape::Planar(_) => false,
+            Shape::Planar(_) | Shape::Polygon(_) => false,
         }
     }
 }

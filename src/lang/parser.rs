@@ -141,7 +141,7 @@ fn convert(
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
 /// The words that begin an object, and those of the blocks objects may stand in.
-const OBJECTS: [&str; 22] = [
+const OBJECTS: [&str; 25] = [
     "blob",
     "box",
     "cone",
@@ -150,15 +150,18 @@ const OBJECTS: [&str; 22] = [
     "difference",
     "disk",
     "intersection",
+    "lathe",
     "merge",
     "mesh",
     "object",
     "plane",
     "poly",
+    "polygon",
     "prism",
     "quad",
     "quadric",
     "quartic",
+    "sor",
     "sphere",
     "superellipsoid",
     "torus",
@@ -386,6 +389,9 @@ fn describe(rule: Rule) -> &'static str {
         Rule::superellipsoid => "`superellipsoid`",
         Rule::prism_spline => "a spline (`linear_spline`, ...)",
         Rule::prism_sweep => "a sweep (`linear_sweep`, `conic_sweep`)",
+        Rule::lathe => "`lathe`",
+        Rule::sor => "`sor`",
+        Rule::polygon => "`polygon`",
         Rule::union => "`union`",
         Rule::intersection => "`intersection`",
         Rule::difference => "`difference`",

@@ -79,7 +79,8 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
         shape if UNSUPPORTED_SHAPES.contains(&shape) => {
             "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
              quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG (and, in `.pov` \
-             scenes, POV-Ray's quadric, cubic, quartic, poly, blob, prism and superellipsoid)"
+             scenes, POV-Ray's quadric, cubic, quartic, poly, blob, prism, superellipsoid, lathe, sor and \
+             polygon)"
         }
         "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
         | "clipped_by" => {
@@ -108,12 +109,9 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
 }
 
 /// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 11] = [
-    "lathe",
-    "sor",
+const UNSUPPORTED_SHAPES: [&str; 8] = [
     "height_field",
     "julia_fractal",
-    "polygon",
     "bicubic_patch",
     "mesh2",
     "smooth_triangle",

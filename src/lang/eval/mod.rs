@@ -21,6 +21,7 @@ mod material;
 mod medium;
 mod normal;
 mod object;
+mod outline;
 mod pattern;
 mod polynomial;
 mod prism;
@@ -233,6 +234,9 @@ impl Body<'_> {
                 | ShapeNode::Isosurface(_)
                 | ShapeNode::Algebraic { .. }
                 | ShapeNode::Prism { .. }
+                | ShapeNode::Lathe { .. }
+                | ShapeNode::Sor { .. }
+                | ShapeNode::Polygon { .. }
                 | ShapeNode::Superellipsoid { .. }
                 | ShapeNode::Mesh { .. }
                 | ShapeNode::Extrusion(_)

@@ -157,6 +157,11 @@ impl Evaluator {
             Shape::Prism { spline, sweep, heights, count, points, open } => {
                 self.prism((*spline, *sweep), heights, count, points, *open, &object.span)?
             }
+            Shape::Lathe { spline, count, points } => {
+                self.lathe(*spline, count, points, &object.span)?
+            }
+            Shape::Sor { count, points, open } => self.sor(count, points, *open, &object.span)?,
+            Shape::Polygon { count, points } => self.polygon(count, points, &object.span)?,
             Shape::BlobSphere { .. } | Shape::BlobCylinder { .. } => {
                 return Err(SceneError::at(
                     &object.span,
@@ -572,6 +577,9 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Algebraic { .. }
         | ShapeNode::Blob { .. }
         | ShapeNode::Prism { .. }
+        | ShapeNode::Lathe { .. }
+        | ShapeNode::Sor { .. }
+        | ShapeNode::Polygon { .. }
         | ShapeNode::Superellipsoid { .. }
         | ShapeNode::Mesh { .. }
         | ShapeNode::Extrusion(_)
