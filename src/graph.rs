@@ -377,6 +377,9 @@ impl ShapeNode {
             | ShapeNode::Algebraic { .. }
             | ShapeNode::Blob { .. }
             | ShapeNode::Prism { .. }
+            | ShapeNode::Lathe { .. }
+            | ShapeNode::Sor { .. }
+            | ShapeNode::Polygon { .. }
             | ShapeNode::Superellipsoid { .. }
             | ShapeNode::JuliaFractal(_)
             | ShapeNode::Mesh { .. }
@@ -725,6 +728,22 @@ pub enum ShapeNode {
         sweep: crate::geometry::Sweep,
         heights: [f32; 2],
         open: bool,
+    },
+    /// POV-Ray's lathe: a curve of `segments` (points (r, y), r >= 0) turned about the y axis,
+    /// solid inside the curve by the even-odd rule.
+    Lathe {
+        segments: Vec<crate::geometry::Segment>,
+    },
+    /// POV-Ray's surface of revolution: r^2 a cubic of the height piece by piece, closed by
+    /// discs at its ends unless `open` (then not a solid).
+    Sor {
+        pieces: Vec<crate::geometry::SorPiece>,
+        open: bool,
+    },
+    /// POV-Ray's polygon: closed outlines (`geometry::close_outlines`) of `points`, all in one
+    /// plane, enclosing an area; not a solid.
+    Polygon {
+        points: Vec<Vec3>,
     },
     /// `intersection`, `difference`, `merge { ... }`: a solid made of solid operands (sphere,
     /// box, closed cylinder and cone, torus, plane as the half-space n . p + d < 0, closed

@@ -5,7 +5,7 @@
 //! planes with offsets, `#default`, `inverse` and `clipped_by`; the algebraic surfaces,
 //! blobs, prisms and superellipsoids; boxes flat in one coordinate; shapes_old.inc's infinite
 //! quadrics cut by CSG; bicubic patches; meshes of triangles and smooth triangles,
-//! `smooth_triangle` and `mesh2`; julia fractals.
+//! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons.
 
 mod common;
 
@@ -393,6 +393,49 @@ fn flat_boxes_match_povray_away_from_edges() {
     let test = "flat_boxes_match_povray_away_from_edges";
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(FLAT_BOXES, "flat boxes");
+    }
+}
+
+/// POV-Ray's lathes (a linear ring turned on its side, a cubic vase, a Bézier bulb), a sor
+/// with its caps seen from above, and a polygon with a hole (its outline closed by POV-Ray).
+const REVOLUTIONS: &str = r#"
+camera { location <0, 4, -7> right x*image_width/image_height angle 42 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+lathe {
+  linear_spline 5, <0.4, -0.3>, <0.9, -0.3>, <0.9, 0.3>, <0.4, 0.3>, <0.4, -0.3>
+  rotate 70*x translate <-2, 1, 0>
+  pigment { rgb <1, 0, 0> }
+}
+lathe {
+  cubic_spline 8,
+  <0, -1>, <0, -0.8>, <0.6, -0.6>, <0.3, 0>, <0.7, 0.6>, <0.4, 0.8>, <0, 0.8>, <0, 1>
+  scale <1, 1, -1> rotate -20*z translate <0, 1.2, 0>
+  pigment { rgb <0, 1, 0> }
+}
+lathe {
+  bezier_spline 8,
+  <0, -0.5>, <0.8, -0.5>, <0.8, 0.2>, <0.3, 0.3>, <0.3, 0.3>, <0.2, 0.5>, <0.1, 0.6>, <0, 0.6>
+  rotate <30, 0, 20> translate <2, 1, 0>
+  pigment { rgb <0, 0, 1> }
+}
+sor {
+  6, <0.2, -0.2>, <0.6, 0>, <0.3, 0.4>, <0.8, 0.8>, <0.6, 1.1>, <0.5, 1.3>
+  translate <-1.8, -1.6, 0>
+  pigment { rgb <1, 1, 0> }
+}
+polygon {
+  9, <-1, -1>, <1, -1>, <1, 1>, <-1, 1>, <-1, -1>, <-0.4, -0.4>, <0.4, -0.4>, <0.4, 0.4>, <-0.4, 0.4>
+  rotate <60, 20, 0> translate <1.5, -1.2, 0>
+  pigment { rgb <1, 0, 1> }
+}
+"#;
+
+#[test]
+fn lathes_sors_and_polygons_match_povray_away_from_edges() {
+    let test = "lathes_sors_and_polygons_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(REVOLUTIONS, "revolutions");
     }
 }
 

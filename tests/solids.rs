@@ -1,5 +1,5 @@
 //! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
-//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal and CSG hits against a brute-force march along the ray with the point-inside
+//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal, lathe, sor and CSG hits against a brute-force march along the ray with the point-inside
 //! test, inside tests against the operands', an emission-only render against the analytic
 //! silhouette, and build errors.
 
@@ -11,7 +11,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{
     Algebra, BlobComponent, ComponentShape, JuliaDesc, JuliaFunction, Ray, Shape, SplineKind,
-    Sweep, Term, spline_segments,
+    Sweep, Term, open_spline_segments, sor_pieces, spline_segments,
 };
 use raydiance::graph::{
     CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
@@ -687,6 +687,140 @@ fn csg_with_prism_operands_matches_a_march_and_the_operands_inside_tests() {
     }
     // The prisms fill more than 1/50 of their bounds (prisms_match_a_march_...); the ball
     // keeps or takes away half of that or less on average: more than 1/100.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 50, "{tally:?}");
+}
+
+/// A lathe of each spline kind in turn: a closed star-shaped curve about (1, 0) in the (r, y)
+/// half-plane, joined so that the last segment returns to the first point.
+fn random_lathe(rng: &mut Rng, kind: SplineKind) -> ShapeNode {
+    let k = 5 + (rng.next() * 4.0) as usize;
+    let p: Vec<Vec2> = star(rng, k, 0.3, 0.7).iter().map(|&v| v + Vec2::X).collect();
+    let points: Vec<Vec2> = match kind {
+        SplineKind::Linear => p.iter().chain([&p[0]]).copied().collect(),
+        SplineKind::Quadratic => [p[k - 1]].iter().chain(&p).chain([&p[0]]).copied().collect(),
+        SplineKind::Cubic => [p[k - 1]].iter().chain(&p).chain([&p[0], &p[1]]).copied().collect(),
+        SplineKind::Bezier => (0..k)
+            .flat_map(|i| {
+                let (a, b) = (p[i], p[(i + 1) % k]);
+                let bulge = Vec2::new(a.y - b.y, b.x - a.x) * rng.range(-0.3, 0.3);
+                [a, a + (b - a) / 3.0 + bulge, b - (b - a) / 3.0 + bulge, b]
+            })
+            .collect(),
+    };
+    ShapeNode::Lathe { segments: open_spline_segments(kind, &points).expect("enough points") }
+}
+
+/// A sor of 5 to 8 points, heights rising by 0.2 to 0.4, radii 0.2 to 1.
+fn random_sor(rng: &mut Rng) -> ShapeNode {
+    let n = 5 + (rng.next() * 4.0) as usize;
+    let mut y = -0.8;
+    let points: Vec<Vec2> = (0..n)
+        .map(|_| {
+            y += rng.range(0.2, 0.4);
+            Vec2::new(rng.range(0.2, 1.0), y)
+        })
+        .collect();
+    ShapeNode::Sor { pieces: sor_pieces(&points).expect("rising points"), open: false }
+}
+
+/// Solids made by `make` (for the k-th of `count`) under random transforms: first hits against
+/// a march, aimed and grazing rays, inside against the crossings, normals out of the solid.
+/// The solids fill more than `fill` of their bounds.
+fn check_solid_family(
+    seed: u64,
+    count: usize,
+    fill: f32,
+    mut make: impl FnMut(&mut Rng, usize) -> ShapeNode,
+) {
+    let graph = empty_graph();
+    let mut rng = Rng(seed);
+    let mut tally = Tally::default();
+    let (mut grazed, mut toggles) = (0, 0);
+    for k in 0..count {
+        let solid = make(&mut rng, k);
+        let transforms = random_transforms(&mut rng, k % 6 == 5);
+        let shape = built_shape(&graph, node(&graph, solid, transforms));
+        let bounds = shape.bounds().expect("bounded");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        let tolerance = 2e-4 * size + 1e-5 * center.abs().max_element();
+        for i in 0..300 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = shape.contains(target);
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            if i % 2 == 1
+                && let Some(graze) = grazing(&shape, &ray, &mut rng, size)
+            {
+                ray = graze;
+                grazed += 1;
+            } else {
+                check_aimed(&shape, &ray, target, aimed_in, tolerance, &mut tally);
+            }
+            check_ray(&shape, &ray, 300, tolerance, &mut tally);
+            toggles += check_inside_between_crossings(&shape, &ray, 4.0 * size, tolerance);
+            if let Some(hit) = shape.intersect(&ray, f32::INFINITY) {
+                let (out, back) = (hit.point + hit.normal * 1e-3, hit.point - hit.normal * 1e-3);
+                if shape.contains(out) != shape.contains(back) {
+                    assert!(shape.contains(back), "{hit:?}");
+                }
+            }
+        }
+    }
+    assert!(grazed > 30 * count && toggles > 100 * count, "{grazed} {toggles}");
+    assert_aimed_floor(&tally, fill);
+    assert!(tally.slivers < tally.rays / 6, "{tally:?}");
+}
+
+#[test]
+fn lathes_match_a_march_and_their_crossings_agree_with_inside() {
+    // The profile, a star of radii 0.3 to 0.7 about r = 1, holds a disc of radius 0.3 cos 36°
+    // (area 0.18): a ring of volume 2 pi 1 0.18 = 1.1 in a box of 3.4 x 1.4 x 3.4 = 16 or
+    // less (0.07), that box 1/5 or more of its world box: 0.014.
+    check_solid_family(53, 12, 0.01, |rng, k| random_lathe(rng, SPLINES[k % 4]));
+}
+
+#[test]
+fn sors_match_a_march_and_their_crossings_agree_with_inside() {
+    // A sor of radii uniform in 0.2 to 1 fills its cylinder by E[r^2] / 1 = 0.41 on average,
+    // the cylinder pi / 4 of its box, the box 1/5 or more of its world box: 0.06; half that.
+    check_solid_family(59, 12, 0.03, |rng, _| random_sor(rng));
+}
+
+#[test]
+fn csg_with_lathe_and_sor_operands_matches_a_march_and_the_operands_inside_tests() {
+    let graph = empty_graph();
+    let mut rng = Rng(61);
+    let mut tally = Tally::default();
+    for k in 0..8 {
+        let solid = if k % 2 == 0 {
+            random_lathe(&mut rng, SPLINES[(k / 2) % 4])
+        } else {
+            random_sor(&mut rng)
+        };
+        let solid = node(&graph, solid, random_transforms(&mut rng, false));
+        let ball = ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.3, 0.7) };
+        let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
+        let tree = ShapeNode::Csg { op, operands: vec![solid, node(&graph, ball, vec![])] };
+        let tree = node(&graph, tree, random_transforms(&mut rng, false));
+        let shape = built_shape(&graph, tree.clone());
+        let bounds = shape.bounds().expect("a bounded first operand");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..200 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    // Both kinds fill 1/50 or more of their bounds (lathes_... and sors_...); the ball keeps
+    // or takes away half of that or less on average.
     assert_aimed_floor(&tally, 0.01);
     assert!(tally.slivers < tally.rays / 50, "{tally:?}");
 }

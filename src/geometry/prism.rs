@@ -12,6 +12,7 @@ use super::crossings::Crossings;
 use super::polynomial::polynomial_roots;
 use super::quadric::QuadricFrame;
 use super::shape::Intersection;
+use super::spline::{Segment, inside_curves, point, segment_bounds};
 use super::{Aabb, Hit, Ray};
 
 /// How the section is swept along y.
@@ -20,10 +21,6 @@ pub enum Sweep {
     Linear,
     Conic,
 }
-
-/// One segment of a curve: the point `d + c u + b u^2 + a u^3` (x, z) for u in [0, 1], as
-/// `[d, c, b, a]`.
-pub type Segment = [Vec2; 4];
 
 /// Which surface an intersection is on, in `Intersection::triangle`: a segment's side by its
 /// index, or a cap; the top bit says whether the ray goes into the solid there.
@@ -55,24 +52,11 @@ impl Prism {
     ) -> Self {
         let segments: Vec<[DVec2; 4]> = segments.iter().map(|s| s.map(|v| v.as_dvec2())).collect();
         let (lo, hi) = (heights[0].min(heights[1]), heights[0].max(heights[1]));
-        // The section's bounds: each segment's ends and its extremes in x and z.
-        let mut min = DVec2::splat(f64::INFINITY);
-        let mut max = -min;
+        // The section's bounds.
+        let (mut min, mut max) = (DVec2::splat(f64::INFINITY), DVec2::splat(-f64::INFINITY));
         for s in &segments {
-            let mut extend = |u: f64| {
-                let p = point(s, u);
-                min = min.min(p);
-                max = max.max(p);
-            };
-            extend(0.0);
-            extend(1.0);
-            for axis in [0, 1] {
-                let slope = [s[1][axis], 2.0 * s[2][axis], 3.0 * s[3][axis]];
-                let degree = slope.iter().rposition(|&k| k != 0.0).unwrap_or(0);
-                for u in polynomial_roots(&slope[..=degree], 0.0, 1.0) {
-                    extend(u);
-                }
-            }
+            let (lo, hi) = segment_bounds(s);
+            (min, max) = (min.min(lo), max.max(hi));
         }
         let scales = match sweep {
             Sweep::Linear => [1.0, 1.0],
@@ -97,23 +81,6 @@ impl Prism {
         self.bounds
     }
 
-    /// Whether the section's point (x, z) is inside the curves: the crossings of the ray from
-    /// it along +x, counted by the even-odd rule.
-    fn inside_section(&self, p: DVec2) -> bool {
-        let mut inside = false;
-        for s in &self.segments {
-            let z = [s[0].y - p.y, s[1].y, s[2].y, s[3].y];
-            let degree = z.iter().rposition(|&k| k != 0.0).unwrap_or(0);
-            for u in polynomial_roots(&z[..=degree], 0.0, 1.0) {
-                // Each end belongs to one segment only: the start.
-                if u < 1.0 && point(s, u).x > p.x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
-    }
-
     /// The section of a point of the prism's own space, if its height is within the prism's.
     fn section(&self, p: DVec3) -> Option<DVec2> {
         let [lo, hi] = self.heights;
@@ -127,7 +94,7 @@ impl Prism {
     }
 
     fn inside(&self, p: DVec3) -> bool {
-        !self.open && self.section(p).is_some_and(|s| self.inside_section(s))
+        !self.open && self.section(p).is_some_and(|s| inside_curves(&self.segments, s))
     }
 
     /// Every crossing of the ray's surfaces in (0, t_max), in order: its distance and surface
@@ -147,7 +114,7 @@ impl Prism {
                         Sweep::Linear => Some(DVec2::new(p.x, p.z)),
                         Sweep::Conic => (h > 0.0).then(|| DVec2::new(p.x, p.z) / h),
                     };
-                    if section.is_some_and(|s| self.inside_section(s)) {
+                    if section.is_some_and(|s| inside_curves(&self.segments, s)) {
                         found.push((t, cap, 0.0));
                     }
                 }
@@ -264,129 +231,15 @@ impl Prism {
     }
 }
 
-/// A segment's point at u.
-fn point(s: &[DVec2; 4], u: f64) -> DVec2 {
-    s[0] + u * (s[1] + u * (s[2] + u * s[3]))
-}
-
-/// The segments of POV-Ray's prism (and of a spline of points generally) of `kind` through
-/// `points`: each as POV-Ray 3.7 computes them, a sub-curve closing where a point repeats the
-/// sub-curve's first (for quadratic and cubic splines the first point after the leading
-/// control point); `Err` with what is wrong when the points do not close.
-pub fn spline_segments(kind: SplineKind, points: &[Vec2]) -> Result<Vec<Segment>, SplineError> {
-    let n = points.len();
-    let (needed, first_index) = match kind {
-        SplineKind::Linear => (1, 0),
-        SplineKind::Quadratic => (2, 1),
-        SplineKind::Cubic => (3, 1),
-        SplineKind::Bezier => (3, 0),
-    };
-    let mut segments = Vec::new();
-    let Some(&start) = points.get(first_index) else {
-        return Err(SplineError::TooFew(n));
-    };
-    let mut first = start;
-    let same = |a: Vec2, b: Vec2| (a - b).abs().max_element() < 1e-10;
-    let mut i = 0;
-    while i + 1 < n {
-        if i + needed >= n {
-            return Err(SplineError::Open(n));
-        }
-        let p = |k: usize| points[i + k];
-        let segment = match kind {
-            SplineKind::Linear => [p(0), p(1) - p(0), Vec2::ZERO, Vec2::ZERO],
-            SplineKind::Quadratic => {
-                [p(1), 0.5 * (p(2) - p(0)), 0.5 * p(0) - p(1) + 0.5 * p(2), Vec2::ZERO]
-            }
-            SplineKind::Cubic => [
-                p(1),
-                0.5 * (p(2) - p(0)),
-                p(0) - 2.5 * p(1) + 2.0 * p(2) - 0.5 * p(3),
-                -0.5 * p(0) + 1.5 * p(1) - 1.5 * p(2) + 0.5 * p(3),
-            ],
-            SplineKind::Bezier => [
-                p(3),
-                3.0 * p(2) - 3.0 * p(3),
-                3.0 * p(1) - 6.0 * p(2) + 3.0 * p(3),
-                p(0) - 3.0 * p(1) + 3.0 * p(2) - p(3),
-            ],
-        };
-        segments.push(segment);
-        match kind {
-            SplineKind::Linear => {
-                if same(p(1), first) {
-                    i += 1;
-                    if i + 1 < n {
-                        first = points[i + 1];
-                    }
-                }
-            }
-            SplineKind::Quadratic | SplineKind::Cubic => {
-                if same(p(2), first) {
-                    i += if kind == SplineKind::Quadratic { 2 } else { 3 };
-                    if i + 2 < n {
-                        first = points[i + 2];
-                    }
-                }
-            }
-            SplineKind::Bezier => i += 3,
-        }
-        i += 1;
-    }
-    Ok(segments)
-}
-
-/// Points that make no closed spline, with how many there are.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
-pub enum SplineError {
-    #[error("{0} points are too few for this spline")]
-    TooFew(usize),
-    #[error("{0} points do not close the last curve (or its control points are missing)")]
-    Open(usize),
-}
-
-/// POV-Ray's kinds of spline through a prism's (or lathe's) points.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SplineKind {
-    Linear,
-    Quadratic,
-    Cubic,
-    Bezier,
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{SplineKind, spline_segments};
 
     fn square(size: f32) -> Vec<Vec2> {
         [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
             .map(|(x, z)| Vec2::new(x, z) * size)
             .to_vec()
-    }
-
-    #[test]
-    fn splines_join_points_as_pov_ray_does() {
-        // Two closed squares: four sides each, none joining them.
-        let mut points = square(1.0);
-        points.push(points[0]);
-        let inner = square(0.5);
-        points.extend(inner.iter().chain([&inner[0]]));
-        let segments = spline_segments(SplineKind::Linear, &points).unwrap();
-        assert_eq!(segments.len(), 8);
-        assert_eq!(segments[4][0], inner[0], "the hole starts at its own first point");
-        // A quadratic spline passes through the points after the control point.
-        let mut quadratic = vec![Vec2::new(-1.0, 1.0)];
-        quadratic.extend(square(1.0));
-        quadratic.push(Vec2::new(-1.0, -1.0));
-        let segments = spline_segments(SplineKind::Quadratic, &quadratic).unwrap();
-        assert_eq!(segments.len(), 4);
-        let end = |s: &Segment| s[0] + s[1] + s[2] + s[3];
-        assert_eq!(end(&segments[0]), Vec2::new(1.0, -1.0));
-        // A Bézier segment runs from its fourth point (u = 0) to its first (u = 1).
-        let bezier = [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
-        let segments = spline_segments(SplineKind::Bezier, &bezier).unwrap();
-        assert_eq!((segments[0][0], end(&segments[0])), (Vec2::Y, Vec2::ZERO));
-        assert!(spline_segments(SplineKind::Cubic, &square(1.0)[..2]).is_err());
     }
 
     #[test]

@@ -14,10 +14,13 @@ use super::csg::Csg;
 use super::cuboid::Cuboid;
 use super::isosurface::Isosurface;
 use super::julia::Julia;
+use super::lathe::Lathe;
 use super::planar::Planar;
+use super::polygon::Polygon;
 use super::prism::Prism;
 use super::quadratic::quadratic_roots_in_lanes;
 use super::quadric::{QuadricFrame, QuadricKind};
+use super::sor::Sor;
 use super::superellipsoid::Superellipsoid;
 use super::torus::Torus;
 use super::triangle_mesh::{Placement, TriangleMesh};
@@ -67,6 +70,12 @@ pub enum Shape {
     Blob(Box<Blob>),
     /// POV-Ray's prism under an affine map.
     Prism(Box<Prism>),
+    /// POV-Ray's lathe under an affine map.
+    Lathe(Box<Lathe>),
+    /// POV-Ray's surface of revolution (`sor`) under an affine map.
+    Sor(Box<Sor>),
+    /// POV-Ray's polygon (not a solid), in world space.
+    Polygon(Box<Polygon>),
     /// POV-Ray's superellipsoid under an affine map.
     Superellipsoid(Box<Superellipsoid>),
     /// POV-Ray's julia_fractal under an affine map.
@@ -138,6 +147,9 @@ impl Shape {
             Shape::Algebraic(surface) => surface.intersection(ray, t_max),
             Shape::Blob(blob) => blob.intersection(ray, t_max),
             Shape::Prism(prism) => prism.intersection(ray, t_max),
+            Shape::Lathe(lathe) => lathe.intersection(ray, t_max),
+            Shape::Sor(sor) => sor.intersection(ray, t_max),
+            Shape::Polygon(polygon) => polygon.intersection(ray, t_max),
             Shape::Superellipsoid(s) => s.intersection(ray, t_max),
             Shape::Julia(julia) => julia.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
@@ -181,6 +193,9 @@ impl Shape {
             Shape::Algebraic(surface) => surface.hit(ray, at),
             Shape::Blob(blob) => blob.hit(ray, at),
             Shape::Prism(prism) => prism.hit(ray, at),
+            Shape::Lathe(lathe) => lathe.hit(ray, at),
+            Shape::Sor(sor) => sor.hit(ray, at),
+            Shape::Polygon(polygon) => polygon.hit(ray, at),
             Shape::Superellipsoid(s) => s.hit(ray, at),
             Shape::Julia(julia) => julia.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
@@ -209,6 +224,9 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
+            | Shape::Lathe(_)
+            | Shape::Sor(_)
+            | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => self.intersection(ray, t_max).is_some(),
         }
@@ -239,6 +257,9 @@ impl Shape {
             Shape::Torus(torus) => Some(torus.bounds()),
             Shape::Blob(blob) => Some(blob.bounds()),
             Shape::Prism(prism) => Some(prism.bounds()),
+            Shape::Lathe(lathe) => Some(lathe.bounds()),
+            Shape::Sor(sor) => Some(sor.bounds()),
+            Shape::Polygon(polygon) => Some(polygon.bounds()),
             Shape::Superellipsoid(s) => Some(s.bounds()),
             Shape::Julia(julia) => Some(julia.bounds()),
             Shape::Csg(csg) => csg.bounds(),
@@ -254,6 +275,9 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
+            | Shape::Lathe(_)
+            | Shape::Sor(_)
+            | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => None,
             Shape::Sphere { radius, .. } => Some(4.0 * std::f32::consts::PI * radius * radius),
@@ -281,6 +305,9 @@ impl Shape {
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
+            | Shape::Lathe(_)
+            | Shape::Sor(_)
+            | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => None,
             Shape::Box(cuboid) => Some(cuboid.sample(u)),
@@ -311,6 +338,8 @@ impl Shape {
             Shape::Algebraic(surface) => surface.crossings(ray, t_max),
             Shape::Blob(blob) => blob.crossings(ray, t_max),
             Shape::Prism(prism) => prism.crossings(ray, t_max),
+            Shape::Lathe(lathe) => lathe.crossings(ray, t_max),
+            Shape::Sor(sor) => sor.crossings(ray, t_max),
             Shape::Superellipsoid(s) => s.crossings(ray, t_max),
             Shape::Julia(julia) => julia.crossings(ray, t_max),
             Shape::Mesh { mesh, placement } => match placement {
@@ -319,7 +348,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.crossings(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.crossings(ray, t_max),
-            Shape::Planar(_) => Crossings::outside(),
+            Shape::Planar(_) | Shape::Polygon(_) => Crossings::outside(),
         }
     }
 
@@ -335,6 +364,8 @@ impl Shape {
             Shape::Algebraic(surface) => surface.contains(p),
             Shape::Blob(blob) => blob.contains(p),
             Shape::Prism(prism) => prism.contains(p),
+            Shape::Lathe(lathe) => lathe.contains(p),
+            Shape::Sor(sor) => sor.contains(p),
             Shape::Superellipsoid(s) => s.contains(p),
             Shape::Julia(julia) => julia.contains(p),
             Shape::Mesh { mesh, placement } => match placement {
@@ -343,7 +374,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.contains(p),
             Shape::Isosurface(isosurface) => isosurface.contains(p),
-            Shape::Planar(_) => false,
+            Shape::Planar(_) | Shape::Polygon(_) => false,
         }
     }
 }

@@ -142,7 +142,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "double_illuminate" => S, "no_shadow" => S, "no_image" => S, "no_reflection" => S,
     "bounded_by" => S, "inverse" => S, "clipped_by" => S, "function" => S, "isosurface" => S,
     "quadric" => S, "cubic" => S, "quartic" => S, "poly" => S, "sturm" => S, "blob" => S,
-    "strength" => S, "component" => S, "threshold" => S, "hierarchy" => S, "prism" => S,
+    "strength" => S, "component" => S, "threshold" => S, "hierarchy" => S, "prism" => S, "lathe" => S, "sor" => S, "polygon" => S,
     "linear_spline" => S, "quadratic_spline" => S, "cubic_spline" => S, "bezier_spline" => S,
     "linear_sweep" => S, "conic_sweep" => S, "superellipsoid" => S, "bicubic_patch" => S, "smooth_triangle" => S, "mesh2" => S, "julia_fractal" => S,
     "atmosphere" => S, "medium" => S, "absorption" => S, "scattering" => S, "anisotropy" => S,

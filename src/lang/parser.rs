@@ -141,7 +141,7 @@ fn convert(
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
 /// The words that begin an object, and those of the blocks objects may stand in.
-const OBJECTS: [&str; 26] = [
+const OBJECTS: [&str; 29] = [
     "bicubic_patch",
     "blob",
     "box",
@@ -152,17 +152,20 @@ const OBJECTS: [&str; 26] = [
     "disk",
     "intersection",
     "julia_fractal",
+    "lathe",
     "merge",
     "mesh",
     "mesh2",
     "object",
     "plane",
     "poly",
+    "polygon",
     "prism",
     "quad",
     "quadric",
     "quartic",
     "smooth_triangle",
+    "sor",
     "sphere",
     "superellipsoid",
     "torus",
@@ -429,6 +432,9 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::patch_uv_vectors => "a patch setting (`type`, `flatness`, `u_steps`, `v_steps`)",
         Rule::prism_spline => "a spline (`linear_spline`, ...)",
         Rule::prism_sweep => "a sweep (`linear_sweep`, `conic_sweep`)",
+        Rule::lathe => "`lathe`",
+        Rule::sor => "`sor`",
+        Rule::polygon => "`polygon`",
         Rule::union => "`union`",
         Rule::intersection => "`intersection`",
         Rule::difference => "`difference`",

@@ -80,7 +80,8 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
             "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
              quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG (and, in `.pov` \
              scenes, POV-Ray's quadric, cubic, quartic, poly, blob, prism, superellipsoid, \
-             bicubic_patch, smooth_triangle, mesh2, meshes of triangles and julia_fractal)"
+             bicubic_patch, smooth_triangle, mesh2, meshes of triangles, julia_fractal, lathe, sor \
+             and polygon)"
         }
         "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
         | "clipped_by" => {
@@ -109,8 +110,7 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
 }
 
 /// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 7] =
-    ["lathe", "sor", "height_field", "polygon", "parametric", "ovus", "lemon"];
+const UNSUPPORTED_SHAPES: [&str; 4] = ["height_field", "parametric", "ovus", "lemon"];
 
 /// The message for POV-Ray's `word`, if it is one of them.
 pub fn message(word: &str, inside: Option<&str>) -> Option<String> {

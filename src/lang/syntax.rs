@@ -730,6 +730,23 @@ pub enum Shape {
         points: Vec<Expr>,
         open: bool,
     },
+    /// POV-Ray's `lathe`: `count` points (r, y) joined by a spline, turned about y.
+    Lathe {
+        spline: crate::geometry::SplineKind,
+        count: Expr,
+        points: Vec<Expr>,
+    },
+    /// POV-Ray's `sor`: `count` points (r, y), r^2 interpolated by a cubic in y.
+    Sor {
+        count: Expr,
+        points: Vec<Expr>,
+        open: bool,
+    },
+    /// POV-Ray's `polygon`: `count` points of closed outlines in one plane.
+    Polygon {
+        count: Expr,
+        points: Vec<Expr>,
+    },
     /// A component of a blob: a sphere, or a cylinder with hemispherical ends, and its strength.
     BlobSphere {
         center: Expr,

@@ -1050,6 +1050,9 @@ impl Builder {
                 | Rule::smooth_triangle
                 | Rule::mesh2
                 | Rule::julia_fractal
+                | Rule::lathe
+                | Rule::sor
+                | Rule::polygon
         ) {
             self.pov_only(&inner_pair(&pair), None)?;
         }
@@ -1069,6 +1072,9 @@ impl Builder {
             && pair.clone().into_inner().nth(1).is_some_and(|p| p.as_rule() != Rule::expr)
         {
             return self.triangle_mesh(pair);
+        }
+        if matches!(rule, Rule::lathe | Rule::sor | Rule::polygon) {
+            return self.point_list_shape(pair);
         }
         self.enter(&pair)?;
         let mut inner = pair.into_inner().skip(1).peekable();
@@ -1161,6 +1167,7 @@ impl Builder {
                     normals: Box::new([n1, n2, n3]),
                 }
             }
+            Rule::lathe | Rule::sor | Rule::polygon => unreachable!("read by `point_list_shape`"),
             Rule::instance | Rule::looks_like => Shape::Instance { of: take(self)? },
             Rule::union => Shape::Union,
             Rule::intersection => Shape::Intersection,
@@ -1364,6 +1371,53 @@ impl Builder {
         let items = self.items(inner)?;
         self.leave();
         Ok(Object { shape: Shape::Mesh2(Box::new(mesh)), items, span })
+    }
+
+    /// POV-Ray's `lathe { [spline] count, points... items }`, `sor { count, points... [open]
+    /// items }` and `polygon { count, points... items }`.
+    fn point_list_shape(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+        use crate::geometry::SplineKind;
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1).peekable();
+        let mut spline = SplineKind::Linear;
+        while let Some(word) = inner.next_if(|p| p.as_rule() == Rule::prism_spline) {
+            let word = inner_pair(&word);
+            spline = match word.as_rule() {
+                Rule::kw_linear_spline => SplineKind::Linear,
+                Rule::kw_quadratic_spline => SplineKind::Quadratic,
+                Rule::kw_cubic_spline => SplineKind::Cubic,
+                Rule::kw_bezier_spline => SplineKind::Bezier,
+                rule => unreachable!("no spline word {rule:?}"),
+            };
+        }
+        let mut arguments = Vec::new();
+        while let Some(p) = inner.next_if(|p| matches!(p.as_rule(), Rule::expr | Rule::arg_comma)) {
+            if p.as_rule() == Rule::expr {
+                arguments.push(self.expr(p)?);
+            }
+        }
+        let mut open = false;
+        let rest: Vec<_> = inner
+            .filter(|p| {
+                let word = p.as_rule() == Rule::kw_open;
+                open |= word;
+                !word
+            })
+            .collect();
+        let items = self.items(rest.into_iter())?;
+        self.leave();
+        let mut arguments = arguments.into_iter();
+        let count = arguments.next().expect("the grammar gives the count");
+        let points = arguments.collect();
+        let shape = match rule {
+            Rule::lathe => Shape::Lathe { spline, count, points },
+            Rule::sor => Shape::Sor { count, points, open },
+            Rule::polygon => Shape::Polygon { count, points },
+            rule => unreachable!("no point list shape {rule:?}"),
+        };
+        Ok(Object { shape, items, span })
     }
 
     /// A blob's `sphere { c, r, [strength] s items }`, `cylinder { a, b, r, [strength] s items }`

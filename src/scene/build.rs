@@ -14,8 +14,8 @@ use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
     Algebraic, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia, JuliaDesc,
-    Placement, Planar, PlanarKind, Prism, QuadricFrame, QuadricKind, Shape, Superellipsoid, Torus,
-    TriangleMesh, similarity_scale,
+    Lathe, Placement, Planar, PlanarKind, Polygon, Prism, QuadricFrame, QuadricKind, Shape, Sor,
+    Superellipsoid, Torus, TriangleMesh, outline_normal, similarity_scale,
 };
 use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
@@ -460,6 +460,8 @@ impl Flattener {
                 return Err(not_solid(what));
             }
             ShapeNode::Prism { open: true, .. } => return Err(not_solid("an open prism")),
+            ShapeNode::Sor { open: true, .. } => return Err(not_solid("an open sor")),
+            ShapeNode::Polygon { .. } => return Err(not_solid("a polygon")),
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
                 closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
@@ -757,6 +759,18 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         }
         ShapeNode::Prism { ref segments, sweep, heights, open } => {
             vec![Shape::Prism(Box::new(Prism::new(segments, sweep, heights, open, m)))]
+        }
+        ShapeNode::Lathe { ref segments } => vec![Shape::Lathe(Box::new(Lathe::new(segments, m)))],
+        ShapeNode::Sor { ref pieces, open } => {
+            vec![Shape::Sor(Box::new(Sor::new(pieces, open, m)))]
+        }
+        ShapeNode::Polygon { ref points } => {
+            let world: Vec<Vec3> = points.iter().map(|&p| m.transform_point3(p)).collect();
+            // A transform that flattens the plane leaves nothing to see.
+            outline_normal(&world)
+                .map(|normal| Shape::Polygon(Box::new(Polygon::new(&world, normal))))
+                .into_iter()
+                .collect()
         }
         ShapeNode::Union(_)
         | ShapeNode::Instance(_)

@@ -23,6 +23,7 @@ mod material;
 mod medium;
 mod normal;
 mod object;
+mod outline;
 mod patch;
 mod pattern;
 mod polynomial;
@@ -245,6 +246,9 @@ impl Body<'_> {
                 | ShapeNode::Isosurface(_)
                 | ShapeNode::Algebraic { .. }
                 | ShapeNode::Prism { .. }
+                | ShapeNode::Lathe { .. }
+                | ShapeNode::Sor { .. }
+                | ShapeNode::Polygon { .. }
                 | ShapeNode::Superellipsoid { .. }
                 | ShapeNode::JuliaFractal(_)
                 | ShapeNode::Mesh { .. }

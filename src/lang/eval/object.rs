@@ -156,6 +156,11 @@ impl Evaluator {
             Shape::TriangleMesh { triangles } => self.triangle_mesh(triangles)?,
             Shape::Mesh2(mesh) => self.mesh2(mesh, &object.span)?,
             Shape::JuliaFractal(fractal) => self.julia_fractal(fractal)?,
+            Shape::Lathe { spline, count, points } => {
+                self.lathe(*spline, count, points, &object.span)?
+            }
+            Shape::Sor { count, points, open } => self.sor(count, points, *open, &object.span)?,
+            Shape::Polygon { count, points } => self.polygon(count, points, &object.span)?,
             Shape::BlobSphere { .. } | Shape::BlobCylinder { .. } => {
                 return Err(SceneError::at(
                     &object.span,
@@ -642,6 +647,9 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Algebraic { .. }
         | ShapeNode::Blob { .. }
         | ShapeNode::Prism { .. }
+        | ShapeNode::Lathe { .. }
+        | ShapeNode::Sor { .. }
+        | ShapeNode::Polygon { .. }
         | ShapeNode::Superellipsoid { .. }
         | ShapeNode::JuliaFractal(_)
         | ShapeNode::Mesh { .. }
