@@ -44,6 +44,8 @@ pub enum Value {
     Sky(Arc<SkyDesc>),
     /// A declared float function (`.pov`), compiled.
     Function(Arc<crate::function::FloatFunction>),
+    /// A declared colour function (`function { pigment { } }`, `.pov`), compiled.
+    ColourFunction(Arc<crate::function::ColourFunction>),
 }
 
 impl Value {
@@ -70,6 +72,7 @@ impl Value {
             Value::Sky(_) => "a sky_sphere",
             Value::ColorMap(_) => "a color_map",
             Value::Function(_) => "a function",
+            Value::ColourFunction(_) => "a colour function",
         }
     }
 }

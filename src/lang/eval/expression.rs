@@ -7,6 +7,7 @@ use glam::{DMat3, DVec3, Vec3};
 
 use super::{Body, EPSILON, Evaluator, as_float, as_vector, element_index};
 use crate::diagnostic::{SceneError, Span};
+use crate::function::{GRAY, component};
 use crate::lang::keywords::{Constant, Function};
 use crate::lang::syntax::{
     BinaryOp, Colour, Declare, Declared, Expr, ExprKind, PovColourKind, UnaryOp,
@@ -37,7 +38,8 @@ impl Evaluator {
             | Value::ColorMap(_)
             | Value::Camera(_)
             | Value::Sky(_)
-            | Value::Function(_) => true,
+            | Value::Function(_)
+            | Value::ColourFunction(_) => true,
         };
         if !finite {
             return Err(SceneError::at(
@@ -315,6 +317,12 @@ impl Evaluator {
                 }
             }
             ExprKind::Component { value, axis, span } => match self.eval(value)? {
+                Value::Vector(v) if *axis == GRAY => {
+                    Value::Float(component(&[v.x, v.y, v.z, 0.0, 0.0], GRAY))
+                }
+                Value::Numbers(n) if *axis == GRAY && n.len() >= 3 => {
+                    Value::Float(component(&[n[0], n[1], n[2], 0.0, 0.0], GRAY))
+                }
                 Value::Vector(v) if *axis < 3 => Value::Float(v[*axis]),
                 // A colour without filter and transmit has them 0, as in POV-Ray.
                 Value::Vector(_) => Value::Float(0.0),
@@ -330,9 +338,16 @@ impl Evaluator {
             ExprKind::Index { .. } => self.index(expr)?,
             ExprKind::Function(f, args) => self.function(*f, args, at)?,
             ExprKind::Call(call) => {
-                if let Some(Value::Function(f)) = self.lookup(&call.name.name) {
-                    let f = f.clone();
-                    return self.call_function(&f, call);
+                match self.lookup(&call.name.name) {
+                    Some(Value::Function(f)) => {
+                        let f = f.clone();
+                        return self.call_function(&f, call);
+                    }
+                    Some(Value::ColourFunction(f)) => {
+                        let f = f.clone();
+                        return self.call_colour_function(&f, call);
+                    }
+                    _ => {}
                 }
                 let mut slot = None;
                 self.call_macro(call, &mut Body::Value(&mut slot))?;
