@@ -7,8 +7,8 @@ use std::sync::Arc;
 use glam::{Affine3A, DVec3, Vec3};
 
 use crate::geometry::ScalarField;
-use crate::graph::FieldShape;
-use crate::texture::{noise, shaped_value};
+use crate::graph::{FieldShape, TextureNode};
+use crate::texture::{ImageMap, Texture, noise, shaped_value};
 
 /// The deepest stack a program may need: far beyond what written expressions reach (a sum is
 /// evaluated left to right and needs two places however long it is).
@@ -40,6 +40,8 @@ pub enum Op {
     Pattern(Box<PatternField>),
     /// POV-Ray's `f_noise3d` (`internal(76)`): its noise in [0, 1] at (x, y, z).
     Noise,
+    /// A component of a colour function's colour at (x, y, z) on the stack.
+    Pigment(Box<PigmentChannel>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -104,6 +106,63 @@ pub struct PatternField {
     pub to_pattern: Affine3A,
 }
 
+/// The component `.gray` of a colour, after x, y, z, filter and transmit (0 to 4).
+pub const GRAY: usize = 5;
+
+/// Component `channel` (0 to 4, or `GRAY`) of POV-Ray's colour <red, green, blue, filter,
+/// transmit>.
+pub fn component(colour: &[f64; 5], channel: usize) -> f64 {
+    match channel {
+        // POV-Ray's weights (its `Greyscale`).
+        GRAY => 0.297 * colour[0] + 0.589 * colour[1] + 0.114 * colour[2],
+        _ => colour[channel],
+    }
+}
+
+/// POV-Ray's colour function (`function { pigment { } }`): its pigment, compiled once.
+#[derive(Debug, Clone)]
+pub struct ColourFunction {
+    /// The pigment as the scene gives it (which equality compares: a compiled texture has none).
+    pub pigment: TextureNode,
+    texture: Texture,
+    filter: f32,
+    transmit: f32,
+}
+
+impl PartialEq for ColourFunction {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.pigment, self.filter, self.transmit)
+            == (&other.pigment, other.filter, other.transmit)
+    }
+}
+
+impl ColourFunction {
+    /// Compiles the pigment `pigment` (with its filter and transmit); `load` reads its images.
+    pub fn new(
+        pigment: TextureNode,
+        filter: f32,
+        transmit: f32,
+        load: &mut dyn FnMut(&std::path::Path) -> Result<Arc<ImageMap>, String>,
+    ) -> Result<ColourFunction, String> {
+        let texture = Texture::new(&pigment, load)?;
+        Ok(ColourFunction { pigment, texture, filter, transmit })
+    }
+
+    /// POV-Ray's colour <red, green, blue, filter, transmit> at `p`.
+    pub fn colour(&self, p: Vec3) -> [f64; 5] {
+        let rgb = self.texture.eval(p).as_dvec3();
+        [rgb.x, rgb.y, rgb.z, f64::from(self.filter), f64::from(self.transmit)]
+    }
+}
+
+/// A component of a colour function's colour (`F(x, y, z).red`), in a function.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PigmentChannel {
+    pub function: Arc<ColourFunction>,
+    /// 0 to 4, or `GRAY`.
+    pub channel: usize,
+}
+
 impl Op {
     /// How the op changes the stack's depth.
     fn stack_change(&self) -> isize {
@@ -111,7 +170,7 @@ impl Op {
             Op::Number(_) | Op::Parameter(_) => 1,
             Op::Unary(_) => 0,
             Op::Binary(_) => -1,
-            Op::Select3 | Op::Choose | Op::Pattern(_) | Op::Noise => -2,
+            Op::Select3 | Op::Choose | Op::Pattern(_) | Op::Noise | Op::Pigment(_) => -2,
             Op::Select4 => -3,
             Op::Call(f) => 1 - f.parameters as isize,
         }
@@ -220,6 +279,11 @@ impl FloatFunction {
                 Op::Noise => {
                     top -= 2;
                     stack[top - 1] = f64::from(noise(point(&stack[top - 1..top + 2])));
+                }
+                Op::Pigment(pigment) => {
+                    top -= 2;
+                    let colour = pigment.function.colour(point(&stack[top - 1..top + 2]));
+                    stack[top - 1] = component(&colour, pigment.channel);
                 }
             }
         }

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
+use crate::function::FloatFunction;
 pub use crate::geometry::CsgOp;
 
 #[derive(Debug, Clone)]
@@ -485,7 +486,7 @@ pub struct FieldShape {
 }
 
 /// The patterns (`docs/language.md`, Patterns), each a value in [0, 1].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Field {
     /// Veins: a sine of z bent by turbulence scaled by `turbulence` (`agate_turb`).
     Agate {
@@ -510,6 +511,8 @@ pub enum Field {
     Dents,
     /// frac(p . axis), `axis` a unit vector.
     Gradient(Vec3),
+    /// POV-Ray's function pattern: the function of (x, y, z), wrapped into [0, 1] by the wave.
+    Function(Arc<FloatFunction>),
     /// Six octaves of |noise - 0.5| at 4 times the scale.
     Granite,
     /// Hexagons of unit side in the x-z plane, coloured 0, 0.5 and 1 so that neighbours differ.

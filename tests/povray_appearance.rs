@@ -306,3 +306,89 @@ fn a_pigment_map_blends_its_pigments_as_a_color_map_blends_colours() {
     let clear = pov("sphere { 0, 1 pigment { wood pigment_map { [0 rgbt 1] [1 rgb 1] } } }");
     assert!(clear.warnings.iter().any(|w| w.contains("pigment_map are not rendered")));
 }
+
+#[test]
+fn a_function_pattern_is_its_function_s_value_wrapped_into_zero_to_one() {
+    // POV-Ray's manual: `pigment { function { ... } }` uses the function of (x, y, z) as the
+    // pattern's value; its ramp wave keeps [0, 1] and wraps what is outside (fmod, then + 1).
+    let sky = |function: &str, modifiers: &str| {
+        format!(
+            "#declare Half = function(a) {{ a / 2 }}\n\
+             sky_sphere {{ pigment {{ function {{ {function} }} {modifiers}\n\
+             color_map {{ [0 rgb 0] [1 rgb <1, 0, 0>] }} }} }}"
+        )
+    };
+    let red = |v: f32| Vec3::new(v, 0.0, 0.0);
+    let square = sky("x * x", "");
+    assert!(close(sky_at(&square, Vec3::new(0.5, 0.3, 0.0)), red(0.25)));
+    assert!(close(sky_at(&square, Vec3::new(1.0, 0.3, 0.0)), red(1.0)));
+    assert!(close(sky_at(&square, Vec3::new(1.5, 0.3, 0.0)), red(0.25)));
+    let wrapped = sky("y - 1", "");
+    assert!(close(sky_at(&wrapped, Vec3::new(0.0, 0.25, 0.0)), red(0.25)));
+    // Declared functions are called, and the pigment's transforms move the pattern.
+    let called = sky("Half(y)", "scale 2");
+    assert!(close(sky_at(&called, Vec3::new(0.0, 1.2, 0.0)), red(0.3)));
+    // A function with no value at the point (a pole) colours as 0, not as NaN.
+    let pole = sky("1 / x - 1 / x", "");
+    assert!(close(sky_at(&pole, Vec3::ZERO), red(0.0)));
+    // In a normal, the number after the function is its bump size.
+    pov("sphere { 0, 1 pigment { rgb 1 } normal { function { sin(x * 10) } 0.5 } }");
+}
+
+#[test]
+fn a_colour_function_gives_its_pigment_s_colour_and_in_a_function_a_component() {
+    // POV-Ray's manual: `function { pigment { } }` is a colour function of (x, y, z); `.gray` is
+    // 0.297 red + 0.589 green + 0.114 blue.
+    let declare = "#declare C = function { pigment { gradient x\n\
+                   color_map { [0 rgb <0, 0.5, 1>] [1 rgb <1, 0.5, 0>] } } }\n";
+    let colour_at = |x: f32| Vec3::new(x, 0.5, 1.0 - x);
+    // Called from the scene, the colour there, with filter and transmit 0.
+    let called = format!(
+        "{declare}#declare V = C(0.25, 3, 4);\n\
+         #if (abs(V.red - 0.25) + abs(V.green - 0.5) + abs(V.blue - 0.75) + V.filter \
+         + V.transmit > 1e-6) #error \"C(0.25, 3, 4)\" #end\n\
+         #declare Y = rgb <1, 1, 0>;\n\
+         #if (abs(Y.gray - 0.886) > 1e-9) #error \"gray\" #end"
+    );
+    pov(&called);
+    // In a function pattern, each component at the pattern's point.
+    for (component, of) in [
+        ("red", (|c: Vec3| c.x) as fn(Vec3) -> f32),
+        ("z", |c: Vec3| c.z),
+        ("gray", |c: Vec3| c.dot(Vec3::new(0.297, 0.589, 0.114))),
+    ] {
+        let sky = format!(
+            "{declare}sky_sphere {{ pigment {{ function {{ C(x, y, z).{component} }}\n\
+             color_map {{ [0 rgb 0] [1 rgb <0, 1, 0>] }} }} }}"
+        );
+        for x in [0.2f32, 0.7] {
+            let seen = sky_at(&sky, Vec3::new(x, 0.1, 0.0));
+            assert!(close(seen, Vec3::new(0.0, of(colour_at(x)), 0.0)), "{component} at {x}");
+        }
+    }
+    // A colour function is no number: a function takes its components.
+    let error = parse_scene(
+        Path::new("tests/inline.pov"),
+        &format!("{declare}#declare F = function {{ C(x, y, z) + 1 }}"),
+    )
+    .map(|_| ())
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains(":3:") && error.contains("`C` is a colour function"), "{error}");
+}
+
+#[test]
+fn pigment_pattern_is_its_pigment_s_gray_and_quick_color_is_not_rendered() {
+    // POV-Ray's manual: pigment_pattern converts its pigment to gray, the value through the map.
+    let sky = "sky_sphere { pigment { pigment_pattern { gradient x scale 2\n\
+               color_map { [0 rgb 0] [1 rgb <1, 0.5, 0>] } }\n\
+               color_map { [0 rgb 0] [1 rgb <0, 0, 1>] } } }";
+    for x in [0.4f32, 1.2] {
+        let inner = Vec3::new(1.0, 0.5, 0.0) * (x / 2.0);
+        let gray = inner.dot(Vec3::new(0.297, 0.589, 0.114));
+        assert!(close(sky_at(sky, Vec3::new(x, 0.3, 0.0)), Vec3::new(0.0, 0.0, gray)), "{x}");
+    }
+    // quick_color is the colour of POV-Ray's quick previews, which a full render ignores.
+    let m = material("sphere { 0, 1 pigment { rgb <0, 1, 0> quick_color red 0.7 green 0.2 } }");
+    assert!(close(solid(&m), Vec3::new(0.0, 0.6, 0.0)), "{:?}", solid(&m));
+}

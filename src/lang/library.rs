@@ -45,7 +45,7 @@ pub fn file(name: &str) -> Option<&'static str> {
 }
 
 /// POV-Ray's functions.inc's names that raydiance's leaves out.
-const FUNCTIONS_LEFT_OUT: [&str; 69] = [
+const FUNCTIONS_LEFT_OUT: [&str; 68] = [
     "f_algbr_cyl1",
     "f_algbr_cyl2",
     "f_algbr_cyl3",
@@ -75,7 +75,6 @@ const FUNCTIONS_LEFT_OUT: [&str; 69] = [
     "f_hetero_mf",
     "f_hex_x",
     "f_hex_y",
-    "f_hexagon",
     "f_hunt_surface",
     "f_hyperbolic_torus",
     "f_isect_ellipsoids",

@@ -494,7 +494,6 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::and
         | Rule::or => "an operator",
         Rule::component => "a component (`.x`, `.y`, `.z`)",
-        Rule::gray => "`.gray`",
         Rule::index => "an index (`[i]`)",
         Rule::string | Rule::string_text => "a file name in quotes",
         Rule::ident | Rule::name => "a name",

@@ -137,6 +137,9 @@ pub enum Item {
         /// `checker`'s colours, `gradient`'s axis, `mandel`'s iterations; in a normal, last,
         /// its amount.
         arguments: Vec<Colour>,
+        /// `function { }`'s own function (its kind `Function`), or `pigment_pattern`'s pigment as
+        /// a colour function (its kind `PigmentPattern`).
+        function: Option<Box<FunctionDef>>,
         span: Span,
     },
     /// `pigment_map`, `normal_map`, `texture_map` or `slope_map { [position items] ... }`:
@@ -202,6 +205,8 @@ pub enum PatternKind {
     Checker,
     Crackle,
     Dents,
+    /// `function { expr }`: the function's value at the point.
+    Function,
     Gradient,
     Granite,
     Hexagon,
@@ -209,6 +214,8 @@ pub enum PatternKind {
     Mandel,
     Marble,
     Onion,
+    /// `pigment_pattern { }`: its pigment's gray at the point.
+    PigmentPattern,
     Quilted,
     Radial,
     Ripples,
@@ -221,7 +228,7 @@ pub enum PatternKind {
 }
 
 impl PatternKind {
-    pub const ALL: [PatternKind; 25] = [
+    pub const ALL: [PatternKind; 27] = [
         PatternKind::Agate,
         PatternKind::Average,
         PatternKind::Bozo,
@@ -231,6 +238,7 @@ impl PatternKind {
         PatternKind::Checker,
         PatternKind::Crackle,
         PatternKind::Dents,
+        PatternKind::Function,
         PatternKind::Gradient,
         PatternKind::Granite,
         PatternKind::Hexagon,
@@ -238,6 +246,7 @@ impl PatternKind {
         PatternKind::Mandel,
         PatternKind::Marble,
         PatternKind::Onion,
+        PatternKind::PigmentPattern,
         PatternKind::Quilted,
         PatternKind::Radial,
         PatternKind::Ripples,
@@ -260,6 +269,7 @@ impl PatternKind {
             PatternKind::Checker => "checker",
             PatternKind::Crackle => "crackle",
             PatternKind::Dents => "dents",
+            PatternKind::Function => "function",
             PatternKind::Gradient => "gradient",
             PatternKind::Granite => "granite",
             PatternKind::Hexagon => "hexagon",
@@ -267,6 +277,7 @@ impl PatternKind {
             PatternKind::Mandel => "mandel",
             PatternKind::Marble => "marble",
             PatternKind::Onion => "onion",
+            PatternKind::PigmentPattern => "pigment_pattern",
             PatternKind::Quilted => "quilted",
             PatternKind::Radial => "radial",
             PatternKind::Ripples => "ripples",
@@ -785,8 +796,8 @@ pub enum FunctionBody {
     Expr(Expr),
     /// `pattern { ... }`: the pattern's value (a `pattern` texture).
     Pattern(Texture),
-    /// `pigment { ... }`: a colour function, which raydiance refuses by name.
-    Pigment(Span),
+    /// `pigment { ... }`: a colour function, its pigment's colour at (x, y, z).
+    Pigment(Appearance),
 }
 
 /// `isosurface { function { } contained_by { box | sphere } settings... }`: what the text says,
@@ -1044,12 +1055,8 @@ pub enum ExprKind {
     },
     Component {
         value: Box<Expr>,
+        /// x, y, z, filter, transmit: 0 to 4; `function::GRAY` the colour's gray.
         axis: usize,
-        span: Span,
-    },
-    /// POV-Ray's `.gray` of a colour: its grey value by POV-Ray's weights (`.pov`).
-    Gray {
-        value: Box<Expr>,
         span: Span,
     },
     Index {

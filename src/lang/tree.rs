@@ -629,8 +629,19 @@ impl Builder {
             Rule::tiles => Item::Appearance(self.tiles(pair)?),
             Rule::pattern => {
                 let mut inner = pair.into_inner();
-                let word = inner.next().expect("the pattern's word").as_str();
-                let kind = PatternKind::named(word).expect("the grammar names only patterns");
+                let word = inner.next().expect("the pattern's word");
+                let (kind, function) = match word.as_rule() {
+                    Rule::float_function => {
+                        (PatternKind::Function, Some(Box::new(self.float_function(word)?)))
+                    }
+                    Rule::pigment_pattern => {
+                        (PatternKind::PigmentPattern, Some(Box::new(self.pigment_pattern(word)?)))
+                    }
+                    _ => (
+                        PatternKind::named(word.as_str()).expect("the grammar names only patterns"),
+                        None,
+                    ),
+                };
                 let mut arguments = Vec::new();
                 for argument in inner {
                     let span = self.span(&argument);
@@ -640,7 +651,7 @@ impl Builder {
                     };
                     arguments.push(Colour { value, span });
                 }
-                Item::Pattern { kind, arguments, span }
+                Item::Pattern { kind, arguments, function, span }
             }
             Rule::pattern_map => {
                 let mut inner = pair.clone().into_inner();
@@ -1555,7 +1566,9 @@ impl Builder {
                     let span = self.span(&part);
                     body = Some(FunctionBody::Pattern(self.texture_node(part, span)?));
                 }
-                Rule::function_pigment => body = Some(FunctionBody::Pigment(self.span(&part))),
+                Rule::function_pigment => {
+                    body = Some(FunctionBody::Pigment(self.appearance(inner_pair(&part))?))
+                }
                 Rule::expr => body = Some(FunctionBody::Expr(self.expr(part)?)),
                 rule => unreachable!("no {rule:?} in a function"),
             }
@@ -1563,6 +1576,18 @@ impl Builder {
         self.leave();
         let body = body.expect("the grammar gives a function its body");
         Ok(FunctionDef { parameters, body, span })
+    }
+
+    /// `pigment_pattern { ... }` (`.pov`): its pigment, as the colour function whose gray is the
+    /// pattern.
+    fn pigment_pattern(&mut self, pair: Pair<'_, Rule>) -> Result<FunctionDef, SceneError> {
+        let span = self.span(&pair);
+        self.pov_only(&inner_pair(&pair), None)?;
+        self.enter(&pair)?;
+        let items = self.items(pair.into_inner().skip(1))?;
+        self.leave();
+        let pigment = Appearance { kind: AppearanceKind::Pigment, items, span: span.clone() };
+        Ok(FunctionDef { parameters: Vec::new(), body: FunctionBody::Pigment(pigment), span })
     }
 
     /// `isosurface { ... }` (`.pov`): its function, container and settings, and the object's
@@ -1832,6 +1857,7 @@ impl Builder {
                         ".z" | ".blue" => 2,
                         ".filter" | ".t" => 3,
                         ".transmit" => 4,
+                        ".gray" => crate::function::GRAY,
                         other => unreachable!("no component `{other}`"),
                     };
                     if !matches!(part.as_str(), ".x" | ".y" | ".z") {
@@ -1844,14 +1870,6 @@ impl Builder {
                             axis,
                             span: self.span(&part),
                         },
-                        span,
-                    }
-                }
-                (Rule::gray, Some(v)) => {
-                    self.pov_only(&part, None)?;
-                    let span = v.span.clone();
-                    Expr {
-                        kind: ExprKind::Gray { value: Box::new(v), span: self.span(&part) },
                         span,
                     }
                 }

@@ -46,6 +46,8 @@ pub enum Value {
     Function(Arc<crate::function::FloatFunction>),
     /// A file's handle made by `#fopen` (`.pov`): an index into the evaluator's files.
     File(usize),
+    /// A declared colour function (`function { pigment { } }`, `.pov`), compiled.
+    ColourFunction(Arc<crate::function::ColourFunction>),
 }
 
 impl Value {
@@ -73,6 +75,7 @@ impl Value {
             Value::ColorMap(_) => "a color_map",
             Value::Function(_) => "a function",
             Value::File(_) => "a file's handle",
+            Value::ColourFunction(_) => "a colour function",
         }
     }
 }

@@ -14,7 +14,7 @@ use crate::graph::{Field, FieldShape, Turbulence, Wave};
 /// The shaped value of a pattern at `p` (pattern space), in [0, 1].
 pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
     let q = warped(shape, p);
-    let field = shape.field;
+    let field = &shape.field;
     match field {
         // Their cells are values, not a ramp: no wave (as POV-Ray's block patterns).
         Field::Checker | Field::Brick { .. } | Field::Hexagon => raw(field, q, shape),
@@ -26,6 +26,7 @@ pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
         | Field::Cells
         | Field::Crackle
         | Field::Dents
+        | Field::Function(_)
         | Field::Gradient(_)
         | Field::Granite
         | Field::Leopard
@@ -43,7 +44,7 @@ pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
 }
 
 /// The wave type a pattern takes unless told (POV-Ray's: triangle for marble and wood).
-pub fn default_wave(field: Field) -> Wave {
+pub fn default_wave(field: &Field) -> Wave {
     match field {
         Field::Marble | Field::Wood => Wave::Triangle,
         Field::Agate { .. }
@@ -54,6 +55,7 @@ pub fn default_wave(field: Field) -> Wave {
         | Field::Checker
         | Field::Crackle
         | Field::Dents
+        | Field::Function(_)
         | Field::Gradient(_)
         | Field::Granite
         | Field::Hexagon
@@ -96,7 +98,7 @@ fn octaves(turbulence: Option<Turbulence>) -> Octaves {
 }
 
 /// The pattern's own value at `q` (after the warps), before the wave.
-fn raw(field: Field, q: Vec3, shape: &FieldShape) -> f32 {
+fn raw(field: &Field, q: Vec3, shape: &FieldShape) -> f32 {
     let turbulence = shape.turbulence;
     let amount = turbulence.map_or(Vec3::ZERO, |t| t.amount);
     match field {
@@ -106,7 +108,7 @@ fn raw(field: Field, q: Vec3, shape: &FieldShape) -> f32 {
             v.clamp(0.0, 1.0).powf(0.77)
         }
         Field::Bozo | Field::Bumps | Field::Spotted => noise(q),
-        Field::Brick { size, mortar } => brick(q, size, mortar),
+        Field::Brick { size, mortar } => brick(q, *size, *mortar),
         Field::Cells => cell_random(q.floor().as_ivec3(), 0),
         Field::Checker => {
             let cell = (q + BOUNDARY_NUDGE).floor();
@@ -114,7 +116,12 @@ fn raw(field: Field, q: Vec3, shape: &FieldShape) -> f32 {
         }
         Field::Crackle => crackle(q),
         Field::Dents => noise(q).powi(3),
-        Field::Gradient(axis) => q.dot(axis),
+        Field::Function(function) => {
+            let v = function.eval(&[q.x, q.y, q.z].map(f64::from)) as f32;
+            // A pole or a root of a negative number colours as 0 rather than poisoning the map.
+            if v.is_finite() { v } else { 0.0 }
+        }
+        Field::Gradient(axis) => q.dot(*axis),
         Field::Granite => {
             let mut sum = 0.0;
             for octave in 0..6 {
@@ -128,7 +135,7 @@ fn raw(field: Field, q: Vec3, shape: &FieldShape) -> f32 {
             let s = (q.x.sin() + q.y.sin() + q.z.sin()) / 3.0;
             s * s
         }
-        Field::Mandel { iterations } => mandel(Vec2::new(q.x, q.y), iterations),
+        Field::Mandel { iterations } => mandel(Vec2::new(q.x, q.y), *iterations),
         Field::Marble => q.x + amount.x * octaves(turbulence).scalar(q),
         Field::Onion => q.length(),
         Field::Quilted { control0, control1 } => {
@@ -145,11 +152,11 @@ fn raw(field: Field, q: Vec3, shape: &FieldShape) -> f32 {
             }
         }
         Field::Ripples | Field::Waves => sources(field, q, shape.frequency, shape.phase),
-        Field::Spiral1 { arms } => spiral(q, arms, amount.x * octaves(turbulence).scalar(q)),
+        Field::Spiral1 { arms } => spiral(q, *arms, amount.x * octaves(turbulence).scalar(q)),
         Field::Spiral2 { arms } => {
             let turb = amount.x * octaves(turbulence).scalar(q);
-            let a = spiral(q, arms, turb).rem_euclid(1.0);
-            let b = spiral(q, -arms, turb).rem_euclid(1.0);
+            let a = spiral(q, *arms, turb).rem_euclid(1.0);
+            let b = spiral(q, -*arms, turb).rem_euclid(1.0);
             0.5 * ((1.0 - (2.0 * a - 1.0).abs()) + (1.0 - (2.0 * b - 1.0).abs()))
         }
         Field::Wood => {
@@ -248,7 +255,7 @@ fn mandel(c: Vec2, iterations: u32) -> f32 {
 /// Waves from ten fixed sources in the unit cube, `frequency` crests per unit of distance:
 /// ripples' sines, waves' cosines fading with distance; their sum over its spread (that of a
 /// sum of waves of random phases) mapped to [0, 1].
-fn sources(field: Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
+fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
     const SOURCES: u32 = 10;
     let (mut sum, mut spread) = (0.0, 0.0);
     for i in 0..SOURCES {
@@ -259,8 +266,8 @@ fn sources(field: Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
         );
         let d = q.distance(source);
         let crest = TAU * (d * frequency + phase);
-        let weight = if field == Field::Waves { 1.0 / (1.0 + d) } else { 1.0 };
-        sum += weight * if field == Field::Waves { crest.cos() } else { crest.sin() };
+        let weight = if *field == Field::Waves { 1.0 / (1.0 + d) } else { 1.0 };
+        sum += weight * if *field == Field::Waves { crest.cos() } else { crest.sin() };
         spread += weight * weight;
     }
     (0.5 + 0.25 * sum / spread.sqrt()).clamp(0.0, 1.0)
@@ -272,12 +279,12 @@ mod tests {
     use crate::graph::Warp;
     use crate::texture::warp;
 
-    fn plain(field: Field) -> FieldShape {
+    fn plain(field: &Field) -> FieldShape {
         FieldShape {
-            field,
+            wave: default_wave(field),
+            field: field.clone(),
             turbulence: None,
             warps: Vec::new(),
-            wave: default_wave(field),
             frequency: 1.0,
             phase: 0.0,
         }
@@ -322,7 +329,8 @@ mod tests {
         let turbulence =
             Turbulence { amount: Vec3::splat(0.8), octaves: 6, omega: 0.5, lambda: 2.0 };
         for field in ALL {
-            for shape in [plain(field), FieldShape { turbulence: Some(turbulence), ..plain(field) }]
+            for shape in
+                [plain(&field), FieldShape { turbulence: Some(turbulence), ..plain(&field) }]
             {
                 let (mut lo, mut hi) = (f32::MAX, f32::MIN);
                 for p in points() {
@@ -339,50 +347,50 @@ mod tests {
 
     #[test]
     fn periodic_patterns_repeat_with_their_period() {
-        let value = |field: Field, p: Vec3| shaped_value(&plain(field), p);
+        let value = |field: &Field, p: Vec3| shaped_value(&plain(field), p);
         for p in points().step_by(37) {
             let near = |a: f32, b: f32| (a - b).abs() < 2e-3;
-            assert_eq!(value(Field::Checker, p), value(Field::Checker, p + Vec3::X * 2.0));
-            assert_ne!(value(Field::Checker, p), value(Field::Checker, p + Vec3::Z));
-            assert!(near(value(Field::Gradient(Vec3::Y), p), (p.y).rem_euclid(1.0)));
+            assert_eq!(value(&Field::Checker, p), value(&Field::Checker, p + Vec3::X * 2.0));
+            assert_ne!(value(&Field::Checker, p), value(&Field::Checker, p + Vec3::Z));
+            assert!(near(value(&Field::Gradient(Vec3::Y), p), (p.y).rem_euclid(1.0)));
             assert!(near(
-                value(Field::Marble, p),
-                value(Field::Marble, p + Vec3::new(1.0, 3.0, 5.0))
+                value(&Field::Marble, p),
+                value(&Field::Marble, p + Vec3::new(1.0, 3.0, 5.0))
             ));
-            assert!(near(value(Field::Leopard, p), value(Field::Leopard, p + Vec3::Y * TAU)));
-            let onion = value(Field::Onion, p);
-            assert!(near(onion, value(Field::Onion, p * (1.0 + 1.0 / p.length()))), "onion");
-            assert!(near(value(Field::Wood, p), value(Field::Wood, p + Vec3::Z * 3.7)), "wood");
+            assert!(near(value(&Field::Leopard, p), value(&Field::Leopard, p + Vec3::Y * TAU)));
+            let onion = value(&Field::Onion, p);
+            assert!(near(onion, value(&Field::Onion, p * (1.0 + 1.0 / p.length()))), "onion");
+            assert!(near(value(&Field::Wood, p), value(&Field::Wood, p + Vec3::Z * 3.7)), "wood");
             let ring = Vec2::new(p.x, p.y).length();
-            assert!(near(value(Field::Wood, p), 1.0 - (2.0 * ring.rem_euclid(1.0) - 1.0).abs()));
-            let hexagon = value(Field::Hexagon, p);
-            assert_eq!(hexagon, value(Field::Hexagon, p + Vec3::X * 3.0 * 3f32.sqrt()));
-            assert_ne!(hexagon, value(Field::Hexagon, p + Vec3::X * 3f32.sqrt()));
+            assert!(near(value(&Field::Wood, p), 1.0 - (2.0 * ring.rem_euclid(1.0) - 1.0).abs()));
+            let hexagon = value(&Field::Hexagon, p);
+            assert_eq!(hexagon, value(&Field::Hexagon, p + Vec3::X * 3.0 * 3f32.sqrt()));
+            assert_ne!(hexagon, value(&Field::Hexagon, p + Vec3::X * 3f32.sqrt()));
             let size = Vec3::new(8.0, 3.0, 4.5);
             let brick = Field::Brick { size, mortar: 0.5 };
-            assert_eq!(value(brick, p), value(brick, p + size * 2.0), "brick");
+            assert_eq!(value(&brick, p), value(&brick, p + size * 2.0), "brick");
             let cells = Field::Cells;
-            assert_eq!(value(cells, p), value(cells, p.floor() + Vec3::splat(0.5)));
+            assert_eq!(value(&cells, p), value(&cells, p.floor() + Vec3::splat(0.5)));
         }
         // Radial: a quarter turn about y is a quarter of the range.
-        let radial = |angle: f32| value(Field::Radial, Vec3::new(angle.sin(), 0.3, angle.cos()));
+        let radial = |angle: f32| value(&Field::Radial, Vec3::new(angle.sin(), 0.3, angle.cos()));
         assert!(((radial(0.3 + PI / 2.0) - radial(0.3)).rem_euclid(1.0) - 0.25).abs() < 1e-5);
         // Spiral1 with 3 arms: a third of a turn about z at the same z is the same value.
         let spiral = |angle: f32| {
-            value(Field::Spiral1 { arms: 3.0 }, Vec3::new(angle.cos(), angle.sin(), 0.4) * 2.0)
+            value(&Field::Spiral1 { arms: 3.0 }, Vec3::new(angle.cos(), angle.sin(), 0.4) * 2.0)
         };
         assert!((spiral(0.2) - spiral(0.2 + TAU / 3.0)).abs() < 1e-4);
         // Brick: mortar on the rows' joints, brick in the middle of a brick.
         let brick = Field::Brick { size: Vec3::new(8.0, 3.0, 4.5), mortar: 0.5 };
-        assert_eq!(value(brick, Vec3::new(4.0, 0.0, 2.0)), 0.0);
-        assert_eq!(value(brick, Vec3::new(2.0, 1.5, 1.0)), 1.0);
+        assert_eq!(value(&brick, Vec3::new(4.0, 0.0, 2.0)), 0.0);
+        assert_eq!(value(&brick, Vec3::new(2.0, 1.5, 1.0)), 1.0);
         // Mandel: the origin is in the set, a far point escapes at once.
-        assert_eq!(value(Field::Mandel { iterations: 20 }, Vec3::ZERO), 1.0);
-        assert_eq!(value(Field::Mandel { iterations: 20 }, Vec3::new(3.0, 3.0, 0.0)), 0.0);
+        assert_eq!(value(&Field::Mandel { iterations: 20 }, Vec3::ZERO), 1.0);
+        assert_eq!(value(&Field::Mandel { iterations: 20 }, Vec3::new(3.0, 3.0, 0.0)), 0.0);
         // Quilted: 0 at a cube's centre, 1 on its faces.
         let quilted = Field::Quilted { control0: 1.0, control1: 1.0 };
-        assert!(value(quilted, Vec3::splat(0.5)) < 0.01);
-        assert!(value(quilted, Vec3::new(0.5, 0.5, 0.9999)) > 0.99);
+        assert!(value(&quilted, Vec3::splat(0.5)) < 0.01);
+        assert!(value(&quilted, Vec3::new(0.5, 0.5, 0.9999)) > 0.99);
     }
 
     #[test]
@@ -404,7 +412,7 @@ mod tests {
 
     #[test]
     fn warps_move_the_points() {
-        let gradient = plain(Field::Gradient(Vec3::X));
+        let gradient = plain(&Field::Gradient(Vec3::X));
         // Repeat: the slab [0, 0.5) along x repeats, each copy lifted by 1 in y.
         let repeat = Warp::Repeat { axis: 0, width: 0.5, offset: Vec3::Y, flip: Vec3::ZERO };
         let repeated = FieldShape { warps: vec![repeat], ..gradient.clone() };

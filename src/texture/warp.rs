@@ -21,6 +21,7 @@ pub fn warped(shape: &FieldShape, p: Vec3) -> Vec3 {
         | Field::Checker
         | Field::Crackle
         | Field::Dents
+        | Field::Function(_)
         | Field::Gradient(_)
         | Field::Granite
         | Field::Hexagon

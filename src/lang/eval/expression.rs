@@ -7,14 +7,12 @@ use glam::{DMat3, DVec3, Vec3};
 
 use super::{Body, EPSILON, Evaluator, as_float, as_vector, element_index};
 use crate::diagnostic::{SceneError, Span};
+use crate::function::{GRAY, component};
 use crate::lang::keywords::{Constant, Function};
 use crate::lang::syntax::{
     BinaryOp, Colour, Declare, Declared, Expr, ExprKind, PovColourKind, UnaryOp,
 };
 use crate::lang::value::{Array, MAX_STRING_BYTES, Value};
-
-/// The weights of red, green and blue in POV-Ray 3.7's `.gray` of a colour (they sum to 1).
-const POV_GRAY_WEIGHTS: DVec3 = DVec3::new(0.297, 0.589, 0.114);
 
 impl Evaluator {
     /// Evaluates an expression; a result that is not finite is an error at the expression.
@@ -41,7 +39,8 @@ impl Evaluator {
             | Value::Camera(_)
             | Value::Sky(_)
             | Value::Function(_)
-            | Value::File(_) => true,
+            | Value::File(_)
+            | Value::ColourFunction(_) => true,
         };
         if !finite {
             return Err(SceneError::at(
@@ -321,11 +320,22 @@ impl Evaluator {
                 }
             }
             ExprKind::Component { value, axis, span } => match self.eval(value)? {
+                Value::Vector(v) if *axis == GRAY => {
+                    Value::Float(component(&[v.x, v.y, v.z, 0.0, 0.0], GRAY))
+                }
+                Value::Numbers(n) if *axis == GRAY && n.len() >= 3 => {
+                    Value::Float(component(&[n[0], n[1], n[2], 0.0, 0.0], GRAY))
+                }
                 Value::Vector(v) if *axis < 3 => Value::Float(v[*axis]),
                 // A colour without filter and transmit has them 0, as in POV-Ray.
                 Value::Vector(_) => Value::Float(0.0),
                 Value::Numbers(n) if *axis < n.len() => Value::Float(n[*axis]),
                 Value::Numbers(n) if n.len() == 4 && *axis == 4 => Value::Float(0.0),
+                // A number is the grey colour of that value.
+                Value::Float(f) if *axis == GRAY => Value::Float(f),
+                other if *axis == GRAY => {
+                    return Err(SceneError::at(span, format!("{} has no `.gray`", other.kind())));
+                }
                 other => {
                     return Err(SceneError::at(
                         span,
@@ -333,23 +343,19 @@ impl Evaluator {
                     ));
                 }
             },
-            ExprKind::Gray { value, span } => match self.eval(value)? {
-                // A number is the grey colour of that value.
-                Value::Float(f) => Value::Float(f),
-                Value::Vector(c) => Value::Float(c.dot(POV_GRAY_WEIGHTS)),
-                Value::Numbers(c) if c.len() >= 3 => {
-                    Value::Float(DVec3::new(c[0], c[1], c[2]).dot(POV_GRAY_WEIGHTS))
-                }
-                other => {
-                    return Err(SceneError::at(span, format!("{} has no `.gray`", other.kind())));
-                }
-            },
             ExprKind::Index { .. } => self.index(expr)?,
             ExprKind::Function(f, args) => self.function(*f, args, at)?,
             ExprKind::Call(call) => {
-                if let Some(Value::Function(f)) = self.lookup(&call.name.name) {
-                    let f = f.clone();
-                    return self.call_function(&f, call);
+                match self.lookup(&call.name.name) {
+                    Some(Value::Function(f)) => {
+                        let f = f.clone();
+                        return self.call_function(&f, call);
+                    }
+                    Some(Value::ColourFunction(f)) => {
+                        let f = f.clone();
+                        return self.call_colour_function(&f, call);
+                    }
+                    _ => {}
                 }
                 let mut slot = None;
                 self.call_macro(call, &mut Body::Value(&mut slot))?;

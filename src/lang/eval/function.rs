@@ -2,22 +2,67 @@
 //! are resolved as the function is declared (parameters to their places, declared numbers to
 //! constants, declared functions to calls), so a call runs the program, not the syntax.
 
+use std::path::Path;
 use std::sync::Arc;
 
-use super::Evaluator;
+use glam::Vec3;
+
+use super::{Evaluator, Pigment};
 use crate::diagnostic::{SceneError, Span};
-use crate::function::{Binary, Builder, FloatFunction, MAX_STACK, Op, PatternField, Unary};
-use crate::graph::{Pattern, compose};
+use crate::function::{
+    Binary, Builder, ColourFunction, FloatFunction, GRAY, MAX_STACK, Op, PatternField,
+    PigmentChannel, Unary,
+};
+use crate::graph::{Pattern, TextureNode, compose};
 use crate::lang::keywords::{Constant, Function};
 use crate::lang::syntax::{
-    BinaryOp, Call, Expr, ExprKind, FunctionBody, FunctionDef, Ident, UnaryOp,
+    Appearance, BinaryOp, Call, Expr, ExprKind, FunctionBody, FunctionDef, Ident, UnaryOp,
 };
 use crate::lang::value::Value;
+use crate::texture::ImageMap;
 
 /// POV-Ray's number of its built-in noise, `f_noise3d` (`internal(76)`).
 const NOISE_3D: f64 = 76.0;
 
 impl Evaluator {
+    /// What `#declare F = function { ... }` binds: a float function, or a colour function.
+    pub(super) fn function_value(&mut self, def: &FunctionDef) -> Result<Value, SceneError> {
+        let FunctionBody::Pigment(pigment) = &def.body else {
+            return Ok(Value::Function(self.float_function(def)?));
+        };
+        if !def.parameters.is_empty() {
+            return Err(SceneError::at(
+                &def.span,
+                "a colour function takes x, y and z: it has no parameters of its own",
+            ));
+        }
+        Ok(Value::ColourFunction(self.colour_function(pigment)?))
+    }
+
+    /// The colour function of `pigment`, compiled (its images read).
+    fn colour_function(&mut self, pigment: &Appearance) -> Result<Arc<ColourFunction>, SceneError> {
+        let black = Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 };
+        let made = self.pigment(pigment, &black)?;
+        let mut load = |path: &Path| ImageMap::load(path).map(Arc::new);
+        let function = ColourFunction::new(made.colour, made.filter, made.transmit, &mut load)
+            .map_err(|e| SceneError::at(&pigment.span, e))?;
+        Ok(Arc::new(function))
+    }
+
+    /// `pigment_pattern { }`: the gray of `pigment`'s colour, as a function of (x, y, z).
+    pub(super) fn gray_function(
+        &mut self,
+        pigment: &Appearance,
+    ) -> Result<Arc<FloatFunction>, SceneError> {
+        let function = self.colour_function(pigment)?;
+        let mut program = Builder::new(3);
+        let gray = Op::Pigment(Box::new(PigmentChannel { function, channel: GRAY }));
+        for op in [Op::Parameter(0), Op::Parameter(1), Op::Parameter(2), gray] {
+            emit(&mut program, op, &pigment.span)?;
+        }
+        Ok(Arc::new(program.finish()))
+    }
+
     /// The compiled function `def` declares.
     pub(super) fn float_function(
         &mut self,
@@ -60,12 +105,11 @@ impl Evaluator {
                 }
                 emit(&mut program, Op::Pattern(Box::new(pattern)), &def.span)?;
             }
-            FunctionBody::Pigment(span) => {
+            FunctionBody::Pigment(pigment) => {
                 return Err(SceneError::at(
-                    span,
-                    "a colour function (`function { pigment { } }`) is not supported: \
-                     raydiance's functions compute numbers (`function { pattern { } }` gives a \
-                     pattern's value)",
+                    &pigment.span,
+                    "a colour function gives a colour where a number is wanted: declare it and \
+                     take a component of its value (`F(x, y, z).gray`)",
                 ));
             }
         }
@@ -173,8 +217,23 @@ impl Evaluator {
                 None => return self.constant(expr, program),
             },
             ExprKind::Call(call) => return self.compile_call(call, parameters, program),
-            // An element of a declared array or vector: its value as the function is declared.
-            ExprKind::Component { .. } | ExprKind::Gray { .. } | ExprKind::Index { .. } => {
+            ExprKind::Component { value, axis, .. } => {
+                if let ExprKind::Call(call) = &value.kind
+                    && let Some(Value::ColourFunction(f)) = self.lookup(&call.name.name)
+                {
+                    let function = f.clone();
+                    check_count(call, 3)?;
+                    for arg in &call.arguments {
+                        self.compile(arg, parameters, program)?;
+                    }
+                    Op::Pigment(Box::new(PigmentChannel { function, channel: *axis }))
+                } else {
+                    // A component of a declared vector: its value as the function is declared.
+                    return self.constant(expr, program);
+                }
+            }
+            // An element of a declared array: its value as the function is declared.
+            ExprKind::Index { .. } => {
                 return self.constant(expr, program);
             }
             ExprKind::Vector(_)
@@ -223,6 +282,13 @@ impl Evaluator {
             return Ok(());
         }
         match self.lookup(name) {
+            Some(Value::ColourFunction(_)) => Err(SceneError::at(
+                &call.span,
+                format!(
+                    "`{name}` is a colour function: a function computes with numbers, so take a \
+                     component of its colour (`{name}(x, y, z).red`, `.gray`)"
+                ),
+            )),
             Some(Value::Function(f)) => {
                 let f = f.clone();
                 check_arguments(call, &f)?;
@@ -257,10 +323,29 @@ impl Evaluator {
         }
         Ok(Value::Float(f.eval(&arguments)))
     }
+
+    /// A declared colour function called from the scene: `F(1, 2, 3)`, the colour there.
+    pub(super) fn call_colour_function(
+        &mut self,
+        f: &ColourFunction,
+        call: &Call,
+    ) -> Result<Value, SceneError> {
+        check_count(call, 3)?;
+        let mut p = [0.0; 3];
+        for (coordinate, arg) in p.iter_mut().zip(&call.arguments) {
+            *coordinate = self.number(arg, &format!("`{}`", call.name.name))? as f32;
+        }
+        Ok(Value::Numbers(f.colour(Vec3::from(p)).to_vec()))
+    }
 }
 
 fn check_arguments(call: &Call, f: &FloatFunction) -> Result<(), SceneError> {
-    let (given, wanted) = (call.arguments.len(), f.parameters());
+    check_count(call, f.parameters())
+}
+
+/// An error unless `call` gives `wanted` arguments.
+fn check_count(call: &Call, wanted: usize) -> Result<(), SceneError> {
+    let given = call.arguments.len();
     if given == wanted {
         return Ok(());
     }

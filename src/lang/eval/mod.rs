@@ -676,7 +676,7 @@ impl Evaluator {
                 Value::Camera(Arc::new(given))
             }
             Declared::Sky { items, span } => Value::Sky(Arc::new(self.sky_desc(items, span)?)),
-            Declared::Function(def) => Value::Function(self.float_function(def)?),
+            Declared::Function(def) => self.function_value(def)?,
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {

@@ -2,17 +2,22 @@
 //! the wave types, `warp { }`, the pattern's own parameters and its map), read the same in a
 //! pigment, a normal, a texture and `.scn`'s `pattern { }` (`docs/language.md`, Patterns).
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
 use super::appearance::{Finish, Pigment};
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
+use crate::function::FloatFunction;
 use crate::graph::{
     Field, FieldShape, NormalNode, Pattern, SlopeMap, TextureMap, TextureNode, Turbulence, Warp,
     Wave,
 };
 use crate::lang::dialect::Dialect;
-use crate::lang::syntax::{Colour, Item, MapKind, PatternKind, TextureArg, TextureParamKind};
+use crate::lang::syntax::{
+    Colour, FunctionBody, FunctionDef, Item, MapKind, PatternKind, TextureArg, TextureParamKind,
+};
 use crate::lang::value::Value;
 use crate::texture::default_wave;
 
@@ -48,6 +53,8 @@ pub struct PatternState {
     control1: Option<f32>,
     agate_turb: Option<f32>,
     warps: Vec<Warp>,
+    /// The function pattern's compiled function.
+    function: Option<Arc<FloatFunction>>,
     /// A `color_map`'s entries.
     pub color_map: Option<Vec<(f32, Vec3)>>,
     /// A pigment, normal, texture or slope map: its kind, entries (read by the caller) and span.
@@ -62,8 +69,16 @@ impl Evaluator {
         state: &mut PatternState,
     ) -> Result<bool, SceneError> {
         match item {
-            Item::Pattern { kind, arguments, span } => {
+            Item::Pattern { kind, arguments, function, span } => {
                 state.word = Some((*kind, arguments.clone(), span.clone()));
+                state.function = match (kind, function.as_deref()) {
+                    (
+                        PatternKind::PigmentPattern,
+                        Some(FunctionDef { body: FunctionBody::Pigment(pigment), .. }),
+                    ) => Some(self.gray_function(pigment)?),
+                    (_, Some(def)) => Some(self.float_function(def)?),
+                    (_, None) => None,
+                };
             }
             Item::TextureParam(param) => match param.kind {
                 TextureParamKind::Turbulence => {
@@ -144,6 +159,13 @@ impl Evaluator {
                         state.wave = Some(Wave::Poly(exponent));
                     }
                     "warp" => state.warps.push(self.warp(items, &key.span)?),
+                    // The colour of POV-Ray's quick previews (`+Q5` and below), which a full
+                    // render ignores: checked, not used.
+                    "quick_color" | "quick_colour" => {
+                        if let Some(colour) = value {
+                            self.pov_colour(colour)?;
+                        }
+                    }
                     _ => return Ok(false),
                 }
             }
@@ -459,6 +481,9 @@ impl Evaluator {
             PatternKind::Checker => Field::Checker,
             PatternKind::Crackle => Field::Crackle,
             PatternKind::Dents => Field::Dents,
+            PatternKind::Function | PatternKind::PigmentPattern => Field::Function(
+                state.function.clone().expect("a function pattern's item gives its function"),
+            ),
             PatternKind::Gradient => {
                 let axis = argument(0).expect("the grammar gives gradient its axis");
                 Field::Gradient(self.nonzero(&axis.value, "the gradient's axis")?.normalize())
@@ -505,10 +530,10 @@ impl Evaluator {
             lambda: state.lambda.unwrap_or(2.0),
         });
         Ok(FieldShape {
+            wave: state.wave.unwrap_or(default_wave(&field)),
             field,
             turbulence,
             warps: state.warps.clone(),
-            wave: state.wave.unwrap_or(default_wave(field)),
             frequency: state.frequency.unwrap_or(1.0),
             phase: state.phase.unwrap_or(0.0),
         })
@@ -532,12 +557,14 @@ pub fn block_colours(kind: PatternKind) -> Option<Vec<Vec3>> {
         | PatternKind::Cells
         | PatternKind::Crackle
         | PatternKind::Dents
+        | PatternKind::Function
         | PatternKind::Gradient
         | PatternKind::Granite
         | PatternKind::Leopard
         | PatternKind::Mandel
         | PatternKind::Marble
         | PatternKind::Onion
+        | PatternKind::PigmentPattern
         | PatternKind::Quilted
         | PatternKind::Radial
         | PatternKind::Ripples
@@ -567,11 +594,13 @@ pub fn own_arguments(kind: PatternKind) -> usize {
         | PatternKind::Checker
         | PatternKind::Crackle
         | PatternKind::Dents
+        | PatternKind::Function
         | PatternKind::Granite
         | PatternKind::Hexagon
         | PatternKind::Leopard
         | PatternKind::Marble
         | PatternKind::Onion
+        | PatternKind::PigmentPattern
         | PatternKind::Quilted
         | PatternKind::Radial
         | PatternKind::Ripples
