@@ -8,7 +8,7 @@ use glam::{Affine3A, DVec3, Vec3};
 
 use crate::geometry::ScalarField;
 use crate::graph::{FieldShape, TextureNode};
-use crate::texture::{ImageMap, Texture, noise, shaped_value};
+use crate::texture::{ImageMap, ImageMapError, Texture, noise, shaped_value};
 
 /// The deepest stack a program may need: far beyond what written expressions reach (a sum is
 /// evaluated left to right and needs two places however long it is).
@@ -142,8 +142,8 @@ impl ColourFunction {
         pigment: TextureNode,
         filter: f32,
         transmit: f32,
-        load: &mut dyn FnMut(&std::path::Path) -> Result<Arc<ImageMap>, String>,
-    ) -> Result<ColourFunction, String> {
+        load: &mut dyn FnMut(&std::path::Path) -> Result<Arc<ImageMap>, ImageMapError>,
+    ) -> Result<ColourFunction, ImageMapError> {
         let texture = Texture::new(&pigment, load)?;
         Ok(ColourFunction { pigment, texture, filter, transmit })
     }

@@ -275,6 +275,6 @@ mod tests {
         assert!(sor_pieces(&points[..3]).is_err());
         let mut falling = points;
         falling[2].y = -0.5;
-        assert!(sor_pieces(&falling).unwrap_err().contains("point 3"));
+        assert_eq!(sor_pieces(&falling).unwrap_err(), SorError::Falling(3));
     }
 }

@@ -825,6 +825,7 @@ impl Builder {
         let mut items = vec![Item::Pattern {
             kind: PatternKind::Checker,
             arguments: Vec::new(),
+            function: None,
             span: span.clone(),
         }];
         for tile in pair.into_inner().filter(|p| p.as_rule() == Rule::tile) {

@@ -45,7 +45,7 @@ impl Evaluator {
         let made = self.pigment(pigment, &black)?;
         let mut load = |path: &Path| ImageMap::load(path).map(Arc::new);
         let function = ColourFunction::new(made.colour, made.filter, made.transmit, &mut load)
-            .map_err(|e| SceneError::at(&pigment.span, e))?;
+            .map_err(|e| SceneError::at(&pigment.span, e.to_string()))?;
         Ok(Arc::new(function))
     }
 
