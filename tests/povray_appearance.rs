@@ -392,3 +392,14 @@ fn pigment_pattern_is_its_pigment_s_gray_and_quick_color_is_not_rendered() {
     let m = material("sphere { 0, 1 pigment { rgb <0, 1, 0> quick_color red 0.7 green 0.2 } }");
     assert!(close(solid(&m), Vec3::new(0.0, 0.6, 0.0)), "{:?}", solid(&m));
 }
+
+#[test]
+fn an_average_s_entries_may_be_function_patterns_without_a_weight() {
+    // As in the woods *_37.pov scenes: `[function { } color_map { }]`, no position before the
+    // pattern; average's missing weights are 1, so the colour is the two entries' mean.
+    let text = "sky_sphere { pigment { average pigment_map {
+           [function { 0.5 } color_map { [0 rgb 0] [1 rgb <1, 0, 0>] }]
+           [function { 0.25 } color_map { [0 rgb 0] [1 rgb <0, 1, 0>] }] } } }";
+    let seen = sky_at(text, Vec3::new(0.3, 0.2, 0.1));
+    assert!(close(seen, Vec3::new(0.25, 0.125, 0.0)), "{seen}");
+}
