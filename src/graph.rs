@@ -8,8 +8,8 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3, Vec3};
 
 use crate::diagnostic::Span;
-use crate::function::FloatFunction;
 pub use crate::geometry::CsgOp;
+use crate::geometry::ScalarField;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -485,6 +485,17 @@ pub struct FieldShape {
     pub phase: f32,
 }
 
+/// A function pattern's function of (x, y, z) (the language's compiled `function { }`), equal
+/// to another only where both are the one compiled function.
+#[derive(Debug, Clone)]
+pub struct PatternFunction(pub Arc<dyn ScalarField>);
+
+impl PartialEq for PatternFunction {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
 /// The patterns (`docs/language.md`, Patterns), each a value in [0, 1].
 #[derive(Debug, Clone, PartialEq)]
 pub enum Field {
@@ -512,7 +523,7 @@ pub enum Field {
     /// frac(p . axis), `axis` a unit vector.
     Gradient(Vec3),
     /// POV-Ray's function pattern: the function of (x, y, z), wrapped into [0, 1] by the wave.
-    Function(Arc<FloatFunction>),
+    Function(PatternFunction),
     /// Six octaves of |noise - 0.5| at 4 times the scale.
     Granite,
     /// Hexagons of unit side in the x-z plane, coloured 0, 0.5 and 1 so that neighbours differ.

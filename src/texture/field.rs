@@ -117,7 +117,7 @@ fn raw(field: &Field, q: Vec3, shape: &FieldShape) -> f32 {
         Field::Crackle => crackle(q),
         Field::Dents => noise(q).powi(3),
         Field::Function(function) => {
-            let v = function.eval(&[q.x, q.y, q.z].map(f64::from)) as f32;
+            let v = function.0.value(q.as_dvec3()) as f32;
             // A pole or a root of a negative number colours as 0 rather than poisoning the map.
             if v.is_finite() { v } else { 0.0 }
         }

@@ -536,7 +536,6 @@ Near(abs(f_checker(0.5, 0.5, 0.5) - f_checker(1.5, 0.5, 0.5)), 1, "f_checker's c
     #[test]
     fn what_a_function_cannot_be_is_refused_by_name() {
         let cases = [
-            ("#declare F = function { pigment { checker } }", "colour function"),
             ("#declare F = function { internal(3) }", "`internal(3)` is not built in"),
             ("#declare F = function { x }\n#declare V = F(1, 2);", "takes 3 arguments, not 2"),
             ("#declare F = function { <x, y, z> }", "a function computes numbers"),

@@ -11,8 +11,8 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::function::FloatFunction;
 use crate::graph::{
-    Field, FieldShape, NormalNode, Pattern, SlopeMap, TextureMap, TextureNode, Turbulence, Warp,
-    Wave,
+    Field, FieldShape, NormalNode, Pattern, PatternFunction, SlopeMap, TextureMap, TextureNode,
+    Turbulence, Warp, Wave,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
@@ -481,9 +481,11 @@ impl Evaluator {
             PatternKind::Checker => Field::Checker,
             PatternKind::Crackle => Field::Crackle,
             PatternKind::Dents => Field::Dents,
-            PatternKind::Function | PatternKind::PigmentPattern => Field::Function(
-                state.function.clone().expect("a function pattern's item gives its function"),
-            ),
+            PatternKind::Function | PatternKind::PigmentPattern => {
+                let function =
+                    state.function.clone().expect("a function pattern's item gives its function");
+                Field::Function(PatternFunction(function))
+            }
             PatternKind::Gradient => {
                 let axis = argument(0).expect("the grammar gives gradient its axis");
                 Field::Gradient(self.nonzero(&axis.value, "the gradient's axis")?.normalize())
