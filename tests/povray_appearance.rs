@@ -403,3 +403,20 @@ fn an_average_s_entries_may_be_function_patterns_without_a_weight() {
     let seen = sky_at(text, Vec3::new(0.3, 0.2, 0.1));
     assert!(close(seen, Vec3::new(0.25, 0.125, 0.0)), "{seen}");
 }
+
+#[test]
+fn functions_inc_s_f_hexagon_gives_the_hexagon_s_three_values() {
+    // POV-Ray's functions.inc: `f_hexagon` is the colour function of `hexagon` over the colours
+    // 0, 0.5 and 1; its `.gray` at points across the x-z plane takes each of them.
+    let text = "#include \"functions.inc\"
+        #declare Seen = array[3] { 0, 0, 0 }
+        #for (I, 0, 199)
+          #declare V = f_hexagon(mod(I, 20) * 0.31, 0, div(I, 20) * 0.29).gray;
+          #for (K, 0, 2)
+            #if (abs(V - K / 2) < 1e-6) #declare Seen[K] = Seen[K] + 1; #end
+          #end
+          #if (abs(V) > 1e-6 & abs(V - 0.5) > 1e-6 & abs(V - 1) > 1e-6) #error \"other\" #end
+        #end
+        #if (Seen[0] = 0 | Seen[1] = 0 | Seen[2] = 0) #error \"not all three\" #end";
+    pov(text);
+}
