@@ -10,14 +10,13 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 use glam::{DVec3, Vec2, Vec3};
-use raydiance::film::Film;
 use raydiance::geometry::Hit;
 use raydiance::graph::IntegratorKind;
-use raydiance::integrator::{Path as PathTracer, Strategy};
+use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
 use raydiance::light::Light;
 use raydiance::progress::Silent;
-use raydiance::render::{render, render_with};
+use raydiance::render::render;
 use raydiance::scene::{Scene, build};
 
 /// The light at <0, 3, 0> aimed at <0.5, 0, 0>; the camera looks at the origin, d = 3.
@@ -213,27 +212,6 @@ fn an_area_spotlight_s_photons_carry_its_power_inside_the_cone() {
     assert!((sum / power - 1.0).abs() < 2e-3, "photons carry {sum}, the light {power}");
 }
 
-fn path(scene: &Scene, strategy: Strategy) -> Film {
-    render_with(scene, &PathTracer { max_depth: scene.settings.max_depth, strategy }, &Silent).0
-}
-
-/// Two estimators of the same image agree: few channels beyond 4 standard errors, and the
-/// image means within 2 %.
-fn assert_films_agree(a: &Film, b: &Film, what: &str) {
-    let (ia, ib) = (a.image(), b.image());
-    let (va, vb) = (a.variance_of_mean(), b.variance_of_mean());
-    let mut outliers = 0;
-    for i in 0..ia.pixels.len() {
-        let z = (ia.pixels[i] - ib.pixels[i]).abs()
-            / (va[i] + vb[i]).map(f32::sqrt).max(Vec3::splat(1e-6));
-        outliers += z.to_array().iter().filter(|&&z| z > 4.0).count();
-    }
-    let channels = 3 * ia.pixels.len();
-    assert!(outliers * 200 < channels, "{what}: {outliers} of {channels} channels beyond 4 sigma");
-    let (ma, mb) = (common::mean(&ia), common::mean(&ib));
-    assert!((ma - mb).abs().max_element() < 0.02 * ma.max_element(), "{what}: {ma} vs {mb}");
-}
-
 /// Light samples alone and BSDF-sampled hits alone estimate the same image (a ball on the floor
 /// under a wide area spotlight), and MIS agrees with both.
 #[test]
@@ -244,9 +222,17 @@ fn area_spotlight_sampling_agrees_with_bsdf_sampling() {
     );
     (s.settings.width, s.settings.height, s.settings.samples, s.settings.max_depth) =
         (32, 24, 128, 2);
-    let mis = path(&s, Strategy::Mis);
-    assert_films_agree(&path(&s, Strategy::LightSampling), &mis, "light sampling vs MIS");
-    assert_films_agree(&path(&s, Strategy::BsdfSampling), &mis, "BSDF sampling vs MIS");
+    let mis = common::path_with(&s, Strategy::Mis);
+    common::assert_films_agree(
+        &common::path_with(&s, Strategy::LightSampling),
+        &mis,
+        "light sampling vs MIS",
+    );
+    common::assert_films_agree(
+        &common::path_with(&s, Strategy::BsdfSampling),
+        &mis,
+        "BSDF sampling vs MIS",
+    );
 }
 
 /// An area spotlight is read as an emitter carrying the spotlight's beam, of intensity π C d² / A

@@ -7,12 +7,9 @@ mod common;
 use std::path::Path;
 
 use glam::Vec3;
-use raydiance::film::Film;
 use raydiance::image::Image;
-use raydiance::integrator::{Path as PathTracer, Strategy};
+use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
-use raydiance::progress::Silent;
-use raydiance::render::render_with;
 use raydiance::scene::{Scene, build};
 
 /// A `.pov` scene from text.
@@ -131,27 +128,6 @@ const GRADIENT_SKY: &str = "
     disc { <0, 0, 0>, y, 2  pigment { rgb 0.7 } finish { diffuse 1 } }
     sphere { <0, 0.5, 0>, 0.5  pigment { rgb <0.8, 0.5, 0.3> } finish { diffuse 1 } }";
 
-fn path(scene: &Scene, strategy: Strategy) -> Film {
-    render_with(scene, &PathTracer { max_depth: scene.settings.max_depth, strategy }, &Silent).0
-}
-
-/// Two estimators of the same image agree: few channels beyond 4 standard errors, and the
-/// image means within 2 %.
-fn assert_films_agree(a: &Film, b: &Film, what: &str) {
-    let (ia, ib) = (a.image(), b.image());
-    let (va, vb) = (a.variance_of_mean(), b.variance_of_mean());
-    let mut outliers = 0;
-    for i in 0..ia.pixels.len() {
-        let z = (ia.pixels[i] - ib.pixels[i]).abs()
-            / (va[i] + vb[i]).map(f32::sqrt).max(Vec3::splat(1e-6));
-        outliers += z.to_array().iter().filter(|&&z| z > 4.0).count();
-    }
-    let channels = 3 * ia.pixels.len();
-    assert!(outliers * 200 < channels, "{what}: {outliers} of {channels} channels beyond 4 sigma");
-    let (ma, mb) = (common::mean(&ia), common::mean(&ib));
-    assert!((ma - mb).abs().max_element() < 0.02 * ma.max_element(), "{what}: {ma} vs {mb}");
-}
-
 /// The textured sky's own samples (next-event estimation alone) and BSDF sampling alone
 /// estimate the same image, and MIS agrees with both.
 #[test]
@@ -159,9 +135,17 @@ fn sky_sampling_agrees_with_bsdf_sampling() {
     let mut s = pov_scene(GRADIENT_SKY);
     (s.settings.width, s.settings.height, s.settings.samples, s.settings.max_depth) =
         (32, 24, 128, 3);
-    let mis = path(&s, Strategy::Mis);
-    assert_films_agree(&path(&s, Strategy::LightSampling), &mis, "sky sampling vs MIS");
-    assert_films_agree(&path(&s, Strategy::BsdfSampling), &mis, "BSDF sampling vs MIS");
+    let mis = common::path_with(&s, Strategy::Mis);
+    common::assert_films_agree(
+        &common::path_with(&s, Strategy::LightSampling),
+        &mis,
+        "sky sampling vs MIS",
+    );
+    common::assert_films_agree(
+        &common::path_with(&s, Strategy::BsdfSampling),
+        &mis,
+        "BSDF sampling vs MIS",
+    );
 }
 
 /// POV-Ray's `background` is seen but does not light: under it alone, with no light, a

@@ -8,8 +8,9 @@ use std::path::Path;
 use glam::Vec3;
 use raydiance::film::Film;
 use raydiance::image::Image;
+use raydiance::integrator::{Path as PathTracer, Strategy};
 use raydiance::progress::Silent;
-use raydiance::render::render;
+use raydiance::render::{render, render_with};
 use raydiance::scene::{Scene, build};
 
 /// The walls of the course's Lab 4 box, for tests that set their own camera.
@@ -210,4 +211,26 @@ pub fn read_ppm(path: &Path) -> Ppm {
         other => panic!("not a PPM: {other}"),
     };
     Ppm { width, height, max: max as u32, samples }
+}
+
+/// The path tracer with `strategy` for its light (light samples, BSDF samples or both).
+pub fn path_with(scene: &Scene, strategy: Strategy) -> Film {
+    render_with(scene, &PathTracer { max_depth: scene.settings.max_depth, strategy }, &Silent).0
+}
+
+/// Two estimators of the same image agree: few channels beyond 4 standard errors, and the
+/// image means within 2 %.
+pub fn assert_films_agree(a: &Film, b: &Film, what: &str) {
+    let (ia, ib) = (a.image(), b.image());
+    let (va, vb) = (a.variance_of_mean(), b.variance_of_mean());
+    let mut outliers = 0;
+    for i in 0..ia.pixels.len() {
+        let z = (ia.pixels[i] - ib.pixels[i]).abs()
+            / (va[i] + vb[i]).map(f32::sqrt).max(Vec3::splat(1e-6));
+        outliers += z.to_array().iter().filter(|&&z| z > 4.0).count();
+    }
+    let channels = 3 * ia.pixels.len();
+    assert!(outliers * 200 < channels, "{what}: {outliers} of {channels} channels beyond 4 sigma");
+    let (ma, mb) = (mean(&ia), mean(&ib));
+    assert!((ma - mb).abs().max_element() < 0.02 * ma.max_element(), "{what}: {ma} vs {mb}");
 }
