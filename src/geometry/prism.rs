@@ -234,13 +234,8 @@ impl Prism {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::spline::tests::square;
     use crate::geometry::{SplineKind, spline_segments};
-
-    fn square(size: f32) -> Vec<Vec2> {
-        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-            .map(|(x, z)| Vec2::new(x, z) * size)
-            .to_vec()
-    }
 
     #[test]
     fn a_square_prism_with_a_hole_is_hit_on_its_walls_and_caps() {

@@ -170,10 +170,11 @@ pub(super) fn segment_bounds(s: &[DVec2; 4]) -> (DVec2, DVec2) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
-    fn square(size: f32) -> Vec<Vec2> {
+    /// The corners of a square of half-side `size` about the origin, in turn.
+    pub(in crate::geometry) fn square(size: f32) -> Vec<Vec2> {
         [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
             .map(|(x, z)| Vec2::new(x, z) * size)
             .to_vec()
