@@ -64,6 +64,23 @@ fn closed_sphere_with_a_point_light_at_its_centre() {
     assert_uniform_radiance(&path(&s, Strategy::Mis), Vec3::ONE, "path");
 }
 
+/// The same sphere inside a huge glowing shell that faces away from it (POV-Ray's sky spheres of
+/// radius 3000 seen from a scene inside a closed room). By power alone the shell would take all
+/// but 4e-6 of the light choices and the point light's light would arrive as rare fireflies;
+/// half of the choices are uniform among the lights, so the closed form holds at the same noise.
+#[test]
+fn a_point_light_beside_a_huge_emitter_is_still_sampled() {
+    let s = scene(
+        "settings { resolution 16, 16  samples 128  integrator path  max_depth 64 }
+         camera { location <0.3, -0.2, 0.1>  look_at <1, 0, 2>  angle 100 }
+         light_source { <0, 0, 0>  power rgb 4 * pi }
+         sphere { <0, 0, 0>, 2  material { diffuse rgb 0.5 } }
+         sphere { <0, 0, 0>, 1000  material { emission rgb 1 } }",
+    );
+    assert!(s.light_probability(0) >= 0.25, "the point light: {}", s.light_probability(0));
+    assert_uniform_radiance(&path(&s, Strategy::Mis), Vec3::ONE, "path");
+}
+
 #[test]
 fn furnace_with_emitting_walls() {
     // Walls of albedo a emitting Le: L = Le / (1 - a) = 0.25 / (1 - 0.75) = 1, by every estimator.

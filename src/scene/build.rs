@@ -248,19 +248,32 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         light_cdf: Vec::new(),
         warnings,
     };
-    // Lights with no power are never chosen (their probability would be zero).
-    scene.light_cdf = scene
-        .lights
+    scene.light_cdf = light_selection_cdf(&scene.lights);
+    Ok(scene)
+}
+
+/// The cumulative distribution by which next-event estimation chooses a light: half in
+/// proportion to power, half uniform over the lights that emit. By power alone, a huge dim
+/// emitter (POV-Ray's sky spheres of radius 3000) takes nearly every choice, and a point light
+/// beside it, which only light sampling can find, is almost never sampled: its light arrives
+/// as rare fireflies. The uniform half bounds every emitting light's probability below by
+/// 1 / (2 n). Lights with no power are never chosen; none at all: an empty distribution.
+fn light_selection_cdf(lights: &[Light]) -> Vec<f32> {
+    let powers: Vec<f32> = lights.iter().map(|light| light.power().max(0.0)).collect();
+    let total: f32 = powers.iter().sum();
+    let emitting = powers.iter().filter(|&&p| p > 0.0).count();
+    if emitting == 0 || !total.is_finite() {
+        return Vec::new();
+    }
+    powers
         .iter()
-        .scan(0.0, |acc, light| {
-            *acc += light.power().max(0.0);
+        .scan(0.0, |acc, &p| {
+            if p > 0.0 {
+                *acc += 0.5 * p / total + 0.5 / emitting as f32;
+            }
             Some(*acc)
         })
-        .collect();
-    if scene.light_cdf.last() == Some(&0.0) {
-        scene.light_cdf.clear();
-    }
-    Ok(scene)
+        .collect()
 }
 
 #[derive(Default)]

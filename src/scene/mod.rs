@@ -71,7 +71,8 @@ pub struct Scene {
     /// What rays the camera sees through delta bounces only find where they leave a scene
     /// without an environment light: POV-Ray's `background`, which does not light.
     backdrop: Vec3,
-    /// Cumulative distribution for choosing a light in proportion to its power.
+    /// Cumulative distribution for choosing a light: half by power, half uniform
+    /// (`build::light_selection_cdf`).
     light_cdf: Vec<f32>,
     /// The participating media: objects' interiors and the atmosphere (none in most scenes).
     pub media: Vec<Medium>,
@@ -336,7 +337,8 @@ impl Scene {
         self.backdrop
     }
 
-    /// A light chosen in proportion to its power, and the probability of that choice.
+    /// A light chosen half by power, half uniformly among those that emit, and the probability
+    /// of that choice.
     pub fn choose_light(&self, u: f32) -> Option<(usize, f32)> {
         if self.light_cdf.len() == 1 {
             return Some((0, 1.0)); // the only light (`light_probability` is c / c = 1)
