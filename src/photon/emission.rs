@@ -61,11 +61,18 @@ impl Emission {
     }
 
     /// Where one of `photons` photons of `light` starts, from `sampler`'s next numbers.
-    pub fn start(&self, light: &Light, photons: u32, sampler: &mut Sampler) -> Option<EmissionSample> {
+    pub fn start(
+        &self,
+        light: &Light,
+        photons: u32,
+        sampler: &mut Sampler,
+    ) -> Option<EmissionSample> {
         let (u_point, u_direction) = (sampler.next_2d(), sampler.next_2d());
         match &self.projection {
             None => light.sample_emission(photons, u_point, u_direction),
-            Some(aim) => aim.sample_emission(light, photons, sampler.next_1d(), u_point, u_direction),
+            Some(aim) => {
+                aim.sample_emission(light, photons, sampler.next_1d(), u_point, u_direction)
+            }
         }
     }
 
