@@ -177,7 +177,7 @@ impl Cones<'_> {
     /// A direction: cone i with probability Ω_i / Σ Ω (`u_cone`), uniform in it (`u`); and its
     /// density c(ω) / Σ Ω, the cone drawn counted whatever rounding says.
     fn sample(&self, u_cone: f32, u: Vec2) -> Option<(Vec3, f32)> {
-        if !(self.total > 0.0) {
+        if self.total.is_nan() || self.total <= 0.0 {
             return None;
         }
         let mut below = u_cone * self.total;
