@@ -1,7 +1,8 @@
 //! Jensen's photon mapping with a caustic map and final gathering (`docs/language.md`,
-//! `final_gather`; Jensen 2001, 9.1). One pass of photons fills two maps: the caustic map,
-//! photons that came from a light through delta and near-specular bounces only, and the global
-//! map, every photon where it lands on a gathered lobe. Camera rays go as `photon`'s do; at
+//! `final_gather`; Jensen 2001, 9.1). Two passes of photons fill two maps: the global map,
+//! every photon of the first where it lands on a gathered lobe, and the caustic map, the photons
+//! of a second pass aimed at the casters of caustics (`Projection`) that came from a light
+//! through delta and near-specular bounces only. Camera rays go as `photon`'s do; at
 //! each vertex with gathered lobes the light arriving there is split four ways:
 //! - emission and direct light: next-event estimation, as `direct`;
 //! - caustics (light -> specular -> here): the caustic map's `CAUSTIC_K` nearest photons,
@@ -20,11 +21,11 @@ use std::time::Instant;
 
 use super::direct::{Vertex, WhittedPath, arrive, follow, whitted};
 use super::missed_light::MissedLight;
-use super::photon::{estimate, trace_pass};
+use super::photon::{estimate, trace_caustics, trace_pass};
 use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
 use crate::film::Film;
 use crate::geometry::{Ray, offset_origin};
-use crate::photon::{Arrival, Deposit, Emission, PhotonMap};
+use crate::photon::{Emission, PhotonMap};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
 use crate::sampling::Sampler;
@@ -45,8 +46,8 @@ pub struct FinalGather {
 }
 
 impl Integrator for FinalGather {
-    /// Traces the scene's photon pass (pass 0) into its two maps, then renders with them; a
-    /// black film if `progress` asks to stop first.
+    /// Traces the scene's photon pass (pass 0) into the global map and its caustic pass into
+    /// the caustic map, then renders with them; a black film if `progress` asks to stop first.
     fn render(
         &self,
         scene: &Scene,
@@ -55,8 +56,10 @@ impl Integrator for FinalGather {
     ) -> (Film, RenderStats) {
         let start = Instant::now();
         let emission = Emission::new(&scene.lights, scene.settings.photons());
-        let maps = |d: &Deposit| [d.arrival == Arrival::Caustic, true];
-        let Some([caustic, global]) = trace_pass(scene, &emission, 0, progress, maps) else {
+        let Some([global]) = trace_pass(scene, &emission, 0, progress, |_| [true]) else {
+            return stopped_before_a_pass(scene, start);
+        };
+        let Some(caustic) = trace_caustics(scene, progress) else {
             return stopped_before_a_pass(scene, start);
         };
         let estimate = GatherEstimate {

@@ -1,5 +1,7 @@
 //! Jensen's two-pass photon mapping (`docs/language.md`): a pass of photons from the lights,
-//! kept where they land after at least one bounce, in a k-d tree; then camera rays as `direct`
+//! kept where they land after at least one bounce, in a k-d tree, its caustic photons taken
+//! from a second pass aimed at the casters of caustics (a denser map of the same light:
+//! `Projection`); then camera rays as `direct`
 //! traces them, with indirect light at each vertex with a non-delta lobe estimated from the
 //! `photon_k` nearest photons.
 //!
@@ -19,7 +21,7 @@ use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass}
 use crate::film::Film;
 use crate::geometry::Ray;
 use crate::graph::IntegratorKind;
-use crate::photon::{Arrival, Deposit, Emission, Photon, PhotonMap, trace_photon};
+use crate::photon::{Arrival, Deposit, Emission, Photon, PhotonMap, Projection, trace_photon};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
 use crate::sampling::Sampler;
@@ -34,21 +36,34 @@ pub const PHOTON_TASK: u32 = 4096;
 /// (measured: 64.4 bytes a stored photon at the peak, 16 M photons in a closed room).
 pub const STORED_PHOTON_BYTES: u64 = 72;
 
-/// The most photons `scene`'s pass stores: for `photon` one at each bounce after leaving the
-/// light, up to `max_depth` per photon emitted (every photon, in a closed room of white walls);
-/// for `final_gather` one more where it first lands, and each caustic photon twice (in both
-/// maps).
+/// The pass of photons aimed at the casters of caustics (`Projection`), after pass 0.
+const CAUSTIC_PASS: u64 = 1;
+
+/// The most photons `scene`'s passes store: for `photon` one at each bounce after leaving the
+/// light, up to `max_depth` per photon emitted (every photon, in a closed room of white walls),
+/// and as many again from the caustic pass where the scene has casters; for `final_gather` one
+/// more where each photon first lands, and the caustic pass's.
 pub fn most_stored(scene: &Scene) -> u64 {
     let settings = &scene.settings;
     let emitted = u64::from(Emission::new(&scene.lights, settings.photons()).total());
     let depth = u64::from(settings.max_depth);
+    let caustic = if Projection::of(scene).is_some() { emitted * depth } else { 0 };
     match settings.integrator {
-        IntegratorKind::FinalGather => emitted * (2 * depth + 1),
-        IntegratorKind::Direct
-        | IntegratorKind::Path
-        | IntegratorKind::Photon
-        | IntegratorKind::Sppm => emitted * depth,
+        IntegratorKind::FinalGather => emitted * (depth + 1) + caustic,
+        IntegratorKind::Photon => emitted * depth + caustic,
+        IntegratorKind::Direct | IntegratorKind::Path | IntegratorKind::Sppm => emitted * depth,
     }
+}
+
+/// The caustic pass: `photons` photons aimed at the casters of caustics (`Projection`), kept
+/// where they land after delta and near-specular bounces only (light -> specular -> here);
+/// none in a scene without casters. `None` if `progress` asks to stop first.
+pub(super) fn trace_caustics(scene: &Scene, progress: &dyn Progress) -> Option<Vec<Photon>> {
+    let Some(projection) = Projection::of(scene) else { return Some(Vec::new()) };
+    let aimed = Emission::aimed(&scene.lights, projection, scene.settings.photons());
+    let caustic = |d: &Deposit| [d.arrival == Arrival::Caustic];
+    let [caustics] = trace_pass(scene, &aimed, CAUSTIC_PASS, progress, caustic)?;
+    Some(caustics)
 }
 
 /// Photon mapping with `k` photons in each density estimate, paths of at most `max_depth`
@@ -59,8 +74,8 @@ pub struct PhotonMapping {
 }
 
 impl Integrator for PhotonMapping {
-    /// Traces the scene's photon pass (pass 0, `photons` photons) and builds its map, then
-    /// renders with it; a black film if `progress` asks to stop first. Photon mapping renders
+    /// Traces the scene's photon pass (pass 0, `photons` photons) and its caustic pass, builds
+    /// their map, then renders with it; a black film if `progress` asks to stop first. Photon mapping renders
     /// whole images: every pixel reads the same photons.
     fn render(
         &self,
@@ -70,11 +85,15 @@ impl Integrator for PhotonMapping {
     ) -> (Film, RenderStats) {
         let start = Instant::now();
         let emission = Emission::new(&scene.lights, scene.settings.photons());
-        // Direct light comes from next-event estimation.
-        let maps = |d: &Deposit| [d.arrival != Arrival::Direct];
-        let Some([photons]) = trace_pass(scene, &emission, 0, progress, maps) else {
+        // Direct light comes from next-event estimation, caustics from the caustic pass.
+        let maps = |d: &Deposit| [d.arrival == Arrival::Indirect];
+        let Some([mut photons]) = trace_pass(scene, &emission, 0, progress, maps) else {
             return stopped_before_a_pass(scene, start);
         };
+        let Some(caustics) = trace_caustics(scene, progress) else {
+            return stopped_before_a_pass(scene, start);
+        };
+        photons.extend(caustics);
         let map = PhotonMap::build(photons);
         let estimate = PhotonEstimate { mapping: self, map, missed: MissedLight::of(scene) };
         let (film, stats) = render_samples(scene, &estimate, region, progress);

@@ -1,15 +1,18 @@
-//! Photon mapping's parts: photons shared out among the lights (`emission`), traced through the
-//! scene (`trace`), stored in a k-d tree for k-nearest queries (`kd_tree`), and the hash grid of visible points that progressive
-//! photon mapping splats photons into (`hash_grid`).
+//! Photon mapping's parts: photons shared out among the lights (`emission`), aimed at the
+//! casters of caustics for a caustic pass (`projection`), traced through the scene (`trace`),
+//! stored in a k-d tree for k-nearest queries (`kd_tree`), and the hash grid of visible points
+//! that progressive photon mapping splats photons into (`hash_grid`).
 
 mod emission;
 mod hash_grid;
 mod kd_tree;
+mod projection;
 mod trace;
 
 pub use emission::{Emission, MAX_PHOTONS};
 pub use hash_grid::HashGrid;
 pub use kd_tree::{Neighbour, PhotonMap};
+pub use projection::Projection;
 pub use trace::{Arrival, Deposit, trace_photon};
 
 use glam::{Vec2, Vec3};

@@ -50,8 +50,7 @@ pub fn trace_photon(
 ) {
     let (light, photons) = emission.light_of(index);
     let mut sampler = Sampler::new(scene.settings.seed, PHOTON_STREAMS + pass, u64::from(index));
-    let (u_point, u_direction) = (sampler.next_2d(), sampler.next_2d());
-    let Some(start) = scene.lights[light].sample_emission(photons, u_point, u_direction) else {
+    let Some(start) = emission.start(&scene.lights[light], photons, &mut sampler) else {
         return;
     };
     let (mut ray, mut power, mut arrival) = (start.ray, start.power, Arrival::Direct);
