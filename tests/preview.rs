@@ -143,6 +143,9 @@ fn nothing_but_the_page_is_served() {
     assert_eq!(status, 200);
     let page = String::from_utf8(page).unwrap();
     assert!(page.contains("<h1>scene.scn</h1>") && page.contains("/page.js"), "{page}");
+    // The choice of a denoised view only in the page of a preview that denoises
+    // (tests/denoise.rs).
+    assert_eq!(page.contains(r#"name="view""#), cfg!(feature = "denoise"), "{page}");
     for (path, text) in [("/page.js", "EventSource"), ("/page.css", "body")] {
         let (status, body) = preview.get(path);
         assert_eq!(status, 200, "{path}");

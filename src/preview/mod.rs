@@ -2,8 +2,9 @@
 //! refines, and renders the scene again as soon as it or a file it reads is saved.
 //!
 //! Threads share what the page shows (`Shown`): the renderer loads and renders, publishing each
-//! finished pass (and, built with `denoise`, the pass denoised) or the scene's error; the watcher polls the files the last load read; the
-//! server answers the page, each event stream on a thread of its own.
+//! finished pass (and, built with `denoise`, the pass denoised) or the scene's error; the
+//! watcher polls the files the last load read; the server answers the page, each event stream
+//! on a thread of its own.
 
 mod renderer;
 mod server;
@@ -85,7 +86,7 @@ impl Server {
                 std::thread::sleep(POLL);
             }
         });
-        let site = Arc::new(Site::new(&self.preview.scene, self.address));
+        let site = Arc::new(Site::new(&self.preview.scene, self.address, denoiser.is_some()));
         let served = shown.clone();
         std::thread::spawn(move || {
             for request in self.http.incoming_requests() {

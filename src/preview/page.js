@@ -1,6 +1,7 @@
 // The page of `raydiance preview`: follows the server's event stream (each finished pass, its
 // denoised view when raydiance denoises, the scene's error) and sends the tone mapping chosen;
-// the server tone-maps.
+// the server tone-maps. The page of a preview that denoises has the choice of view, raw (the
+// pass as rendered) at first.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
@@ -22,6 +23,12 @@ function showPicture(picture, denoised) {
   $("render").textContent = picture.render;
 }
 
+// Whether the denoised view is chosen (never in the page of a preview that does not denoise).
+function denoisedChosen() {
+  const choice = document.querySelector('input[name="view"]:checked');
+  return Boolean(choice && choice.value === "denoised");
+}
+
 function showState(state) {
   last = state;
   $("status").textContent = "connected";
@@ -29,11 +36,13 @@ function showState(state) {
   $("exposure").value = state.exposure;
   $("exposure-value").textContent = state.exposure;
   $("error").hidden = !state.error;
-  $("denoise").hidden = !state.denoising;
   const picture = state.picture;
-  $("save-denoised").hidden = !(picture && picture.denoised);
+  const saveDenoised = $("save-denoised");
+  if (saveDenoised) {
+    saveDenoised.hidden = !(picture && picture.denoised);
+  }
   // The denoised view when it is chosen and this pass has one; the pass as rendered until then.
-  const denoised = Boolean(picture && picture.denoised && $("denoised").checked);
+  const denoised = Boolean(picture && picture.denoised && denoisedChosen());
   const key = picture ? picture.png + (denoised ? "denoised" : "render") : "";
   if (!picture || key === askedKey) {
     return;
@@ -80,4 +89,6 @@ function sendToneMap() {
 }
 $("exposure").addEventListener("input", sendToneMap);
 $("operator").addEventListener("change", sendToneMap);
-$("denoised").addEventListener("change", () => last && showState(last));
+for (const choice of document.querySelectorAll('input[name="view"]')) {
+  choice.addEventListener("change", () => last && showState(last));
+}

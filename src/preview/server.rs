@@ -1,7 +1,7 @@
 //! The preview's HTTP side: the page (embedded in the binary), the event stream of what it
-//! shows, the picture and its denoised view as PNG and EXR, and the tone mapping the page
-//! chooses. Nothing else is
-//! served: no path reaches the file system.
+//! shows, the picture as PNG and EXR (and its denoised view, only when the preview denoises),
+//! and the tone mapping the page chooses. Nothing else is served: no path reaches the file
+//! system.
 
 use std::io::Write;
 use std::net::SocketAddr;
@@ -20,6 +20,9 @@ use super::shown::Shown;
 const PAGE: &str = include_str!("page.html");
 const SCRIPT: &str = include_str!("page.js");
 const STYLE: &str = include_str!("page.css");
+/// The page's choice between the pass as rendered and its denoised view, and the save of the
+/// latter: only in the page of a preview that denoises.
+const DENOISED_VIEW: &str = include_str!("denoised-view.html");
 
 /// How long an event stream waits for a change before it sends a comment: a closed page is
 /// noticed then, and its thread ends.
@@ -33,6 +36,8 @@ pub const MAX_STREAMS: usize = 64;
 pub struct Site {
     /// The page, with the scene's name.
     page: String,
+    /// Whether the preview denoises its passes: only then are the denoised view's paths served.
+    denoising: bool,
     /// The `Host` a request must name when the preview listens on loopback only: another one is
     /// a page of another site that had its name resolve to this machine (DNS rebinding), which
     /// must not read the scene's errors. `None`: listening for other machines, any name.
@@ -41,12 +46,12 @@ pub struct Site {
 }
 
 impl Site {
-    pub fn new(scene: &Path, address: SocketAddr) -> Site {
+    pub fn new(scene: &Path, address: SocketAddr, denoising: bool) -> Site {
         let hosts = address
             .ip()
             .is_loopback()
             .then(|| [address.to_string(), format!("localhost:{}", address.port())]);
-        Site { page: page(scene), hosts, streams: AtomicUsize::new(0) }
+        Site { page: page(scene, denoising), denoising, hosts, streams: AtomicUsize::new(0) }
     }
 
     fn admits(&self, request: &Request) -> bool {
@@ -87,7 +92,7 @@ pub fn respond(request: Request, shown: &Shown, site: &Site) {
             Some(png) => request.respond(bytes(png, "image/png")),
             None => request.respond(not_found()),
         },
-        (Method::Get, "/denoised.png") => match shown.denoised_png() {
+        (Method::Get, "/denoised.png") if site.denoising => match shown.denoised_png() {
             Some(png) => request.respond(bytes(png, "image/png")),
             None => request.respond(not_found()),
         },
@@ -96,7 +101,7 @@ pub fn respond(request: Request, shown: &Shown, site: &Site) {
             let render = shown.with_picture(|p| (p.image.clone(), p.info.clone()));
             respond_exr(request, render)
         }
-        (Method::Get, "/denoised.exr") => {
+        (Method::Get, "/denoised.exr") if site.denoising => {
             let denoised = shown
                 .with_picture(|p| p.denoised.as_ref().map(|d| (d.image.clone(), d.info.clone())));
             respond_exr(request, denoised.flatten())
@@ -130,12 +135,14 @@ fn not_found() -> Response<std::io::Cursor<Vec<u8>>> {
     text("not found\n".into(), "text/plain").with_status_code(404)
 }
 
-/// The page, with the scene's name and the tone-mapping operators.
-fn page(scene: &Path) -> String {
+/// The page, with the scene's name, the tone-mapping operators and, when the preview denoises,
+/// the choice of the denoised view.
+fn page(scene: &Path, denoising: bool) -> String {
     let name = |p: Option<&std::ffi::OsStr>| escape(&p.unwrap_or_default().to_string_lossy());
     let operators: String =
         Operator::ALL.iter().map(|op| format!(r#"<option value="{op}">{op}</option>"#)).collect();
-    PAGE.replace("{{scene}}", &name(scene.file_name()))
+    PAGE.replace("{{denoised-view}}", if denoising { DENOISED_VIEW } else { "" })
+        .replace("{{scene}}", &name(scene.file_name()))
         .replace("{{stem}}", &name(scene.file_stem()))
         .replace("{{operators}}", &operators)
 }
@@ -219,11 +226,17 @@ mod tests {
 
     #[test]
     fn the_page_names_the_scene_escaped_and_offers_every_operator() {
-        let page = page(Path::new("dir/<b>.scn"));
-        assert!(page.contains("<h1>&lt;b&gt;.scn</h1>"), "{page}");
-        assert!(!page.contains("{{"));
-        for op in Operator::ALL {
-            assert!(page.contains(&format!(r#"<option value="{op}">"#)), "{op}");
+        for denoising in [false, true] {
+            let page = page(Path::new("dir/<b>.scn"), denoising);
+            assert!(page.contains("<h1>&lt;b&gt;.scn</h1>"), "{page}");
+            assert!(!page.contains("{{"));
+            for op in Operator::ALL {
+                assert!(page.contains(&format!(r#"<option value="{op}">"#)), "{op}");
+            }
+            // The denoised view's choice only where there is one; its save is named after the
+            // scene too.
+            assert_eq!(page.contains(r#"name="view""#), denoising);
+            assert_eq!(page.contains(r#"download="&lt;b&gt;-denoised.exr""#), denoising);
         }
     }
 
