@@ -99,6 +99,14 @@ pub enum Function {
     FileExists,
     /// POV-Ray's `defined(Name)`: 1 if the name is declared.
     Defined,
+    /// POV-Ray's `min_extent(Object)` and `max_extent(Object)`: its bounding box's corners.
+    MinExtent,
+    MaxExtent,
+    /// POV-Ray's `trace(Object, Start, Direction [, Normal])`: the first point of its surface
+    /// along the ray (the origin where none), its normal stored in `Normal`.
+    Trace,
+    /// POV-Ray's `inside(Object, Point)`: 1 if the point is inside its solid.
+    Inside,
 }
 
 pub struct Keyword {
@@ -128,7 +136,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "cylinder" => S, "cone" => S, "torus" => S, "open" => S, "mesh" => S, "union" => S,
     "text" => S, "ttf" => S,
     "intersection" => S, "difference" => S, "merge" => S, "object" => S, "material" => S,
-    "translate" => S, "rotate" => S, "scale" => S, "matrix" => S,
+    "translate" => S, "rotate" => S, "scale" => S, "matrix" => S, "transform" => S,
     "diffuse" => S, "specular" => S, "transmission" => S, "emission" => S, "ior" => S,
     "fresnel" => S, "roughness" => S, "coat" => S, "coat_roughness" => S, "rgb" => S,
     "checker" => S, "stripes" => S, "gradient" => S, "noise" => S, "marble" => S, "wood" => S,
@@ -173,6 +181,8 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "strlwr" => F(Function::Strlwr), "chr" => F(Function::Chr), "asc" => F(Function::Asc),
     "val" => F(Function::Val), "vstr" => F(Function::Vstr), "file_exists" => F(Function::FileExists),
     "defined" => F(Function::Defined),
+    "min_extent" => F(Function::MinExtent), "max_extent" => F(Function::MaxExtent),
+    "trace" => F(Function::Trace), "inside" => F(Function::Inside),
 ];
 
 /// The keyword spelt `word`, if it is one.
@@ -190,20 +200,22 @@ impl Function {
         KEYWORDS.iter().find(|k| k.kind == KeywordKind::Function(self)).map_or("?", |k| k.word)
     }
 
-    /// How many arguments it takes: `Some(n)` exactly n, `None` one or more (`concat`).
-    pub fn arity(self) -> Option<usize> {
+    /// How many arguments it takes: at least the first, at most the second (`None`: any
+    /// number, `concat`).
+    pub fn arity(self) -> (usize, Option<usize>) {
         use Function::*;
+        let exactly = |n| (n, Some(n));
         match self {
             Sin | Cos | Tan | Asin | Acos | Atan | Sinh | Cosh | Tanh | Asinh | Acosh | Atanh
             | Sqrt | Sqr | Abs | Radians | Degrees | Floor | Ceil | Int | Exp | Ln | Log
             | Vlength | Vnormalize | Seed | Rand | Strlen | Strupr | Strlwr | Chr | Asc | Val
-            | FileExists | Defined | Dimensions => Some(1),
-            Pow | Min | Max | Mod | Div | Atan2 | Vdot | Vcross | Vrotate | DimensionSize => {
-                Some(2)
-            }
-            Select | Str | VaxisRotate | Substr => Some(3),
-            Vstr => Some(5),
-            Concat => None,
+            | FileExists | Defined | Dimensions | MinExtent | MaxExtent => exactly(1),
+            Pow | Min | Max | Mod | Div | Atan2 | Vdot | Vcross | Vrotate | DimensionSize
+            | Inside => exactly(2),
+            Select | Str | VaxisRotate | Substr => exactly(3),
+            Trace => (3, Some(4)),
+            Vstr => exactly(5),
+            Concat => (1, None),
         }
     }
 }

@@ -37,6 +37,7 @@ pub fn file(name: &str) -> Option<&'static str> {
         "sunpos.inc" => Some(include_str!("library/sunpos.inc")),
         "teak.map" => Some(include_str!("library/teak.map")),
         "textures.inc" => Some(include_str!("library/textures.inc")),
+        "transforms.inc" => Some(include_str!("library/transforms.inc")),
         "woodmaps.inc" => Some(include_str!("library/woodmaps.inc")),
         "whiteash.map" => Some(include_str!("library/whiteash.map")),
         "woods.inc" => Some(include_str!("library/woods.inc")),
@@ -133,6 +134,10 @@ pub fn left_out(name: &str) -> Option<&'static str> {
              raydiance's stars.inc leaves it out",
             )
         }
+        "Spline_Trans" => Some(
+            "POV-Ray's transforms.inc declares it as a macro that follows a `spline`, which \
+             raydiance does not have: raydiance's transforms.inc leaves it out",
+        ),
         "fn_Gradient" | "fn_Gradient_Directional" | "fn_Divergence" => Some(
             "POV-Ray's math.inc declares it as a macro that makes a function, which raydiance's \
              macros cannot: raydiance's math.inc leaves it out (vGradient, vCurl and Divergence \
@@ -151,7 +156,7 @@ pub fn left_out(name: &str) -> Option<&'static str> {
 mod tests {
     use std::path::Path;
 
-    const NAMES: [&str; 34] = [
+    const NAMES: [&str; 35] = [
         "ash.map",
         "benediti.map",
         "bubinga.map",
@@ -183,6 +188,7 @@ mod tests {
         "sunpos.inc",
         "teak.map",
         "textures.inc",
+        "transforms.inc",
         "whiteash.map",
         "woodmaps.inc",
         "woods.inc",

@@ -505,6 +505,8 @@ pub enum Declared {
     },
     /// POV-Ray's float function (`.pov`).
     Function(FunctionDef),
+    /// POV-Ray's declared `transform` (`.pov`).
+    Transform(Transform),
     /// `#if (c) a #elseif (d) b #else e #end` as the value.
     If {
         branches: Vec<(Condition, Declared)>,
@@ -534,9 +536,11 @@ pub enum CaseTest {
 #[derive(Debug, Clone)]
 pub enum Condition {
     Expr(Expr),
-    /// `#ifdef (Name)` (`defined`), `#ifndef (Name)` (not).
+    /// `#ifdef (Name)` (`defined`), `#ifndef (Name)` (not); with `indices`, an array's
+    /// element (`#ifdef (A[i])`: whether it is set).
     Defined {
         name: Ident,
+        indices: Vec<Expr>,
         defined: bool,
     },
 }
@@ -798,6 +802,8 @@ pub enum FunctionBody {
     Pattern(Texture),
     /// `pigment { ... }`: a colour function, its pigment's colour at (x, y, z).
     Pigment(Appearance),
+    /// `transform { ... }`: a transform function, the image of the point (x, y, z).
+    Transform(Transform),
 }
 
 /// `isosurface { function { } contained_by { box | sphere } settings... }`: what the text says,
@@ -875,16 +881,20 @@ pub enum PolyOrder {
 #[derive(Debug, Clone)]
 pub struct Transform {
     pub kind: TransformKind,
-    pub value: Expr,
     pub span: Span,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub enum TransformKind {
-    Translate,
-    Rotate,
-    Scale,
-    Matrix,
+    Translate(Expr),
+    Rotate(Expr),
+    Scale(Expr),
+    Matrix(Expr),
+    /// POV-Ray's `transform T` (`.pov`): a transform value (declared, or a macro's).
+    Value(Expr),
+    /// POV-Ray's `transform { items }` (`.pov`): its transforms, transform values and
+    /// `inverse`s (`PovParam`s) composed in order.
+    Block(Vec<Item>),
 }
 
 #[derive(Debug, Clone)]

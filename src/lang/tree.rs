@@ -153,10 +153,7 @@ impl Builder {
                     span: self.span(&pair),
                 }),
                 Rule::ifdef_start | Rule::ifndef_start => Some(Open::If {
-                    condition: Condition::Defined {
-                        name: self.name(inner_pair(&pair))?,
-                        defined: pair.as_rule() == Rule::ifdef_start,
-                    },
+                    condition: self.defined_condition(&pair)?,
                     branches: Vec::new(),
                     otherwise: None,
                     span: self.span(&pair),
@@ -346,6 +343,14 @@ impl Builder {
 
     fn first_expr(&mut self, pair: &Pair<'_, Rule>) -> Result<Expr, SceneError> {
         self.expr(inner_pair(pair))
+    }
+
+    /// `#ifdef (Name)` or `#ifndef (Name)`, of a name or an array's element (`A[i]`).
+    fn defined_condition(&mut self, pair: &Pair<'_, Rule>) -> Result<Condition, SceneError> {
+        let mut inner = pair.clone().into_inner();
+        let name = self.name(inner.next().expect("the name"))?;
+        let indices = inner.map(|index| self.first_expr(&index)).collect::<Result<_, _>>()?;
+        Ok(Condition::Defined { name, indices, defined: pair.as_rule() == Rule::ifdef_start })
     }
 
     /// A name being bound or looked up as such: not a keyword.
@@ -705,6 +710,12 @@ impl Builder {
                 self.leave();
                 Item::ClippedBy { items, span }
             }
+            // `inverse` in a transform block (`.pov`): the block inverted.
+            Rule::transform_inverse => {
+                let word = inner_pair(&pair);
+                let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                Item::PovParam { key, value: None, items: Vec::new() }
+            }
             Rule::object_modifier => {
                 let mut inner = pair.into_inner();
                 let word = inner.next().expect("the modifier");
@@ -928,6 +939,16 @@ impl Builder {
                 Declared::Sky { items, span }
             }
             Rule::float_function => Declared::Function(self.float_function(pair)?),
+            Rule::transform => {
+                let transform = self.transform(pair)?;
+                if !matches!(transform.kind, TransformKind::Block(_) | TransformKind::Value(_)) {
+                    return Err(SceneError::at(
+                        &transform.span,
+                        "a transform is declared as `transform { ... }`",
+                    ));
+                }
+                Declared::Transform(transform)
+            }
             Rule::declared_if => {
                 let span = self.span(&pair);
                 self.enter(&pair)?;
@@ -942,10 +963,9 @@ impl Builder {
                             branches.push((condition, value));
                         }
                         Rule::ifdef_start | Rule::ifndef_start => {
-                            let defined = directive.as_rule() == Rule::ifdef_start;
-                            let name = self.name(inner_pair(&directive))?;
+                            let condition = self.defined_condition(&directive)?;
                             let value = self.declared(parts.next().expect("a value"))?;
-                            branches.push((Condition::Defined { name, defined }, value));
+                            branches.push((condition, value));
                         }
                         Rule::else_ => {
                             otherwise =
@@ -1472,14 +1492,28 @@ impl Builder {
         let span = self.span(&pair);
         let mut inner = pair.into_inner();
         let key = inner.next().expect("the key");
-        let kind = match inner_pair(&key).as_rule() {
-            Rule::kw_translate => TransformKind::Translate,
-            Rule::kw_rotate => TransformKind::Rotate,
-            Rule::kw_scale => TransformKind::Scale,
-            Rule::kw_matrix => TransformKind::Matrix,
+        let value = inner.next().expect("the value");
+        if value.as_rule() == Rule::transform_block {
+            self.pov_only(&key, None)?;
+            self.enter(&value)?;
+            let items = self.items(value.into_inner())?;
+            self.leave();
+            return Ok(Transform { kind: TransformKind::Block(items), span });
+        }
+        let word = inner_pair(&key);
+        let value = self.expr(value)?;
+        let kind = match word.as_rule() {
+            Rule::kw_translate => TransformKind::Translate(value),
+            Rule::kw_rotate => TransformKind::Rotate(value),
+            Rule::kw_scale => TransformKind::Scale(value),
+            Rule::kw_matrix => TransformKind::Matrix(value),
+            Rule::kw_transform => {
+                self.pov_only(&word, None)?;
+                TransformKind::Value(value)
+            }
             rule => unreachable!("no transform {rule:?}"),
         };
-        Ok(Transform { kind, value: self.expr(inner.next().expect("the value"))?, span })
+        Ok(Transform { kind, span })
     }
 
     fn material(&mut self, pair: Pair<'_, Rule>) -> Result<Material, SceneError> {
@@ -1570,6 +1604,7 @@ impl Builder {
                 Rule::function_pigment => {
                     body = Some(FunctionBody::Pigment(self.appearance(inner_pair(&part))?))
                 }
+                Rule::transform => body = Some(FunctionBody::Transform(self.transform(part)?)),
                 Rule::expr => body = Some(FunctionBody::Expr(self.expr(part)?)),
                 rule => unreachable!("no {rule:?} in a function"),
             }
@@ -1957,18 +1992,18 @@ impl Builder {
                 span,
             })),
             Some(KeywordKind::Function(f)) => {
-                let arity = f.arity();
-                if arity.is_some_and(|n| n != arguments.len()) || arguments.is_empty() {
-                    let n = arity.unwrap_or(1);
-                    let plural = if n == 1 { "" } else { "s" };
-                    let at_least = if arity.is_none() { "at least " } else { "" };
+                let (least, most) = f.arity();
+                let given = arguments.len();
+                if given < least || most.is_some_and(|most| given > most) {
+                    let plural = if most.unwrap_or(least) == 1 { "" } else { "s" };
+                    let count = match most {
+                        Some(most) if most == least => format!("{least}"),
+                        Some(most) => format!("{least} or {most}"),
+                        None => format!("at least {least}"),
+                    };
                     return Err(SceneError::at(
                         &span,
-                        format!(
-                            "`{}` takes {at_least}{n} argument{plural}, not {}",
-                            f.name(),
-                            arguments.len()
-                        ),
+                        format!("`{}` takes {count} argument{plural}, not {given}", f.name()),
                     ));
                 }
                 Ok(ExprKind::Function(f, arguments))

@@ -48,6 +48,11 @@ pub enum Value {
     File(usize),
     /// A declared colour function (`function { pigment { } }`, `.pov`), compiled.
     ColourFunction(Arc<crate::function::ColourFunction>),
+    /// POV-Ray's declared `transform { }` (`.pov`): the composed map from object to world.
+    Transform(Arc<glam::Affine3A>),
+    /// POV-Ray's transform function (`function { transform { } }`, `.pov`): called with a
+    /// point, its image.
+    TransformFunction(Arc<glam::Affine3A>),
 }
 
 impl Value {
@@ -76,6 +81,8 @@ impl Value {
             Value::Function(_) => "a function",
             Value::File(_) => "a file's handle",
             Value::ColourFunction(_) => "a colour function",
+            Value::Transform(_) => "a transform",
+            Value::TransformFunction(_) => "a transform function",
         }
     }
 }

@@ -10,6 +10,7 @@ use std::ops::Range;
 
 use glam::{Affine3A, Vec3};
 
+use crate::aabb::Aabb;
 use crate::accel::{Bvh, Planes};
 use crate::camera::Camera;
 use crate::geometry::{Csg, FewShapes, Hit, Intersection, Nearest, Ray, Shape};
@@ -219,6 +220,17 @@ impl Scene {
     /// name hits, are not counted).
     pub fn traced_primitives(&self) -> usize {
         self.others.end
+    }
+
+    /// The box around every surface rays meet; `None` when one of them is unbounded.
+    pub fn bounds(&self) -> Option<Aabb> {
+        let traced = &self.primitives[..self.others.end];
+        traced.iter().try_fold(Aabb::EMPTY, |bounds, p| Some(bounds.union(p.shape.bounds()?)))
+    }
+
+    /// Whether `p` is inside one of the scene's solids.
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.primitives[..self.others.end].iter().any(|primitive| primitive.shape.contains(p))
     }
 
     /// Starts loading primitives a traversal may test soon (see `Bvh::closest`).

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use super::{Evaluator, MAX_ARRAY_ELEMENTS_MADE};
 use crate::diagnostic::{SceneError, Span};
-use crate::lang::syntax::{ArrayElement, ArrayLiteral, Ident};
+use crate::lang::syntax::{ArrayElement, ArrayLiteral, Expr, Ident};
 use crate::lang::value::{ARRAY_CHUNK, Array, MAX_ARRAY_ELEMENTS, Value};
 
 impl Evaluator {
@@ -56,6 +56,30 @@ impl Evaluator {
         let list = if Arc::get_mut(array).is_some() { 0 } else { array.chunk_count() };
         let copied = list + Arc::make_mut(array).set(flat, value);
         self.count_array_elements(copied, &name.span)
+    }
+
+    /// Whether `name` is declared (`#ifdef (Name)`); with `indices`, whether that element of
+    /// the array `name` is set (`#ifdef (A[i])`, `defined(A[i])`), as POV-Ray tells.
+    pub(super) fn is_set(&mut self, name: &Ident, indices: &[Expr]) -> Result<bool, SceneError> {
+        if indices.is_empty() {
+            return Ok(self.is_defined(&name.name));
+        }
+        let array = match self.lookup(&name.name) {
+            None => return Ok(false),
+            Some(Value::Array(array)) => array.clone(),
+            Some(other) => {
+                return Err(SceneError::at(
+                    &name.span,
+                    format!("`{}` is {}, not an array", name.name, other.kind()),
+                ));
+            }
+        };
+        let mut at = Vec::new();
+        for index in indices {
+            at.push((self.number(index, "an index")?, index.span.clone()));
+        }
+        let flat = element_index(&array, Some(&name.name), &at)?;
+        Ok(array.get(flat).is_some())
     }
 
     /// Counts `made` more elements (or chunk pointers) made or copied in this scene.

@@ -10,7 +10,7 @@ use crate::diagnostic::{SceneError, Span};
 use crate::function::{GRAY, component};
 use crate::lang::keywords::{Constant, Function};
 use crate::lang::syntax::{
-    BinaryOp, Colour, Declare, Declared, Expr, ExprKind, PovColourKind, UnaryOp,
+    BinaryOp, Colour, Declare, Declared, Expr, ExprKind, Ident, PovColourKind, UnaryOp,
 };
 use crate::lang::value::{Array, MAX_STRING_BYTES, Value};
 
@@ -40,7 +40,9 @@ impl Evaluator {
             | Value::Sky(_)
             | Value::Function(_)
             | Value::File(_)
-            | Value::ColourFunction(_) => true,
+            | Value::ColourFunction(_)
+            | Value::Transform(_)
+            | Value::TransformFunction(_) => true,
         };
         if !finite {
             return Err(SceneError::at(
@@ -355,6 +357,10 @@ impl Evaluator {
                         let f = f.clone();
                         return self.call_colour_function(&f, call);
                     }
+                    Some(Value::TransformFunction(f)) => {
+                        let f = f.clone();
+                        return self.call_transform_function(&f, call);
+                    }
                     _ => {}
                 }
                 let mut slot = None;
@@ -621,12 +627,25 @@ impl Evaluator {
                 let (path, built_in) = self.find_include(&at.file.path, &name);
                 Value::Float(if built_in.is_some() || path.is_file() { 1.0 } else { 0.0 })
             }
-            Defined => match &args[0].kind {
-                ExprKind::Ident(name) => {
-                    Value::Float(if self.is_defined(name) { 1.0 } else { 0.0 })
+            Defined => {
+                // A name, or an array's element (`defined(A[i])`).
+                let mut indices = Vec::new();
+                let mut base = &args[0];
+                while let ExprKind::Index { array, index } = &base.kind {
+                    indices.push(index.as_ref().clone());
+                    base = array;
                 }
-                _ => return Err(SceneError::at(&args[0].span, "`defined` takes a name")),
-            },
+                indices.reverse();
+                let ExprKind::Ident(name) = &base.kind else {
+                    return Err(SceneError::at(&args[0].span, "`defined` takes a name"));
+                };
+                let name = Ident { name: name.clone(), span: base.span.clone() };
+                Value::Float(if self.is_set(&name, &indices)? { 1.0 } else { 0.0 })
+            }
+            MinExtent => self.extent(&args[0], false)?,
+            MaxExtent => self.extent(&args[0], true)?,
+            Trace => self.trace(args)?,
+            Inside => self.inside(args)?,
         })
     }
 }

@@ -27,16 +27,19 @@ const NOISE_3D: f64 = 76.0;
 impl Evaluator {
     /// What `#declare F = function { ... }` binds: a float function, or a colour function.
     pub(super) fn function_value(&mut self, def: &FunctionDef) -> Result<Value, SceneError> {
-        let FunctionBody::Pigment(pigment) = &def.body else {
-            return Ok(Value::Function(self.float_function(def)?));
-        };
-        if !def.parameters.is_empty() {
-            return Err(SceneError::at(
-                &def.span,
-                "a colour function takes x, y and z: it has no parameters of its own",
-            ));
-        }
-        Ok(Value::ColourFunction(self.colour_function(pigment)?))
+        Ok(match &def.body {
+            FunctionBody::Expr(_) | FunctionBody::Pattern(_) => {
+                Value::Function(self.float_function(def)?)
+            }
+            FunctionBody::Pigment(pigment) => {
+                no_parameters(def, "a colour function")?;
+                Value::ColourFunction(self.colour_function(pigment)?)
+            }
+            FunctionBody::Transform(t) => {
+                no_parameters(def, "a transform function")?;
+                Value::TransformFunction(Arc::new(self.transform(t)?.to_affine()))
+            }
+        })
     }
 
     /// The colour function of `pigment`, compiled (its images read).
@@ -110,6 +113,13 @@ impl Evaluator {
                     &pigment.span,
                     "a colour function gives a colour where a number is wanted: declare it and \
                      take a component of its value (`F(x, y, z).gray`)",
+                ));
+            }
+            FunctionBody::Transform(t) => {
+                return Err(SceneError::at(
+                    &t.span,
+                    "a transform function gives a point where a number is wanted: declare it \
+                     and call it from the scene (`F(x, y, z)`)",
                 ));
             }
         }
@@ -339,6 +349,17 @@ impl Evaluator {
     }
 }
 
+/// An error unless `def`, `what` of x, y and z, names no parameters of its own.
+fn no_parameters(def: &FunctionDef, what: &str) -> Result<(), SceneError> {
+    match def.parameters.is_empty() {
+        true => Ok(()),
+        false => Err(SceneError::at(
+            &def.span,
+            format!("{what} takes x, y and z: it has no parameters of its own"),
+        )),
+    }
+}
+
 fn check_arguments(call: &Call, f: &FloatFunction) -> Result<(), SceneError> {
     check_count(call, f.parameters())
 }
@@ -401,7 +422,9 @@ fn built_in(f: Function) -> Option<Op> {
         Select => Op::Select3,
         Vlength | Vnormalize | Vdot | Vcross | Vrotate | VaxisRotate | Seed | Rand | Concat
         | Str | Vstr | Strlen | Substr | Strupr | Strlwr | Chr | Asc | Val | FileExists
-        | Defined | DimensionSize | Dimensions | Div => return None,
+        | Defined | DimensionSize | Dimensions | Div | MinExtent | MaxExtent | Trace | Inside => {
+            return None;
+        }
     })
 }
 

@@ -28,13 +28,16 @@ mod patch;
 mod pattern;
 mod polynomial;
 mod prism;
+mod probe;
 mod scope;
 mod sky;
 mod text;
+mod transform;
 mod triangles;
 
 use super::syntax::{
-    Call, CaseTest, Condition, Declare, Declared, Ident, Item, MapKind, MessageKind, SettingKind,
+    self, Call, CaseTest, Condition, Declare, Declared, ExprKind, Ident, Item, MapKind,
+    MessageKind, SettingKind, Transform, TransformKind,
 };
 use super::value::Value;
 use super::{parser, tree};
@@ -191,6 +194,8 @@ pub struct Evaluator {
     warned_negative_colour: bool,
     /// `.pov`: the files opened by `#fopen`.
     files: file_io::Files,
+    /// `.pov`: the objects `min_extent`, `max_extent`, `trace` and `inside` have asked about.
+    probes: probe::Probes,
 }
 
 /// POV-Ray's image size when none is given (its `+W320 +H240`).
@@ -219,6 +224,8 @@ pub enum Body<'a> {
     Sky(&'a mut SkyDesc),
     /// A macro called as a value: its body gives one.
     Value(&'a mut Option<Value>),
+    /// POV-Ray's `transform { }` (`.pov`).
+    Transform(&'a mut transform::TransformState),
 }
 
 impl Body<'_> {
@@ -272,6 +279,7 @@ impl Body<'_> {
             Body::Interior(_) => "in an interior",
             Body::Sky(_) => "in a sky_sphere",
             Body::Value(_) => "where a value is expected",
+            Body::Transform(_) => "in a transform",
         }
     }
 }
@@ -481,6 +489,7 @@ impl Evaluator {
                 Body::Look(look) => self.look_item(item, look),
                 Body::Interior(interior) => self.interior_item(item, interior),
                 Body::Sky(sky) => self.sky_item(item, sky),
+                Body::Transform(state) => self.transform_item(item, state),
             },
         }
     }
@@ -615,6 +624,10 @@ impl Evaluator {
             Item::Texture(texture) => Value::Texture(Arc::new(self.texture(texture)?)),
             // POV-Ray's pigment, finish, texture or interior, as if declared.
             Item::Appearance(appearance) => self.declared_appearance(appearance)?,
+            // POV-Ray's `transform { }` (a macro of `transforms.inc`), as if declared.
+            Item::Transform(
+                t @ Transform { kind: TransformKind::Block(_) | TransformKind::Value(_), .. },
+            ) => Value::Transform(Arc::new(self.transform(t)?.to_affine())),
             _ => return Err(Self::misplaced(item, &Body::Value(slot))),
         };
         if slot.is_some() {
@@ -677,6 +690,7 @@ impl Evaluator {
             }
             Declared::Sky { items, span } => Value::Sky(Arc::new(self.sky_desc(items, span)?)),
             Declared::Function(def) => self.function_value(def)?,
+            Declared::Transform(t) => Value::Transform(Arc::new(self.transform(t)?.to_affine())),
             Declared::If { branches, otherwise, span } => {
                 for (condition, value) in branches {
                     if self.condition(condition)? {
@@ -699,7 +713,9 @@ impl Evaluator {
     fn condition(&mut self, condition: &Condition) -> Result<bool, SceneError> {
         match condition {
             Condition::Expr(e) => Ok(self.number(e, "`#if`'s condition")? != 0.0),
-            Condition::Defined { name, defined } => Ok(self.is_defined(&name.name) == *defined),
+            Condition::Defined { name, indices, defined } => {
+                Ok(self.is_set(name, indices)? == *defined)
+            }
         }
     }
 
@@ -785,6 +801,15 @@ impl Evaluator {
     fn call_macro(&mut self, call: &Call, body: &mut Body) -> Result<(), SceneError> {
         let definition = match self.lookup(&call.name.name) {
             Some(Value::Macro(m)) => m.clone(),
+            // A function called where a macro's value is expected (`F(x, y, z)` as the last
+            // item of a macro's body): its value.
+            Some(Value::Function(_) | Value::ColourFunction(_) | Value::TransformFunction(_))
+                if matches!(body, Body::Value(_)) =>
+            {
+                let call =
+                    syntax::Expr { kind: ExprKind::Call(call.clone()), span: call.span.clone() };
+                return self.exec_item(&Item::Value(call), body);
+            }
             Some(other) => {
                 return Err(SceneError::at(
                     &call.name.span,

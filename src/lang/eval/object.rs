@@ -5,6 +5,7 @@ use std::sync::Arc;
 use glam::{Mat3, Vec3};
 
 use super::expression::{single, single_vector};
+use super::transform::matrix_of;
 use super::{
     Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE,
     as_vector, resolve,
@@ -522,66 +523,71 @@ impl Evaluator {
     }
 
     pub(super) fn transform(&mut self, t: &syntax::Transform) -> Result<Transform, SceneError> {
-        let at = &t.value.span;
-        let value = match (self.value(&t.value)?, self.dialect) {
-            // POV-Ray promotes a 2-vector to a vector with z 0 (`translate <1, 2>`).
+        Ok(match &t.kind {
+            TransformKind::Translate(e) => {
+                Transform::Translate(self.transform_vector(e, "`translate`")?)
+            }
+            TransformKind::Rotate(e) => Transform::Rotate(self.transform_vector(e, "`rotate`")?),
+            TransformKind::Scale(e) => self.scale(e)?,
+            TransformKind::Matrix(e) => self.matrix(e)?,
+            TransformKind::Value(e) => matrix_of(self.transform_value(e)?),
+            TransformKind::Block(items) => matrix_of(self.transform_block(items, &t.span)?),
+        })
+    }
+
+    /// A transform's vector: POV-Ray promotes a 2-vector to a vector with z 0 (`translate <1,
+    /// 2>`).
+    fn transform_vector(&mut self, expr: &syntax::Expr, what: &str) -> Result<Vec3, SceneError> {
+        let at = &expr.span;
+        let value = match (self.value(expr)?, self.dialect) {
             (Value::Numbers(n), Dialect::Pov) if n.len() == 2 => {
                 Value::Vector(glam::DVec3::new(n[0], n[1], 0.0))
             }
             (value, _) => value,
         };
-        Ok(match t.kind {
-            TransformKind::Translate => {
-                Transform::Translate(single_vector(as_vector(&value, at, "`translate`")?, at)?)
+        single_vector(as_vector(&value, at, what)?, at)
+    }
+
+    fn scale(&mut self, expr: &syntax::Expr) -> Result<Transform, SceneError> {
+        let at = &expr.span;
+        let mut s = self.transform_vector(expr, "`scale`")?;
+        if s.cmpeq(Vec3::ZERO).any() && self.dialect == Dialect::Pov {
+            // As POV-Ray does: a zero factor is changed to 1, with a warning.
+            let here = self.here(at);
+            self.warnings.push(format!(
+                "{here:?}: warning: scale <{}, {}, {}> has a zero component, changed \
+                 to 1 (as POV-Ray does)",
+                s.x, s.y, s.z
+            ));
+            s = Vec3::select(s.cmpeq(Vec3::ZERO), Vec3::ONE, s);
+        }
+        if s.cmpeq(Vec3::ZERO).any() {
+            let (x, y, z) = (s.x, s.y, s.z);
+            return Err(SceneError::at(
+                at,
+                format!("scale <{x}, {y}, {z}> has a zero component: it flattens the object"),
+            ));
+        }
+        Ok(Transform::Scale(s))
+    }
+
+    fn matrix(&mut self, expr: &syntax::Expr) -> Result<Transform, SceneError> {
+        let at = &expr.span;
+        let numbers = match self.value(expr)? {
+            Value::Numbers(n) if n.len() == 12 => n,
+            other => {
+                return Err(SceneError::at(
+                    at,
+                    format!("`matrix` takes 12 numbers, not {}", other.kind()),
+                ));
             }
-            TransformKind::Rotate => {
-                Transform::Rotate(single_vector(as_vector(&value, at, "`rotate`")?, at)?)
-            }
-            TransformKind::Scale => {
-                let mut s = single_vector(as_vector(&value, at, "`scale`")?, at)?;
-                if s.cmpeq(Vec3::ZERO).any() && self.dialect == Dialect::Pov {
-                    // As POV-Ray does: a zero factor is changed to 1, with a warning.
-                    let here = self.here(at);
-                    self.warnings.push(format!(
-                        "{here:?}: warning: scale <{}, {}, {}> has a zero component, changed \
-                         to 1 (as POV-Ray does)",
-                        s.x, s.y, s.z
-                    ));
-                    s = Vec3::select(s.cmpeq(Vec3::ZERO), Vec3::ONE, s);
-                }
-                if s.cmpeq(Vec3::ZERO).any() {
-                    let (x, y, z) = (s.x, s.y, s.z);
-                    return Err(SceneError::at(
-                        at,
-                        format!(
-                            "scale <{x}, {y}, {z}> has a zero component: it flattens the object"
-                        ),
-                    ));
-                }
-                Transform::Scale(s)
-            }
-            TransformKind::Matrix => {
-                let numbers = match value {
-                    Value::Numbers(n) if n.len() == 12 => n,
-                    other => {
-                        return Err(SceneError::at(
-                            at,
-                            format!("`matrix` takes 12 numbers, not {}", other.kind()),
-                        ));
-                    }
-                };
-                let m: Vec<f32> =
-                    numbers.iter().map(|&f| single(f, at)).collect::<Result<_, _>>()?;
-                let linear = Mat3::from_cols_slice(&m[..9]);
-                if linear.determinant().abs() < 1e-12 {
-                    return Err(SceneError::at(
-                        at,
-                        "the matrix is singular: it flattens the object",
-                    ));
-                }
-                Transform::Matrix { linear, translation: Vec3::new(m[9], m[10], m[11]) }
-            }
-        })
+        };
+        let m: Vec<f32> = numbers.iter().map(|&f| single(f, at)).collect::<Result<_, _>>()?;
+        let linear = Mat3::from_cols_slice(&m[..9]);
+        if linear.determinant().abs() < 1e-12 {
+            return Err(SceneError::at(at, "the matrix is singular: it flattens the object"));
+        }
+        Ok(Transform::Matrix { linear, translation: Vec3::new(m[9], m[10], m[11]) })
     }
 }
 
