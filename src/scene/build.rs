@@ -237,7 +237,8 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         few_holds_bounded,
         materials: flat.materials,
         textures: flat.textures,
-        bumps: flat.bumps,
+        // Empty where no material is bumped: a vertex then reads no bump slot (`Scene::shade`).
+        bumps: if flat.bumps.iter().any(Option::is_some) { flat.bumps } else { Vec::new() },
         media,
         interiors: flat.interiors,
         atmosphere,
