@@ -237,8 +237,7 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         few_holds_bounded,
         materials: flat.materials,
         textures: flat.textures,
-        // Empty where no material is bumped: a vertex then reads no bump slot (`Scene::shade`).
-        bumps: if flat.bumps.iter().any(Option::is_some) { flat.bumps } else { Vec::new() },
+        bumps: flat.bumps,
         media,
         interiors: flat.interiors,
         atmosphere,

@@ -61,7 +61,7 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Per material, its `diffuse` texture when that is not a plain colour.
     textures: Vec<Option<Texture>>,
-    /// Per material, its bump mapping, if any; empty if no material has one.
+    /// Per material, its bump mapping, if any.
     bumps: Vec<Option<Bump>>,
     /// World to object space of each object, for textures.
     frames: Vec<Affine3A>,
@@ -247,8 +247,10 @@ impl Scene {
     #[inline(always)]
     pub fn shade(&self, hit: &mut Hit, wo: Vec3, material: &Material, mode: TransportMode) -> Bsdf {
         let primitive = &self.primitives[hit.primitive as usize];
-        let bump = self.bumps.get(primitive.material as usize).and_then(Option::as_ref);
-        let tilted = bump.and_then(|bump| self.bumped(bump, primitive.frame, hit, wo));
+        let tilted = match &self.bumps[primitive.material as usize] {
+            Some(bump) => self.bumped(bump, primitive.frame, hit, wo),
+            None => None,
+        };
         if let Some(shading_normal) = tilted {
             hit.shading_normal = shading_normal;
         }
