@@ -223,6 +223,11 @@ enum ValueError {
     UnknownIntegrator(String),
     #[error("`{0}` is not a size WxH with sides from 1 to {max} (e.g. 64x48)", max = raydiance::MAX_RESOLUTION)]
     NotASize(String),
+    #[error(
+        "error: --samples {0} is out of range (2 to {max}): a snapshot needs a variance",
+        max = raydiance::MAX_SAMPLES
+    )]
+    SnapshotSamples(u32),
 }
 
 fn parse_integrator(s: &str) -> Result<IntegratorKind, ValueError> {
@@ -349,10 +354,7 @@ fn main() -> ExitCode {
                 complete(accept_snapshots(&paths))
             } else if let Some(n) = samples.filter(|&n| !(2..=raydiance::MAX_SAMPLES).contains(&n))
             {
-                complete(Err(format!(
-                    "error: --samples {n} is out of range (2 to {}): a snapshot needs a variance",
-                    raydiance::MAX_SAMPLES
-                )))
+                complete(Err(ValueError::SnapshotSamples(n)))
             } else {
                 let options = snapshot::Options { samples, size };
                 complete(on_threads(threads, || check_snapshots(&paths, &options)))

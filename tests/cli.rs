@@ -131,6 +131,14 @@ fn bad_command_line_values_are_errors_naming_the_value() {
 }
 
 #[test]
+fn a_snapshot_of_one_sample_is_refused_before_any_render() {
+    let output = raydiance(&["snapshot", "--samples", "1", "no/such/folder"]);
+    assert_eq!(output.status.code(), Some(1));
+    let message = "error: --samples 1 is out of range (2 to 1000000): a snapshot needs a variance";
+    assert_eq!(stderr(&output).trim_end(), message);
+}
+
+#[test]
 fn check_summarises_or_locates_the_error() {
     let output = raydiance(&["check", "scenes/cornell-specular.scn"]);
     assert!(output.status.success());
