@@ -120,11 +120,11 @@ const FUNCTIONS_LEFT_OUT: [&str; 68] = [
 /// and a scene is likely to name it: said where a scene names it and nothing declares it.
 pub fn left_out(name: &str) -> Option<&'static str> {
     match name {
-        "P_Cloud1" | "S_Cloud5" | "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1"
-        | "O_Cloud2" => Some(
-            "POV-Ray's skies.inc declares it with transparent colours in a color_map, which \
-             raydiance's pigments do not have: raydiance's skies.inc leaves it out (it has \
-             P_Cloud2 to P_Cloud4 and S_Cloud1 to S_Cloud4)",
+        "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1" | "O_Cloud2" => Some(
+            "POV-Ray's skies.inc declares it to glow (`ambient` without `diffuse`) through \
+             transparent colours, and raydiance's glow is one colour over a whole surface: \
+             raydiance's skies.inc leaves it out (it has P_Cloud1 to P_Cloud4 and S_Cloud1 to \
+             S_Cloud5)",
         ),
         "Starfield1" | "Starfield2" | "Starfield3" | "Starfield4" | "Starfield5" | "Starfield6" => {
             Some(
@@ -150,6 +150,8 @@ pub fn left_out(name: &str) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use std::path::Path;
+
+    use crate::graph::MaterialDesc;
 
     const NAMES: [&str; 34] = [
         "ash.map",
@@ -287,6 +289,11 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
         // A ruby glass passes red.
         let ruby = &materials[3].transmission;
         assert!(ruby.x > 4.0 * ruby.y, "{ruby}");
+        // The interiors fade to black over their fade_distance: sigma_a = 1 / distance.
+        let absorption = |m: &MaterialDesc| m.interior.as_ref().map(|i| i.absorption);
+        assert_eq!(absorption(&materials[0]), Some(glam::Vec3::ONE), "I_Glass1: 1");
+        assert_eq!(absorption(&materials[2]), Some(glam::Vec3::splat(0.5)), "I_Glass_Exp(2)");
+        assert_eq!(absorption(&materials[3]), Some(glam::Vec3::ONE), "I_Glass_Caustics2: 1");
     }
 
     #[test]
@@ -326,14 +333,14 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
 
     #[test]
     fn names_the_library_leaves_out_are_refused_with_the_reason() {
-        for (name, why) in [("S_Cloud5", "transparent colours"), ("f_bicorn", "internal functions")]
+        for (name, why) in [("T_Cloud2", "transparent colours"), ("f_bicorn", "internal functions")]
         {
-            let text = format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}");
+            let text = format!("#include \"skies.inc\"\nsphere {{ 0, 1 texture {{ {name} }} }}");
             let error = crate::lang::parse_scene(Path::new("library.pov"), &text)
                 .map(|_| ())
                 .unwrap_err()
                 .to_string();
-            assert!(error.contains(":2:14:") && error.contains(why), "{error}");
+            assert!(error.contains(":2:25:") && error.contains(why), "{error}");
         }
         // A scene's own declaration of the name is its own.
         let own =
