@@ -450,7 +450,7 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
     #[test]
     fn woodmaps_inc_s_maps_hold_povray_s_colours() {
         // Halfway along M_Wood1A's blend from <0.88, 0.6, 0.4> at 0.1 to <0.6, 0.3, 0.2> at 0.9;
-        // M_Wood2A's colours are POV-Ray's halved; M_Wood19B's clear white is opaque here.
+        // M_Wood2A's colours are POV-Ray's halved; M_Wood19B's clear part is white (`rgbf 1`).
         for (map, at, expected) in [
             ("M_Wood1A", 0.5, glam::Vec3::new(0.74, 0.45, 0.3)),
             ("M_Wood2A", 0.05, glam::Vec3::new(0.175, 0.08, 0.06)),
@@ -459,14 +459,15 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
             let scene = format!(
                 "#include \"woodmaps.inc\"\nsphere {{ 0, 1 pigment {{ gradient x color_map {{ {map} }} }} }}"
             );
-            let seen = object_texture(&scene).eval(glam::Vec3::new(at, 0.0, 0.0)) / 0.6;
+            let seen = object_texture(&scene).eval(glam::Vec3::new(at, 0.0, 0.0));
             assert!((seen - expected).abs().max_element() < 1e-5, "{map} at {at}: {seen}");
         }
     }
 
     #[test]
-    fn woods_inc_s_textures_are_their_base_grain_in_its_colours() {
-        // T_Wood2 is M_Wood2A's dark browns, red from 0.175 to 0.23; T_Wood34 is T_Wood32.
+    fn woods_inc_s_textures_are_their_base_grain_under_a_see_through_grain() {
+        // T_Wood2's base is M_Wood2A's dark browns, red from 0.175 to 0.23, under M_Wood2B's
+        // see-through browns (red 0.5): where the top lets light through the base shows.
         let two = object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood2 } }");
         let rosewood =
             object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood32 } }");
@@ -475,18 +476,21 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
         let grain = object_texture(
             "#include \"woods.inc\"\nsphere { 0, 1 pigment { P_WoodGrain2A color_map { M_Wood2A } } }",
         );
-        let mut reds = Vec::new();
+        let (mut reds, mut layered, mut onion) = (Vec::new(), 0, 0);
         for i in 0..50 {
             let p = glam::Vec3::new(i as f32 * 0.037, (i % 7) as f32 * 0.05, i as f32 * 0.1);
-            let seen = two.eval(p) / 0.6;
-            assert!(seen.x >= 0.175 - 1e-5 && seen.x <= 0.23 + 1e-5, "{seen} at {p}");
-            assert!(seen.x > seen.y && seen.y > seen.z - 1e-5, "brown: {seen}");
-            reds.push(seen.x);
-            assert_eq!(orange.eval(p), rosewood.eval(p));
-            assert_eq!(grain.eval(p), two.eval(p));
+            let base = grain.eval(p);
+            assert!(base.x >= 0.175 - 1e-5 && base.x <= 0.23 + 1e-5, "{base} at {p}");
+            assert!(base.x > base.y && base.y > base.z - 1e-5, "brown: {base}");
+            reds.push(base.x);
+            let seen = two.eval(p);
+            assert!(seen.x >= 0.175 - 1e-5 && seen.x <= 0.5 + 1e-5, "{seen} at {p}");
+            layered += usize::from((seen - base).abs().max_element() > 1e-3);
+            onion += usize::from(orange.eval(p) != rosewood.eval(p));
         }
         let (low, high) = reds.iter().fold((1f32, 0f32), |(l, h), r| (l.min(*r), h.max(*r)));
         assert!(high - low > 0.02, "the grain shows: reds {low} to {high}");
+        assert!(layered > 0 && onion > 0, "the top layers show: {layered}, {onion}");
     }
 
     /// The outward unit normals of a solid's faces, and their distances from the origin.
@@ -641,7 +645,7 @@ Near(VMax(<1, 7, 3>), 7, "vmax")
             let scene = format!(
                 "#include \"{file}\"\nsphere {{ 0, 1 pigment {{ gradient x color_map {{ {map} }} }} }}"
             );
-            let seen = object_texture(&scene).eval(glam::Vec3::new(0.0, 0.0, 0.0)) / 0.6;
+            let seen = object_texture(&scene).eval(glam::Vec3::new(0.0, 0.0, 0.0));
             assert!((seen - first).abs().max_element() < 1e-5, "{map}: {seen}");
         }
         for file in NAMES.iter().filter(|name| name.ends_with(".map")) {
@@ -658,7 +662,7 @@ Near(VMax(<1, 7, 3>), 7, "vmax")
                      sphere { 0, 1 pigment { Sapphire_Agate } }\nsphere { 0, 1 texture { New_Brass } }";
         assert_eq!(pov(scene).objects.len(), 3);
         for i in 0..50 {
-            let seen = wood.eval(glam::Vec3::new(i as f32 * 0.013, i as f32 * 0.007, 0.0)) / 0.6;
+            let seen = wood.eval(glam::Vec3::new(i as f32 * 0.013, i as f32 * 0.007, 0.0));
             // Between <0.3, 0.1, 0.05> and <0.25, 0.07, 0.038>.
             assert!(seen.x >= 0.25 - 1e-5 && seen.x <= 0.3 + 1e-5, "{seen}");
             assert!(seen.z >= 0.038 - 1e-5 && seen.z <= 0.05 + 1e-5, "{seen}");
