@@ -122,36 +122,42 @@ pub fn component(colour: &[f64; 5], channel: usize) -> f64 {
 /// POV-Ray's colour function (`function { pigment { } }`): its pigment, compiled once.
 #[derive(Debug, Clone)]
 pub struct ColourFunction {
-    /// The pigment as the scene gives it (which equality compares: a compiled texture has none).
-    pub pigment: TextureNode,
-    texture: Texture,
-    filter: f32,
-    transmit: f32,
+    /// The pigment as the scene gives it: its colour, filter and filter + transmit (which
+    /// equality compares: a compiled texture has none).
+    pub pigment: [TextureNode; 3],
+    textures: [Texture; 3],
 }
 
 impl PartialEq for ColourFunction {
     fn eq(&self, other: &Self) -> bool {
-        (&self.pigment, self.filter, self.transmit)
-            == (&other.pigment, other.filter, other.transmit)
+        self.pigment == other.pigment
     }
 }
 
 impl ColourFunction {
-    /// Compiles the pigment `pigment` (with its filter and transmit); `load` reads its images.
+    /// Compiles the pigment of colour `colour`, `filter` and `through` (filter + transmit,
+    /// grey); `load` reads its images.
     pub fn new(
-        pigment: TextureNode,
-        filter: f32,
-        transmit: f32,
+        colour: TextureNode,
+        filter: TextureNode,
+        through: TextureNode,
         load: &mut dyn FnMut(&std::path::Path) -> Result<Arc<ImageMap>, ImageMapError>,
     ) -> Result<ColourFunction, ImageMapError> {
-        let texture = Texture::new(&pigment, load)?;
-        Ok(ColourFunction { pigment, texture, filter, transmit })
+        let textures = [
+            Texture::new(&colour, load)?,
+            Texture::new(&filter, load)?,
+            Texture::new(&through, load)?,
+        ];
+        Ok(ColourFunction { pigment: [colour, filter, through], textures })
     }
 
     /// POV-Ray's colour <red, green, blue, filter, transmit> at `p`.
     pub fn colour(&self, p: Vec3) -> [f64; 5] {
-        let rgb = self.texture.eval(p).as_dvec3();
-        [rgb.x, rgb.y, rgb.z, f64::from(self.filter), f64::from(self.transmit)]
+        let [colour, filter, through] = &self.textures;
+        let rgb = colour.eval(p).as_dvec3();
+        let filter = f64::from(filter.eval(p).x);
+        let through = f64::from(through.eval(p).x);
+        [rgb.x, rgb.y, rgb.z, filter, through - filter]
     }
 }
 

@@ -214,7 +214,7 @@ pub enum LightForm {
 pub struct MaterialDesc {
     /// The declared name, if it came from `#declare Name = material {...}`; for messages.
     pub name: Option<String>,
-    /// kd: a colour or a procedural texture.
+    /// kd: a colour or a procedural texture; under a POV-Ray `pigment`, its colour.
     pub diffuse: TextureNode,
     pub specular: Vec3,
     pub transmission: Vec3,
@@ -235,7 +235,35 @@ pub struct MaterialDesc {
     /// The beam that shapes `emission`, if any; `emission` is then the intensity per unit area
     /// on its axis.
     pub beam: Option<BeamDesc>,
+    /// A POV-Ray patterned pigment (`.pov`): the lobes' shares are then made at each point
+    /// from its colour (`diffuse`), filter and transmit there, and `specular`, `transmission`
+    /// and `coat` are made there too.
+    pub pigment: Option<PigmentDesc>,
     pub span: Span,
+}
+
+/// A POV-Ray pigment's transparency over a surface, and the finish that shares the light at
+/// each point with it (`material::pov_shares`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PigmentDesc {
+    /// POV-Ray's `filter` (light through, tinted by the colour), grey.
+    pub filter: TextureNode,
+    /// `filter` + `transmit`: all the light through, grey.
+    pub through: TextureNode,
+    pub finish: PovFinish,
+}
+
+/// What of a POV-Ray finish the light at a point is shared between, with the pigment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PovFinish {
+    /// `diffuse`: the Lambertian share of the pigment's opaque part.
+    pub diffuse: f32,
+    /// `reflection`'s mirror, before the pigment tints it.
+    pub reflection: Vec3,
+    /// `metallic`: the pigment tints the reflection.
+    pub metallic: bool,
+    /// The highlights' coat (`MaterialDesc::coat`).
+    pub coat: f32,
 }
 
 /// A homogeneous participating medium, its coefficients per unit length of scene space
@@ -284,6 +312,7 @@ impl MaterialDesc {
             normal: None,
             interior: None,
             beam: None,
+            pigment: None,
             span,
         }
     }

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use raydiance::camera::Camera;
-use raydiance::graph::{SceneGraph, ShapeNode};
+use raydiance::graph::{Pattern, SceneGraph, ShapeNode};
 use raydiance::lang::parse_scene;
 
 fn pov(text: &str) -> SceneGraph {
@@ -303,8 +303,13 @@ fn sky_sphere_is_read_with_its_pigment_transforms_and_emission() {
     assert!(second.contains(":2:1:") && second.contains("a second sky_sphere"), "{second}");
     let misplaced = pov_error("sky_sphere { finish { diffuse 1 } }");
     assert!(misplaced.contains(":1:14:") && misplaced.contains("in a sky_sphere"), "{misplaced}");
-    let layered = pov("sky_sphere { pigment { rgb 1 } pigment { rgb 0.5 } }");
-    assert!(layered.warnings.iter().any(|w| w.contains("2 pigment layers")), "{layered:?}");
+    // Layers: a see-through top shows a quarter of the white under it; an opaque one covers it.
+    let layered = pov("sky_sphere { pigment { rgb 1 } pigment { rgbt <0, 0, 1, 0.25> } }");
+    let pigment = &layered.sky.expect("a sky").pigment.pattern;
+    assert!(matches!(pigment, Pattern::Solid(c) if close(*c, Vec3::new(0.25, 0.25, 1.0))));
+    let covered = pov("sky_sphere { pigment { rgb 1 } pigment { rgb 0.5 } }");
+    let pigment = &covered.sky.expect("a sky").pigment.pattern;
+    assert!(matches!(pigment, Pattern::Solid(c) if close(*c, Vec3::splat(0.5))));
 
     let scn = parse_scene(Path::new("tests/inline.scn"), "sky_sphere { pigment { rgb 1 } }")
         .map(|_| ())

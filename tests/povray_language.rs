@@ -142,19 +142,17 @@ fn color_maps_take_every_form_povray_writes() {
         (1.0, Vec3::new(1.0, 0.0, 0.5)),
     ];
     assert_eq!(gradient_map(&graph), expected);
-    // An entry's filter or transmit is dropped with a warning naming it.
+    // An entry's filter and transmit are kept, interpolated as the colour is.
     let graph = pov(
         "sphere { 0, 1 pigment { gradient y color_map { [0 rgbt <1, 1, 1, 0.5>] [1 rgb 0] } } }",
     );
     assert_eq!(gradient_map(&graph)[0], (0.0, Vec3::ONE));
-    assert!(
-        graph
-            .warnings
-            .iter()
-            .any(|w| w.starts_with("tests/inline.pov:1:51:") && w.contains("`transmit`")),
-        "{:?}",
-        graph.warnings
-    );
+    assert!(graph.warnings.is_empty(), "{:?}", graph.warnings);
+    let material = graph.objects[0].material.clone().expect("a material");
+    let through = &material.pigment.as_ref().expect("a see-through pigment").through;
+    let through = Texture::new(through, &mut |_| unreachable!("no image")).unwrap();
+    assert_eq!(through.eval(Vec3::ZERO), Vec3::splat(0.5));
+    assert_eq!(through.eval(Vec3::new(0.0, 0.5, 0.0)), Vec3::splat(0.25));
 }
 
 #[test]
@@ -243,7 +241,8 @@ fn layered_textures_show_the_lower_layer_through_the_upper_with_a_warning() {
                      sphere { 0, 1 texture { pigment { rgb <1, 0, 0> } } \
                      texture { pigment { rgb <0, 0, 1> } } }\n\
                      #declare T = texture { pigment { rgb <0, 1, 0> } } texture { pigment { rgbf <1, 1, 1, 1> } }\n\
-                     sphere { 0, 1 texture { T } }");
+                     sphere { 0, 1 texture { T } }\n\
+                     sphere { 0, 1 texture { pigment { rgb 1 } finish { phong 1 } } texture { pigment { rgbt 0.5 } } }");
     let albedo = |n: usize| {
         let diffuse = graph.objects[n].material.clone().expect("a material").diffuse.clone();
         let texture = Texture::new(&diffuse, &mut |_| unreachable!("no image")).unwrap();
@@ -255,10 +254,11 @@ fn layered_textures_show_the_lower_layer_through_the_upper_with_a_warning() {
     assert_eq!(albedo(1), Vec3::new(0.0, 0.0, 0.6));
     // A clear top layer shows all of the declared green under it.
     assert_eq!(albedo(2), Vec3::new(0.0, 0.6, 0.0));
+    // Where the layers' finishes differ, the top one's applies to both, with a warning.
     let layered: Vec<_> =
         graph.warnings.iter().filter(|w| w.contains("layered `texture`")).collect();
-    assert_eq!(layered.len(), 2, "{:?}", graph.warnings);
-    assert!(layered[0].starts_with("tests/inline.pov:1:53:"), "{layered:?}");
+    assert_eq!(layered.len(), 1, "{:?}", graph.warnings);
+    assert!(layered[0].starts_with("tests/inline.pov:5:64:"), "{layered:?}");
 }
 
 #[test]

@@ -44,10 +44,8 @@ pub(super) fn direct_from_environment(
         return Vec3::ZERO;
     };
     let ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
-    if scene.occluded(&ray, f32::INFINITY) {
-        return Vec3::ZERO;
-    }
-    sample.weight * sky.le(sample.wi) * power_heuristic(sample.pdf, sky.pdf(sample.wi))
+    let reached = scene.transmittance(&ray, f32::INFINITY);
+    reached * sample.weight * sky.le(sample.wi) * power_heuristic(sample.pdf, sky.pdf(sample.wi))
 }
 
 impl SampleIntegrator for Direct {
@@ -88,8 +86,8 @@ impl SampleIntegrator for Direct {
                         shadows.set_lane(lane, shadowed);
                     }
                 }
-                for lane in shadows.open(scene) {
-                    lit[lane] += shadows.radiance[lane];
+                for (lane, reached) in shadows.reached(scene).into_iter().enumerate() {
+                    lit[lane] += reached;
                 }
             }
             for (lane, lit) in lit.into_iter().enumerate() {
@@ -289,9 +287,7 @@ pub(super) fn lit_one_at_a_time(
 ) -> Vec3 {
     let mut lit = Vec3::ZERO;
     for (shadow, reflected) in light_samples(scene, vertex, lobes, sampler).flatten() {
-        if !scene.occluded(&shadow.ray, shadow.t_max) {
-            lit += reflected;
-        }
+        lit += reflected * scene.transmittance(&shadow.ray, shadow.t_max);
     }
     lit
 }

@@ -103,10 +103,10 @@ impl MissedLight {
                         };
                         let cos = hit.shading_normal.dot(sample.wi).abs();
                         let li = f * sample.li * cos * weight / sample.pdf;
-                        if li != Vec3::ZERO
-                            && !scene.occluded(&sample.shadow.ray, sample.shadow.t_max)
-                        {
-                            path.radiance += path.beta * li;
+                        if li != Vec3::ZERO {
+                            let reached =
+                                scene.transmittance(&sample.shadow.ray, sample.shadow.t_max);
+                            path.radiance += path.beta * li * reached;
                         }
                     }
                 }

@@ -214,13 +214,27 @@ impl ShadowLanes {
         self.radiance[lane] = radiance;
     }
 
-    /// The lanes whose shadow ray is unoccluded.
-    fn open(&self, scene: &Scene) -> impl Iterator<Item = usize> + use<> {
-        let mut open = 0;
-        if self.found.any() {
-            open = (self.found & !scene.occluded_lanes(&self.rays, self.t_max)).bitmask();
+    /// The radiance each lane's shadow ray brings: its light sample's, times the fraction that
+    /// reaches it (`Scene::transmittance`); nothing for a lane without one.
+    fn reached(&self, scene: &Scene) -> [Vec3; LANES] {
+        let mut reached = [Vec3::ZERO; LANES];
+        if !self.found.any() {
+            return reached;
         }
-        (0..LANES).filter(move |&lane| open & (1 << lane) != 0)
+        let lanes = (0..LANES).filter(|&lane| self.found.lane(lane));
+        if scene.has_see_through() {
+            for lane in lanes {
+                let ray = self.rays.lane(lane);
+                reached[lane] =
+                    self.radiance[lane] * scene.transmittance(&ray, self.t_max.lane(lane));
+            }
+            return reached;
+        }
+        let open = !scene.occluded_lanes(&self.rays, self.t_max);
+        for lane in lanes.filter(|&lane| open.lane(lane)) {
+            reached[lane] = self.radiance[lane];
+        }
+        reached
     }
 }
 

@@ -100,10 +100,8 @@ impl SampleIntegrator for Path {
         loop {
             let hit = scene.intersect(&path.ray);
             let bounce = self.bounce(scene, &mut path, hit, sampler);
-            if let Some((shadow, li)) = bounce.shadowed
-                && !scene.occluded(&shadow.ray, shadow.t_max)
-            {
-                path.radiance += li;
+            if let Some((shadow, li)) = bounce.shadowed {
+                path.radiance += li * scene.transmittance(&shadow.ray, shadow.t_max);
             }
             if !bounce.continues {
                 return path.radiance;
@@ -141,9 +139,9 @@ impl SampleIntegrator for Path {
                 }
                 done[lane] = !bounce.continues;
             }
-            for lane in shadows.open(scene) {
+            for (lane, reached) in shadows.reached(scene).into_iter().enumerate() {
                 if let Some(path) = lanes.path_mut(lane) {
-                    path.state.radiance += shadows.radiance[lane];
+                    path.state.radiance += reached;
                 }
             }
             for (lane, _) in done.iter().enumerate().filter(|(_, done)| **done) {
@@ -200,7 +198,15 @@ impl Path {
         };
         path.beta *= sample.weight;
         path.eta_scale *= sample.eta * sample.eta;
-        path.previous = (!sample.is_delta()).then_some((hit.point, sample.pdf));
+        // Light straight through the surface (`Material::passes_straight`) is a crossing, not
+        // a bounce: shadow rays cross it too, so what the path finds beyond is weighed against
+        // the light sample of the vertex before, as if the surface were not there.
+        let crossed = sample.flags.contains(LobeFlags::TRANSMISSION)
+            && sample.is_delta()
+            && material.passes_straight();
+        if !crossed {
+            path.previous = (!sample.is_delta()).then_some((hit.point, sample.pdf));
+        }
         path.seen &= sample.is_delta();
         path.ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
         if !path.survives_roulette(sampler) {

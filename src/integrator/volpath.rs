@@ -17,11 +17,7 @@ use crate::geometry::{Hit, Ray, offset_origin};
 use crate::light::ShadowRay;
 use crate::medium::Flight;
 use crate::sampling::Sampler;
-use crate::scene::Scene;
-
-/// The most surfaces that only bound a medium a ray may cross in a row: more is a ray caught
-/// between coincident surfaces, which ends (a bound, not a cut of any real scene's paths).
-const MOST_CROSSINGS: u32 = 256;
+use crate::scene::{MOST_CROSSINGS, Scene};
 
 impl Path {
     /// The radiance arriving along `ray` in a scene with media; camera rays start in the
@@ -125,7 +121,8 @@ impl Path {
 
 /// The fraction of light that travels the shadow ray from its end to its origin, which lies
 /// in `medium`: zero if an opaque surface is in the way, else the product of the
-/// transmittances of the media along it, crossing surfaces that only bound a medium.
+/// transmittances of the media along it and of the surfaces that let light straight through
+/// (`Scene::passes`: those that only bound a medium pass all).
 fn transmittance(scene: &Scene, shadow: &ShadowRay, mut medium: Option<u32>) -> Vec3 {
     let dir = Vec3::from(shadow.ray.dir);
     let mut ray = shadow.ray;
@@ -138,8 +135,9 @@ fn transmittance(scene: &Scene, shadow: &ShadowRay, mut medium: Option<u32>) -> 
             reached *= medium.transmittance(&ray, hit.map_or(left, |hit| hit.t));
         }
         let Some(hit) = hit else { return reached };
-        if !scene.only_bounds(&hit) {
-            return Vec3::ZERO;
+        reached *= scene.passes(&hit);
+        if reached == Vec3::ZERO {
+            return reached;
         }
         medium = scene.medium_towards(&hit, dir);
         let origin = offset_origin(&hit, dir);

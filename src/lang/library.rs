@@ -121,11 +121,11 @@ const FUNCTIONS_LEFT_OUT: [&str; 68] = [
 /// and a scene is likely to name it: said where a scene names it and nothing declares it.
 pub fn left_out(name: &str) -> Option<&'static str> {
     match name {
-        "P_Cloud1" | "S_Cloud5" | "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1"
-        | "O_Cloud2" => Some(
-            "POV-Ray's skies.inc declares it with transparent colours in a color_map, which \
-             raydiance's pigments do not have: raydiance's skies.inc leaves it out (it has \
-             P_Cloud2 to P_Cloud4 and S_Cloud1 to S_Cloud4)",
+        "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1" | "O_Cloud2" => Some(
+            "POV-Ray's skies.inc declares it to glow (`ambient` without `diffuse`) through \
+             transparent colours, and raydiance's glow is one colour over a whole surface: \
+             raydiance's skies.inc leaves it out (it has P_Cloud1 to P_Cloud4 and S_Cloud1 to \
+             S_Cloud5)",
         ),
         "Starfield1" | "Starfield2" | "Starfield3" | "Starfield4" | "Starfield5" | "Starfield6" => {
             Some(
@@ -155,6 +155,8 @@ pub fn left_out(name: &str) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use std::path::Path;
+
+    use crate::graph::MaterialDesc;
 
     const NAMES: [&str; 35] = [
         "ash.map",
@@ -293,6 +295,11 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
         // A ruby glass passes red.
         let ruby = &materials[3].transmission;
         assert!(ruby.x > 4.0 * ruby.y, "{ruby}");
+        // The interiors fade to black over their fade_distance: sigma_a = 1 / distance.
+        let absorption = |m: &MaterialDesc| m.interior.as_ref().map(|i| i.absorption);
+        assert_eq!(absorption(&materials[0]), Some(glam::Vec3::ONE), "I_Glass1: 1");
+        assert_eq!(absorption(&materials[2]), Some(glam::Vec3::splat(0.5)), "I_Glass_Exp(2)");
+        assert_eq!(absorption(&materials[3]), Some(glam::Vec3::ONE), "I_Glass_Caustics2: 1");
     }
 
     #[test]
@@ -332,14 +339,14 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
 
     #[test]
     fn names_the_library_leaves_out_are_refused_with_the_reason() {
-        for (name, why) in [("S_Cloud5", "transparent colours"), ("f_bicorn", "internal functions")]
+        for (name, why) in [("T_Cloud2", "transparent colours"), ("f_bicorn", "internal functions")]
         {
-            let text = format!("#include \"skies.inc\"\nsky_sphere {{ {name} }}");
+            let text = format!("#include \"skies.inc\"\nsphere {{ 0, 1 texture {{ {name} }} }}");
             let error = crate::lang::parse_scene(Path::new("library.pov"), &text)
                 .map(|_| ())
                 .unwrap_err()
                 .to_string();
-            assert!(error.contains(":2:14:") && error.contains(why), "{error}");
+            assert!(error.contains(":2:25:") && error.contains(why), "{error}");
         }
         // A scene's own declaration of the name is its own.
         let own =
@@ -449,7 +456,7 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
     #[test]
     fn woodmaps_inc_s_maps_hold_povray_s_colours() {
         // Halfway along M_Wood1A's blend from <0.88, 0.6, 0.4> at 0.1 to <0.6, 0.3, 0.2> at 0.9;
-        // M_Wood2A's colours are POV-Ray's halved; M_Wood19B's clear white is opaque here.
+        // M_Wood2A's colours are POV-Ray's halved; M_Wood19B's clear part is white (`rgbf 1`).
         for (map, at, expected) in [
             ("M_Wood1A", 0.5, glam::Vec3::new(0.74, 0.45, 0.3)),
             ("M_Wood2A", 0.05, glam::Vec3::new(0.175, 0.08, 0.06)),
@@ -458,14 +465,15 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
             let scene = format!(
                 "#include \"woodmaps.inc\"\nsphere {{ 0, 1 pigment {{ gradient x color_map {{ {map} }} }} }}"
             );
-            let seen = object_texture(&scene).eval(glam::Vec3::new(at, 0.0, 0.0)) / 0.6;
+            let seen = object_texture(&scene).eval(glam::Vec3::new(at, 0.0, 0.0));
             assert!((seen - expected).abs().max_element() < 1e-5, "{map} at {at}: {seen}");
         }
     }
 
     #[test]
-    fn woods_inc_s_textures_are_their_base_grain_in_its_colours() {
-        // T_Wood2 is M_Wood2A's dark browns, red from 0.175 to 0.23; T_Wood34 is T_Wood32.
+    fn woods_inc_s_textures_are_their_base_grain_under_a_see_through_grain() {
+        // T_Wood2's base is M_Wood2A's dark browns, red from 0.175 to 0.23, under M_Wood2B's
+        // see-through browns (red 0.5): where the top lets light through the base shows.
         let two = object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood2 } }");
         let rosewood =
             object_texture("#include \"woods.inc\"\nsphere { 0, 1 texture { T_Wood32 } }");
@@ -474,18 +482,21 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
         let grain = object_texture(
             "#include \"woods.inc\"\nsphere { 0, 1 pigment { P_WoodGrain2A color_map { M_Wood2A } } }",
         );
-        let mut reds = Vec::new();
+        let (mut reds, mut layered, mut onion) = (Vec::new(), 0, 0);
         for i in 0..50 {
             let p = glam::Vec3::new(i as f32 * 0.037, (i % 7) as f32 * 0.05, i as f32 * 0.1);
-            let seen = two.eval(p) / 0.6;
-            assert!(seen.x >= 0.175 - 1e-5 && seen.x <= 0.23 + 1e-5, "{seen} at {p}");
-            assert!(seen.x > seen.y && seen.y > seen.z - 1e-5, "brown: {seen}");
-            reds.push(seen.x);
-            assert_eq!(orange.eval(p), rosewood.eval(p));
-            assert_eq!(grain.eval(p), two.eval(p));
+            let base = grain.eval(p);
+            assert!(base.x >= 0.175 - 1e-5 && base.x <= 0.23 + 1e-5, "{base} at {p}");
+            assert!(base.x > base.y && base.y > base.z - 1e-5, "brown: {base}");
+            reds.push(base.x);
+            let seen = two.eval(p);
+            assert!(seen.x >= 0.175 - 1e-5 && seen.x <= 0.5 + 1e-5, "{seen} at {p}");
+            layered += usize::from((seen - base).abs().max_element() > 1e-3);
+            onion += usize::from(orange.eval(p) != rosewood.eval(p));
         }
         let (low, high) = reds.iter().fold((1f32, 0f32), |(l, h), r| (l.min(*r), h.max(*r)));
         assert!(high - low > 0.02, "the grain shows: reds {low} to {high}");
+        assert!(layered > 0 && onion > 0, "the top layers show: {layered}, {onion}");
     }
 
     /// The outward unit normals of a solid's faces, and their distances from the origin.
@@ -640,7 +651,7 @@ Near(VMax(<1, 7, 3>), 7, "vmax")
             let scene = format!(
                 "#include \"{file}\"\nsphere {{ 0, 1 pigment {{ gradient x color_map {{ {map} }} }} }}"
             );
-            let seen = object_texture(&scene).eval(glam::Vec3::new(0.0, 0.0, 0.0)) / 0.6;
+            let seen = object_texture(&scene).eval(glam::Vec3::new(0.0, 0.0, 0.0));
             assert!((seen - first).abs().max_element() < 1e-5, "{map}: {seen}");
         }
         for file in NAMES.iter().filter(|name| name.ends_with(".map")) {
@@ -657,7 +668,7 @@ Near(VMax(<1, 7, 3>), 7, "vmax")
                      sphere { 0, 1 pigment { Sapphire_Agate } }\nsphere { 0, 1 texture { New_Brass } }";
         assert_eq!(pov(scene).objects.len(), 3);
         for i in 0..50 {
-            let seen = wood.eval(glam::Vec3::new(i as f32 * 0.013, i as f32 * 0.007, 0.0)) / 0.6;
+            let seen = wood.eval(glam::Vec3::new(i as f32 * 0.013, i as f32 * 0.007, 0.0));
             // Between <0.3, 0.1, 0.05> and <0.25, 0.07, 0.038>.
             assert!(seen.x >= 0.25 - 1e-5 && seen.x <= 0.3 + 1e-5, "{seen}");
             assert!(seen.z >= 0.038 - 1e-5 && seen.z <= 0.05 + 1e-5, "{seen}");

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::eval::{Finish, Look, Pigment};
+use super::eval::{Finish, Look, Pigment, Stop};
 use super::syntax::MacroDef;
 use crate::graph::{MaterialDesc, ObjectNode, SkyDesc, TextureNode};
 
@@ -36,8 +36,8 @@ pub enum Value {
     Normal(Option<Arc<crate::graph::NormalNode>>),
     /// A declared `media` (`.pov`).
     Media(Arc<crate::graph::MediumDesc>),
-    /// A declared `color_map` (`.pov`): positions and colours.
-    ColorMap(Arc<Vec<(f32, glam::Vec3)>>),
+    /// A declared `color_map` (`.pov`): its stops.
+    ColorMap(Arc<Vec<Stop>>),
     /// A declared camera's parameters (`.pov`).
     Camera(Arc<super::eval::CameraParams>),
     /// A declared `sky_sphere` (`.pov`).

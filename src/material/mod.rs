@@ -10,10 +10,12 @@ mod flags;
 mod fresnel;
 pub mod lobe;
 mod microfacet;
+mod pov_shares;
 
 pub use bsdf::{Bsdf, BsdfSample, NEAR_SPECULAR_ROUGHNESS, NO_DIRECTION, TransportMode};
 pub use flags::LobeFlags;
 pub use fresnel::{Split, fresnel_dielectric, refract};
+pub use pov_shares::{Shares, pov_shares};
 
 use glam::Vec3;
 
@@ -115,6 +117,25 @@ impl Material {
                 Some(Lobe::Lambertian(Lambertian { reflectance: self.diffuse }))
             }
             None => None,
+        }
+    }
+
+    /// Whether light crosses it straight, unbent, where it transmits: a smooth transmission at
+    /// ior 1 (POV-Ray's filter and transmit without an interior's ior; pbrt's interface
+    /// material). Shadow rays cross it, weighted by `transmission` (`Scene::transmittance`).
+    #[inline]
+    pub fn passes_straight(&self) -> bool {
+        self.ior == 1.0 && self.roughness == 0.0 && !self.fresnel
+    }
+
+    /// Takes the lobes' shares at a point (a POV-Ray pigment's, `pov_shares`).
+    #[inline]
+    pub fn share(&mut self, shares: Shares) {
+        self.diffuse = shares.diffuse;
+        self.specular = shares.specular;
+        self.transmission = shares.transmission;
+        if let Some(coat) = &mut self.coat {
+            coat.strength = shares.coat;
         }
     }
 

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use super::{Primitive, Scene};
+use super::{Primitive, Scene, SurfaceTexture};
 use crate::aabb::Aabb;
 use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
@@ -19,13 +19,13 @@ use crate::geometry::{
 };
 use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
-    Pattern, SceneGraph, ShapeNode, compose,
+    SceneGraph, ShapeNode, compose,
 };
 use crate::light::{BeamSampler, Light, Spot, SpotProfile};
 use crate::material::Material;
 use crate::medium::{Density, HenyeyGreenstein, Medium};
 use crate::mesh::Mesh;
-use crate::texture::{Bump, ImageMap, Texture};
+use crate::texture::{Bump, ImageMap};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
 /// and at most this many of them (a box counting six), test rays traced in lanes against all
@@ -235,6 +235,10 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         ),
         few,
         few_holds_bounded,
+        see_through: flat
+            .materials
+            .iter()
+            .any(|m| m.passes_straight() && m.transmission.max_element() > 0.0),
         materials: flat.materials,
         textures: flat.textures,
         bumps: flat.bumps,
@@ -280,7 +284,7 @@ fn light_selection_cdf(lights: &[Light]) -> Vec<f32> {
 struct Flattener {
     primitives: Vec<Primitive>,
     materials: Vec<Material>,
-    textures: Vec<Option<Texture>>,
+    textures: Vec<Option<SurfaceTexture>>,
     /// Per material, its bump mapping (`Scene::bumps`).
     bumps: Vec<Option<Bump>>,
     images: HashMap<PathBuf, Arc<ImageMap>>,
@@ -560,7 +564,7 @@ impl Flattener {
             return Ok(index);
         }
         let texture = match desc {
-            Some(d) if !matches!(d.diffuse.pattern, Pattern::Solid(_)) => {
+            Some(d) => {
                 let images = &mut self.images;
                 // Keyed by the file itself, however the scene names it.
                 let mut load = |path: &Path| {
@@ -574,12 +578,11 @@ impl Flattener {
                         }
                     }
                 };
-                let texture = Texture::new(&d.diffuse, &mut load).map_err(|e| {
+                SurfaceTexture::new(d, &mut load).map_err(|e| {
                     SceneError::at(&d.span, format!("cannot read the image_map: {e}"))
-                })?;
-                Some(texture)
+                })?
             }
-            _ => None,
+            None => None,
         };
         if let Some(d) = desc {
             // Given but unused parameters are reported (warnings: the language allows them).

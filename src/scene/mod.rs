@@ -3,8 +3,10 @@
 
 mod build;
 mod sky;
+mod surface;
 
 pub use build::build;
+pub use surface::SurfaceTexture;
 
 use std::ops::Range;
 
@@ -13,14 +15,19 @@ use glam::{Affine3A, Vec3};
 use crate::aabb::Aabb;
 use crate::accel::{Bvh, Planes};
 use crate::camera::Camera;
-use crate::geometry::{Csg, FewShapes, Hit, Intersection, Nearest, Ray, Shape};
+use crate::geometry::{Csg, FewShapes, Hit, Intersection, Nearest, Ray, Shape, offset_origin};
 use crate::graph::Settings;
 use crate::lanes::{Floats, LANES, Lane, Mask, RayLanes, Wide};
 use crate::light::{Environment, Light};
 use crate::material::{Bsdf, Material, TransportMode};
 use crate::medium::Medium;
 use crate::sampling::Sampler;
-use crate::texture::{Bump, Texture, tilt};
+use crate::texture::{Bump, tilt};
+
+/// The most surfaces a ray may cross in a row without scattering (surfaces that only bound a
+/// medium, or let light straight through): more is a ray caught between coincident surfaces,
+/// which ends (a bound, not a cut of any real scene's paths).
+pub const MOST_CROSSINGS: u32 = 256;
 
 #[derive(Debug, Clone)]
 pub struct Primitive {
@@ -60,8 +67,10 @@ pub struct Scene {
     few: FewShapes,
     few_holds_bounded: bool,
     pub materials: Vec<Material>,
-    /// Per material, its `diffuse` texture when that is not a plain colour.
-    textures: Vec<Option<Texture>>,
+    /// Per material, what of it varies over the surface, if anything.
+    textures: Vec<Option<SurfaceTexture>>,
+    /// Whether some material lets light straight through somewhere (`transmittance`).
+    see_through: bool,
     /// Per material, its bump mapping, if any.
     bumps: Vec<Option<Bump>>,
     /// World to object space of each object, for textures.
@@ -178,6 +187,45 @@ impl Scene {
         Hit { primitive: name, ..primitive.shape.hit(ray, &found.at) }
     }
 
+    /// The fraction of light that travels the shadow ray from `t_max` to its origin: 0 where a
+    /// surface stops it, else the product of the transmissions of the surfaces that light
+    /// crosses straight (`Material::passes_straight`: POV-Ray's filter and transmit), each at
+    /// the point crossed. Paths cross them too without a bounce of their own (`Path::bounce`),
+    /// so the two estimators meet the same light.
+    pub fn transmittance(&self, ray: &Ray, t_max: f32) -> Vec3 {
+        if !self.see_through {
+            return if self.occluded(ray, t_max) { Vec3::ZERO } else { Vec3::ONE };
+        }
+        let dir = Vec3::from(ray.dir);
+        let (mut ray, mut left, mut reached) = (*ray, t_max, Vec3::ONE);
+        for _ in 0..=MOST_CROSSINGS {
+            let Some(hit) = self.intersect(&ray).filter(|hit| hit.t < left) else {
+                return reached;
+            };
+            reached *= self.passes(&hit);
+            if reached == Vec3::ZERO {
+                return reached;
+            }
+            let origin = offset_origin(&hit, dir);
+            left -= (origin - Vec3::from(ray.origin)).length();
+            ray = Ray::new(origin, dir);
+        }
+        Vec3::ZERO
+    }
+
+    /// The light `hit`'s surface lets straight through there: its transmission where it
+    /// `passes_straight`, else none.
+    pub fn passes(&self, hit: &Hit) -> Vec3 {
+        let material = self.material(hit.primitive, hit.point);
+        if material.passes_straight() { material.transmission } else { Vec3::ZERO }
+    }
+
+    /// Whether some material lets light straight through (`transmittance` then follows shadow
+    /// rays through the surfaces they cross).
+    pub fn has_see_through(&self) -> bool {
+        self.see_through
+    }
+
     /// Whether any surface lies along the ray before `t_max` (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let bounded = &self.primitives[..self.bounded];
@@ -238,15 +286,16 @@ impl Scene {
         crate::accel::prefetch(&self.primitives[leaf.start]);
     }
 
-    /// The material of `primitive` at `point` on it, with a textured `diffuse` evaluated there
-    /// in the object's own space (so patterns move with their objects).
+    /// The material of `primitive` at `point` on it, with what varies over its surface (a
+    /// textured `diffuse`, a POV-Ray pigment's transparency) evaluated there in the object's
+    /// own space (so patterns move with their objects).
     pub fn material(&self, primitive: u32, point: Vec3) -> Material {
         let primitive = &self.primitives[primitive as usize];
         let index = primitive.material as usize;
         let mut material = self.materials[index].clone();
         if let Some(texture) = &self.textures[index] {
             let p = self.frames[primitive.frame as usize].transform_point3(point);
-            material.diffuse = texture.eval(p);
+            texture.apply(&mut material, p);
         }
         material
     }

@@ -9,22 +9,15 @@ use glam::{DVec3, Vec3};
 use super::expression::single;
 use super::medium::Interior;
 use super::pattern::{PatternState, block_colours};
+use super::pigment::Pigment;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{MaterialDesc, NormalNode, Pattern, TextureNode};
+use crate::graph::{MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode};
 use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
 };
 use crate::lang::value::Value;
-
-/// A pigment: a colour or a pattern of colours, and how much light passes through its colour
-/// (POV-Ray's filter, tinted by the colour, and transmit, not tinted).
-#[derive(Debug, Clone)]
-pub struct Pigment {
-    pub colour: TextureNode,
-    pub filter: f32,
-    pub transmit: f32,
-}
+use crate::material::pov_shares;
 
 /// A finish, with POV-Ray's defaults for what is not given.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,7 +94,7 @@ impl Default for Look {
     /// POV-Ray's default texture: a black pigment and the default finish.
     fn default() -> Self {
         Look {
-            pigment: Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 },
+            pigment: Pigment::black(),
             finish: POV_FINISH,
             normal: None,
             interior: Interior::default(),
@@ -216,19 +209,25 @@ impl Evaluator {
     ) -> Result<(Pigment, Option<Finish>), SceneError> {
         let mut state = PigmentState { pigment: base.clone(), pattern: PatternState::default() };
         self.exec(items, &mut Body::Pigment(&mut state))?;
+        let transforms = state.pigment.colour.transforms.clone();
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
             // `pigment { P_Declared color_map { ... } }`: the declared pattern in new colours.
-            if let (Some(colours), Pattern::Field { map, .. }) =
-                (&state.pattern.color_map, &mut state.pigment.colour.pattern)
-                && !colours.is_empty()
+            if let (Some(stops), Pattern::Field { shape, .. }) =
+                (&state.pattern.color_map, &state.pigment.colour.pattern)
+                && !stops.is_empty()
             {
-                *map = colours.iter().map(|(t, c)| (*t, TextureNode::solid(*c))).collect();
+                let entries = stops.iter().map(|s| (s.position, Pigment::of_stop(s))).collect();
+                let shape = shape.clone();
+                let mut pigment =
+                    Pigment::mapped(entries, |map| Pattern::Field { shape: shape.clone(), map });
+                pigment.set_transforms(transforms);
+                return Ok((pigment, None));
             }
             return Ok((state.pigment, None));
         };
-        let (pattern, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
-        let colour = TextureNode { pattern, transforms: state.pigment.colour.transforms };
-        Ok((Pigment { colour, filter: 0.0, transmit: 0.0 }, finish))
+        let (mut pigment, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
+        pigment.set_transforms(transforms);
+        Ok((pigment, finish))
     }
 
     pub(super) fn pigment_item(
@@ -237,7 +236,7 @@ impl Evaluator {
         state: &mut PigmentState,
     ) -> Result<(), SceneError> {
         if let Item::Pattern { .. } = item {
-            state.pigment.colour.transforms.clear();
+            state.pigment.set_transforms(Vec::new());
         }
         if self.pattern_item(item, &mut state.pattern)? {
             return Ok(());
@@ -251,14 +250,13 @@ impl Evaluator {
                 other => {
                     let other = self.clamped_colour(other, &expr.span);
                     let (colour, filter, transmit) = pov_colour(other, &expr.span)?;
-                    state.pigment =
-                        Pigment { colour: TextureNode::solid(colour), filter, transmit };
+                    state.pigment = Pigment::solid(colour, filter, transmit);
                     state.pattern.word = None;
                 }
             },
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
-                state.pigment.colour.transforms.push(transform);
+                state.pigment.push_transform(transform);
             }
             _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
         }
@@ -361,7 +359,7 @@ impl Evaluator {
             Item::Appearance(a) => self.apply_appearance(a, look)?,
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
-                look.pigment.colour.transforms.push(transform);
+                look.pigment.push_transform(transform);
                 if let Some(normal) = &mut look.normal {
                     normal.transforms.push(transform);
                 }
@@ -414,83 +412,80 @@ impl Evaluator {
         clamped
     }
 
-    /// The material of a look (`docs/povray.md`): the pigment's opaque part × `diffuse` is the
-    /// Lambertian albedo; the highlights (`phong`, `specular`) a glossy dielectric coat over it
-    /// of their amount and width, or, on a `metallic` finish, the width of a metal's reflection;
-    /// `reflection` a mirror (tinted by the pigment when `metallic`); filter and transmit the
-    /// transmission through the interior's `ior`. Where the coated base (which scatters at most
-    /// the larger of its albedo and the coat's strength) and the rest sum to more than 1, all
-    /// are scaled down together. `ambient` is light only where `diffuse` is 0 (the object only
+    /// The material of a look (`docs/povray.md`): the highlights (`phong`, `specular`) are a
+    /// glossy dielectric coat over the Lambertian base of their amount and width, or, on a
+    /// `metallic` finish, the width of a metal's reflection; `reflection` a mirror; the
+    /// pigment's filter and transmit the transmission through the interior's `ior`; how they
+    /// share the light is `material::pov_shares`'s, made here for a plain pigment and at each
+    /// point of a patterned one. `ambient` is light only where `diffuse` is 0 (the object only
     /// glows); `emission` always is.
     pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
         let Look { pigment, finish, normal, interior } = look;
         let colour = pigment.colour.max_value();
-        let solid = matches!(pigment.colour.pattern, Pattern::Solid(_));
-        let opacity = (1.0 - pigment.filter - pigment.transmit).max(0.0);
-        let mut diffuse = finish.diffuse.max(0.0) * opacity;
+        let refracts = !pigment.is_opaque();
         let mut reflection = finish.reflection.max(Vec3::ZERO);
-        if finish.metallic {
-            reflection *= colour;
-        }
-        let mut transmission = pigment.filter * colour + Vec3::splat(pigment.transmit);
-        let refracts = transmission.max_element() > 0.0;
         // A metal's highlight is its own reflection's blur; elsewhere it is a coat.
         let (mut coat, mut roughness, mut coat_roughness) =
             (0.0, 0.0, MaterialDesc::DEFAULT_COAT_ROUGHNESS);
         match finish.highlight() {
             Some((amount, alpha)) if finish.metallic && !refracts => {
                 if reflection.max_element() <= 0.0 {
-                    reflection = amount.min(1.0) * colour;
+                    reflection = Vec3::splat(amount.min(1.0));
                 }
                 roughness = alpha;
             }
             Some((amount, alpha)) => (coat, coat_roughness) = (amount.min(1.0), alpha),
             None => {}
         }
-        let base = (diffuse * colour).max(Vec3::splat(coat));
-        let total = (base + reflection + transmission).max_element();
-        if total > 1.0 {
-            diffuse /= total;
-            coat /= total;
-            reflection /= total;
-            transmission /= total;
-        }
+        let pov_finish =
+            PovFinish { diffuse: finish.diffuse, reflection, metallic: finish.metallic, coat };
+        let plain = |node: &TextureNode| match node.pattern {
+            Pattern::Solid(c) => Some(c),
+            _ => None,
+        };
+        let (diffuse, shares, see_through) =
+            match (plain(&pigment.colour), plain(&pigment.filter), plain(&pigment.through)) {
+                (Some(c), Some(filter), Some(through)) => {
+                    let shares = pov_shares(&pov_finish, c, filter.x, through.x);
+                    (TextureNode::solid(shares.diffuse), shares, None)
+                }
+                // Made at each point; the description's own shares are those of its most
+                // coloured and most transparent point (for the scene's checks of what is used).
+                _ => {
+                    let shares = pov_shares(&pov_finish, colour, 0.0, pigment.most_through());
+                    let see_through = PigmentDesc {
+                        filter: pigment.filter.clone(),
+                        through: pigment.through.clone(),
+                        finish: pov_finish,
+                    };
+                    (pigment.colour.clone(), shares, Some(see_through))
+                }
+            };
         let glow =
             finish.emission + if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
         let emission = glow * colour;
         let at = self.here(span);
-        if emission != Vec3::ZERO && !solid {
+        if emission != Vec3::ZERO && plain(&pigment.colour).is_none() {
             self.warnings.push(format!(
                 "{at:?}: warning: a patterned pigment that glows emits its brightest colour \
                  everywhere"
             ));
         }
-        let diffuse_node = match &pigment.colour.pattern {
-            Pattern::Solid(c) => TextureNode::solid(*c * diffuse),
-            // node × diffuse, as a mix with black.
-            _ => TextureNode {
-                pattern: Pattern::Mix {
-                    a: Box::new(pigment.colour.clone()),
-                    b: Box::new(TextureNode::solid(Vec3::ZERO)),
-                    t: Box::new(TextureNode::solid(Vec3::splat(1.0 - diffuse))),
-                },
-                transforms: Vec::new(),
-            },
-        };
         Arc::new(MaterialDesc {
             name: None,
-            diffuse: diffuse_node,
-            specular: reflection,
-            transmission,
+            diffuse,
+            specular: shares.specular,
+            transmission: shares.transmission,
             ior: interior.ior,
             emission,
             fresnel: finish.fresnel,
             roughness,
-            coat,
+            coat: shares.coat,
             coat_roughness,
             normal: normal.clone(),
             interior: interior.medium(),
             beam: None,
+            pigment: see_through,
             span: at,
         })
     }

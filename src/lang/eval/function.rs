@@ -13,7 +13,7 @@ use crate::function::{
     Binary, Builder, ColourFunction, FloatFunction, GRAY, MAX_STACK, Op, PatternField,
     PigmentChannel, Unary,
 };
-use crate::graph::{Pattern, TextureNode, compose};
+use crate::graph::{Pattern, compose};
 use crate::lang::keywords::{Constant, Function};
 use crate::lang::syntax::{
     Appearance, BinaryOp, Call, Expr, ExprKind, FunctionBody, FunctionDef, Ident, UnaryOp,
@@ -44,10 +44,9 @@ impl Evaluator {
 
     /// The colour function of `pigment`, compiled (its images read).
     fn colour_function(&mut self, pigment: &Appearance) -> Result<Arc<ColourFunction>, SceneError> {
-        let black = Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 };
-        let made = self.pigment(pigment, &black)?;
+        let made = self.pigment(pigment, &Pigment::black())?;
         let mut load = |path: &Path| ImageMap::load(path).map(Arc::new);
-        let function = ColourFunction::new(made.colour, made.filter, made.transmit, &mut load)
+        let function = ColourFunction::new(made.colour, made.filter, made.through, &mut load)
             .map_err(|e| SceneError::at(&pigment.span, e.to_string()))?;
         Ok(Arc::new(function))
     }

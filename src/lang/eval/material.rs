@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::expression::colour_of;
 use super::pattern::PatternState;
-use super::{Body, Evaluator, Look, resolve};
+use super::{Body, Evaluator, Look, Stop, resolve};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
 use crate::lang::dialect::Dialect;
@@ -23,7 +23,7 @@ pub struct TextureState {
     /// `pattern { }`'s pattern and modifiers.
     pattern: PatternState,
     transforms: Vec<Transform>,
-    map: Option<Vec<(f32, Vec3)>>,
+    map: Option<Vec<Stop>>,
     axis: Option<Vec3>,
     octaves: Option<u32>,
     turbulence: Option<f32>,
@@ -200,6 +200,7 @@ impl Evaluator {
         let map = state
             .map
             .filter(|m| !m.is_empty())
+            .map(|stops| stops.iter().map(|s| (s.position, s.colour)).collect())
             .unwrap_or_else(|| vec![(0.0, Vec3::ZERO), (1.0, Vec3::ONE)]);
         let mut args = args.into_iter();
         let mut arg = || args.next().expect("the grammar gives the arguments");
@@ -221,7 +222,7 @@ impl Evaluator {
             TextureKind::Pattern => {
                 let (kind, arguments, at) =
                     state.pattern.word.clone().expect("the grammar gives the pattern first");
-                self.pattern_texture(kind, &arguments, &state.pattern, &at)?.0
+                self.pattern_texture(kind, &arguments, &state.pattern, &at)?.0.colour.pattern
             }
         };
         self.count_texture_nodes(1, &t.span)?;
@@ -314,7 +315,7 @@ impl Evaluator {
     pub(super) fn map_entry(
         &mut self,
         item: &Item,
-        entries: &mut Vec<(f32, Vec3)>,
+        entries: &mut Vec<Stop>,
     ) -> Result<(), SceneError> {
         let (position, colour, end) = match item {
             Item::MapEntry { position, colour, end } => (position, colour, end),
@@ -340,37 +341,26 @@ impl Evaluator {
         Ok(())
     }
 
-    /// A colour at a position of a color_map, after those before it. In `.pov` a colour's
-    /// filter and transmit are dropped with a warning: a map's colours are opaque here.
+    /// A colour at a position of a color_map, after those before it, with its filter and
+    /// transmit in `.pov`.
     fn map_stop(
         &mut self,
         position: &Expr,
         colour: &Colour,
-        entries: &mut Vec<(f32, Vec3)>,
+        entries: &mut Vec<Stop>,
     ) -> Result<(), SceneError> {
         let at = position.span.clone();
         let position = self.single(position)?;
-        let colour = match self.dialect {
-            Dialect::Scn => self.colour(colour)?,
-            Dialect::Pov => {
-                let (rgb, filter, transmit) = self.pov_colour(colour)?;
-                if filter + transmit > 0.0 && !self.warned_map_filter {
-                    self.warned_map_filter = true;
-                    let at = self.here(&colour.span);
-                    self.warnings.push(format!(
-                        "{at:?}: warning: `filter` and `transmit` in a color_map are not \
-                         rendered: the map's colours are opaque"
-                    ));
-                }
-                rgb
-            }
+        let (colour, filter, transmit) = match self.dialect {
+            Dialect::Scn => (self.colour(colour)?, 0.0, 0.0),
+            Dialect::Pov => self.pov_colour(colour)?,
         };
         // POV-Ray interpolates between positions outside [0, 1] too: they shape the map inside.
         let (low, high) = match self.dialect {
             Dialect::Scn => (0.0, 1.0),
             Dialect::Pov => (f32::MIN, f32::MAX),
         };
-        let previous = entries.last().map_or(low, |e| e.0);
+        let previous = entries.last().map_or(low, |e| e.position);
         if !(previous..=high).contains(&position) {
             let range = match self.dialect {
                 Dialect::Scn => "in [0, 1] and ",
@@ -381,7 +371,7 @@ impl Evaluator {
                 format!("color_map position {position} must be {range}not below the one before"),
             ));
         }
-        entries.push((position, colour));
+        entries.push(Stop { position, colour, filter, transmit });
         Ok(())
     }
 

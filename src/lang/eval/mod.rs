@@ -26,6 +26,7 @@ mod object;
 mod outline;
 mod patch;
 mod pattern;
+mod pigment;
 mod polynomial;
 mod prism;
 mod probe;
@@ -52,7 +53,7 @@ use crate::lang::dialect::Dialect;
 use crate::region::MAX_RESOLUTION;
 
 use appearance::PigmentState;
-pub use appearance::{Finish, Look, Pigment};
+pub use appearance::{Finish, Look};
 use array::element_index;
 pub use camera::CameraParams;
 pub use file_io::{MAX_FILES_OPENED, MAX_WRITTEN_BYTES};
@@ -61,6 +62,7 @@ pub use material::TextureState;
 pub use medium::Interior;
 use normal::NormalState;
 use pattern::MapState;
+pub use pigment::{Pigment, Stop};
 use scope::{Scope, Slot};
 
 /// Includes may nest this deep.
@@ -185,9 +187,6 @@ pub struct Evaluator {
     shapings: Vec<object::Shaping>,
     /// Folders searched for included files after the including file's (`--include-path`).
     include_path: Vec<PathBuf>,
-    /// `.pov`: whether the warning that a color_map's filter and transmit are not rendered has
-    /// been given.
-    warned_map_filter: bool,
     /// `.pov`: whether the warning that a pattern's textures share one finish has been given.
     warned_map_finish: bool,
     /// `.pov`: whether the warning that a surface's negative colour is clamped has been given.
@@ -210,7 +209,7 @@ pub enum Body<'a> {
     Object(&'a mut ObjectNode),
     Material(&'a mut crate::graph::MaterialDesc),
     Texture(&'a mut TextureState),
-    ColorMap(&'a mut Vec<(f32, Vec3)>),
+    ColorMap(&'a mut Vec<Stop>),
     /// POV-Ray's pigment, finish, texture (with `#default`) and interior's ior (`.pov`).
     Pigment(&'a mut PigmentState),
     /// POV-Ray's `normal { }` (both dialects).

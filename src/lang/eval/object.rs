@@ -4,15 +4,15 @@ use std::sync::Arc;
 
 use glam::{Mat3, Vec3};
 
+use super::Look;
 use super::expression::{single, single_vector};
 use super::transform::matrix_of;
 use super::{
     Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE,
     as_vector, resolve,
 };
-use super::{Look, Pigment};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{Below, CsgOp, ObjectNode, Pattern, ShapeNode, TextureNode, Transform, compose};
+use crate::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform, compose};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{self, AppearanceKind, Item, Shape, TransformKind};
 use crate::lang::value::Value;
@@ -495,31 +495,21 @@ impl Evaluator {
     }
 
     /// POV-Ray's layered textures: a `texture` over another shows the one under it through its
-    /// pigment's filter and transmit. Flattened into one look: the pigments are mixed by how
-    /// much the top lets through (with a warning), and the top's finish is kept; an opaque top
-    /// covers the layer under it, as in POV-Ray.
+    /// pigment's filter and transmit, point by point (`Pigment::over`). Flattened into one look:
+    /// the top one's finish applies to both (with a warning where the top lets light through);
+    /// an opaque top covers the layer under it, as in POV-Ray.
     pub(super) fn layer(&mut self, under: &Look, over: &mut Look, span: &Span) {
-        let through = (over.pigment.filter + over.pigment.transmit).clamp(0.0, 1.0);
-        if through == 0.0 {
+        if over.pigment.is_opaque() {
             return;
         }
-        let at = self.here(span);
-        self.warnings.push(format!(
-            "{at:?}: warning: layered `texture`: the layers' pigments are mixed by the top one's \
-             filter and transmit, and the top one's finish applies to both"
-        ));
-        over.pigment = Pigment {
-            colour: TextureNode {
-                pattern: Pattern::Mix {
-                    a: Box::new(under.pigment.colour.clone()),
-                    b: Box::new(over.pigment.colour.clone()),
-                    t: Box::new(TextureNode::solid(Vec3::splat(1.0 - through))),
-                },
-                transforms: Vec::new(),
-            },
-            filter: under.pigment.filter * through,
-            transmit: under.pigment.transmit * through,
-        };
+        if under.finish != over.finish {
+            let at = self.here(span);
+            self.warnings.push(format!(
+                "{at:?}: warning: layered `texture`: the layers differ in their finish; the top \
+                 one's applies to both"
+            ));
+        }
+        over.pigment = over.pigment.over(&under.pigment);
     }
 
     pub(super) fn transform(&mut self, t: &syntax::Transform) -> Result<Transform, SceneError> {

@@ -6,13 +6,13 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::appearance::{Finish, Pigment};
+use super::appearance::Finish;
+use super::pigment::{Pigment, Stop};
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::function::FloatFunction;
 use crate::graph::{
-    Field, FieldShape, NormalNode, Pattern, PatternFunction, SlopeMap, TextureMap, TextureNode,
-    Turbulence, Warp, Wave,
+    Field, FieldShape, NormalNode, Pattern, PatternFunction, SlopeMap, Turbulence, Warp, Wave,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
@@ -28,7 +28,8 @@ pub struct MapState {
     pub kind: MapKind,
     /// `average`'s map: positions are weights (> 0), in any order.
     pub weights: bool,
-    pub textures: TextureMap,
+    /// A pigment or texture map's pigments.
+    pub textures: Vec<(f32, Pigment)>,
     pub normals: Vec<(f32, NormalNode)>,
     pub slopes: SlopeMap,
     /// A `.pov` texture_map's textures' one finish.
@@ -56,7 +57,7 @@ pub struct PatternState {
     /// The function pattern's compiled function.
     function: Option<Arc<FloatFunction>>,
     /// A `color_map`'s entries.
-    pub color_map: Option<Vec<(f32, Vec3)>>,
+    pub color_map: Option<Vec<Stop>>,
     /// A pigment, normal, texture or slope map: its kind, entries (read by the caller) and span.
     pub map: Option<(MapKind, Vec<Item>, Span)>,
 }
@@ -246,21 +247,22 @@ impl Evaluator {
         })
     }
 
-    /// The texture of the pattern `kind`: its value through its map (the color_map, a map of
-    /// textures, a block pattern's colours, or black to white), or `average`'s mean; and the
-    /// finish of a `.pov` texture_map's textures.
+    /// The pigment of the pattern `kind`: its value through its map (the color_map, a map of
+    /// pigments or textures, a block pattern's colours, or black to white), or `average`'s
+    /// mean, with the filter and transmit of the map's entries; and the finish of a `.pov`
+    /// texture_map's textures.
     pub(super) fn pattern_texture(
         &mut self,
         kind: PatternKind,
         arguments: &[Colour],
         state: &PatternState,
         at: &Span,
-    ) -> Result<(Pattern, Option<Finish>), SceneError> {
+    ) -> Result<(Pigment, Option<Finish>), SceneError> {
         let average = kind == PatternKind::Average;
         let mut finish = None;
-        let mut map: TextureMap = match (&state.color_map, &state.map) {
-            (Some(colours), _) if !colours.is_empty() => {
-                colours.iter().map(|(t, c)| (*t, TextureNode::solid(*c))).collect()
+        let mut map: Vec<(f32, Pigment)> = match (&state.color_map, &state.map) {
+            (Some(stops), _) if !stops.is_empty() => {
+                stops.iter().map(|s| (s.position, Pigment::of_stop(s))).collect()
             }
             (_, Some((map_kind, entries, span))) => match map_kind {
                 MapKind::Pigment | MapKind::Texture => {
@@ -281,7 +283,7 @@ impl Evaluator {
             if map.is_empty() {
                 return Err(SceneError::at(at, "`average` needs a map of what it averages"));
             }
-            return Ok((Pattern::Average(map), finish));
+            return Ok((Pigment::mapped(map, Pattern::Average), finish));
         }
         if map.is_empty() {
             map = match block_colours(kind) {
@@ -290,29 +292,34 @@ impl Evaluator {
                     let last = (defaults.len() - 1) as f32;
                     let mut entries = Vec::new();
                     for (i, default) in defaults.into_iter().enumerate() {
-                        let colour = match given.get(i) {
-                            Some(c) => self.dialect_colour(c)?,
-                            None => default,
+                        let pigment = match given.get(i) {
+                            Some(c) => self.dialect_pigment(c)?,
+                            None => Pigment::solid(default, 0.0, 0.0),
                         };
-                        entries.push((i as f32 / last, TextureNode::solid(colour)));
+                        entries.push((i as f32 / last, pigment));
                     }
                     entries
                 }
                 None => vec![
-                    (0.0, TextureNode::solid(Vec3::ZERO)),
-                    (1.0, TextureNode::solid(Vec3::ONE)),
+                    (0.0, Pigment::solid(Vec3::ZERO, 0.0, 0.0)),
+                    (1.0, Pigment::solid(Vec3::ONE, 0.0, 0.0)),
                 ],
             };
         }
-        let shape = self.field_shape(kind, arguments, state, at)?;
-        Ok((Pattern::Field { shape: Box::new(shape), map }, finish))
+        let shape = Box::new(self.field_shape(kind, arguments, state, at)?);
+        let pigment = Pigment::mapped(map, |map| Pattern::Field { shape: shape.clone(), map });
+        Ok((pigment, finish))
     }
 
-    /// A colour as the dialect reads it (`.pov`: filter and transmit dropped).
-    pub(super) fn dialect_colour(&mut self, colour: &Colour) -> Result<Vec3, SceneError> {
+    /// A block pattern's colour as the dialect reads it: with its filter and transmit in
+    /// `.pov`.
+    fn dialect_pigment(&mut self, colour: &Colour) -> Result<Pigment, SceneError> {
         match self.dialect {
-            Dialect::Scn => self.colour(colour),
-            Dialect::Pov => Ok(self.pov_colour(colour)?.0),
+            Dialect::Scn => Ok(Pigment::solid(self.colour(colour)?, 0.0, 0.0)),
+            Dialect::Pov => {
+                let (rgb, filter, transmit) = self.pov_colour(colour)?;
+                Ok(Pigment::solid(rgb, filter, transmit))
+            }
         }
     }
 
@@ -381,25 +388,15 @@ impl Evaluator {
         }
         match state.kind {
             MapKind::Pigment => {
-                let black =
-                    Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 };
-                let pigment = self.pigment_of(items, &black)?;
-                if pigment.filter + pigment.transmit > 0.0 && !self.warned_map_filter {
-                    self.warned_map_filter = true;
-                    let here = self.here(&at);
-                    self.warnings.push(format!(
-                        "{here:?}: warning: `filter` and `transmit` in a pigment_map are not \
-                         rendered: the map's pigments are opaque"
-                    ));
-                }
-                state.textures.push((position, pigment.colour));
+                let pigment = self.pigment_of(items, &Pigment::black())?;
+                state.textures.push((position, pigment));
             }
             MapKind::Texture => {
                 let node = match (self.dialect, items.as_slice()) {
-                    (Dialect::Scn, [Item::Texture(t)]) => self.texture(t)?,
+                    (Dialect::Scn, [Item::Texture(t)]) => Pigment::opaque(self.texture(t)?),
                     (Dialect::Scn, [Item::Value(expr)]) => {
                         let colour = Colour { value: expr.clone(), span: expr.span.clone() };
-                        self.texture_arg(&TextureArg::Colour(colour))?
+                        Pigment::opaque(self.texture_arg(&TextureArg::Colour(colour))?)
                     }
                     (Dialect::Scn, _) => {
                         return Err(SceneError::at(
@@ -423,7 +420,7 @@ impl Evaluator {
                                  everywhere and the normals are not rendered (said once a scene)"
                             ));
                         }
-                        look.pigment.colour
+                        look.pigment
                     }
                 };
                 state.textures.push((position, node));

@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use super::appearance::Pigment;
+use super::pigment::Pigment;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{SkyDesc, TextureNode};
@@ -28,26 +28,14 @@ impl Evaluator {
             emission: Vec3::ONE,
             span: self.here(span),
         };
-        let mut layers = 0;
-        for item in items {
-            if matches!(item, Item::Appearance(a) if a.kind == AppearanceKind::Pigment) {
-                layers += 1;
-            }
-        }
-        if layers > 1 {
-            self.warnings.push(format!(
-                "{:?}: warning: this sky_sphere has {layers} pigment layers; only the top one \
-                 (the last) is the sky: the layers under it are not seen through it",
-                sky.span
-            ));
-        }
         self.exec(items, &mut Body::Sky(&mut sky))?;
         Ok(sky)
     }
 
     /// An item of a `sky_sphere`: a declared sky (its pigment, transforms and emission, which
-    /// the items after it change), a pigment (its filter and transmit ignored: nothing lies
-    /// behind the sky), a transform, `emission`.
+    /// the items after it change), a pigment (a layer over the sky so far, which shows through
+    /// its filter and transmit, as POV-Ray layers them; the sky starts black, POV-Ray's default
+    /// background), a transform, `emission`.
     pub(super) fn sky_item(&mut self, item: &Item, sky: &mut SkyDesc) -> Result<(), SceneError> {
         match item {
             Item::Value(expr) => match self.value(expr)? {
@@ -63,8 +51,11 @@ impl Evaluator {
                 }
             },
             Item::Appearance(a) if a.kind == AppearanceKind::Pigment => {
-                let base = Pigment { colour: sky.pigment.clone(), filter: 0.0, transmit: 0.0 };
-                sky.pigment = self.pigment(a, &base)?.colour;
+                let layer = self.pigment(a, &Pigment::black())?;
+                sky.pigment = match layer.is_opaque() {
+                    true => layer.colour,
+                    false => layer.over(&Pigment::opaque(sky.pigment.clone())).colour,
+                };
             }
             Item::Transform(t) => sky.transforms.push(self.transform(t)?),
             Item::PovParam { key, value: Some(colour), .. } if key.name == "emission" => {

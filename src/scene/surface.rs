@@ -1,0 +1,60 @@
+//! The part of a material that varies over a surface, evaluated at each hit in the object's
+//! own space (`Scene::material`): the `diffuse` texture, or a POV-Ray pigment's colour with its
+//! filter and transmit, from which the lobes' shares are made there (`material::pov_shares`).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use crate::graph::{MaterialDesc, Pattern, PovFinish};
+use crate::material::{Material, pov_shares};
+use crate::texture::{ImageMap, ImageMapError, Texture};
+
+#[derive(Debug, Clone)]
+pub struct SurfaceTexture {
+    /// `diffuse`, or the pigment's colour.
+    colour: Texture,
+    pigment: Option<SeeThrough>,
+}
+
+/// A POV-Ray pigment's filter and filter + transmit, and its finish.
+#[derive(Debug, Clone)]
+struct SeeThrough {
+    filter: Texture,
+    through: Texture,
+    finish: PovFinish,
+}
+
+impl SurfaceTexture {
+    /// The textures of `desc`, if any part of it varies over the surface; `load` reads images.
+    pub fn new(
+        desc: &MaterialDesc,
+        load: &mut dyn FnMut(&Path) -> Result<Arc<ImageMap>, ImageMapError>,
+    ) -> Result<Option<SurfaceTexture>, ImageMapError> {
+        let pigment = match &desc.pigment {
+            Some(p) => Some(SeeThrough {
+                filter: Texture::new(&p.filter, load)?,
+                through: Texture::new(&p.through, load)?,
+                finish: p.finish,
+            }),
+            None if matches!(desc.diffuse.pattern, Pattern::Solid(_)) => return Ok(None),
+            None => None,
+        };
+        Ok(Some(SurfaceTexture { colour: Texture::new(&desc.diffuse, load)?, pigment }))
+    }
+
+    /// Fills in `material` at `p`, a point in the object's own space.
+    #[inline]
+    pub fn apply(&self, material: &mut Material, p: Vec3) {
+        let colour = self.colour.eval(p);
+        let Some(pigment) = &self.pigment else {
+            material.diffuse = colour;
+            return;
+        };
+        let grey = |texture: &Texture| texture.eval(p).dot(Vec3::splat(1.0 / 3.0));
+        let filter = grey(&pigment.filter);
+        let through = grey(&pigment.through);
+        material.share(pov_shares(&pigment.finish, colour, filter, through));
+    }
+}
