@@ -343,8 +343,8 @@ fn syntax_errors_in_pov_scenes_do_not_give_scn_advice() {
     assert!(error.contains("`sky_sphere`") && !error.contains("settings {"), "{error}");
     let error = pov_error("#if (1) background { rgb 1 } #end }");
     assert!(!error.contains("settings {"), "{error}");
-    let error = pov_error("height_field { png \"hills.png\" }");
-    assert!(error.contains("`height_field`") && error.contains("shape"), "{error}");
+    let error = pov_error("ovus { 1, 0.5 }");
+    assert!(error.contains("`ovus`") && error.contains("shape"), "{error}");
 }
 
 #[test]

@@ -4,6 +4,7 @@ pub mod bezier_patch;
 mod error;
 pub mod extrude;
 pub mod font;
+pub mod height_field;
 mod obj;
 mod ply;
 

@@ -40,7 +40,10 @@ impl Evaluator {
     }
 
     /// The colour function of `pigment`, compiled (its images read).
-    fn colour_function(&mut self, pigment: &Appearance) -> Result<Arc<ColourFunction>, SceneError> {
+    pub(super) fn colour_function(
+        &mut self,
+        pigment: &Appearance,
+    ) -> Result<Arc<ColourFunction>, SceneError> {
         let black = Pigment { colour: TextureNode::solid(Vec3::ZERO), filter: 0.0, transmit: 0.0 };
         let made = self.pigment(pigment, &black)?;
         let mut load = |path: &Path| ImageMap::load(path).map(Arc::new);

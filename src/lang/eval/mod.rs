@@ -16,6 +16,7 @@ mod camera;
 mod expression;
 mod file_io;
 mod function;
+mod height_field;
 mod isosurface;
 mod julia;
 mod light;
@@ -30,6 +31,7 @@ mod polynomial;
 mod prism;
 mod scope;
 mod sky;
+mod sphere_sweep;
 mod text;
 mod triangles;
 
