@@ -3,7 +3,6 @@
 //! file nor replaces an existing one.
 
 pub mod exr;
-pub mod heights;
 pub mod png;
 pub mod ppm;
 

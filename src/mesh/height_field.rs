@@ -9,7 +9,7 @@
 use glam::Vec3;
 
 use super::Mesh;
-use crate::image::heights::Heights;
+use super::heights::Heights;
 
 /// The sheet of `heights` above `water_level`, with `smooth` normals or flat ones; `None` when
 /// nothing is left above the water.

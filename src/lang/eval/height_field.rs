@@ -10,9 +10,9 @@ use super::Evaluator;
 use crate::diagnostic::{SceneError, Span};
 use crate::function::{GRAY, component};
 use crate::graph::ShapeNode;
-use crate::image::heights::{self, HeightFormat, Heights, check_size};
 use crate::lang::syntax::{Expr, FunctionBody, FunctionDef, HeightField, HeightSource, Ident};
 use crate::mesh::height_field::tessellate;
+use crate::mesh::heights::{self, HeightFormat, Heights, check_size};
 
 impl Evaluator {
     pub(super) fn height_field(
