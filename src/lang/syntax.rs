@@ -818,7 +818,7 @@ pub enum HeightSource {
     /// value) or `premultiplied` where written.
     Image { format: Option<Ident>, file: Expr, options: Vec<(Ident, Option<Expr>)> },
     /// `function W, H { body }`: the function sampled on a W by H grid.
-    Function { width: Expr, height: Expr, body: FunctionDef },
+    Function { width: Expr, height: Expr, body: Box<FunctionDef> },
 }
 
 /// POV-Ray's `function { expr }`, `function(a, b) { expr }` or `function { pattern { } }`.

@@ -1638,11 +1638,11 @@ impl Builder {
                 let mut next = || inner.next().expect("the grammar gives the function's parts");
                 let (width, height, body) = (next(), next(), next());
                 let (width, height) = (self.expr(width)?, self.expr(height)?);
-                let body = FunctionDef {
+                let body = Box::new(FunctionDef {
                     parameters: Vec::new(),
                     body: self.function_body(body)?,
                     span: at,
-                };
+                });
                 HeightSource::Function { width, height, body }
             }
             Rule::hf_image => {

@@ -68,7 +68,7 @@ pub fn read(path: &Path, format: HeightFormat) -> Result<Heights, HeightsError> 
 /// Checks a grid's size before anything is decoded or evaluated: a small file can declare a huge
 /// image.
 pub fn check_size(columns: usize, rows: usize) -> Result<(), HeightsProblem> {
-    let samples = columns.checked_mul(rows).unwrap_or(usize::MAX);
+    let samples = columns.saturating_mul(rows);
     if columns < 2 || rows < 2 || samples > MAX_HEIGHT_SAMPLES {
         return Err(HeightsProblem::Size { columns, rows });
     }

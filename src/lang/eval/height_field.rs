@@ -113,7 +113,7 @@ impl Evaluator {
         let mut size = [0usize; 2];
         for (slot, (expr, value)) in size.iter_mut().zip([columns, rows]) {
             let value = value?;
-            if value.fract() != 0.0 || value < 0.0 || value > 1e9 {
+            if value.fract() != 0.0 || !(0.0..=1e9).contains(&value) {
                 return Err(SceneError::at(
                     &expr.span,
                     format!(

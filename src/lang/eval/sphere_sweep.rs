@@ -61,7 +61,7 @@ impl Evaluator {
         for pair in points.chunks_exact(2) {
             let centre = self.vector(&pair[0])?;
             let radius = self.number(&pair[1], "a sphere_sweep's radius")?;
-            if !(radius >= 0.0) {
+            if radius.is_nan() || radius < 0.0 {
                 return Err(SceneError::at(
                     &pair[1].span,
                     format!("a sphere_sweep's radius is 0 or more, not {radius}"),
