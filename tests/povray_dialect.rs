@@ -348,8 +348,8 @@ fn syntax_errors_in_pov_scenes_do_not_give_scn_advice() {
     assert!(error.contains("`sky_sphere`") && !error.contains("settings {"), "{error}");
     let error = pov_error("#if (1) background { rgb 1 } #end }");
     assert!(!error.contains("settings {"), "{error}");
-    let error = pov_error("height_field { png \"hills.png\" }");
-    assert!(error.contains("`height_field`") && error.contains("shape"), "{error}");
+    let error = pov_error("ovus { 1, 0.5 }");
+    assert!(error.contains("`ovus`") && error.contains("shape"), "{error}");
 }
 
 #[test]
@@ -406,4 +406,29 @@ fn a_negative_surface_colour_is_clamped_with_a_warning_and_a_negative_light_refu
     assert!(warning.is_some_and(|w| w.contains(":1:25")), "{:?}", graph.warnings);
     let light = pov_error("light_source { 0 color rgb -1 }");
     assert!(light.contains("negative component"), "{light}");
+}
+
+#[test]
+fn height_fields_and_sphere_sweeps_refuse_what_they_cannot_be_where_it_stands() {
+    let cases = [
+        // An image type raydiance does not decode, named at its word.
+        ("height_field { gif \"hills.gif\" }", "inline.pov:1:16", "`gif`"),
+        // No type word and an extension that says none.
+        ("height_field { \"hills.bmp\" }", "inline.pov:1:16", "`hills.bmp`"),
+        ("height_field { png \"no such hills.png\" }", "inline.pov:1:20", "cannot find"),
+        ("height_field { function 1, 5 { x } }", "inline.pov:1:25", "1 x 5"),
+        ("height_field { function 8, 8 { x } water_level 2 }", "inline.pov:1:48", "water_level"),
+        ("height_field { function 8, 8 { -1 } water_level 0.5 }", "inline.pov:1:1", "below"),
+        (
+            "sphere_sweep { linear_spline 3, <0, 0, 0>, 1, <1, 0, 0>, 1 }",
+            "inline.pov:1:1",
+            "3 spheres",
+        ),
+        ("sphere_sweep { b_spline 3, 0, 1, x, 1, y, 1 }", "inline.pov:1:25", "at least 4"),
+        ("sphere_sweep { linear_spline 2, 0, -1, x, 1 }", "inline.pov:1:36", "0 or more"),
+    ];
+    for (scene, at, says) in cases {
+        let error = pov_error(scene);
+        assert!(error.contains(at) && error.contains(says), "{scene}:\n{error}");
+    }
 }

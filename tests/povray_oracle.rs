@@ -5,7 +5,8 @@
 //! planes with offsets, `#default`, `inverse` and `clipped_by`; the algebraic surfaces,
 //! blobs, prisms and superellipsoids; boxes flat in one coordinate; shapes_old.inc's infinite
 //! quadrics cut by CSG; bicubic patches; meshes of triangles and smooth triangles,
-//! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons.
+//! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons; height fields;
+//! sphere sweeps.
 
 mod common;
 
@@ -439,14 +440,105 @@ fn lathes_sors_and_polygons_match_povray_away_from_edges() {
     }
 }
 
+/// Height fields seen from above at a slant, so that their heights shape what each pixel sees:
+/// an 8-bit gray PNG (its full range), a 4-bit palette PNG (index × 256) with `smooth`, and a
+/// function of x and y (y along −z) with a water level that cuts it, each steep and lopsided.
+const HEIGHT_FIELDS: &str = r#"
+camera { location <0, 3.5, -4> right x*image_width/image_height angle 50 look_at <0, 0.3, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+height_field { png "gray.png" translate <-0.5, 0, -0.5> scale <2.2, 1.5, 2.6> translate <-1.3, 0, 0>
+  pigment { rgb <1, 0, 0> } }
+height_field { "palette.png" smooth translate <-0.5, 0, -0.5> scale <2.2, 2, 1.8> translate <1, 0, 0.9>
+  pigment { rgb <0, 1, 0> } }
+height_field { function 24, 20 { y * y * (0.3 + 0.7 * x) } water_level 0.25
+  translate <-0.5, 0, -0.5> scale <2.4, 1.5, 2> translate <1.2, 0, -1.1>
+  pigment { rgb <0, 0, 1> } }
+"#;
+
+/// A PNG of `width` × `height` samples (8 bits, or 4 with a palette), rows from the top.
+fn png(width: u32, height: u32, palette: bool, samples: &[u8]) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, width, height);
+    if palette {
+        encoder.set_color(png::ColorType::Indexed);
+        encoder.set_depth(png::BitDepth::Four);
+        // Colours unlike the indices: the heights are the indices, not the colours.
+        encoder.set_palette((0..48).map(|i| (i * 37 % 256) as u8).collect::<Vec<u8>>());
+    } else {
+        encoder.set_color(png::ColorType::Grayscale);
+        encoder.set_depth(png::BitDepth::Eight);
+    }
+    let packed: Vec<u8> = if palette {
+        samples
+            .chunks(width as usize)
+            .flat_map(|row| row.chunks(2).map(|p| p[0] << 4 | p.get(1).copied().unwrap_or(0)))
+            .collect()
+    } else {
+        samples.to_vec()
+    };
+    encoder.write_header().unwrap().write_image_data(&packed).unwrap();
+    bytes
+}
+
+#[test]
+fn height_fields_match_povray_away_from_edges() {
+    let test = "height_fields_match_povray_away_from_edges";
+    if !common::outside_tool("povray", "povray", test) {
+        return;
+    }
+    // A ridge rising to the right, highest in the image's top rows (far from the camera).
+    let gray: Vec<u8> = (0..12 * 10).map(|k| ((k % 12) * 20 + (9 - k / 12) * 3) as u8).collect();
+    // A block of index 15 in one corner on a floor of index 2.
+    let palette: Vec<u8> =
+        (0..8 * 8).map(|k| if k % 8 < 3 && k / 8 < 4 { 15 } else { 2 }).collect();
+    let files =
+        [("gray.png", png(12, 10, false, &gray)), ("palette.png", png(8, 8, true, &palette))];
+    agree_with_povray_beside(HEIGHT_FIELDS, "height fields", &files);
+}
+
+/// Sphere sweeps along each of POV-Ray's three splines, their radii changing along them, one
+/// turned and mirrored.
+const SWEEPS: &str = r#"
+camera { location <0, 1, -6> right x*image_width/image_height angle 50 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+sphere_sweep { linear_spline 4, <-3, 1.2, 0>, 0.2, <-1.5, 2, 0>, 0.5, <0, 1.3, 0.5>, 0.1, <1.5, 1.8, 0>, 0.35
+  pigment { rgb <1, 0, 0> } }
+sphere_sweep { cubic_spline 6, <-3, 0, 0>, 0.1, <-2.5, 0, 0>, 0.2, <-1.2, 0.8, 0>, 0.4, <0, -0.3, 0>, 0.15,
+  <1.2, 0.6, 0>, 0.45, <2, 0, 0>, 0.2 tolerance 0.001
+  pigment { rgb <0, 1, 0> } }
+sphere_sweep { b_spline 5, <-2, -1.8, 0>, 0.3, <-1, -0.6, 0>, 0.5, <0, -1.8, 0>, 0.1, <1, -0.6, 0>, 0.6, <2, -1.8, 0>, 0.3
+  scale <-1, 1, 1> rotate 20*y
+  pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn sphere_sweeps_match_povray_away_from_edges() {
+    let test = "sphere_sweeps_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(SWEEPS, "sphere sweeps");
+    }
+}
+
 /// Renders `text` with POV-Ray and with raydiance and compares which channels each pixel lights.
 fn agree_with_povray(text: &str, name: &str) {
+    agree_with_povray_beside(text, name, &[]);
+}
+
+/// `agree_with_povray` with `files` (name, contents) written beside the scene.
+fn agree_with_povray_beside(text: &str, name: &str, files: &[(&str, Vec<u8>)]) {
     let dir = tempfile::tempdir().unwrap();
+    for (file, contents) in files {
+        std::fs::write(dir.path().join(file), contents).unwrap();
+    }
     let scene = dir.path().join("scene.pov");
     std::fs::write(&scene, text).unwrap();
     let ours = dir.path().join("ours.ppm");
     let theirs = dir.path().join("theirs.ppm");
+    // POV-Ray finds the scene's files in its working folder.
     let povray = Command::new("povray")
+        .current_dir(dir.path())
         .arg(format!("+I{}", scene.display()))
         .arg(format!("+O{}", theirs.display()))
         .args(["+FP", &format!("+W{WIDTH}"), &format!("+H{HEIGHT}"), "-D", "-A"])

@@ -141,7 +141,7 @@ fn convert(
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
 /// The words that begin an object, and those of the blocks objects may stand in.
-const OBJECTS: [&str; 29] = [
+const OBJECTS: [&str; 31] = [
     "bicubic_patch",
     "blob",
     "box",
@@ -150,6 +150,7 @@ const OBJECTS: [&str; 29] = [
     "cylinder",
     "difference",
     "disk",
+    "height_field",
     "intersection",
     "julia_fractal",
     "lathe",
@@ -167,6 +168,7 @@ const OBJECTS: [&str; 29] = [
     "smooth_triangle",
     "sor",
     "sphere",
+    "sphere_sweep",
     "superellipsoid",
     "torus",
     "triangle",
@@ -435,6 +437,19 @@ fn describe(rule: Rule) -> &'static str {
         Rule::lathe => "`lathe`",
         Rule::sor => "`sor`",
         Rule::polygon => "`polygon`",
+        Rule::height_field => "`height_field`",
+        Rule::sphere_sweep => "`sphere_sweep`",
+        Rule::sweep_spline | Rule::sweep_b_spline => {
+            "a sweep's spline (`linear_spline`, `b_spline`, `cubic_spline`)"
+        }
+        Rule::sweep_tolerance => "`tolerance`",
+        Rule::hf_function => "a height field's `function W, H { }`",
+        Rule::hf_image | Rule::hf_type | Rule::hf_gamma | Rule::hf_premultiplied => {
+            "a height field's image (`png \"file.png\"`)"
+        }
+        Rule::hf_setting | Rule::hf_smooth | Rule::hf_water_level => {
+            "a height field setting (`smooth`, `water_level`, `hierarchy`)"
+        }
         Rule::union => "`union`",
         Rule::intersection => "`intersection`",
         Rule::difference => "`difference`",

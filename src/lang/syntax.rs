@@ -784,6 +784,45 @@ pub enum Shape {
     },
     /// POV-Ray's `isosurface { }` (`.pov`).
     Isosurface(Box<Isosurface>),
+    /// POV-Ray's `height_field { }` (`.pov`).
+    HeightField(Box<HeightField>),
+    /// POV-Ray's `sphere_sweep`: `count` pairs of a centre and a radius along a spline.
+    SphereSweep {
+        spline: SweepSpline,
+        count: Expr,
+        points: Vec<Expr>,
+        tolerance: Option<Expr>,
+    },
+}
+
+/// The spline a `sphere_sweep` follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SweepSpline {
+    Linear,
+    /// Catmull–Rom: through every point but the first and last.
+    Cubic,
+    /// The uniform cubic B-spline of the points.
+    BSpline,
+}
+
+/// `height_field { [type] "file" | function W, H { body }  settings... }`: what the text says,
+/// each setting by its word (the last of a word counts, as in POV-Ray).
+#[derive(Debug, Clone)]
+pub struct HeightField {
+    pub source: HeightSource,
+    /// `smooth`, `hierarchy`: the word and its truth value (on unless written off).
+    pub flags: Vec<(Ident, bool)>,
+    pub water_level: Option<Expr>,
+}
+
+/// Where a height field's heights come from.
+#[derive(Debug, Clone)]
+pub enum HeightSource {
+    /// An image file: its type word (`png`, ...) if written, its name, and `gamma` (with its
+    /// value) or `premultiplied` where written.
+    Image { format: Option<Ident>, file: Expr, options: Vec<(Ident, Option<Expr>)> },
+    /// `function W, H { body }`: the function sampled on a W by H grid.
+    Function { width: Expr, height: Expr, body: Box<FunctionDef> },
 }
 
 /// POV-Ray's `function { expr }`, `function(a, b) { expr }` or `function { pattern { } }`.

@@ -1069,6 +1069,12 @@ impl Builder {
         if rule == Rule::isosurface {
             return self.isosurface(pair, span);
         }
+        if rule == Rule::height_field {
+            return self.height_field(pair, span);
+        }
+        if rule == Rule::sphere_sweep {
+            return self.sphere_sweep(pair, span);
+        }
         if matches!(
             rule,
             Rule::quadric
@@ -1205,7 +1211,9 @@ impl Builder {
             Rule::intersection => Shape::Intersection,
             Rule::difference => Shape::Difference,
             Rule::merge => Shape::Merge,
-            Rule::isosurface => unreachable!("read above"),
+            Rule::isosurface | Rule::height_field | Rule::sphere_sweep => {
+                unreachable!("read above")
+            }
             rule => unreachable!("no object {rule:?}"),
         };
         if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } = &mut shape {
@@ -1597,21 +1605,120 @@ impl Builder {
                         parameters.push(Ident { name: name.as_str().to_string(), span });
                     }
                 }
-                Rule::pattern_texture => {
-                    let span = self.span(&part);
-                    body = Some(FunctionBody::Pattern(self.texture_node(part, span)?));
+                Rule::pattern_texture | Rule::function_pigment | Rule::transform | Rule::expr => {
+                    body = Some(self.function_body(part)?)
                 }
-                Rule::function_pigment => {
-                    body = Some(FunctionBody::Pigment(self.appearance(inner_pair(&part))?))
-                }
-                Rule::transform => body = Some(FunctionBody::Transform(self.transform(part)?)),
-                Rule::expr => body = Some(FunctionBody::Expr(self.expr(part)?)),
                 rule => unreachable!("no {rule:?} in a function"),
             }
         }
         self.leave();
         let body = body.expect("the grammar gives a function its body");
         Ok(FunctionDef { parameters, body, span })
+    }
+
+    /// A function's body: `pattern { }`, `pigment { }` or an expression.
+    fn function_body(&mut self, part: Pair<'_, Rule>) -> Result<FunctionBody, SceneError> {
+        Ok(match part.as_rule() {
+            Rule::pattern_texture => {
+                let span = self.span(&part);
+                FunctionBody::Pattern(self.texture_node(part, span)?)
+            }
+            Rule::function_pigment => FunctionBody::Pigment(self.appearance(inner_pair(&part))?),
+            Rule::transform => FunctionBody::Transform(self.transform(part)?),
+            Rule::expr => FunctionBody::Expr(self.expr(part)?),
+            rule => unreachable!("no {rule:?} in a function"),
+        })
+    }
+
+    /// `sphere_sweep { spline count, points... [tolerance t] items }` (`.pov`).
+    fn sphere_sweep(&mut self, pair: Pair<'_, Rule>, span: Span) -> Result<Object, SceneError> {
+        self.pov_only(&inner_pair(&pair), None)?;
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1).peekable();
+        let spline = match inner_pair(&inner.next().expect("the spline")).as_rule() {
+            Rule::kw_linear_spline => SweepSpline::Linear,
+            Rule::kw_cubic_spline => SweepSpline::Cubic,
+            Rule::sweep_b_spline => SweepSpline::BSpline,
+            rule => unreachable!("no sweep spline {rule:?}"),
+        };
+        let mut arguments = Vec::new();
+        while let Some(p) = inner.next_if(|p| matches!(p.as_rule(), Rule::expr | Rule::arg_comma)) {
+            if p.as_rule() == Rule::expr {
+                arguments.push(self.expr(p)?);
+            }
+        }
+        let tolerance = match inner.next_if(|p| p.as_rule() == Rule::sweep_tolerance) {
+            Some(_) => Some(self.expr(inner.next().expect("the tolerance"))?),
+            None => None,
+        };
+        let items = self.items(inner)?;
+        self.leave();
+        let mut arguments = arguments.into_iter();
+        let count = arguments.next().expect("the grammar gives the count");
+        let shape = Shape::SphereSweep { spline, count, points: arguments.collect(), tolerance };
+        Ok(Object { shape, items, span })
+    }
+
+    /// `height_field { ... }` (`.pov`): where its heights come from, its settings, and the
+    /// object's other items.
+    fn height_field(&mut self, pair: Pair<'_, Rule>, span: Span) -> Result<Object, SceneError> {
+        self.pov_only(&inner_pair(&pair), None)?;
+        self.enter(&pair)?;
+        let mut parts = pair.into_inner().skip(1);
+        let source = parts.next().expect("the grammar gives the heights");
+        let ident =
+            |b: &Self, p: &Pair<'_, Rule>| Ident { name: p.as_str().to_string(), span: b.span(p) };
+        let source = match source.as_rule() {
+            Rule::hf_function => {
+                let at = self.span(&source);
+                let mut inner =
+                    source.into_inner().skip(1).filter(|p| p.as_rule() != Rule::arg_comma);
+                let mut next = || inner.next().expect("the grammar gives the function's parts");
+                let (width, height, body) = (next(), next(), next());
+                let (width, height) = (self.expr(width)?, self.expr(height)?);
+                let body = Box::new(FunctionDef {
+                    parameters: Vec::new(),
+                    body: self.function_body(body)?,
+                    span: at,
+                });
+                HeightSource::Function { width, height, body }
+            }
+            Rule::hf_image => {
+                let mut inner = source.into_inner().peekable();
+                let format =
+                    inner.next_if(|p| p.as_rule() == Rule::hf_type).map(|p| ident(self, &p));
+                let file = self.expr(inner.next().expect("the grammar gives the file"))?;
+                let mut options = Vec::new();
+                while let Some(word) = inner.next() {
+                    let value = inner.next_if(|p| p.as_rule() == Rule::expr);
+                    let value = value.map(|v| self.expr(v)).transpose()?;
+                    inner.next_if(|p| p.as_rule() == Rule::truth_value);
+                    options.push((ident(self, &word), value));
+                }
+                HeightSource::Image { format, file, options }
+            }
+            rule => unreachable!("no height field source {rule:?}"),
+        };
+        let mut shape = HeightField { source, flags: Vec::new(), water_level: None };
+        let mut rest = Vec::new();
+        for part in parts {
+            if part.as_rule() != Rule::hf_setting {
+                rest.push(part);
+                continue;
+            }
+            let mut inner = part.into_inner();
+            let word = inner.next().expect("the word");
+            match (word.as_rule(), inner.next()) {
+                (Rule::hf_water_level, Some(level)) => shape.water_level = Some(self.expr(level)?),
+                (_, truth) => {
+                    let on = truth.is_none_or(|t| truth_of(&inner_pair(&t)));
+                    shape.flags.push((ident(self, &word), on));
+                }
+            }
+        }
+        let items = self.items(rest.into_iter())?;
+        self.leave();
+        Ok(Object { shape: Shape::HeightField(Box::new(shape)), items, span })
     }
 
     /// `pigment_pattern { ... }` (`.pov`): its pigment, as the colour function whose gray is the
@@ -2085,6 +2192,15 @@ fn close(open: Open, items: Vec<Item>) -> Item {
 }
 
 /// The first inner pair of `pair`.
+/// A truth value as written (`on`, `off`, `true`, ..., or a number: true unless 0).
+fn truth_of(truth: &Pair<'_, Rule>) -> bool {
+    match truth.as_str() {
+        "off" | "false" | "no" => false,
+        "on" | "true" | "yes" => true,
+        number => number.parse::<f64>().is_ok_and(|n| n != 0.0),
+    }
+}
+
 fn inner_pair<'i>(pair: &Pair<'i, Rule>) -> Pair<'i, Rule> {
     pair.clone().into_inner().next().expect("the grammar gives an inner pair")
 }

@@ -43,7 +43,10 @@ impl Evaluator {
     }
 
     /// The colour function of `pigment`, compiled (its images read).
-    fn colour_function(&mut self, pigment: &Appearance) -> Result<Arc<ColourFunction>, SceneError> {
+    pub(super) fn colour_function(
+        &mut self,
+        pigment: &Appearance,
+    ) -> Result<Arc<ColourFunction>, SceneError> {
         let made = self.pigment(pigment, &Pigment::black())?;
         let mut load = |path: &Path| ImageMap::load(path).map(Arc::new);
         let function = ColourFunction::new(made.colour, made.filter, made.through, &mut load)

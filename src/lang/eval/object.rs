@@ -121,6 +121,10 @@ impl Evaluator {
             Shape::Isosurface(isosurface) => {
                 ShapeNode::Isosurface(Arc::new(self.isosurface(isosurface, &object.span)?))
             }
+            Shape::HeightField(field) => self.height_field(field, &object.span)?,
+            Shape::SphereSweep { spline, count, points, tolerance } => {
+                self.sphere_sweep(*spline, count, points, tolerance.as_ref(), &object.span)?
+            }
             Shape::Quadric { squares, products, linear, constant } => {
                 self.quadric(squares, products, linear, constant)?
             }

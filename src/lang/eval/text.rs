@@ -73,15 +73,25 @@ impl Evaluator {
         Ok(ShapeNode::Union(glyphs))
     }
 
-    /// The font file `name` names where the scene at `at` writes it: beside the scene, then in
-    /// the include folders (as `#include` searches), then in POV-Ray's installed library; in
-    /// each, `name` and, as POV-Ray does, `name.ttf`.
+    /// The font file `name` names where the scene at `at` writes it: `name` and, as POV-Ray
+    /// does, `name.ttf`, where `find_in_library` looks.
     fn find_font(&self, at: &Span, name: &str) -> Result<PathBuf, SceneError> {
+        self.find_in_library(at, &[name.to_string(), format!("{name}.ttf")], "the font")
+    }
+
+    /// The file named `names[0]` (or one of the other spellings in `names`) where the scene at
+    /// `at` writes it: beside the scene, then in the include folders (as `#include` searches),
+    /// then in POV-Ray's installed library. `what` names the file in the error.
+    pub(super) fn find_in_library(
+        &self,
+        at: &Span,
+        names: &[String],
+        what: &str,
+    ) -> Result<PathBuf, SceneError> {
         let scene_folder = resolve(&at.file.path, "");
         let mut folders = vec![scene_folder];
         folders.extend(self.include_folders());
         folders.extend(POVRAY_LIBRARY.iter().map(PathBuf::from).filter(|f| f.is_dir()));
-        let names = [name.to_string(), format!("{name}.ttf")];
         let found = folders
             .iter()
             .flat_map(|folder| names.iter().map(move |name| folder.join(name)))
@@ -91,8 +101,9 @@ impl Evaluator {
             SceneError::at(
                 at,
                 format!(
-                    "cannot find the font `{name}`: it is in none of {} (the scene's folder, \
+                    "cannot find {what} `{}`: it is in none of {} (the scene's folder, \
                      --include-path, RAYDIANCE_INCLUDE_PATH and POV-Ray's library)",
+                    names[0],
                     searched.join(", ")
                 ),
             )
