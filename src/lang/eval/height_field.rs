@@ -142,6 +142,12 @@ impl Evaluator {
                 }
                 Box::new(move |x, y| function.eval(&[x, y, 0.0]))
             }
+            FunctionBody::Transform(_) => {
+                return Err(SceneError::at(
+                    &body.span,
+                    "a height field's function gives a number: a `transform` function moves points",
+                ));
+            }
         };
         let mut values = Vec::with_capacity(columns * rows);
         for row in 0..rows {
