@@ -17,9 +17,9 @@ pub struct Shares {
 }
 
 /// The shares of `finish` over a pigment of `colour`, `filter` and `through` (filter +
-/// transmit): the opaque part 1 - through × `diffuse` × colour is the albedo; filter × colour
-/// + transmit passes through (POV-Ray's filter is tinted by the colour, transmit is not); the
-/// reflection is tinted by the colour when `metallic`. Where the coated base (which scatters at
+/// transmit): the opaque part 1 - through × `diffuse` × colour is the albedo; the sum of
+/// filter × colour and transmit passes through (POV-Ray's filter is tinted by the colour,
+/// transmit is not); the reflection is tinted by the colour when `metallic`. Where the coated base (which scatters at
 /// most the larger of its albedo and the coat's strength) and the rest sum to more than 1, all
 /// are scaled down together, so no point scatters more than it receives.
 pub fn pov_shares(finish: &PovFinish, colour: Vec3, filter: f32, through: f32) -> Shares {
