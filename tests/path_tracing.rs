@@ -52,15 +52,21 @@ fn inward_box(material: &str) -> String {
     )
 }
 
+/// A point light of power 4 pi at the centre of a closed sphere of radius 2 and albedo 0.5, and
+/// `more` beside them: wall radiance a p / (pi R^2 (1 - a)) = 1.
+fn closed_sphere(samples: u32, more: &str) -> Scene {
+    scene(&format!(
+        "settings {{ resolution 16, 16  samples {samples}  integrator path  max_depth 64 }}
+         camera {{ location <0.3, -0.2, 0.1>  look_at <1, 0, 2>  angle 100 }}
+         light_source {{ <0, 0, 0>  power rgb 4 * pi }}
+         sphere {{ <0, 0, 0>, 2  material {{ diffuse rgb 0.5 }} }}
+         {more}"
+    ))
+}
+
 #[test]
 fn closed_sphere_with_a_point_light_at_its_centre() {
-    // Wall radiance a p / (pi R^2 (1 - a)): R = 2, a = 0.5, p = 4 pi gives 1.
-    let s = scene(
-        "settings { resolution 16, 16  samples 64  integrator path  max_depth 64 }
-         camera { location <0.3, -0.2, 0.1>  look_at <1, 0, 2>  angle 100 }
-         light_source { <0, 0, 0>  power rgb 4 * pi }
-         sphere { <0, 0, 0>, 2  material { diffuse rgb 0.5 } }",
-    );
+    let s = closed_sphere(64, "");
     assert_uniform_radiance(&path(&s, Strategy::Mis), Vec3::ONE, "path");
 }
 
@@ -70,13 +76,7 @@ fn closed_sphere_with_a_point_light_at_its_centre() {
 /// half of the choices are uniform among the lights, so the closed form holds at the same noise.
 #[test]
 fn a_point_light_beside_a_huge_emitter_is_still_sampled() {
-    let s = scene(
-        "settings { resolution 16, 16  samples 128  integrator path  max_depth 64 }
-         camera { location <0.3, -0.2, 0.1>  look_at <1, 0, 2>  angle 100 }
-         light_source { <0, 0, 0>  power rgb 4 * pi }
-         sphere { <0, 0, 0>, 2  material { diffuse rgb 0.5 } }
-         sphere { <0, 0, 0>, 1000  material { emission rgb 1 } }",
-    );
+    let s = closed_sphere(128, "sphere { <0, 0, 0>, 1000  material { emission rgb 1 } }");
     assert!(s.light_probability(0) >= 0.25, "the point light: {}", s.light_probability(0));
     assert_uniform_radiance(&path(&s, Strategy::Mis), Vec3::ONE, "path");
 }
