@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{LAB_BOX, OneAtATime, scene};
+use common::{LAB_BOX, OneAtATime, assert_films_agree, path_with, scene};
 use glam::{Vec2, Vec3};
 use raydiance::film::Film;
 use raydiance::integrator::{CameraSample, Direct, Path, SampleIntegrator, Strategy};
@@ -11,10 +11,6 @@ use raydiance::progress::Silent;
 use raydiance::render::render_with;
 use raydiance::sampling::Sampler;
 use raydiance::scene::Scene;
-
-fn path(scene: &Scene, strategy: Strategy) -> Film {
-    render_with(scene, &Path { max_depth: scene.settings.max_depth, strategy }, &Silent).0
-}
 
 /// The mean over all pixels of a film whose pixels all estimate `expected`, checked against a
 /// bound of 5 standard errors (from the film's own variance estimate).
@@ -67,7 +63,7 @@ fn closed_sphere(samples: u32, more: &str) -> Scene {
 #[test]
 fn closed_sphere_with_a_point_light_at_its_centre() {
     let s = closed_sphere(64, "");
-    assert_uniform_radiance(&path(&s, Strategy::Mis), Vec3::ONE, "path");
+    assert_uniform_radiance(&path_with(&s, Strategy::Mis), Vec3::ONE, "path");
 }
 
 /// The same sphere inside a huge glowing shell that faces away from it (POV-Ray's sky spheres of
@@ -78,7 +74,7 @@ fn closed_sphere_with_a_point_light_at_its_centre() {
 fn a_point_light_beside_a_huge_emitter_is_still_sampled() {
     let s = closed_sphere(128, "sphere { <0, 0, 0>, 1000  material { emission rgb 1 } }");
     assert!(s.light_probability(0) >= 0.25, "the point light: {}", s.light_probability(0));
-    assert_uniform_radiance(&path(&s, Strategy::Mis), Vec3::ONE, "path");
+    assert_uniform_radiance(&path_with(&s, Strategy::Mis), Vec3::ONE, "path");
 }
 
 #[test]
@@ -90,7 +86,11 @@ fn furnace_with_emitting_walls() {
         inward_box("diffuse rgb 0.75  emission rgb 0.25")
     ));
     for strategy in [Strategy::Mis, Strategy::LightSampling, Strategy::BsdfSampling] {
-        assert_uniform_radiance(&path(&s, strategy), Vec3::splat(1.0), &format!("{strategy:?}"));
+        assert_uniform_radiance(
+            &path_with(&s, strategy),
+            Vec3::splat(1.0),
+            &format!("{strategy:?}"),
+        );
     }
 }
 
@@ -104,7 +104,11 @@ fn white_furnace_with_bounded_depth_counts_each_bounce_once() {
             inward_box("diffuse rgb 1  emission rgb 0.5")
         ));
         let expected = Vec3::splat(0.5 * (depth + 1) as f32);
-        assert_uniform_radiance(&path(&s, Strategy::Mis), expected, &format!("max_depth {depth}"));
+        assert_uniform_radiance(
+            &path_with(&s, Strategy::Mis),
+            expected,
+            &format!("max_depth {depth}"),
+        );
     }
 }
 
@@ -117,7 +121,7 @@ fn glass_sphere_in_a_uniformly_emitting_box_keeps_its_radiance() {
          sphere {{ <0.4, 0.25, 0.5>, 0.45  material {{ transmission rgb 1  ior 1.5  fresnel }} }}",
         inward_box("emission rgb 1")
     ));
-    let image = path(&s, Strategy::Mis).image();
+    let image = path_with(&s, Strategy::Mis).image();
     for p in &image.pixels {
         assert!((*p - Vec3::ONE).abs().max_element() < 1e-3, "{p}");
     }
@@ -135,32 +139,12 @@ fn small_cornell(samples: u32) -> Scene {
     ))
 }
 
-/// Per-pixel two-sample z-test: the fraction of pixel channels differing by more than 4
-/// standard errors must be what chance allows.
-fn assert_films_agree(a: &Film, b: &Film, what: &str) {
-    let (ia, ib) = (a.image(), b.image());
-    let (va, vb) = (a.variance_of_mean(), b.variance_of_mean());
-    let mut outliers = 0;
-    for i in 0..ia.pixels.len() {
-        let z = (ia.pixels[i] - ib.pixels[i]).abs()
-            / (va[i] + vb[i]).map(f32::sqrt).max(Vec3::splat(1e-6));
-        outliers += z.to_array().iter().filter(|&&z| z > 4.0).count();
-    }
-    let channels = 3 * ia.pixels.len();
-    assert!(
-        outliers * 200 < channels,
-        "{what}: {outliers} of {channels} channels differ by > 4 sigma"
-    );
-    let (ma, mb) = (common::mean(&ia), common::mean(&ib));
-    assert!((ma - mb).abs().max_element() < 0.02 * ma.max_element(), "{what}: means {ma} vs {mb}");
-}
-
 #[test]
 fn light_sampling_bsdf_sampling_and_mis_agree() {
     let s = small_cornell(256);
-    let mis = path(&s, Strategy::Mis);
-    assert_films_agree(&mis, &path(&s, Strategy::LightSampling), "light sampling vs MIS");
-    assert_films_agree(&mis, &path(&s, Strategy::BsdfSampling), "BSDF sampling vs MIS");
+    let mis = path_with(&s, Strategy::Mis);
+    assert_films_agree(&mis, &path_with(&s, Strategy::LightSampling), "light sampling vs MIS");
+    assert_films_agree(&mis, &path_with(&s, Strategy::BsdfSampling), "BSDF sampling vs MIS");
 }
 
 /// `small_cornell` with rough spheres (`docs/language.md`): metal, frosted glass, and plastic (a
@@ -179,9 +163,13 @@ fn rough_cornell(samples: u32) -> Scene {
 #[test]
 fn light_sampling_bsdf_sampling_and_mis_agree_on_rough_surfaces() {
     let s = rough_cornell(256);
-    let mis = path(&s, Strategy::Mis);
-    assert_films_agree(&mis, &path(&s, Strategy::LightSampling), "rough: light sampling vs MIS");
-    assert_films_agree(&mis, &path(&s, Strategy::BsdfSampling), "rough: BSDF sampling vs MIS");
+    let mis = path_with(&s, Strategy::Mis);
+    assert_films_agree(
+        &mis,
+        &path_with(&s, Strategy::LightSampling),
+        "rough: light sampling vs MIS",
+    );
+    assert_films_agree(&mis, &path_with(&s, Strategy::BsdfSampling), "rough: BSDF sampling vs MIS");
 }
 
 #[test]
@@ -191,7 +179,7 @@ fn direct_and_path_with_max_depth_one_agree_on_rough_surfaces() {
     let mut s = rough_cornell(256);
     s.settings.max_depth = 1;
     let direct = render_with(&s, &Direct { max_depth: 1 }, &Silent).0;
-    assert_films_agree(&direct, &path(&s, Strategy::Mis), "rough: direct vs path at depth 1");
+    assert_films_agree(&direct, &path_with(&s, Strategy::Mis), "rough: direct vs path at depth 1");
 }
 
 #[test]
@@ -199,14 +187,14 @@ fn direct_and_path_with_max_depth_one_agree() {
     let mut s = small_cornell(128);
     s.settings.max_depth = 1;
     let direct = render_with(&s, &Direct { max_depth: 1 }, &Silent).0;
-    assert_films_agree(&direct, &path(&s, Strategy::Mis), "direct vs path at depth 1");
+    assert_films_agree(&direct, &path_with(&s, Strategy::Mis), "direct vs path at depth 1");
     // With point lights only, both are exact and take the same rays.
     let mut seed = common::scene_file("scenes/lab4-direct.scn");
     seed.settings.width = 16;
     seed.settings.height = 16;
     seed.settings.max_depth = 1;
     let direct = render_with(&seed, &Direct { max_depth: 1 }, &Silent).0.image();
-    let path = path(&seed, Strategy::Mis).image();
+    let path = path_with(&seed, Strategy::Mis).image();
     assert!(common::max_abs_difference(&direct, &path) < 1e-6);
 }
 
@@ -214,7 +202,7 @@ fn direct_and_path_with_max_depth_one_agree() {
 fn max_depth_zero_shows_only_emitters() {
     let mut s = small_cornell(8);
     s.settings.max_depth = 0;
-    let image = path(&s, Strategy::Mis).image();
+    let image = path_with(&s, Strategy::Mis).image();
     // Each sample sees 2 (the light), <0, 0, 2> (the emissive sphere) or nothing.
     for p in &image.pixels {
         let light_share = p.x / 2.0 * 8.0;
@@ -230,10 +218,10 @@ fn error_falls_like_one_over_root_spp() {
     let reference = {
         let mut s = small_cornell(2048);
         s.settings.seed = 99;
-        path(&s, Strategy::Mis).image()
+        path_with(&s, Strategy::Mis).image()
     };
     let rmse = |spp| {
-        let image = path(&small_cornell(spp), Strategy::Mis).image();
+        let image = path_with(&small_cornell(spp), Strategy::Mis).image();
         let squared: f32 = image
             .pixels
             .iter()
@@ -305,7 +293,11 @@ fn the_background_lights_direct_as_it_lights_path() {
         sphere { <0, 0.6, 0>, 0.6  material { diffuse rgb <0.8, 0.4, 0.2> } }";
     let s = scene(lit_by_sky);
     let direct = render_with(&s, &Direct { max_depth: 1 }, &Silent).0;
-    assert_films_agree(&direct, &path(&s, Strategy::Mis), "direct vs path at depth 1, sky only");
+    assert_films_agree(
+        &direct,
+        &path_with(&s, Strategy::Mis),
+        "direct vs path at depth 1, sky only",
+    );
 
     let sphere_alone = "settings { resolution 9, 9  samples 64  background rgb <0.5, 1, 2> }
         camera { location <0, 0, -4>  look_at <0, 0, 0>  angle 10 }
