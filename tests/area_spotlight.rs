@@ -12,7 +12,6 @@ use std::path::Path;
 use glam::{DVec3, Vec2, Vec3};
 use raydiance::geometry::Hit;
 use raydiance::graph::IntegratorKind;
-use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
 use raydiance::light::Light;
 use raydiance::progress::Silent;
@@ -222,17 +221,7 @@ fn area_spotlight_sampling_agrees_with_bsdf_sampling() {
     );
     (s.settings.width, s.settings.height, s.settings.samples, s.settings.max_depth) =
         (32, 24, 128, 2);
-    let mis = common::path_with(&s, Strategy::Mis);
-    common::assert_films_agree(
-        &common::path_with(&s, Strategy::LightSampling),
-        &mis,
-        "light sampling vs MIS",
-    );
-    common::assert_films_agree(
-        &common::path_with(&s, Strategy::BsdfSampling),
-        &mis,
-        "BSDF sampling vs MIS",
-    );
+    common::assert_light_and_bsdf_sampling_agree_with_mis(&s, "area spotlight");
 }
 
 /// An area spotlight is read as an emitter carrying the spotlight's beam, of intensity π C d² / A

@@ -8,7 +8,6 @@ use std::path::Path;
 
 use glam::Vec3;
 use raydiance::image::Image;
-use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
 use raydiance::scene::{Scene, build};
 
@@ -135,17 +134,7 @@ fn sky_sampling_agrees_with_bsdf_sampling() {
     let mut s = pov_scene(GRADIENT_SKY);
     (s.settings.width, s.settings.height, s.settings.samples, s.settings.max_depth) =
         (32, 24, 128, 3);
-    let mis = common::path_with(&s, Strategy::Mis);
-    common::assert_films_agree(
-        &common::path_with(&s, Strategy::LightSampling),
-        &mis,
-        "sky sampling vs MIS",
-    );
-    common::assert_films_agree(
-        &common::path_with(&s, Strategy::BsdfSampling),
-        &mis,
-        "BSDF sampling vs MIS",
-    );
+    common::assert_light_and_bsdf_sampling_agree_with_mis(&s, "sky");
 }
 
 /// POV-Ray's `background` is seen but does not light: under it alone, with no light, a

@@ -7,7 +7,6 @@ mod common;
 
 use glam::Vec3;
 use raydiance::graph::{MaterialDesc, Pattern, SceneGraph};
-use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
 use raydiance::material::{LobeFlags, Material, TransportMode};
 use raydiance::scene::build;
@@ -476,11 +475,5 @@ fn light_through_a_see_through_sheet_is_found_alike_by_light_and_bsdf_samples() 
     (graph.settings.width, graph.settings.height) = (24, 18);
     (graph.settings.samples, graph.settings.max_depth) = (64, 3);
     let scene = build(&graph).unwrap_or_else(|e| panic!("{e}"));
-    let mis = common::path_with(&scene, Strategy::Mis);
-    for (strategy, what) in [
-        (Strategy::LightSampling, "light sampling vs MIS"),
-        (Strategy::BsdfSampling, "BSDF sampling vs MIS"),
-    ] {
-        common::assert_films_agree(&common::path_with(&scene, strategy), &mis, what);
-    }
+    common::assert_light_and_bsdf_sampling_agree_with_mis(&scene, "see-through sheet");
 }

@@ -218,6 +218,17 @@ pub fn path_with(scene: &Scene, strategy: Strategy) -> Film {
     render_with(scene, &PathTracer { max_depth: scene.settings.max_depth, strategy }, &Silent).0
 }
 
+/// `path` with light samples alone and with BSDF samples alone each agree with MIS
+/// (`assert_films_agree`): the light through every path is counted once.
+pub fn assert_light_and_bsdf_sampling_agree_with_mis(scene: &Scene, what: &str) {
+    let mis = path_with(scene, Strategy::Mis);
+    for (strategy, name) in
+        [(Strategy::LightSampling, "light sampling"), (Strategy::BsdfSampling, "BSDF sampling")]
+    {
+        assert_films_agree(&path_with(scene, strategy), &mis, &format!("{what}: {name} vs MIS"));
+    }
+}
+
 /// Two estimators of the same image agree: few channels beyond 4 standard errors, and the
 /// image means within 2 %.
 pub fn assert_films_agree(a: &Film, b: &Film, what: &str) {
