@@ -7,7 +7,7 @@ use std::path::Path;
 use glam::Vec3;
 use raydiance::graph::{CsgOp, Pattern, SceneGraph, ShapeNode, TextureNode};
 use raydiance::lang::parse_scene;
-use raydiance::texture::Texture;
+use raydiance::texture::{Octaves, Texture};
 
 fn pov(text: &str) -> SceneGraph {
     parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"))
@@ -457,4 +457,15 @@ fn rand_inc_draws_have_their_distributions_means() {
     within("vlength(VRand_On_Sphere(S))", 1.0, 1e-3);
     // Uniform in the unit ball: E|p| = 3/4, sd sqrt(3/5 - 9/16).
     within("vlength(VRand_In_Sphere(S))", 0.75, (3.0f32 / 5.0 - 9.0 / 16.0).sqrt());
+}
+
+#[test]
+fn vturbulence_is_the_displacement_of_a_turbulence_warp() {
+    // vturbulence.pov: vturbulence(lambda, omega, octaves, p).
+    let graph = pov("sphere { vturbulence(3, 0.4, 2, <0.3, 1.7, 2.1>), 1 }");
+    let ShapeNode::Sphere { center, .. } = graph.objects[0].shape else { panic!() };
+    let octaves = Octaves { octaves: 2, omega: 0.4, lambda: 3.0 };
+    assert_eq!(center, octaves.vector(Vec3::new(0.3, 1.7, 2.1)));
+    assert_ne!(center, Octaves { octaves: 1, ..octaves }.vector(Vec3::new(0.3, 1.7, 2.1)));
+    assert!(pov_error("sphere { vturbulence(2, 0.5, <1, 2, 3>), 1 }").contains("vturbulence"));
 }

@@ -599,6 +599,19 @@ impl Evaluator {
                 // `vaxis_rotate(v, x, 30)`).
                 Value::Vector(DMat3::from_axis_angle(axis.normalize(), degrees.to_radians()) * v)
             }
+            Vturbulence => {
+                let (lambda, omega, octaves) =
+                    (number(self, 0)?, number(self, 1)?, number(self, 2)?);
+                let at = &args[3].span;
+                let point = single_vector(vector(self, 3)?, at)?;
+                let octaves = crate::texture::Octaves {
+                    // A count, held to 1..=16 as a pattern's `octaves` is.
+                    octaves: octaves.clamp(1.0, 16.0) as u32,
+                    omega: single(omega, &args[1].span)?,
+                    lambda: single(lambda, &args[0].span)?,
+                };
+                Value::Vector(octaves.vector(point).as_dvec3())
+            }
             Strlen => Value::Float(self.text(&args[0], "`strlen`")?.chars().count() as f64),
             Strupr => Value::String(Arc::new(self.text(&args[0], "`strupr`")?.to_uppercase())),
             Strlwr => Value::String(Arc::new(self.text(&args[0], "`strlwr`")?.to_lowercase())),
