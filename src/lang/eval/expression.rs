@@ -941,9 +941,9 @@ pub(super) fn single(value: f64, at: &Span) -> Result<f32, SceneError> {
 /// the vector's size (`<x, x*x*x, 0>` with x = -3.9e-14 in float5.pov). A vector whose every
 /// non-zero component vanishes is still an error.
 pub(super) fn single_vector(v: DVec3, at: &Span) -> Result<Vec3, SceneError> {
-    let least = DVec3::splat(f64::from(f32::MIN_POSITIVE));
-    let vanishing = v.abs().cmplt(least);
-    let v = if vanishing.all() { v } else { DVec3::select(vanishing, DVec3::ZERO, v) };
+    let below = v.abs().cmplt(DVec3::splat(f64::from(f32::MIN_POSITIVE)));
+    let vanishing = below & v.cmpne(DVec3::ZERO);
+    let v = if below.all() { v } else { DVec3::select(vanishing, DVec3::ZERO, v) };
     Ok(Vec3::new(single(v.x, at)?, single(v.y, at)?, single(v.z, at)?))
 }
 
