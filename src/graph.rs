@@ -669,6 +669,10 @@ impl Transform {
     }
 }
 
+/// Below this |determinant| an object's transforms flatten it: a 32-bit matrix has no useful
+/// inverse.
+pub const FLATTENING_DETERMINANT: f32 = 1e-12;
+
 /// The composition of transforms in written order (first written, first applied).
 pub fn compose(transforms: &[Transform]) -> Affine3A {
     transforms.iter().fold(Affine3A::IDENTITY, |acc, t| t.to_affine() * acc)

@@ -7,7 +7,7 @@ use std::path::Path;
 use glam::Vec3;
 use raydiance::graph::{CsgOp, Pattern, SceneGraph, ShapeNode, TextureNode};
 use raydiance::lang::parse_scene;
-use raydiance::texture::Texture;
+use raydiance::texture::{Octaves, Texture};
 
 fn pov(text: &str) -> SceneGraph {
     parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"))
@@ -378,4 +378,94 @@ fn a_macro_may_hold_a_background_a_sky_and_global_settings() {
     assert_ne!(called.backdrop, Vec3::ZERO);
     let sky = pov("#macro Sky() sky_sphere { pigment { rgb 1 } } #end\nSky()\nsphere { 0, 1 }");
     assert!(sky.sky.is_some());
+}
+
+#[test]
+fn a_lone_hash_and_a_form_feed_read_as_nothing_in_pov() {
+    // image_size.pov's `look_at <0,2,0>#`: a warning, the camera unchanged.
+    let graph = pov("camera { location <0, 0, -5> look_at <0, 2, 0>#\n }\nsphere { 0, 1 }");
+    let hashes: Vec<_> =
+        graph.warnings.iter().filter(|w| w.contains("begins no directive")).collect();
+    assert_eq!(hashes.len(), 1, "{:?}", graph.warnings);
+    assert!(hashes[0].contains("inline.pov:1:47"), "{hashes:?}");
+    assert_eq!(radius(&pov("\u{c}sphere { 0,\u{c}2 }\u{c}")), 2.0);
+    assert!(scn_error("# }").contains('#'));
+}
+
+#[test]
+fn a_semicolon_may_follow_the_value_a_macro_gives_and_photons_stand_in_macros() {
+    // tracevines.pov's `Q;` and optics.pov's `photons { }` in a macro.
+    let declarations = "#macro M(A) #if (A) 2; #else 3; #end #end\n#declare R = M(0);";
+    assert_eq!(sphere_of("R", declarations), 3.0);
+    let graph = pov("#macro P() photons { target } #end\nsphere { 0, 1 P() }");
+    assert!(graph.warnings.iter().any(|w| w.contains("photons")), "{:?}", graph.warnings);
+}
+
+#[test]
+fn a_component_that_vanishes_in_f32_beside_others_is_zero_but_a_vanishing_vector_is_refused() {
+    // float5.pov: pow(x, 3) for x = -3.9e-14 beside x itself.
+    let graph = pov("sphere { <1, -6e-41, 2>, 1 }");
+    let ShapeNode::Sphere { center, .. } = graph.objects[0].shape else { panic!() };
+    assert_eq!(center, Vec3::new(1.0, 0.0, 2.0));
+    assert!(pov_error("sphere { <1e-41, 0, 0>, 1 }").contains("1e-41 is too small"));
+}
+
+#[test]
+fn an_object_flattened_by_its_transforms_is_left_out_with_a_warning_in_pov_only() {
+    // swirlbox.pov's last box, scaled by (1 - Counter) * 5 ≈ 5e-16.
+    let graph = pov("box { 0, 1 scale <5e-16, 1, 5e-16> }");
+    assert!(matches!(&graph.objects[0].shape, ShapeNode::Union(c) if c.is_empty()));
+    assert!(graph.warnings.iter().any(|w| w.contains("flatten it")), "{:?}", graph.warnings);
+    let kept = pov("box { 0, 1 scale <1e-5, 1, 1e-5> }");
+    assert!(matches!(kept.objects[0].shape, ShapeNode::Box { .. }));
+}
+
+#[test]
+fn focal_blur_s_confidence_and_variance_are_read_with_the_blur_warning() {
+    let graph = pov(
+        "camera { location <0, 0, -5> look_at 0 confidence 0.9 variance 1/128 }\nsphere { 0, 1 }",
+    );
+    assert!(graph.warnings.iter().any(|w| w.contains("focal blur")), "{:?}", graph.warnings);
+    assert!(scn_error("camera { confidence 0.9 }").contains("confidence"));
+}
+
+/// The sample mean of `count` draws of `draw` (a rand.inc macro call on stream S).
+fn mean_of(draw: &str, count: u32) -> f32 {
+    let declarations = format!(
+        "#include \"stdinc.inc\"\n#declare S = seed(7);\n#declare Sum = 0;\n\
+         #for (I, 1, {count}) #declare Sum = Sum + {draw}; #end"
+    );
+    sphere_of(&format!("Sum / {count}"), &declarations)
+}
+
+#[test]
+fn rand_inc_draws_have_their_distributions_means() {
+    // 4000 draws: each mean within 4 standard errors of the distribution's.
+    let n = 4000;
+    let within = |draw: &str, mean: f32, sd: f32| {
+        let got = mean_of(draw, n);
+        let bound = 4.0 * sd / (n as f32).sqrt();
+        assert!((got - mean).abs() < bound, "{draw}: mean {got}, expected {mean} ± {bound}");
+    };
+    within("RRand(2, 4, S)", 3.0, 2.0 / 12f32.sqrt());
+    within("Rand_Normal(1, 2, S)", 1.0, 2.0);
+    within("Rand_Exp(2, S)", 0.5, 0.5);
+    within("Rand_Triangle(0, 3, 1, S)", 4.0 / 3.0, (7.0f32 / 18.0).sqrt());
+    within("Rand_Binomial(10, 0.3, S)", 3.0, 2.1f32.sqrt());
+    // POV-Ray's Rand_Poisson counts one more than a Poisson draw.
+    within("Rand_Poisson(2, S)", 3.0, 2f32.sqrt());
+    within("vlength(VRand_On_Sphere(S))", 1.0, 1e-3);
+    // Uniform in the unit ball: E|p| = 3/4, sd sqrt(3/5 - 9/16).
+    within("vlength(VRand_In_Sphere(S))", 0.75, (3.0f32 / 5.0 - 9.0 / 16.0).sqrt());
+}
+
+#[test]
+fn vturbulence_is_the_displacement_of_a_turbulence_warp() {
+    // vturbulence.pov: vturbulence(lambda, omega, octaves, p).
+    let graph = pov("sphere { vturbulence(3, 0.4, 2, <0.3, 1.7, 2.1>), 1 }");
+    let ShapeNode::Sphere { center, .. } = graph.objects[0].shape else { panic!() };
+    let octaves = Octaves { octaves: 2, omega: 0.4, lambda: 3.0 };
+    assert_eq!(center, octaves.vector(Vec3::new(0.3, 1.7, 2.1)));
+    assert_ne!(center, Octaves { octaves: 1, ..octaves }.vector(Vec3::new(0.3, 1.7, 2.1)));
+    assert!(pov_error("sphere { vturbulence(2, 0.5, <1, 2, 3>), 1 }").contains("vturbulence"));
 }

@@ -200,7 +200,6 @@ fn a_spotlight_wider_than_90_degrees_is_read_as_povray_reads_it() {
 fn bad_light_values_are_located_errors() {
     let camera = "camera { location <0, 2, -4> look_at 0 }\n";
     let cases = [
-        ("light_source { <0, 4, 0> rgb 1 spotlight radius -1 }", ":2:49", "negative"),
         (
             "union { light_source { 0, rgb 1 } sphere { 0, 1 } }\n#declare U = union { \
           light_source { 0, rgb 1 } sphere { 0, 1 } }",
@@ -495,5 +494,44 @@ fn lights_are_as_bright_as_povray_s_at_look_at() {
             (ratio - Vec3::ONE).abs().max_element() < 0.02,
             "light {n}: ours {our_centre}, POV-Ray's {pov_centre}"
         );
+    }
+}
+
+#[test]
+fn a_declared_light_is_placed_where_light_source_or_object_names_it() {
+    // media2.pov's `object { Spot rotate ... }`, radiosity/cornell.pov's
+    // `light_source { SubPatch translate ... }`.
+    let g = pov("#declare L = light_source { <1, 4, 0> rgb 1 spotlight point_at <1, 0, 0> }\n\
+         light_source { L translate <0, 0, 2> }\n\
+         object { L rotate <0, 90, 0> }\n\
+         union { object { L } translate <0, 1, 0> }");
+    let positions: Vec<Vec3> = g.lights.iter().map(|l| l.position).collect();
+    let expected = [Vec3::new(1.0, 4.0, 2.0), Vec3::new(0.0, 4.0, -1.0), Vec3::new(1.0, 5.0, 0.0)];
+    assert_eq!(positions.len(), 3, "{positions:?}");
+    for (got, want) in positions.iter().zip(expected) {
+        assert!(got.distance(want) < 1e-5, "{got} against {want}");
+    }
+    // The spotlight's axis turns with the light.
+    let LightForm::Spot { point_at, .. } = g.lights[1].form else { panic!("{:?}", g.lights[1]) };
+    assert!(point_at.distance(Vec3::new(0.0, 0.0, -1.0)) < 1e-5, "{point_at}");
+}
+
+#[test]
+fn a_negative_light_is_left_out_and_a_negative_spot_angle_is_its_cosine() {
+    // crater_dat.pov's `color -0.9`: POV-Ray takes light away; here the light is left out.
+    let g = pov("light_source { <0, 4, 0> color -0.9 }\nlight_source { <0, 4, 0> rgb 1 }");
+    assert_eq!(g.lights.len(), 1);
+    assert!(g.warnings.iter().any(|w| w.contains("negative")), "{:?}", g.warnings);
+    let spot = |angles: &str| {
+        let g = pov(&format!("light_source {{ <0, 4, 0> rgb 1 spotlight point_at 0 {angles} }}"));
+        g.lights[0].form.clone()
+    };
+    assert_eq!(spot("radius -10 falloff -20"), spot("radius 10 falloff 20"));
+    for light in [
+        "light_source { <0, 1, 0> power rgb -1 }",
+        "light_source { <0, 4, 0> power rgb 1 spotlight radius -1 }",
+    ] {
+        let error = parse_scene(Path::new("t.scn"), light).map(|_| ()).unwrap_err();
+        assert!(error.to_string().contains("negative"), "{light}: {error}");
     }
 }

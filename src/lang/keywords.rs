@@ -84,6 +84,9 @@ pub enum Function {
     Div,
     /// POV-Ray's `vaxis_rotate(v, axis, degrees)`: v turned about the axis.
     VaxisRotate,
+    /// POV-Ray's `vturbulence(lambda, omega, octaves, p)`: the turbulence displacement a
+    /// `warp { turbulence }` with those parameters gives at p.
+    Vturbulence,
     /// POV-Ray's string functions: `strlen(s)`, `substr(s, start, length)` (from 1),
     /// `strupr(s)`, `strlwr(s)`, `chr(code)`, `asc(s)`, `val(s)`, `vstr(n, v, separator,
     /// width, decimals)`.
@@ -177,7 +180,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "concat" => F(Function::Concat), "str" => F(Function::Str),
     "dimension_size" => F(Function::DimensionSize), "dimensions" => F(Function::Dimensions),
     "div" => F(Function::Div),
-    "vaxis_rotate" => F(Function::VaxisRotate),
+    "vaxis_rotate" => F(Function::VaxisRotate), "vturbulence" => F(Function::Vturbulence),
     "strlen" => F(Function::Strlen), "substr" => F(Function::Substr), "strupr" => F(Function::Strupr),
     "strlwr" => F(Function::Strlwr), "chr" => F(Function::Chr), "asc" => F(Function::Asc),
     "val" => F(Function::Val), "vstr" => F(Function::Vstr), "file_exists" => F(Function::FileExists),
@@ -215,6 +218,7 @@ impl Function {
             | Inside => exactly(2),
             Select | Str | VaxisRotate | Substr => exactly(3),
             Trace => (3, Some(4)),
+            Vturbulence => exactly(4),
             Vstr => exactly(5),
             Concat => (1, None),
         }

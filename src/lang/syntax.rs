@@ -336,6 +336,7 @@ impl Item {
                 FileAction::Close => "`#fclose`",
             },
             Item::Ignored { what: Ignored::Version, .. } => "`#version`",
+            Item::Ignored { what: Ignored::StrayHash, .. } => "a lone `#`",
             Item::Ignored { what: Ignored::GlobalSettings, .. } => "`global_settings`",
             Item::Ignored { what: Ignored::LightMedia, .. } => "a light's media flag",
             Item::Ignored { what: Ignored::Photons, .. } => "`photons { }`",
@@ -427,6 +428,8 @@ impl Item {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Ignored {
     Version,
+    /// A `#` with no directive's word after it.
+    StrayHash,
     GlobalSettings,
     /// A light's `media_interaction` or `media_attenuation`.
     LightMedia,
@@ -440,6 +443,10 @@ impl Ignored {
         match self {
             Ignored::Version => {
                 "`#version` has no effect: raydiance reads one version of its language"
+            }
+            Ignored::StrayHash => {
+                "this `#` begins no directive (no word follows it): it is read as nothing, as \
+                 POV-Ray reads it"
             }
             Ignored::GlobalSettings => {
                 "POV-Ray's `global_settings` has no effect here: raydiance's settings are \
@@ -495,6 +502,13 @@ pub enum Declared {
     },
     /// POV-Ray's declared camera (`.pov`): its items.
     Camera {
+        items: Vec<Item>,
+        span: Span,
+    },
+    /// POV-Ray's declared `light_source` (`.pov`): placed where `light_source { Name }` or
+    /// `object { Name }` uses it.
+    Light {
+        position: Expr,
         items: Vec<Item>,
         span: Span,
     },

@@ -438,6 +438,10 @@ impl Builder {
                 Item::File(self.file_directive(pair)?)
             }
             Rule::version => Item::Ignored { what: Ignored::Version, span },
+            Rule::stray_hash => {
+                self.pov_only(&pair, None)?;
+                Item::Ignored { what: Ignored::StrayHash, span }
+            }
             Rule::global_settings => Item::Ignored { what: Ignored::GlobalSettings, span },
             Rule::media_flag => {
                 self.pov_only(&inner_pair(&pair), Some("light_source"))?;
@@ -524,6 +528,7 @@ impl Builder {
                         | Rule::kw_sky
                         | Rule::kw_focal_point
                         | Rule::kw_blur_samples
+                        | Rule::blur_sampling_key
                 );
                 if pov_only {
                     self.pov_only(&key, Some("camera"))?;
@@ -939,6 +944,16 @@ impl Builder {
                 Declared::Sky { items, span }
             }
             Rule::float_function => Declared::Function(self.float_function(pair)?),
+            Rule::light_source => {
+                let span = self.span(&pair);
+                self.pov_only(&inner_pair(&pair), None)?;
+                self.enter(&pair)?;
+                let mut inner = pair.into_inner().skip(1);
+                let position = self.expr(inner.next().expect("the position"))?;
+                let items = self.items(inner)?;
+                self.leave();
+                Declared::Light { position, items, span }
+            }
             Rule::transform => {
                 let transform = self.transform(pair)?;
                 if !matches!(transform.kind, TransformKind::Block(_) | TransformKind::Value(_)) {

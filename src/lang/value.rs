@@ -42,6 +42,8 @@ pub enum Value {
     Camera(Arc<super::eval::CameraParams>),
     /// A declared `sky_sphere` (`.pov`).
     Sky(Arc<SkyDesc>),
+    /// A declared `light_source` (`.pov`), as read where it is declared.
+    Light(Arc<super::eval::LightState>),
     /// A declared float function (`.pov`), compiled.
     Function(Arc<crate::function::FloatFunction>),
     /// A file's handle made by `#fopen` (`.pov`): an index into the evaluator's files.
@@ -77,6 +79,7 @@ impl Value {
             Value::Media(_) => "a media",
             Value::Camera(_) => "a camera",
             Value::Sky(_) => "a sky_sphere",
+            Value::Light(_) => "a light_source",
             Value::ColorMap(_) => "a color_map",
             Value::Function(_) => "a function",
             Value::File(_) => "a file's handle",

@@ -356,7 +356,7 @@ fn check_invertible(to_world: &Affine3A, span: &Span) -> Result<(), SceneError> 
     let message = if !determinant.is_finite() {
         "the transforms of this object scale it beyond what 32-bit floats hold (its volume \
          grows past 3.4e38 times)"
-    } else if determinant.abs() < 1e-12 {
+    } else if determinant.abs() < crate::graph::FLATTENING_DETERMINANT {
         "the transforms of this object are singular: they flatten it"
     } else {
         return Ok(());

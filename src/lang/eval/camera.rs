@@ -241,12 +241,15 @@ impl Evaluator {
         let mut right = vector("right", POV_RIGHT)?;
         let sky = vector("sky", POV_UP)?;
         // Focal blur: read, and warned about (the camera stays a pinhole).
-        let blur = ["aperture", "focal_point", "blur_samples"].iter().find_map(|k| given.get(*k));
+        let blur = ["aperture", "focal_point", "blur_samples", "confidence", "variance"]
+            .iter()
+            .find_map(|k| given.get(*k));
         if let Some((_, at)) = blur {
             let at = self.here(at);
             self.warnings.push(format!(
                 "{at:?}: warning: POV-Ray's focal blur (`aperture`, `focal_point`, \
-                 `blur_samples`) is not rendered: the camera is a pinhole"
+                 `blur_samples`, `confidence`, `variance`) is not rendered: the camera is a \
+                 pinhole"
             ));
         }
         let word = match given.get(PROJECTION) {

@@ -38,6 +38,7 @@ impl Evaluator {
             | Value::ColorMap(_)
             | Value::Camera(_)
             | Value::Sky(_)
+            | Value::Light(_)
             | Value::Function(_)
             | Value::File(_)
             | Value::ColourFunction(_)
@@ -69,6 +70,17 @@ impl Evaluator {
 
     pub(super) fn vector(&mut self, expr: &Expr) -> Result<DVec3, SceneError> {
         as_vector(&self.value(expr)?, &expr.span, "this value")
+    }
+
+    /// A vector where POV-Ray promotes a 2-vector to one with z 0 (`translate <1, 2>`, a
+    /// text's offset `<0, 0>`); `.scn` takes three components.
+    pub(super) fn promoted_vector(&mut self, expr: &Expr, what: &str) -> Result<DVec3, SceneError> {
+        match (self.value(expr)?, self.dialect) {
+            (Value::Numbers(n), crate::lang::dialect::Dialect::Pov) if n.len() == 2 => {
+                Ok(DVec3::new(n[0], n[1], 0.0))
+            }
+            (value, _) => as_vector(&value, &expr.span, what),
+        }
     }
 
     pub(super) fn vec3(&mut self, expr: &Expr) -> Result<Vec3, SceneError> {
@@ -224,6 +236,21 @@ impl Evaluator {
             _ => self.value(&colour.value)?,
         };
         colour_of(value, at)
+    }
+
+    /// A colour as `colour` reads it, negative components kept (for the caller to refuse or
+    /// warn about with its own reason).
+    pub(super) fn signed_colour(&mut self, colour: &Colour) -> Result<Vec3, SceneError> {
+        let at = &colour.span;
+        let value = match &colour.value.kind {
+            ExprKind::Rgb(inner) => self.value(inner)?,
+            _ => self.value(&colour.value)?,
+        };
+        match value {
+            Value::Float(f) => Ok(Vec3::splat(single(f, at)?)),
+            Value::Vector(v) => single_vector(v, at),
+            other => Err(SceneError::at(at, format!("expected a colour, found {}", other.kind()))),
+        }
     }
 
     fn eval(&mut self, expr: &Expr) -> Result<Value, SceneError> {
@@ -572,6 +599,19 @@ impl Evaluator {
                 // `vaxis_rotate(v, x, 30)`).
                 Value::Vector(DMat3::from_axis_angle(axis.normalize(), degrees.to_radians()) * v)
             }
+            Vturbulence => {
+                let (lambda, omega, octaves) =
+                    (number(self, 0)?, number(self, 1)?, number(self, 2)?);
+                let at = &args[3].span;
+                let point = single_vector(vector(self, 3)?, at)?;
+                let octaves = crate::texture::Octaves {
+                    // A count, held to 1..=16 as a pattern's `octaves` is.
+                    octaves: octaves.clamp(1.0, 16.0) as u32,
+                    omega: single(omega, &args[1].span)?,
+                    lambda: single(lambda, &args[0].span)?,
+                };
+                Value::Vector(octaves.vector(point).as_dvec3())
+            }
             Strlen => Value::Float(self.text(&args[0], "`strlen`")?.chars().count() as f64),
             Strupr => Value::String(Arc::new(self.text(&args[0], "`strupr`")?.to_uppercase())),
             Strlwr => Value::String(Arc::new(self.text(&args[0], "`strlwr`")?.to_lowercase())),
@@ -896,8 +936,14 @@ pub(super) fn single(value: f64, at: &Span) -> Result<f32, SceneError> {
     Ok(single)
 }
 
-/// A vector as f32, each component checked as `single` does.
+/// A vector as f32, each component checked as `single` does; but a component that vanishes in
+/// f32 beside one that does not is rounded to zero, as f32 rounds every component relative to
+/// the vector's size (`<x, x*x*x, 0>` with x = -3.9e-14 in float5.pov). A vector whose every
+/// non-zero component vanishes is still an error.
 pub(super) fn single_vector(v: DVec3, at: &Span) -> Result<Vec3, SceneError> {
+    let below = v.abs().cmplt(DVec3::splat(f64::from(f32::MIN_POSITIVE)));
+    let vanishing = below & v.cmpne(DVec3::ZERO);
+    let v = if below.all() { v } else { DVec3::select(vanishing, DVec3::ZERO, v) };
     Ok(Vec3::new(single(v.x, at)?, single(v.y, at)?, single(v.z, at)?))
 }
 

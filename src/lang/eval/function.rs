@@ -422,9 +422,10 @@ fn built_in(f: Function) -> Option<Op> {
         Mod => Op::Binary(Binary::Mod),
         Atan2 => Op::Binary(Binary::Atan2),
         Select => Op::Select3,
-        Vlength | Vnormalize | Vdot | Vcross | Vrotate | VaxisRotate | Seed | Rand | Concat
-        | Str | Vstr | Strlen | Substr | Strupr | Strlwr | Chr | Asc | Val | FileExists
-        | Defined | DimensionSize | Dimensions | Div | MinExtent | MaxExtent | Trace | Inside => {
+        Vlength | Vnormalize | Vdot | Vcross | Vrotate | VaxisRotate | Vturbulence | Seed
+        | Rand | Concat | Str | Vstr | Strlen | Substr | Strupr | Strlwr | Chr | Asc | Val
+        | FileExists | Defined | DimensionSize | Dimensions | Div | MinExtent | MaxExtent
+        | Trace | Inside => {
             return None;
         }
     })

@@ -13,6 +13,7 @@ use crate::diagnostic::{SceneError, Span};
 use crate::graph::{BeamDesc, LightDesc, LightForm, MaterialDesc, ObjectNode, ShapeNode, SpotCone};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{Expr, Item};
+use crate::lang::value::Value;
 
 /// POV-Ray's spotlight defaults: `radius 30 falloff 45 tightness 0`, `point_at <0, 0, 1>`.
 const SPOT_RADIUS: f32 = 30.0;
@@ -20,6 +21,7 @@ const SPOT_FALLOFF: f32 = 45.0;
 const SPOT_POINT_AT: Vec3 = Vec3::Z;
 
 /// A light's items as they are read.
+#[derive(Clone, Debug)]
 pub struct LightState {
     /// Where the light is, moved by the transforms read so far.
     position: Vec3,
@@ -40,10 +42,14 @@ pub struct LightState {
     orient: bool,
     shadowless: bool,
     looks_like: Option<Arc<ObjectNode>>,
+    /// `.pov`: where a colour with a negative component was given (POV-Ray's light that
+    /// takes light away); such a light is left out.
+    negative: Option<Span>,
 }
 
 /// `area_light <axis1>, <axis2>, n1, n2`: the grid's sides (its counts only say how POV-Ray
 /// samples it).
+#[derive(Clone, Debug)]
 struct AreaAxes {
     axis1: Vec3,
     axis2: Vec3,
@@ -106,8 +112,11 @@ impl Evaluator {
         items: &[Item],
     ) -> Result<LightState, SceneError> {
         let at = position.span.clone();
-        let position = single_vector(as_vector(&self.value(position)?, &at, "this value")?, &at)?;
-        let mut state = LightState::at(position);
+        let mut state = match self.value(position)? {
+            // `light_source { Declared transforms }` (`.pov`): the declared light, moved on.
+            Value::Light(declared) => (*declared).clone(),
+            value => LightState::at(single_vector(as_vector(&value, &at, "this value")?, &at)?),
+        };
         self.exec(items, &mut Body::Light(&mut state))?;
         Ok(state)
     }
@@ -121,6 +130,17 @@ impl Evaluator {
             };
             return Err(SceneError::at(span, message));
         };
+        if let Some(at) = &state.negative {
+            // Light is never negative: a light that darkens what it reaches has no physical
+            // reading, so it is left out (the scene is lit by its other lights only).
+            let at = self.here(at);
+            self.warnings.push(format!(
+                "{at:?}: warning: this light_source's colour has a negative component, which \
+                 POV-Ray subtracts from the light others give: light is never negative, so \
+                 this light is left out"
+            ));
+            return Ok(());
+        }
         let position = state.position;
         let form = light_form(&state)?;
         let fade = (state.fade_distance > 0.0 && state.fade_power > 0.0)
@@ -200,7 +220,14 @@ impl Evaluator {
                 if state.power.is_some() {
                     return Err(SceneError::at(key, "the light's power is given twice"));
                 }
-                state.power = Some(self.colour(colour)?);
+                let power = match self.dialect {
+                    Dialect::Scn => self.colour(colour)?,
+                    Dialect::Pov => self.signed_colour(colour)?,
+                };
+                if power.min_element() < 0.0 {
+                    state.negative = Some(colour.span.clone());
+                }
+                state.power = Some(power.max(Vec3::ZERO));
             }
             Item::PovParam { key, value, items } => {
                 let value = value.as_ref().map(|v| &v.value);
@@ -279,7 +306,12 @@ impl Evaluator {
     /// 90 only widens the fade, and no light goes behind the spotlight. So does raydiance, with
     /// a warning (laser.pov has `falloff 250`: its cosine is cos 110°).
     fn angle(&mut self, expr: &Expr, word: &str) -> Result<f32, SceneError> {
-        let degrees = self.non_negative(expr, &format!("`{word}`"))?;
+        let degrees = match self.dialect {
+            Dialect::Scn => self.non_negative(expr, &format!("`{word}`"))?,
+            // POV-Ray keeps the angle's cosine, the same for -a as for a (`radius -90` in
+            // radiosity/cornell.pov).
+            Dialect::Pov => self.single(expr)?.abs(),
+        };
         if degrees > 90.0 {
             let at = self.here(&expr.span);
             self.warnings.push(format!(
@@ -347,6 +379,7 @@ impl LightState {
             orient: false,
             shadowless: false,
             looks_like: None,
+            negative: None,
         }
     }
 

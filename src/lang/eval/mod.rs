@@ -59,7 +59,8 @@ pub use appearance::{Finish, Look};
 use array::element_index;
 pub use camera::CameraParams;
 pub use file_io::{MAX_FILES_OPENED, MAX_WRITTEN_BYTES};
-use light::{LightState, PovLight};
+pub use light::LightState;
+use light::PovLight;
 pub use material::TextureState;
 pub use medium::Interior;
 use normal::NormalState;
@@ -690,6 +691,9 @@ impl Evaluator {
                 Value::Camera(Arc::new(given))
             }
             Declared::Sky { items, span } => Value::Sky(Arc::new(self.sky_desc(items, span)?)),
+            Declared::Light { position, items, .. } => {
+                Value::Light(Arc::new(self.light_state(position, items)?))
+            }
             Declared::Function(def) => self.function_value(def)?,
             Declared::Transform(t) => Value::Transform(Arc::new(self.transform(t)?.to_affine())),
             Declared::If { branches, otherwise, span } => {

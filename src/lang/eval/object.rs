@@ -8,11 +8,12 @@ use super::Look;
 use super::expression::{single, single_vector};
 use super::transform::matrix_of;
 use super::{
-    Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE,
-    as_vector, resolve,
+    Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE, resolve,
 };
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{Below, CsgOp, ObjectNode, ShapeNode, Transform, compose};
+use crate::graph::{
+    Below, CsgOp, FLATTENING_DETERMINANT, ObjectNode, ShapeNode, Transform, compose,
+};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{self, AppearanceKind, Item, Shape, TransformKind};
 use crate::lang::value::Value;
@@ -20,6 +21,8 @@ use crate::lang::value::Value;
 impl Evaluator {
     pub(super) fn object(&mut self, object: &syntax::Object) -> Result<ObjectNode, SceneError> {
         let span = self.here(&object.span);
+        // Lights this object holds (its own, or a declared light it places) move with it.
+        let held = self.held_lights.len();
         let shape = match &object.shape {
             Shape::Plane { normal, offset } => {
                 let normal = self.nonzero(normal, "the plane's normal")?;
@@ -181,6 +184,12 @@ impl Evaluator {
             }
             Shape::Instance { of } => match self.value(of)? {
                 Value::Object(object) => ShapeNode::Instance(object),
+                // `object { DeclaredLight transforms }` (`.pov`): the light, moved by the
+                // object's transforms as a light in an object is.
+                Value::Light(light) => {
+                    self.held_lights.push(((*light).clone(), span.clone()));
+                    ShapeNode::Union(Vec::new())
+                }
                 other => {
                     let what = match &of.kind {
                         syntax::ExprKind::Ident(name) => format!("`{name}`"),
@@ -215,7 +224,6 @@ impl Evaluator {
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.looks.push(None);
         self.shapings.push(Shaping::default());
-        let held = self.held_lights.len();
         let items = self.exec(&object.items, &mut Body::Object(&mut node));
         let look = self.looks.pop().flatten();
         let shaping = self.shapings.pop().unwrap_or_default();
@@ -223,6 +231,19 @@ impl Evaluator {
         let moving = compose(&node.transforms);
         for (light, _) in &mut self.held_lights[held..] {
             light.moved_by(moving);
+        }
+        let flattened = moving.matrix3.determinant().abs() < FLATTENING_DETERMINANT;
+        if flattened && self.dialect == Dialect::Pov {
+            // POV-Ray draws an object scaled to (almost) nothing as the sliver it is
+            // (swirlbox.pov's last box, `scale 5e-16`), which shows nothing: it is left out.
+            let here = self.here(&object.span);
+            self.warnings.push(format!(
+                "{here:?}: warning: the transforms of this object flatten it (their determinant \
+                 is {:e}): it shows nothing and is left out",
+                moving.matrix3.determinant()
+            ));
+            node.shape = ShapeNode::Union(Vec::new());
+            node.transforms.clear();
         }
         self.check_blob(&node.shape, &object.span)?;
         let mut node = shaping.shaped(node);
@@ -532,14 +553,7 @@ impl Evaluator {
     /// A transform's vector: POV-Ray promotes a 2-vector to a vector with z 0 (`translate <1,
     /// 2>`).
     fn transform_vector(&mut self, expr: &syntax::Expr, what: &str) -> Result<Vec3, SceneError> {
-        let at = &expr.span;
-        let value = match (self.value(expr)?, self.dialect) {
-            (Value::Numbers(n), Dialect::Pov) if n.len() == 2 => {
-                Value::Vector(glam::DVec3::new(n[0], n[1], 0.0))
-            }
-            (value, _) => value,
-        };
-        single_vector(as_vector(&value, at, what)?, at)
+        single_vector(self.promoted_vector(expr, what)?, &expr.span)
     }
 
     fn scale(&mut self, expr: &syntax::Expr) -> Result<Transform, SceneError> {

@@ -46,7 +46,7 @@ impl Evaluator {
         };
         let string = self.string(string, "the text of `text`")?;
         let thickness = f64::from(self.positive(thickness, "the text's thickness")?);
-        let offset = self.vector(offset)?;
+        let offset = self.promoted_vector(offset, "the text's offset")?;
         let path = self.find_font(at, &name)?;
         let bytes = crate::input::read(&path, MAX_FONT_BYTES).map_err(|e| {
             SceneError::at(at, format!("cannot read the font `{}`: {e}", path.display()))
