@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use glam::{Affine3A, Mat3, Vec3};
+use glam::{Affine3A, Mat3, Vec2, Vec3};
 
 use crate::diagnostic::Span;
 pub use crate::geometry::CsgOp;
@@ -220,6 +220,8 @@ pub struct MaterialDesc {
     pub transmission: Vec3,
     pub ior: f32,
     pub emission: Vec3,
+    /// `emission` leaves both sides of the surface (POV-Ray's glow), not only the normal's.
+    pub two_sided: bool,
     pub fresnel: bool,
     /// GGX alpha of the `specular` and `transmission` lobes, in [0, 1]; 0: perfect lobes.
     pub roughness: f32,
@@ -305,6 +307,7 @@ impl MaterialDesc {
             transmission: Vec3::ZERO,
             ior: 1.0,
             emission: Vec3::ZERO,
+            two_sided: false,
             fresnel: false,
             roughness: 0.0,
             coat: 0.0,
@@ -368,7 +371,10 @@ impl TextureNode {
             | Pattern::Marble { map, .. }
             | Pattern::Wood { map, .. } => map.iter().fold(Vec3::ZERO, |m, (_, c)| m.max(*c)),
             // Decoded 8-bit images are at most 1.
-            Pattern::Image { .. } => Vec3::ONE,
+            Pattern::Image { look, .. } => match look.channel {
+                ImageChannel::Colour | ImageChannel::Through(_) => Vec3::ONE,
+                ImageChannel::Filter(f) => Vec3::splat(f),
+            },
         }
     }
 }
@@ -454,9 +460,11 @@ pub enum Pattern {
         octaves: u32,
         map: ColorMap,
     },
-    /// An image projected onto the x-y unit square, repeating.
+    /// An image projected onto the unit square (or wrapped around the y axis), read as its
+    /// `look` says.
     Image {
         path: PathBuf,
+        look: ImageLook,
     },
     /// a (1 - t) + b t.
     Mix {
@@ -472,6 +480,57 @@ pub enum Pattern {
     },
     /// POV-Ray's `average`: the weighted mean of the textures (weights need not sum to 1).
     Average(TextureMap),
+}
+
+/// How an image is projected, sampled and decoded, and which of a pigment's parts it gives
+/// (POV-Ray's `image_map { map_type once interpolate gamma filter transmit }`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImageLook {
+    pub projection: ImageProjection,
+    /// Only one copy, on the unit square: outside it the image lets all light through.
+    pub once: bool,
+    /// Bilinear between the texel centres, else the nearest texel.
+    pub bilinear: bool,
+    /// The file's values to linear: `None` the sRGB curve, `Some(g)` the power g.
+    pub gamma: Option<f32>,
+    pub channel: ImageChannel,
+}
+
+/// POV-Ray's `map_type`: where a point of the pattern's space falls in the image's (u, v).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageProjection {
+    /// `map_type 0`: (u, v) = (x, y).
+    Planar,
+    /// `map_type 1`: u the longitude around y from +x towards +z, v the latitude from -y (0)
+    /// to +y (1).
+    Spherical,
+    /// `map_type 2`: u the longitude as the sphere's, v = y.
+    Cylindrical,
+}
+
+/// The part of a pigment an image gives at each point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ImageChannel {
+    /// The texels' linear colour (black outside a `once` image).
+    Colour,
+    /// `filter all F` (0 outside a `once` image).
+    Filter(f32),
+    /// Filter + transmit: the given `filter all` + `transmit all` plus the texels' transparency
+    /// (1 - alpha), at most 1; 1 outside a `once` image.
+    Through(f32),
+}
+
+impl ImageLook {
+    /// `.scn`'s `image_map { "file" }`: planar, repeating, the nearest texel, sRGB.
+    pub fn colour() -> ImageLook {
+        ImageLook {
+            projection: ImageProjection::Planar,
+            once: false,
+            bilinear: false,
+            gamma: None,
+            channel: ImageChannel::Colour,
+        }
+    }
 }
 
 /// Bump mapping (`normal { PATTERN AMOUNT }`): a perturbation of the shading normal, from a
@@ -512,6 +571,38 @@ pub struct FieldShape {
     pub wave: Wave,
     pub frequency: f32,
     pub phase: f32,
+}
+
+/// A fractal pattern: which set, its iterations, and how points that escape (`exterior`) and
+/// points that stay (`interior`) are valued.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fractal {
+    pub set: FractalSet,
+    /// z^exponent + c (2, 3 or 4; `mandel` and `julia` only).
+    pub exponent: u32,
+    pub iterations: u32,
+    pub interior: FractalColouring,
+    pub exterior: FractalColouring,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FractalSet {
+    /// z -> z^n + p, from z = p.
+    Mandel,
+    /// z -> z^n + c from z = p.
+    Julia(Vec2),
+    /// POV-Ray's `magnet 1` and `magnet 2` formulas, Mandelbrot-like (c = p) or Julia-like.
+    Magnet { formula: u32, julia: Option<Vec2> },
+}
+
+/// POV-Ray's fractal colourings (`interior TYPE, FACTOR`, `exterior TYPE, FACTOR`): of the
+/// last z = a + bi, 0 the factor alone, 1 (exterior) the iterations' share or (interior) the
+/// orbit's nearest approach to 0, 2 a, 3 b, 4 a², 5 b², 6 |z| (exterior) or |z|² (interior),
+/// each times the factor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FractalColouring {
+    pub kind: u32,
+    pub factor: f32,
 }
 
 /// A function pattern's function of (x, y, z) (the language's compiled `function { }`), equal
@@ -559,10 +650,17 @@ pub enum Field {
     Hexagon,
     /// ((sin x + sin y + sin z) / 3)^2.
     Leopard,
-    /// The Mandelbrot set in the x-y plane: escape iterations / `iterations`, 1 inside.
-    Mandel {
-        iterations: u32,
-    },
+    /// POV-Ray's fractal patterns in the x-y plane (`mandel`, `julia`, `magnet`), valued by
+    /// their `exterior` and `interior` colourings.
+    Fractal(Fractal),
+    /// 1 - |y| down to 0 at |y| = 1 (`planar`).
+    Planar,
+    /// 1 - |p| down to 0 at |p| = 1 (`spherical`).
+    Spherical,
+    /// 1 - the distance from the y axis, down to 0 at 1 (`cylindrical`).
+    Cylindrical,
+    /// 1 - the largest of |x|, |y|, |z|, down to 0 at 1 (`boxed`).
+    Boxed,
     /// x plus turbulence, through a triangle wave by default.
     Marble,
     /// frac(|p|): concentric spheres.

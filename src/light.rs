@@ -19,10 +19,17 @@ use crate::sampling::{concentric_disk, cosine_hemisphere, uniform_sphere};
 pub enum Light {
     /// `power` acts as radiant intensity: irradiance power / r^2 (the course's Lab 4 formula).
     Point { position: Vec3, power: Vec3 },
-    /// An emissive primitive: its shape, its material's `emission` and the beam that shapes it,
-    /// if any (`light::emitted`), its surface area, and its index in `Scene::primitives`
-    /// (which names hits on it).
-    Area { shape: Shape, emission: Vec3, beam: Option<BeamSampler>, area: f32, primitive: u32 },
+    /// An emissive primitive: its shape, its material's `emission`, the beam that shapes it,
+    /// if any, and whether it leaves both sides (`light::emitted`), its surface area, and its
+    /// index in `Scene::primitives` (which names hits on it).
+    Area {
+        shape: Shape,
+        emission: Vec3,
+        beam: Option<BeamSampler>,
+        two_sided: bool,
+        area: f32,
+        primitive: u32,
+    },
     /// Radiance arriving from infinitely far away (a sky): rays that leave the scene find it.
     Environment(Box<Environment>),
     /// A point light with an angular profile (`light::spot`).
@@ -84,12 +91,16 @@ impl Light {
     }
 
     /// Emitted power per channel: 4 pi I for a point light, pi A Le for a one-sided diffuse
-    /// emitter (Le cos integrated over the hemisphere is pi Le), a spotlight's intensity
+    /// emitter (Le cos integrated over the hemisphere is pi Le), twice that for a two-sided
+    /// one, a spotlight's intensity
     /// integrated over its beam (for a beamed emitter, of intensity A times its emission).
     pub fn power_rgb(&self) -> Vec3 {
         match self {
             Light::Point { power, .. } => 4.0 * PI * *power,
-            Light::Area { emission, beam: None, area, .. } => PI * *area * *emission,
+            Light::Area { emission, beam: None, two_sided, area, .. } => {
+                let sides = if *two_sided { 2.0 } else { 1.0 };
+                sides * PI * *area * *emission
+            }
             Light::Area { emission, beam: Some(beam), area, .. } => {
                 beam.solid_angle() * *area * *emission
             }
@@ -113,17 +124,18 @@ impl Light {
                 let wi = to_light / distance_squared.sqrt();
                 (position, wi, power / distance_squared, 1.0, true)
             }
-            // Every emitter shape but the torus is convex or emits outwards only: it never
-            // lights itself (and a sample from its own surface would be degenerate).
-            Light::Area { primitive, shape, .. }
+            // A one-sided emitter of any shape but the torus is convex or emits outwards only:
+            // it never lights itself (and a sample from its own surface would be degenerate).
+            // A two-sided sphere lights its own inside.
+            Light::Area { primitive, shape, two_sided: false, .. }
                 if *primitive == hit.primitive && !matches!(shape, Shape::Torus(_)) =>
             {
                 return None;
             }
-            &Light::Area { ref shape, emission, ref beam, area, .. } => {
+            &Light::Area { ref shape, emission, ref beam, two_sided, area, .. } => {
                 let DirectionSample { point, normal, error, wi, pdf } =
                     shape.sample_from(hit.point, area, u)?;
-                let le = emitted(emission, beam.as_ref().map(|b| &b.beam), normal, -wi);
+                let le = emitted(emission, beam.as_ref().map(|b| &b.beam), two_sided, normal, -wi);
                 if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
                     return None;
                 }
@@ -197,7 +209,8 @@ pub struct EmissionSample {
 impl Light {
     /// One of `photons` photons from this light: a point light's uniform over the sphere
     /// (4 pi I / n each), an area light's from a point uniform by area, cosine-weighted over
-    /// the hemisphere its emitting side faces (Le cos / (1/A cos/pi) = pi A Le, / n each). So
+    /// the hemisphere its emitting side faces (Le cos / (1/A cos/pi) = pi A Le, / n each; a
+    /// two-sided one's side chosen with probability 1/2, 2 pi A Le). So
     /// `photons` photons carry exactly `power_rgb`; a spotlight's leave with density following
     /// its profile (an area spotlight's from a point uniform by area, then so), a distant light's from a disk across the scene's bounding sphere, the
     /// environment's from a disc facing a direction it samples (`Environment::sample_photon`).
@@ -214,12 +227,21 @@ impl Light {
                 let ray = Ray::new(position, uniform_sphere(u_direction));
                 Some(EmissionSample { ray, power: 4.0 * PI * power * share })
             }
-            Light::Area { shape, emission, beam: None, area, .. } => {
+            &Light::Area { ref shape, emission, beam: None, two_sided, area, .. } => {
                 let s = shape.sample_area(u_point)?;
-                let dir = Frame::from_normal(s.normal).to_world(cosine_hemisphere(u_direction));
+                // A two-sided emitter's side: the first half of u.x the front, the second the
+                // back, each half stretched back to [0, 1).
+                let (side, sides, u) = match two_sided {
+                    true if u_direction.x >= 0.5 => {
+                        (-s.normal, 2.0, Vec2::new(2.0 * u_direction.x - 1.0, u_direction.y))
+                    }
+                    true => (s.normal, 2.0, Vec2::new(2.0 * u_direction.x, u_direction.y)),
+                    false => (s.normal, 1.0, u_direction),
+                };
+                let dir = Frame::from_normal(side).to_world(cosine_hemisphere(u));
                 // Leave just off the surface, on the side that emits.
-                let ray = Ray::new(s.point + s.normal * s.error, dir);
-                Some(EmissionSample { ray, power: PI * *area * *emission * share })
+                let ray = Ray::new(s.point + side * s.error, dir);
+                Some(EmissionSample { ray, power: sides * PI * area * emission * share })
             }
             Light::Area { shape, emission, beam: Some(beam), area, .. } => {
                 // Each bit of area is a point spotlight: Le |cos| / (pdf_A pdf_w) is
@@ -279,16 +301,17 @@ fn modified_sample(
 }
 
 /// Radiance an emitter sends towards unit `wo` from a point with normal `n`. Without a beam,
-/// `emission` towards the normal's side only (a diffuse emitter). With one, each bit of area dA
+/// `emission` towards the normal's side only (a diffuse emitter), or towards both sides where
+/// `two_sided` (POV-Ray's glow). With one, each bit of area dA
 /// is a point spotlight of intensity `emission` dA on the beam's axis, shining both ways:
 /// `emission` · P(wo) / |wo · n|, so that a flat emitter of area A has the intensity A ·
 /// `emission` · P of a point spotlight, whatever its size (POV-Ray's area spotlight, a grid of
 /// point spotlights, `docs/povray.md`).
 #[inline]
-pub fn emitted(emission: Vec3, beam: Option<&Beam>, n: Vec3, wo: Vec3) -> Vec3 {
+pub fn emitted(emission: Vec3, beam: Option<&Beam>, two_sided: bool, n: Vec3, wo: Vec3) -> Vec3 {
     let cos = n.dot(wo);
     match beam {
-        None if cos > 0.0 => emission,
+        None if cos > 0.0 || (two_sided && cos < 0.0) => emission,
         None => Vec3::ZERO,
         Some(beam) => {
             let share = beam.towards(wo);

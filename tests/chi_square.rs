@@ -161,6 +161,7 @@ fn material(diffuse: f32, specular: f32, transmission: f32, fresnel: bool) -> Ma
         transmission: Vec3::splat(transmission),
         ior: 1.5,
         emission: Vec3::ZERO,
+        two_sided: false,
         fresnel,
         roughness: 0.0,
         coat: None,

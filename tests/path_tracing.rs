@@ -3,32 +3,13 @@
 
 mod common;
 
-use common::{LAB_BOX, OneAtATime, assert_films_agree, path_with, scene};
+use common::{LAB_BOX, OneAtATime, assert_films_agree, assert_uniform_radiance, path_with, scene};
 use glam::{Vec2, Vec3};
-use raydiance::film::Film;
 use raydiance::integrator::{CameraSample, Direct, Path, SampleIntegrator, Strategy};
 use raydiance::progress::Silent;
 use raydiance::render::render_with;
 use raydiance::sampling::Sampler;
 use raydiance::scene::Scene;
-
-/// The mean over all pixels of a film whose pixels all estimate `expected`, checked against a
-/// bound of 5 standard errors (from the film's own variance estimate).
-fn assert_uniform_radiance(film: &Film, expected: Vec3, what: &str) {
-    let n = film.sum.len() as f32;
-    let image = film.image();
-    let mean = image.pixels.iter().sum::<Vec3>() / n;
-    let standard_error = (film.variance_of_mean().iter().sum::<Vec3>() / (n * n)).map(f32::sqrt);
-    let deviation = (mean - expected).abs();
-    assert!(
-        deviation.cmple(5.0 * standard_error + 1e-6 * expected).all(),
-        "{what}: mean {mean}, expected {expected}, standard error {standard_error}"
-    );
-    assert!(
-        standard_error.max_element() < 0.02 * expected.max_element(),
-        "{what}: too noisy to tell"
-    );
-}
 
 /// A closed box [-1, 1]^3 of six quads facing inwards with the given material, and a camera
 /// inside it looking along +z.

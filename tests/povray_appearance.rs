@@ -7,6 +7,7 @@ mod common;
 
 use glam::Vec3;
 use raydiance::graph::{MaterialDesc, Pattern, SceneGraph};
+use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
 use raydiance::material::{LobeFlags, Material, TransportMode};
 use raydiance::scene::build;
@@ -476,4 +477,94 @@ fn light_through_a_see_through_sheet_is_found_alike_by_light_and_bsdf_samples() 
     (graph.settings.samples, graph.settings.max_depth) = (64, 3);
     let scene = build(&graph).unwrap_or_else(|e| panic!("{e}"));
     common::assert_light_and_bsdf_sampling_agree_with_mis(&scene, "see-through sheet");
+}
+
+/// POV-Ray's glow is seen from both sides (docs/povray.md). Inside a closed sphere whose wall
+/// glows with E and diffuses with albedo a, the radiance everywhere is E / (1 - a) (here
+/// 0.5 / (1 - 0.5) = 1): the wall lights its own inside, and light samples alone, BSDF samples
+/// alone and MIS each find it. With the glow on the outer side only, the inside would be black.
+#[test]
+fn a_glow_is_seen_from_both_sides_and_lights_the_inside_of_its_sphere() {
+    let mut graph = pov("camera { location <0.3, -0.2, 0.1> look_at <1, 0, 2> angle 100 }
+         sphere { 0, 2 pigment { rgb 1 } finish { emission 0.5 diffuse 0.5 } }");
+    (graph.settings.width, graph.settings.height) = (16, 16);
+    (graph.settings.samples, graph.settings.max_depth) = (64, 64);
+    let scene = build(&graph).unwrap_or_else(|e| panic!("{e}"));
+    for strategy in [Strategy::Mis, Strategy::LightSampling, Strategy::BsdfSampling] {
+        let film = common::path_with(&scene, strategy);
+        common::assert_uniform_radiance(&film, Vec3::ONE, &format!("{strategy:?}"));
+    }
+}
+
+/// A glowing disc that faces away from a floor lights it with its back: light samples alone
+/// and BSDF samples alone agree with MIS (the back's radiance, pdf and power are the front's).
+#[test]
+fn the_back_of_a_glow_is_found_alike_by_light_and_bsdf_samples() {
+    let mut graph = pov("camera { location <0, 3, -3> look_at 0 angle 60 }
+         disc { <0, 3, 0>, y, 2 pigment { rgb 1 } finish { emission 1 diffuse 0 } }
+         plane { y, 0 pigment { rgb 0.8 } finish { diffuse 1 } }");
+    (graph.settings.width, graph.settings.height) = (24, 18);
+    (graph.settings.samples, graph.settings.max_depth) = (64, 3);
+    let scene = build(&graph).unwrap_or_else(|e| panic!("{e}"));
+    let image = common::path_with(&scene, Strategy::Mis).image();
+    assert!(common::mean(&image).x > 0.05, "the floor is lit: {}", common::mean(&image));
+    common::assert_light_and_bsdf_sampling_agree_with_mis(&scene, "the glow's back");
+}
+
+/// `image_map { [type] "file" options }` in a pigment: the file is found beside the scene, its
+/// options are the look of the pigment's parts, and a `once` image lets light through outside
+/// its square; options raydiance does not read are refused where they stand.
+#[test]
+fn an_image_map_pigment_reads_its_options_and_refuses_what_it_cannot_honour() {
+    use raydiance::graph::{ImageChannel, ImageLook, ImageProjection};
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbImage::from_pixel(2, 2, image::Rgb([255, 128, 0]))
+        .save(dir.path().join("tile.png"))
+        .unwrap();
+    let scene = dir.path().join("scene.pov");
+    let read = |pigment: &str| {
+        let text = format!("sphere {{ 0, 1 pigment {{ {pigment} }} }}");
+        parse_scene(&scene, &text).map(|g| (*g.objects[0].material.clone().unwrap()).clone())
+    };
+    let m =
+        read(r#"image_map { png "tile" map_type 1 once interpolate 2 gamma 2.2 filter all 0.25 }"#)
+            .unwrap_or_else(|e| panic!("{e}"));
+    let look = |node: &raydiance::graph::TextureNode| match &node.pattern {
+        Pattern::Image { path, look } => {
+            assert_eq!(path, &dir.path().join("tile.png"), "found with its extension");
+            *look
+        }
+        other => panic!("not an image: {other:?}"),
+    };
+    let colour = look(&m.diffuse);
+    let expected = ImageLook {
+        projection: ImageProjection::Spherical,
+        once: true,
+        bilinear: true,
+        gamma: Some(2.2),
+        channel: ImageChannel::Colour,
+    };
+    assert_eq!(colour, expected);
+    let see_through = m.pigment.expect("a once image lets light through outside it");
+    assert_eq!(look(&see_through.filter).channel, ImageChannel::Filter(0.25));
+    assert_eq!(look(&see_through.through).channel, ImageChannel::Through(0.25));
+    // Repeating, opaque, without alpha: a plain colour texture.
+    let plain = read(r#"image_map { "tile.png" }"#).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(look(&plain.diffuse), ImageLook::colour());
+    let through = plain.pigment.expect("a patterned pigment").through;
+    assert_eq!(through.pattern, Pattern::Solid(Vec3::ZERO), "no light through anywhere");
+    // Each error names the file, line and column of the word (or value) it refuses.
+    for (option, at, says) in [
+        ("map_type 5", "5", "`map_type 5`"),
+        ("filter 3, 0.5", "filter", "`filter`: raydiance reads"),
+        ("use_index", "use_index", "`use_index`"),
+        ("", "\"nothing.png\"", "cannot read `nothing.png`"),
+    ] {
+        let file = if option.is_empty() { "nothing.png" } else { "tile.png" };
+        let pigment = format!(r#"image_map {{ png "{file}" {option} }}"#);
+        let column = format!("sphere {{ 0, 1 pigment {{ {pigment} }} }}").find(at).unwrap() + 1;
+        let error = read(&pigment).unwrap_err().to_string();
+        let expected = format!("scene.pov:1:{column}: error: {says}");
+        assert!(error.contains(&expected), "{option}: {error}, not {expected}");
+    }
 }

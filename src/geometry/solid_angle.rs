@@ -25,7 +25,7 @@ impl Shape {
     #[inline]
     pub fn sample_from(&self, from: Vec3, area: f32, u: Vec2) -> Option<DirectionSample> {
         match *self {
-            Shape::Sphere { center, radius } if center.distance(from) > radius => {
+            Shape::Sphere { center, radius } if outside(center, radius, from) => {
                 Some(sample_sphere_cone(center, radius, from, u))
             }
             ref shape => {
@@ -45,7 +45,7 @@ impl Shape {
     #[inline]
     pub fn pdf_from(&self, from: Vec3, area: f32, point: Vec3, normal: Vec3) -> f32 {
         match *self {
-            Shape::Sphere { center, radius } if center.distance(from) > radius => {
+            Shape::Sphere { center, radius } if outside(center, radius, from) => {
                 1.0 / cone_solid_angle(center, radius, from)
             }
             _ => {
@@ -55,6 +55,13 @@ impl Shape {
             }
         }
     }
+}
+
+/// Whether `from` is clearly outside the sphere, where its cone is sampled: a point on the
+/// sphere itself (a two-sided emitter lighting its own inside) takes area sampling, which sees
+/// the far side from within.
+fn outside(center: Vec3, radius: f32, from: Vec3) -> bool {
+    center.distance(from) > radius * (1.0 + 1e-4)
 }
 
 /// Solid angle of the cone of directions from `from` that meet the sphere:

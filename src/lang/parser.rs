@@ -368,6 +368,9 @@ fn describe(rule: Rule) -> &'static str {
         Rule::interior => "`interior`",
         Rule::normal => "`normal`",
         Rule::pattern => "a pattern (`checker`, `gradient`, `marble`, `wood`, `bozo`)",
+        Rule::fractal_parameter | Rule::fractal_word => {
+            "a fractal pattern's `interior`, `exterior` or `exponent`"
+        }
         Rule::finish_item => "a finish item (`ambient`, `diffuse`, `reflection`, ...)",
         Rule::reflection_item => "`fresnel`, `metallic`, `falloff` or `exponent`",
         Rule::interior_item => "`ior`",
@@ -446,6 +449,10 @@ fn describe(rule: Rule) -> &'static str {
         Rule::hf_function => "a height field's `function W, H { }`",
         Rule::hf_image | Rule::hf_type | Rule::hf_gamma | Rule::hf_premultiplied => {
             "a height field's image (`png \"file.png\"`)"
+        }
+        Rule::pov_image_map => "`image_map`",
+        Rule::image_option | Rule::image_option_word | Rule::image_all => {
+            "an image_map option (`map_type`, `once`, `interpolate`, `gamma`, `filter`, `transmit`)"
         }
         Rule::hf_setting | Rule::hf_smooth | Rule::hf_water_level => {
             "a height field setting (`smooth`, `water_level`, `hierarchy`)"

@@ -113,6 +113,14 @@ pub enum Item {
     },
     /// A value standing alone (a macro's body such as `(X * X)`).
     Value(Expr),
+    /// POV-Ray's `image_map { [type] "file" options }` in a pigment (`.pov`): the file's
+    /// name and the options (`PovParam`s: `map_type`, `once`, `interpolate`, `gamma`, `filter`,
+    /// `transmit`, `filter all`, `transmit all`, ...).
+    ImageMap {
+        file: Expr,
+        options: Vec<Item>,
+        span: Span,
+    },
     /// POV-Ray's `clipped_by { objects }` (`.pov`): its items.
     ClippedBy {
         items: Vec<Item>,
@@ -198,27 +206,37 @@ impl AppearanceKind {
 pub enum PatternKind {
     Agate,
     Average,
+    Boxed,
     Bozo,
     Brick,
     Bumps,
     Cells,
     Checker,
     Crackle,
+    Cylindrical,
     Dents,
     /// `function { expr }`: the function's value at the point.
     Function,
     Gradient,
     Granite,
     Hexagon,
+    /// `julia <c>, iterations`.
+    Julia,
     Leopard,
+    /// `magnet 1 mandel iterations` (or `magnet 2`).
+    Magnet,
+    /// `magnet 1 julia <c>, iterations` (or `magnet 2`).
+    MagnetJulia,
     Mandel,
     Marble,
     Onion,
     /// `pigment_pattern { }`: its pigment's gray at the point.
     PigmentPattern,
+    Planar,
     Quilted,
     Radial,
     Ripples,
+    Spherical,
     Spiral1,
     Spiral2,
     Spotted,
@@ -228,28 +246,35 @@ pub enum PatternKind {
 }
 
 impl PatternKind {
-    pub const ALL: [PatternKind; 27] = [
+    pub const ALL: [PatternKind; 34] = [
         PatternKind::Agate,
         PatternKind::Average,
+        PatternKind::Boxed,
         PatternKind::Bozo,
         PatternKind::Brick,
         PatternKind::Bumps,
         PatternKind::Cells,
         PatternKind::Checker,
         PatternKind::Crackle,
+        PatternKind::Cylindrical,
         PatternKind::Dents,
         PatternKind::Function,
         PatternKind::Gradient,
         PatternKind::Granite,
         PatternKind::Hexagon,
+        PatternKind::Julia,
         PatternKind::Leopard,
+        PatternKind::Magnet,
+        PatternKind::MagnetJulia,
         PatternKind::Mandel,
         PatternKind::Marble,
         PatternKind::Onion,
         PatternKind::PigmentPattern,
+        PatternKind::Planar,
         PatternKind::Quilted,
         PatternKind::Radial,
         PatternKind::Ripples,
+        PatternKind::Spherical,
         PatternKind::Spiral1,
         PatternKind::Spiral2,
         PatternKind::Spotted,
@@ -262,25 +287,32 @@ impl PatternKind {
         match self {
             PatternKind::Agate => "agate",
             PatternKind::Average => "average",
+            PatternKind::Boxed => "boxed",
             PatternKind::Bozo => "bozo",
             PatternKind::Brick => "brick",
             PatternKind::Bumps => "bumps",
             PatternKind::Cells => "cells",
             PatternKind::Checker => "checker",
             PatternKind::Crackle => "crackle",
+            PatternKind::Cylindrical => "cylindrical",
             PatternKind::Dents => "dents",
             PatternKind::Function => "function",
             PatternKind::Gradient => "gradient",
             PatternKind::Granite => "granite",
             PatternKind::Hexagon => "hexagon",
+            PatternKind::Julia => "julia",
             PatternKind::Leopard => "leopard",
+            PatternKind::Magnet => "magnet",
+            PatternKind::MagnetJulia => "magnet julia",
             PatternKind::Mandel => "mandel",
             PatternKind::Marble => "marble",
             PatternKind::Onion => "onion",
             PatternKind::PigmentPattern => "pigment_pattern",
+            PatternKind::Planar => "planar",
             PatternKind::Quilted => "quilted",
             PatternKind::Radial => "radial",
             PatternKind::Ripples => "ripples",
+            PatternKind::Spherical => "spherical",
             PatternKind::Spiral1 => "spiral1",
             PatternKind::Spiral2 => "spiral2",
             PatternKind::Spotted => "spotted",
@@ -359,6 +391,7 @@ impl Item {
             Item::MapEntry { .. } => "a color_map entry",
             Item::Value(_) => "a value",
             Item::ClippedBy { .. } => "`clipped_by`",
+            Item::ImageMap { .. } => "an `image_map`",
             Item::Default { .. } => "`#default`",
             Item::SkySphere { .. } => "a sky_sphere",
             Item::Appearance(a) => match a.kind {
@@ -401,6 +434,7 @@ impl Item {
             | Item::Default { span, .. }
             | Item::SkySphere { span, .. }
             | Item::ClippedBy { span, .. }
+            | Item::ImageMap { span, .. }
             | Item::Pattern { span, .. }
             | Item::PatternMap { span, .. }
             | Item::MapBlock { span, .. } => span,

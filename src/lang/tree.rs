@@ -652,8 +652,18 @@ impl Builder {
                         None,
                     ),
                 };
+                let mut kind = kind;
                 let mut arguments = Vec::new();
                 for argument in inner {
+                    // `magnet n mandel` / `magnet n julia`: the set's word after the type.
+                    match argument.as_rule() {
+                        Rule::pattern_julia => {
+                            kind = PatternKind::MagnetJulia;
+                            continue;
+                        }
+                        Rule::pattern_mandel => continue,
+                        _ => {}
+                    }
                     let span = self.span(&argument);
                     let value = match argument.as_rule() {
                         Rule::colour => self.value_expr(argument)?,
@@ -707,6 +717,39 @@ impl Builder {
                     None => None,
                 };
                 Item::PovParam { key, value, items: Vec::new() }
+            }
+            Rule::pov_image_map => {
+                self.pov_only(&inner_pair(&pair), Some("pigment"))?;
+                self.enter(&pair)?;
+                let mut inner = pair.into_inner().skip(1).peekable();
+                // The file's type names no decoder: the file's own bytes say what it is.
+                inner.next_if(|p| p.as_rule() == Rule::hf_type);
+                let file = self.expr(inner.next().expect("the file"))?;
+                let options = self.items(inner)?;
+                self.leave();
+                Item::ImageMap { file, options, span }
+            }
+            // `filter all 0.5` is the option `filter all`; `filter 3, 0.5` keeps its second
+            // value as an item.
+            Rule::image_option => {
+                let mut inner = pair.into_inner().peekable();
+                let word = inner.next().expect("the option");
+                let all = inner.next_if(|p| p.as_rule() == Rule::image_all).is_some();
+                let name =
+                    if all { format!("{} all", word.as_str()) } else { word.as_str().into() };
+                let key = Ident { name, span: self.span(&word) };
+                let value = match inner.next() {
+                    Some(value) => {
+                        let span = self.span(&value);
+                        Some(Colour { value: self.expr(value)?, span })
+                    }
+                    None => None,
+                };
+                let items = match inner.next() {
+                    Some(second) => vec![Item::Value(self.expr(second)?)],
+                    None => Vec::new(),
+                };
+                Item::PovParam { key, value, items }
             }
             Rule::clipped_by => {
                 self.pov_only(&inner_pair(&pair), None)?;
@@ -770,6 +813,7 @@ impl Builder {
             | Rule::reflection_item
             | Rule::interior_item
             | Rule::pattern_parameter
+            | Rule::fractal_parameter
             | Rule::warp_item
             | Rule::medium_item
             | Rule::fog_item

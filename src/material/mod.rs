@@ -45,6 +45,8 @@ pub struct Material {
     pub transmission: Vec3,
     pub ior: f32,
     pub emission: Vec3,
+    /// `emission` leaves both sides (`emitted`).
+    pub two_sided: bool,
     /// Split `specular + transmission` between reflection and refraction by Fresnel's equations.
     pub fresnel: bool,
     /// GGX alpha of the `specular` and `transmission` lobes; 0: perfect mirror and refraction.
@@ -65,6 +67,7 @@ impl Default for Material {
             transmission: Vec3::ZERO,
             ior: 1.0,
             emission: Vec3::ZERO,
+            two_sided: false,
             fresnel: false,
             roughness: 0.0,
             coat: None,
@@ -86,6 +89,7 @@ impl From<&MaterialDesc> for Material {
             transmission: d.transmission,
             ior: d.ior,
             emission: d.emission,
+            two_sided: d.two_sided,
             fresnel: d.fresnel,
             roughness: d.roughness,
             coat: (d.coat > 0.0).then_some(Coat { strength: d.coat, roughness: d.coat_roughness }),
@@ -142,6 +146,6 @@ impl Material {
     /// Radiance emitted towards `wo` from a point with normal `n` (`light::emitted`).
     #[inline]
     pub fn emitted(&self, n: Vec3, wo: Vec3) -> Vec3 {
-        emitted(self.emission, self.beam.as_ref(), n, wo)
+        emitted(self.emission, self.beam.as_ref(), self.two_sided, n, wo)
     }
 }

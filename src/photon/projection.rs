@@ -112,15 +112,17 @@ impl Projection {
                 let power = spot.intensity_towards(dir) / pdf * share;
                 Some(EmissionSample { ray: Ray::new(spot.position, dir), power })
             }
-            Light::Area { shape, emission, beam: None, area, .. } => {
+            Light::Area { shape, emission, beam: None, two_sided, area, .. } => {
                 let s = shape.sample_area(u_point)?;
                 let (dir, pdf) = cones(spheres, s.point).sample(u_cone, u_direction)?;
-                let cos = s.normal.dot(dir);
-                // Le cos / (p_A p(ω)), with p_A = 1 / A; the back side emits nothing.
+                // Le cos / (p_A p(ω)), with p_A = 1 / A; the back side emits nothing unless
+                // the emitter is two-sided.
+                let side = if *two_sided && s.normal.dot(dir) < 0.0 { -s.normal } else { s.normal };
+                let cos = side.dot(dir);
                 if cos <= 0.0 {
                     return None;
                 }
-                let ray = Ray::new(s.point + s.normal * s.error, dir);
+                let ray = Ray::new(s.point + side * s.error, dir);
                 Some(EmissionSample { ray, power: *emission * cos * *area / pdf * share })
             }
             Light::Modified { light, bulb, .. } => {
@@ -253,6 +255,7 @@ mod tests {
             shape: Shape::Sphere { center: Vec3::ZERO, radius: 0.3 },
             emission: Vec3::ONE,
             beam: None,
+            two_sided: false,
             area: 4.0 * PI * 0.09,
             primitive: 0,
         };

@@ -163,8 +163,15 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
         if let Some(area) = area.filter(|_| material.is_emissive()) {
             prim.light = Some(lights.len() as u32);
             let (shape, emission) = (prim.shape.clone(), material.emission);
-            let beam = material.beam.map(BeamSampler::new);
-            lights.push(Light::Area { shape, emission, beam, area, primitive: i as u32 });
+            let (beam, two_sided) = (material.beam.map(BeamSampler::new), material.two_sided);
+            lights.push(Light::Area {
+                shape,
+                emission,
+                beam,
+                two_sided,
+                area,
+                primitive: i as u32,
+            });
         }
     }
     // The sky goes last: the lights before keep the indices their primitives name.

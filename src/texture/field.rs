@@ -7,6 +7,7 @@ use std::f32::consts::{PI, TAU};
 use glam::{IVec3, Vec2, Vec3};
 
 use super::BOUNDARY_NUDGE;
+use super::fractal::fractal;
 use super::noise::{Octaves, cell_random, noise};
 use super::warp::warped;
 use crate::graph::{Field, FieldShape, Turbulence, Wave};
@@ -30,7 +31,11 @@ pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
         | Field::Gradient(_)
         | Field::Granite
         | Field::Leopard
-        | Field::Mandel { .. }
+        | Field::Fractal(_)
+        | Field::Planar
+        | Field::Spherical
+        | Field::Cylindrical
+        | Field::Boxed
         | Field::Marble
         | Field::Onion
         | Field::Quilted { .. }
@@ -60,7 +65,11 @@ pub fn default_wave(field: &Field) -> Wave {
         | Field::Granite
         | Field::Hexagon
         | Field::Leopard
-        | Field::Mandel { .. }
+        | Field::Fractal(_)
+        | Field::Planar
+        | Field::Spherical
+        | Field::Cylindrical
+        | Field::Boxed
         | Field::Onion
         | Field::Quilted { .. }
         | Field::Radial
@@ -135,7 +144,11 @@ fn raw(field: &Field, q: Vec3, shape: &FieldShape) -> f32 {
             let s = (q.x.sin() + q.y.sin() + q.z.sin()) / 3.0;
             s * s
         }
-        Field::Mandel { iterations } => mandel(Vec2::new(q.x, q.y), *iterations),
+        Field::Fractal(f) => fractal(f, Vec2::new(q.x, q.y)),
+        Field::Planar => 1.0 - q.y.abs().min(1.0),
+        Field::Spherical => 1.0 - q.length().min(1.0),
+        Field::Cylindrical => 1.0 - Vec2::new(q.x, q.z).length().min(1.0),
+        Field::Boxed => 1.0 - q.abs().max_element().min(1.0),
         Field::Marble => q.x + amount.x * octaves(turbulence).scalar(q),
         Field::Onion => q.length(),
         Field::Quilted { control0, control1 } => {
@@ -240,18 +253,6 @@ fn hexagon(p: Vec2) -> f32 {
     ((rq - rr).rem_euclid(3.0)) / 2.0
 }
 
-/// Escape iterations of z -> z^2 + c from 0 at c = p, over `iterations`; 1 inside the set.
-fn mandel(c: Vec2, iterations: u32) -> f32 {
-    let mut z = Vec2::ZERO;
-    for i in 0..iterations {
-        z = Vec2::new(z.x * z.x - z.y * z.y, 2.0 * z.x * z.y) + c;
-        if z.length_squared() > 4.0 {
-            return i as f32 / iterations as f32;
-        }
-    }
-    1.0
-}
-
 /// Waves from ten fixed sources in the unit cube, `frequency` crests per unit of distance:
 /// ripples' sines, waves' cosines fading with distance; their sum over its spread (that of a
 /// sum of waves of random phases) mapped to [0, 1].
@@ -276,7 +277,7 @@ fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::graph::Warp;
+    use crate::graph::{Fractal, FractalColouring, FractalSet, Warp};
     use crate::texture::warp;
 
     fn plain(field: &Field) -> FieldShape {
@@ -289,6 +290,14 @@ mod tests {
             phase: 0.0,
         }
     }
+
+    const MANDEL: Fractal = Fractal {
+        set: FractalSet::Mandel,
+        exponent: 2,
+        iterations: 30,
+        interior: FractalColouring { kind: 0, factor: 1.0 },
+        exterior: FractalColouring { kind: 1, factor: 1.0 },
+    };
 
     const ALL: [Field; 24] = [
         Field::Agate { turbulence: 1.0 },
@@ -303,7 +312,7 @@ mod tests {
         Field::Granite,
         Field::Hexagon,
         Field::Leopard,
-        Field::Mandel { iterations: 30 },
+        Field::Fractal(MANDEL),
         Field::Marble,
         Field::Onion,
         Field::Quilted { control0: 1.0, control1: 1.0 },
@@ -385,8 +394,22 @@ mod tests {
         assert_eq!(value(&brick, Vec3::new(4.0, 0.0, 2.0)), 0.0);
         assert_eq!(value(&brick, Vec3::new(2.0, 1.5, 1.0)), 1.0);
         // Mandel: the origin is in the set, a far point escapes at once.
-        assert_eq!(value(&Field::Mandel { iterations: 20 }, Vec3::ZERO), 1.0);
-        assert_eq!(value(&Field::Mandel { iterations: 20 }, Vec3::new(3.0, 3.0, 0.0)), 0.0);
+        assert_eq!(value(&Field::Fractal(MANDEL), Vec3::ZERO), 1.0);
+        assert_eq!(value(&Field::Fractal(MANDEL), Vec3::new(3.0, 3.0, 0.0)), 0.0);
+        // planar, spherical, cylindrical, boxed: 1 at their centre, 0 from distance 1 on,
+        // linear between (y, |p|, the distance from y, the largest coordinate).
+        let at = |field: Field, p: Vec3| value(&field, p);
+        for (field, half) in [
+            (Field::Planar, Vec3::new(7.0, -0.5, 3.0)),
+            (Field::Spherical, Vec3::new(0.3, 0.4, 0.0)),
+            (Field::Cylindrical, Vec3::new(0.3, 9.0, -0.4)),
+            (Field::Boxed, Vec3::new(0.2, -0.5, 0.4)),
+        ] {
+            assert!((at(field.clone(), half) - 0.5).abs() < 1e-6, "{field:?} at {half}");
+            assert_eq!(at(field.clone(), half * 2.5), 0.0, "{field:?} beyond 1");
+        }
+        assert_eq!(at(Field::Spherical, Vec3::ZERO), 1.0);
+        assert_eq!(at(Field::Planar, Vec3::new(5.0, 0.0, -2.0)), 1.0);
         // Quilted: 0 at a cube's centre, 1 on its faces.
         let quilted = Field::Quilted { control0: 1.0, control1: 1.0 };
         assert!(value(&quilted, Vec3::splat(0.5)) < 0.01);

@@ -1,19 +1,23 @@
-//! `image_map`: a PNG or JPEG decoded from sRGB to linear, projected onto the x-y unit square
-//! (repeating).
+//! `image_map`: a PNG or JPEG, its values decoded to linear (sRGB or a power), projected onto
+//! the x-y unit square (repeating, or once), a sphere or a cylinder, nearest or bilinear.
 
+use std::f32::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
+
+use crate::graph::{ImageChannel, ImageLook, ImageProjection};
 
 #[derive(Debug)]
 pub struct ImageMap {
     width: usize,
     height: usize,
-    /// Linear RGB, rows top to bottom.
-    texels: Vec<Vec3>,
+    /// The file's 8-bit values, RGBA, rows top to bottom; decoded to linear as they are read
+    /// (the curve is the `image_map`'s).
+    texels: Vec<[u8; 4]>,
 }
 
-/// The most texels one image may have (8192 × 8192): decoded, each takes 12 bytes.
+/// The most texels one image may have (8192 × 8192).
 pub const MAX_TEXELS: u64 = 1 << 26;
 
 /// An image file that cannot be an `image_map`.
@@ -43,6 +47,18 @@ impl ImageMap {
             .map_err(|problem| ImageMapError { path: path.to_path_buf(), problem })
     }
 
+    /// Whether the file has an alpha channel, from its header alone.
+    pub fn has_alpha(path: &Path) -> Result<bool, ImageMapError> {
+        let header = || -> Result<bool, Unreadable> {
+            let bytes = crate::input::read(path, crate::input::MAX_IMAGE_BYTES)?;
+            let decoder = image::ImageReader::new(std::io::Cursor::new(&bytes))
+                .with_guessed_format()?
+                .into_decoder()?;
+            Ok(image::ImageDecoder::color_type(&decoder).has_alpha())
+        };
+        header().map_err(|problem| ImageMapError { path: path.to_path_buf(), problem })
+    }
+
     fn decode(path: &Path) -> Result<ImageMap, Unreadable> {
         let bytes = crate::input::read(path, crate::input::MAX_IMAGE_BYTES)?;
         let reader = || image::ImageReader::new(std::io::Cursor::new(&bytes)).with_guessed_format();
@@ -52,19 +68,86 @@ impl ImageMap {
         if u64::from(width) * u64::from(height) > MAX_TEXELS {
             return Err(Unreadable::TooLarge { width, height });
         }
-        let decoded = reader()?.decode()?.to_rgb8();
+        let decoded = reader()?.decode()?.to_rgba8();
         let (width, height) = (decoded.width() as usize, decoded.height() as usize);
-        let texels = decoded.pixels().map(|p| Vec3::from(p.0.map(srgb_to_linear))).collect();
-        Ok(ImageMap { width, height, texels })
+        Ok(ImageMap { width, height, texels: decoded.pixels().map(|p| p.0).collect() })
     }
 
-    /// The colour at (u, v) of the unit square, v = 0 at the image's bottom row (POV-Ray's
-    /// planar map), repeating outside it; the nearest texel (POV-Ray's default, no
-    /// interpolation).
-    pub fn lookup(&self, u: f32, v: f32) -> Vec3 {
-        let x = ((u.rem_euclid(1.0) * self.width as f32) as usize).min(self.width - 1);
-        let y = (((1.0 - v.rem_euclid(1.0)) * self.height as f32) as usize).min(self.height - 1);
-        self.texels[y * self.width + x]
+    /// The image's part `look.channel` at `p`, a point of the pattern's space, projected as
+    /// `look` says; `curve` decodes the file's values to linear.
+    pub fn sample(&self, p: Vec3, look: &ImageLook, curve: &Curve) -> Vec3 {
+        let (u, v) = project(p, look.projection);
+        let outside = !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v);
+        if look.once && outside {
+            return match look.channel {
+                ImageChannel::Colour | ImageChannel::Filter(_) => Vec3::ZERO,
+                ImageChannel::Through(_) => Vec3::ONE,
+            };
+        }
+        let texel = |x: isize, y: isize| -> Vec4 {
+            // Texel (x, y) counts from the bottom row; outside the image it repeats, or with
+            // `once` the edge texel stands.
+            let (w, h) = (self.width as isize, self.height as isize);
+            let (x, y) = if look.once {
+                (x.clamp(0, w - 1), y.clamp(0, h - 1))
+            } else {
+                (x.rem_euclid(w), y.rem_euclid(h))
+            };
+            let [r, g, b, a] = self.texels[(h - 1 - y) as usize * self.width + x as usize];
+            Vec4::new(curve.0[r as usize], curve.0[g as usize], curve.0[b as usize], a as f32)
+                / Vec4::new(1.0, 1.0, 1.0, 255.0)
+        };
+        let (x, y) = (u * self.width as f32, v * self.height as f32);
+        let value = if look.bilinear {
+            // Between the four texel centres around the point.
+            let (x, y) = (x - 0.5, y - 0.5);
+            let (x0, y0) = (x.floor(), y.floor());
+            let (sx, sy) = (x - x0, y - y0);
+            let (i, j) = (x0 as isize, y0 as isize);
+            let bottom = texel(i, j).lerp(texel(i + 1, j), sx);
+            let top = texel(i, j + 1).lerp(texel(i + 1, j + 1), sx);
+            bottom.lerp(top, sy)
+        } else {
+            let (i, j) = (x.floor() as isize, y.floor() as isize);
+            texel(i, j)
+        };
+        match look.channel {
+            ImageChannel::Colour => value.truncate(),
+            ImageChannel::Filter(f) => Vec3::splat(f),
+            ImageChannel::Through(t) => Vec3::splat((t + 1.0 - value.w).min(1.0)),
+        }
+    }
+}
+
+/// The image's (u, v) of a point of the pattern's space (POV-Ray's `map_type`s).
+fn project(p: Vec3, projection: ImageProjection) -> (f32, f32) {
+    // The longitude around y, from +x towards +z, in [0, 1).
+    let longitude = || {
+        if p.x * p.x + p.z * p.z > 1e-12 { (p.z.atan2(p.x) / TAU).rem_euclid(1.0) } else { 0.0 }
+    };
+    match projection {
+        ImageProjection::Planar => (p.x, p.y),
+        ImageProjection::Spherical => {
+            let len = p.length();
+            if len == 0.0 {
+                return (0.0, 0.5);
+            }
+            (longitude(), 0.5 + (p.y / len).clamp(-1.0, 1.0).asin() / PI)
+        }
+        ImageProjection::Cylindrical => (longitude(), p.y),
+    }
+}
+
+/// The file's 8-bit values decoded to linear: the sRGB curve or a power.
+#[derive(Debug, Clone)]
+pub struct Curve(Box<[f32; 256]>);
+
+impl Curve {
+    pub fn new(gamma: Option<f32>) -> Curve {
+        Curve(Box::new(std::array::from_fn(|c| match gamma {
+            None => srgb_to_linear(c as u8),
+            Some(g) => (c as f32 / 255.0).powf(g),
+        })))
     }
 }
 
@@ -72,4 +155,73 @@ impl ImageMap {
 fn srgb_to_linear(c: u8) -> f32 {
     let c = f32::from(c) / 255.0;
     if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two texels side by side: red on the left, blue (half transparent) on the right.
+    fn red_blue() -> ImageMap {
+        ImageMap { width: 2, height: 1, texels: vec![[255, 0, 0, 255], [0, 0, 255, 128]] }
+    }
+
+    fn look(once: bool, bilinear: bool, channel: ImageChannel) -> ImageLook {
+        ImageLook { projection: ImageProjection::Planar, once, bilinear, gamma: Some(1.0), channel }
+    }
+
+    #[test]
+    fn planar_images_repeat_or_stand_once_nearest_or_bilinear() {
+        let (image, linear) = (red_blue(), Curve::new(Some(1.0)));
+        let at = |x: f32, look: ImageLook| image.sample(Vec3::new(x, 0.5, 7.0), &look, &linear);
+        let nearest = look(false, false, ImageChannel::Colour);
+        assert_eq!(at(0.25, nearest), Vec3::X);
+        assert_eq!(at(0.75, nearest), Vec3::Z);
+        assert_eq!(at(1.25, nearest), Vec3::X, "repeats");
+        assert_eq!(at(-0.25, nearest), Vec3::Z, "repeats below 0");
+        // Bilinear: the texels' own colours at their centres, their mean halfway, and across
+        // the repeat's seam the two again.
+        let smooth = look(false, true, ImageChannel::Colour);
+        assert_eq!(at(0.25, smooth), Vec3::X);
+        assert!((at(0.5, smooth) - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-6);
+        assert!((at(1.0, smooth) - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-6);
+        // Once: black and all light through outside the unit square; inside, the texel's
+        // transparency (1 - alpha) added to `filter all` + `transmit all`.
+        assert_eq!(at(1.25, look(true, false, ImageChannel::Colour)), Vec3::ZERO);
+        assert_eq!(at(1.25, look(true, false, ImageChannel::Through(0.1))), Vec3::ONE);
+        assert_eq!(at(1.25, look(true, false, ImageChannel::Filter(0.1))), Vec3::ZERO);
+        let opaque = at(0.25, look(true, false, ImageChannel::Through(0.1)));
+        assert!((opaque - Vec3::splat(0.1)).length() < 1e-6, "{opaque}");
+        let half = at(0.75, look(true, false, ImageChannel::Through(0.1)));
+        assert!((half - Vec3::splat(0.1 + 127.0 / 255.0)).length() < 1e-6, "{half}");
+        assert_eq!(at(0.75, look(true, false, ImageChannel::Through(0.9))), Vec3::ONE);
+    }
+
+    /// POV-Ray's map_type 1 and 2: u the longitude about y from +x towards +z, v the latitude
+    /// (sphere) or the height (cylinder).
+    #[test]
+    fn spherical_and_cylindrical_projections_follow_povray_s_definitions() {
+        let close = |(u, v): (f32, f32), (eu, ev): (f32, f32)| {
+            assert!((u - eu).abs() < 1e-6 && (v - ev).abs() < 1e-6, "({u}, {v}) not ({eu}, {ev})");
+        };
+        let sphere = |p| project(p, ImageProjection::Spherical);
+        close(sphere(Vec3::X * 3.0), (0.0, 0.5));
+        close(sphere(Vec3::Z), (0.25, 0.5));
+        close(sphere(-Vec3::X), (0.5, 0.5));
+        close(sphere(Vec3::new(0.0, 2.0, 0.0)), (0.0, 1.0));
+        close(sphere(Vec3::new(1.0, -1.0, 0.0)), (0.0, 0.25));
+        let cylinder = |p| project(p, ImageProjection::Cylindrical);
+        close(cylinder(Vec3::new(0.0, 0.3, -2.0)), (0.75, 0.3));
+        close(project(Vec3::new(0.2, 0.7, 5.0), ImageProjection::Planar), (0.2, 0.7));
+    }
+
+    /// The file's values to linear: the sRGB curve by default, a power with `gamma`.
+    #[test]
+    fn the_curve_decodes_srgb_or_a_power() {
+        let srgb = Curve::new(None);
+        assert_eq!((srgb.0[0], srgb.0[255]), (0.0, 1.0));
+        assert!((srgb.0[188] - 0.5029).abs() < 1e-3, "{}", srgb.0[188]);
+        let power = Curve::new(Some(2.2));
+        assert!((power.0[128] - (128.0f32 / 255.0).powf(2.2)).abs() < 1e-6);
+    }
 }

@@ -3,13 +3,14 @@
 
 mod bump;
 mod field;
+mod fractal;
 mod image_map;
 mod noise;
 mod warp;
 
 pub use bump::{Bump, tilt};
 pub use field::{default_wave, shaped_value, wave};
-pub use image_map::{ImageMap, ImageMapError};
+pub use image_map::{Curve, ImageMap, ImageMapError};
 pub use noise::{Octaves, fbm, noise, perlin};
 
 use std::f32::consts::PI;
@@ -17,7 +18,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use crate::graph::{ColorMap, FieldShape, Pattern, TextureNode, compose};
+use crate::graph::{ColorMap, FieldShape, ImageLook, Pattern, TextureNode, compose};
 
 #[derive(Debug, Clone)]
 pub struct Texture {
@@ -53,7 +54,11 @@ enum Kind {
         octaves: u32,
         map: ColorMap,
     },
-    Image(Arc<ImageMap>),
+    Image {
+        image: Arc<ImageMap>,
+        look: ImageLook,
+        curve: Curve,
+    },
     Mix {
         a: Box<Texture>,
         b: Box<Texture>,
@@ -96,7 +101,9 @@ impl Texture {
             Pattern::Wood { turbulence, octaves, map } => {
                 Kind::Wood { turbulence: *turbulence, octaves: *octaves, map: map.clone() }
             }
-            Pattern::Image { path } => Kind::Image(load(path)?),
+            Pattern::Image { path, look } => {
+                Kind::Image { image: load(path)?, look: *look, curve: Curve::new(look.gamma) }
+            }
             Pattern::Mix { a, b, t } => Kind::Mix { a: sub(a)?, b: sub(b)?, t: sub(t)? },
             Pattern::Field { shape, map } => {
                 let mut entries = Vec::with_capacity(map.len());
@@ -144,7 +151,7 @@ impl Texture {
                     (q.x * q.x + q.y * q.y).sqrt() + turbulence * (2.0 * fbm(q, *octaves) - 1.0);
                 lookup(map, r.rem_euclid(1.0))
             }
-            Kind::Image(image) => image.lookup(q.x, q.y),
+            Kind::Image { image, look, curve } => image.sample(q, look, curve),
             Kind::Mix { a, b, t } => {
                 let t = t.eval(q).dot(Vec3::splat(1.0 / 3.0)).clamp(0.0, 1.0);
                 a.eval(q) * (1.0 - t) + b.eval(q) * t

@@ -26,7 +26,11 @@ pub fn warped(shape: &FieldShape, p: Vec3) -> Vec3 {
         | Field::Granite
         | Field::Hexagon
         | Field::Leopard
-        | Field::Mandel { .. }
+        | Field::Fractal(_)
+        | Field::Planar
+        | Field::Spherical
+        | Field::Cylindrical
+        | Field::Boxed
         | Field::Onion
         | Field::Quilted { .. }
         | Field::Radial

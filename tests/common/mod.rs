@@ -229,6 +229,24 @@ pub fn assert_light_and_bsdf_sampling_agree_with_mis(scene: &Scene, what: &str) 
     }
 }
 
+/// The mean over all pixels of a film whose pixels all estimate `expected`, checked against a
+/// bound of 5 standard errors (from the film's own variance estimate).
+pub fn assert_uniform_radiance(film: &Film, expected: Vec3, what: &str) {
+    let n = film.sum.len() as f32;
+    let image = film.image();
+    let mean = image.pixels.iter().sum::<Vec3>() / n;
+    let standard_error = (film.variance_of_mean().iter().sum::<Vec3>() / (n * n)).map(f32::sqrt);
+    let deviation = (mean - expected).abs();
+    assert!(
+        deviation.cmple(5.0 * standard_error + 1e-6 * expected).all(),
+        "{what}: mean {mean}, expected {expected}, standard error {standard_error}"
+    );
+    assert!(
+        standard_error.max_element() < 0.02 * expected.max_element(),
+        "{what}: too noisy to tell"
+    );
+}
+
 /// Two estimators of the same image agree: few channels beyond 4 standard errors, and the
 /// image means within 2 %.
 pub fn assert_films_agree(a: &Film, b: &Film, what: &str) {

@@ -258,6 +258,10 @@ impl Evaluator {
                 let transform = self.transform(t)?;
                 state.pigment.push_transform(transform);
             }
+            Item::ImageMap { file, options, span } => {
+                state.pigment = self.image_pigment(file, options, span)?;
+                state.pattern.word = None;
+            }
             _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
         }
         Ok(())
@@ -478,6 +482,8 @@ impl Evaluator {
             transmission: shares.transmission,
             ior: interior.ior,
             emission,
+            // POV-Ray's `emission` and `ambient` glow is seen from both sides (docs/povray.md).
+            two_sided: true,
             fresnel: finish.fresnel,
             roughness,
             coat: shares.coat,

@@ -9,7 +9,7 @@ use super::expression::colour_of;
 use super::pattern::PatternState;
 use super::{Body, Evaluator, Look, Stop, resolve};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{MaterialDesc, Pattern, TextureNode, Transform};
+use crate::graph::{ImageLook, MaterialDesc, Pattern, TextureNode, Transform};
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
     self, AppearanceKind, Colour, Expr, ExprKind, Item, MaterialParamKind, TextureArg, TextureKind,
@@ -216,7 +216,8 @@ impl Evaluator {
             TextureKind::Marble => Pattern::Marble { turbulence, octaves, map },
             TextureKind::Wood => Pattern::Wood { turbulence, octaves, map },
             TextureKind::ImageMap => {
-                Pattern::Image { path: path.expect("the grammar gives image_map a file") }
+                let path = path.expect("the grammar gives image_map a file");
+                Pattern::Image { path, look: ImageLook::colour() }
             }
             TextureKind::Mix => Pattern::Mix { a: arg(), b: arg(), t: arg() },
             TextureKind::Pattern => {

@@ -17,6 +17,7 @@ mod expression;
 mod file_io;
 mod function;
 mod height_field;
+mod image_pigment;
 mod isosurface;
 mod julia;
 mod light;
@@ -474,6 +475,7 @@ impl Evaluator {
             | Item::Pattern { .. }
             | Item::PovParam { .. }
             | Item::ClippedBy { .. }
+            | Item::ImageMap { .. }
             | Item::Value(_) => match body {
                 Body::Scene => self.scene_item(item),
                 Body::Settings(settings) => self.setting_item(item, settings),

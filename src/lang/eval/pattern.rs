@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::appearance::Finish;
 use super::pigment::{Pigment, Stop};
@@ -12,7 +12,8 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::function::FloatFunction;
 use crate::graph::{
-    Field, FieldShape, NormalNode, Pattern, PatternFunction, SlopeMap, Turbulence, Warp, Wave,
+    Field, FieldShape, Fractal, FractalColouring, FractalSet, NormalNode, Pattern, PatternFunction,
+    SlopeMap, Turbulence, Warp, Wave,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
@@ -53,6 +54,10 @@ pub struct PatternState {
     control0: Option<f32>,
     control1: Option<f32>,
     agate_turb: Option<f32>,
+    /// A fractal's `interior`, `exterior` and `exponent`.
+    interior: Option<FractalColouring>,
+    exterior: Option<FractalColouring>,
+    exponent: Option<u32>,
     warps: Vec<Warp>,
     /// The function pattern's compiled function.
     function: Option<Arc<FloatFunction>>,
@@ -160,6 +165,24 @@ impl Evaluator {
                         state.wave = Some(Wave::Poly(exponent));
                     }
                     "warp" => state.warps.push(self.warp(items, &key.span)?),
+                    "interior" | "exterior" => {
+                        let v = value.as_ref().expect("the grammar gives the type");
+                        let kind = self.integer(&v.value, 0, 6)? as u32;
+                        let factor = match items.first() {
+                            Some(Item::Value(factor)) => self.single(factor)?,
+                            _ => 1.0,
+                        };
+                        let colouring = Some(FractalColouring { kind, factor });
+                        if key.name == "interior" {
+                            state.interior = colouring;
+                        } else {
+                            state.exterior = colouring;
+                        }
+                    }
+                    "exponent" => {
+                        let v = value.as_ref().expect("the grammar gives the exponent");
+                        state.exponent = Some(self.integer(&v.value, 2, 4)? as u32);
+                    }
                     // The colour of POV-Ray's quick previews (`+Q5` and below), which a full
                     // render ignores: checked, not used.
                     "quick_color" | "quick_colour" => {
@@ -452,6 +475,54 @@ impl Evaluator {
         Ok(())
     }
 
+    /// A fractal pattern from its arguments (`magnet`'s formula, `julia`'s c, the iterations)
+    /// and its `interior`, `exterior` and `exponent` (POV-Ray's defaults: interior 0, 1;
+    /// exterior 1, 1; exponent 2).
+    fn fractal(
+        &mut self,
+        kind: PatternKind,
+        arguments: &[Colour],
+        state: &PatternState,
+    ) -> Result<Fractal, SceneError> {
+        let mut arguments = arguments.iter().map(|a| &a.value);
+        let mut next = || arguments.next().expect("the grammar gives the fractal's arguments");
+        let formula = match kind {
+            PatternKind::Magnet | PatternKind::MagnetJulia => Some(self.integer(next(), 1, 2)?),
+            _ => None,
+        };
+        let julia = match kind {
+            PatternKind::Julia | PatternKind::MagnetJulia => {
+                let c = next();
+                match self.value(c)? {
+                    Value::Numbers(n) if n.len() == 2 => Some(Vec2::new(n[0] as f32, n[1] as f32)),
+                    other => {
+                        return Err(SceneError::at(
+                            &c.span,
+                            format!(
+                                "a julia pattern's c is a 2-vector <re, im>, not {}",
+                                other.kind()
+                            ),
+                        ));
+                    }
+                }
+            }
+            _ => None,
+        };
+        let iterations = self.integer(next(), 1, 100_000)? as u32;
+        let set = match (formula, julia) {
+            (Some(formula), julia) => FractalSet::Magnet { formula: formula as u32, julia },
+            (None, Some(c)) => FractalSet::Julia(c),
+            (None, None) => FractalSet::Mandel,
+        };
+        Ok(Fractal {
+            set,
+            exponent: state.exponent.unwrap_or(2),
+            iterations,
+            interior: state.interior.unwrap_or(FractalColouring { kind: 0, factor: 1.0 }),
+            exterior: state.exterior.unwrap_or(FractalColouring { kind: 1, factor: 1.0 }),
+        })
+    }
+
     fn misplaced_in_warp(item: &Item) -> SceneError {
         SceneError::at(item.span(), format!("{} cannot stand in a warp", item.describe()))
     }
@@ -490,10 +561,14 @@ impl Evaluator {
             PatternKind::Granite => Field::Granite,
             PatternKind::Hexagon => Field::Hexagon,
             PatternKind::Leopard => Field::Leopard,
-            PatternKind::Mandel => {
-                let count = argument(0).expect("the grammar gives mandel its iterations");
-                Field::Mandel { iterations: self.integer(&count.value, 1, 100_000)? as u32 }
-            }
+            PatternKind::Mandel
+            | PatternKind::Julia
+            | PatternKind::Magnet
+            | PatternKind::MagnetJulia => Field::Fractal(self.fractal(kind, arguments, state)?),
+            PatternKind::Planar => Field::Planar,
+            PatternKind::Spherical => Field::Spherical,
+            PatternKind::Cylindrical => Field::Cylindrical,
+            PatternKind::Boxed => Field::Boxed,
             PatternKind::Marble => Field::Marble,
             PatternKind::Onion => Field::Onion,
             PatternKind::Quilted => Field::Quilted {
@@ -561,6 +636,13 @@ pub fn block_colours(kind: PatternKind) -> Option<Vec<Vec3>> {
         | PatternKind::Granite
         | PatternKind::Leopard
         | PatternKind::Mandel
+        | PatternKind::Julia
+        | PatternKind::Magnet
+        | PatternKind::MagnetJulia
+        | PatternKind::Planar
+        | PatternKind::Spherical
+        | PatternKind::Cylindrical
+        | PatternKind::Boxed
         | PatternKind::Marble
         | PatternKind::Onion
         | PatternKind::PigmentPattern
@@ -584,6 +666,13 @@ pub fn own_arguments(kind: PatternKind) -> usize {
         | PatternKind::Mandel
         | PatternKind::Spiral1
         | PatternKind::Spiral2 => 1,
+        // The set's: `julia`'s c and iterations, `magnet`'s formula and iterations (and c).
+        PatternKind::Julia | PatternKind::Magnet => 2,
+        PatternKind::MagnetJulia => 3,
+        PatternKind::Planar
+        | PatternKind::Spherical
+        | PatternKind::Cylindrical
+        | PatternKind::Boxed => 0,
         PatternKind::Agate
         | PatternKind::Average
         | PatternKind::Bozo
