@@ -48,17 +48,18 @@ const CLOSED_SPHERE: &str = "settings { max_depth 64  photon_k 100  photon_radiu
 
 /// `photon`: after the first bounce every photon lands uniformly on the sphere, so the k-th
 /// nearest photon's cap (a cap of chord radius r has area exactly pi r^2) holds a Beta(k, M-k+1)
-/// share of the M stored photons, and E[k / (pi r_k^2)] = M / (4 pi R^2) * k / (k - 1): the
-/// estimate's bias is the factor k / (k - 1) on the indirect part, whatever the photon count.
-/// Bound: that expectation, within 5 standard errors of the image mean (and within 3%).
+/// share of the M stored photons, and E[1 / (pi r_k^2)] = M / (4 pi R^2) / (k - 1). Under the
+/// cone filter (weight 1 - d / r_k, divided by pi r_k^2 / 3) the k - 1 photons inside the cap
+/// lie uniformly in it, at a chord distance d with E[1 - d / r_k] = 1/3, and the k-th weighs
+/// nothing: the estimate's expectation is (k - 1) E[1 / (pi r_k^2)] per photon's power, the
+/// photon density exactly, whatever the photon count (the uniform kernel's was k / (k - 1) times it).
+/// Bound: 1, within 5 standard errors of the image mean (and within 3%).
 #[test]
 fn photon_closed_sphere_matches_the_closed_form() {
     let s = with(scene(CLOSED_SPHERE), IntegratorKind::Photon, 16, 2, 100_000);
-    let k = f64::from(s.settings.photon_k);
-    let expected = 0.5 + 0.5 * k / (k - 1.0);
     let (mean, error) = mean_and_standard_error(&render(&s, &Silent).0);
     assert!(error < 0.01, "too noisy to tell: standard error {error}");
-    assert!((mean - expected).abs() < 5.0 * error, "mean {mean}, expected {expected} +- {error}");
+    assert!((mean - 1.0).abs() < 5.0 * error, "mean {mean}, expected 1 +- {error}");
     assert!((mean - 1.0).abs() < 0.03, "mean {mean}");
 }
 

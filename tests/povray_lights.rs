@@ -316,9 +316,8 @@ fn a_spotlight_s_photons_and_paths_carry_its_power() {
          radius {radius} falloff {falloff} tightness {tightness} }}\n\
          sphere {{ <0, 0, 0>, 2 material {{ diffuse rgb 0.5 }} }}"
     );
-    let k = 100.0;
-    // `photon`'s density estimate is biased by k / (k − 1) whatever the photon count: after
-    // their first bounce the photons land uniformly on the sphere, as in tests/photon_mapping.rs.
+    // `photon`'s density estimate (the cone filter) is unbiased where the photons land
+    // uniformly, as they do on the sphere after their first bounce (tests/photon_mapping.rs).
     // The test checks that expectation at one count, 1.6 million photons, within 5 standard
     // errors of the pixels' spread plus 2 %: every pixel reads the same photon map, so the
     // spread leaves out the map's own error, which the margin holds (one map each was 4 %,
@@ -326,7 +325,7 @@ fn a_spotlight_s_photons_and_paths_carry_its_power() {
     for (integrator, samples, photons, expected, margin) in [
         (IntegratorKind::Path, 1024, 1, 1.0, 0.01),
         (IntegratorKind::Sppm, 64, 20_000, 1.0, 0.01),
-        (IntegratorKind::Photon, 2, 1_600_000, k / (k - 1.0), 0.02),
+        (IntegratorKind::Photon, 2, 1_600_000, 1.0, 0.02),
     ] {
         let mut g = graph("tests/inline.scn", &text);
         g.settings.integrator = integrator;

@@ -16,12 +16,11 @@
 //! caustic estimate is seen directly, so it is kept small and sharp.
 
 use glam::Vec3;
-use std::f32::consts::PI;
 use std::time::Instant;
 
 use super::direct::{Vertex, WhittedPath, arrive, follow, whitted};
 use super::missed_light::MissedLight;
-use super::photon::{estimate, trace_caustics, trace_pass};
+use super::photon::{Kernel, estimate, trace_caustics, trace_pass};
 use super::{Integrator, SampleIntegrator, render_samples, stopped_before_a_pass};
 use crate::film::Film;
 use crate::geometry::{Ray, offset_origin};
@@ -33,10 +32,6 @@ use crate::scene::Scene;
 
 /// Photons in each caustic estimate.
 pub const CAUSTIC_K: usize = 20;
-
-/// The cone filter's constant: a photon at distance d of the k-th nearest's r weighs
-/// 1 - d / (CONE r), and the estimate is divided by 1 - 2 / (3 CONE) (Jensen 2001, eq. 7.7).
-const CONE: f32 = 1.0;
 
 /// Photon mapping with a caustic map and final gathering from a global map of `k` photons an
 /// estimate, paths of at most `max_depth` bounces (the photons' and the gather rays' too).
@@ -88,30 +83,13 @@ impl GatherEstimate<'_> {
     /// Caustic light scattered towards wo by the gathered lobes at `vertex`: the cone-filtered
     /// estimate from the caustic map.
     fn caustic(&self, vertex: &Vertex) -> Vec3 {
-        let Vertex { hit, wo, bsdf, gathered } = vertex;
-        let found = self.caustic.nearest(hit.point, CAUSTIC_K);
-        let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
-            return Vec3::ZERO;
-        };
-        if radius_squared <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let radius = radius_squared.sqrt();
-        let flux: Vec3 = found
-            .iter()
-            .map(|n| {
-                let photon = self.caustic.photon(n.index);
-                let weight = 1.0 - n.distance_squared.sqrt() / (CONE * radius);
-                bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power * weight
-            })
-            .sum();
-        flux / ((1.0 - 2.0 / (3.0 * CONE)) * PI * radius_squared)
+        estimate(&self.caustic, vertex, CAUSTIC_K, Kernel::Cone)
     }
 
     /// Light leaving `vertex` towards wo through its gathered lobes, all of it: the global
     /// map's estimate (Jensen 2001, eq. 7.6).
     fn global(&self, vertex: &Vertex) -> Vec3 {
-        estimate(&self.global, vertex, self.gather.k)
+        estimate(&self.global, vertex, self.gather.k, Kernel::Uniform)
     }
 
     /// Light from other gathered lobes scattered towards wo by the gathered lobes at `vertex`:

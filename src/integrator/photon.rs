@@ -5,9 +5,9 @@
 //! traces them, with indirect light at each vertex with a non-delta lobe estimated from the
 //! `photon_k` nearest photons.
 //!
-//! Kernel: uniform over the disc of the k-th nearest photon's distance r_k,
-//! L_indirect(x, wo) = sum_p f(x, wo, wi_p) Phi_p / (pi r_k^2) (Jensen 2001, eq. 7.6), where the
-//! photons' powers Phi_p already share each light's power among the photons it emitted.
+//! Kernel: Jensen's cone filter over the disc of the k-th nearest photon's distance r_k
+//! (`Kernel::Cone`), where the photons' powers Phi_p already share each light's power among the
+//! photons it emitted.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -118,13 +118,29 @@ impl PhotonEstimate<'_> {
     fn indirect(&self, scene: &Scene, vertex: &Vertex, sampler: &mut Sampler) -> Vec3 {
         let missed = (self.missed.as_ref())
             .map_or(Vec3::ZERO, |m| m.at(scene, vertex, self.mapping.max_depth, sampler));
-        estimate(&self.map, vertex, self.mapping.k) + missed
+        estimate(&self.map, vertex, self.mapping.k, Kernel::Cone) + missed
     }
 }
 
+/// How the photons of a density estimate are weighed against their distance d from the query,
+/// r being the k-th nearest photon's distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Kernel {
+    /// Uniform over the disc of radius r: L = Σ f(wo, wi_p) Φ_p / (π r²) (Jensen 2001, eq. 7.6).
+    Uniform,
+    /// Jensen's cone filter: a photon weighs 1 − d / (CONE r), and the sum is divided by
+    /// (1 − 2 / (3 CONE)) π r², the weights' integral over the disc (Jensen 2001, eq. 7.7).
+    /// Near photons count most, so a thin bright caustic spreads little light into its dark
+    /// surroundings.
+    Cone,
+}
+
+/// The cone filter's constant (`Kernel::Cone`): at 1 the k-th nearest photon weighs nothing.
+const CONE: f32 = 1.0;
+
 /// Light leaving `vertex` towards wo through its gathered lobes, from the `k` nearest photons
-/// of `map` under the uniform kernel: Σ f(wo, wi_p) Φ_p / (π r_k²) (Jensen 2001, eq. 7.6).
-pub(super) fn estimate(map: &PhotonMap, vertex: &Vertex, k: usize) -> Vec3 {
+/// of `map` weighed by `kernel`: Σ f(wo, wi_p) Φ_p w(d_p) / (∫w over the disc of r_k).
+pub(super) fn estimate(map: &PhotonMap, vertex: &Vertex, k: usize, kernel: Kernel) -> Vec3 {
     let Vertex { hit, wo, bsdf, gathered } = vertex;
     let found = map.nearest(hit.point, k);
     let Some(radius_squared) = found.last().map(|n| n.distance_squared) else {
@@ -133,14 +149,20 @@ pub(super) fn estimate(map: &PhotonMap, vertex: &Vertex, k: usize) -> Vec3 {
     if radius_squared <= 0.0 {
         return Vec3::ZERO;
     }
+    let radius = radius_squared.sqrt();
+    let (weight, area) = match kernel {
+        Kernel::Uniform => (None, PI * radius_squared),
+        Kernel::Cone => (Some(CONE * radius), (1.0 - 2.0 / (3.0 * CONE)) * PI * radius_squared),
+    };
     let flux: Vec3 = found
         .iter()
         .map(|n| {
             let photon = map.photon(n.index);
-            bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power
+            let w = weight.map_or(1.0, |cone_radius| 1.0 - n.distance_squared.sqrt() / cone_radius);
+            bsdf.eval_lobes(*wo, photon.wi(), *gathered) * photon.power * w
         })
         .sum();
-    flux / (PI * radius_squared)
+    flux / area
 }
 
 impl SampleIntegrator for PhotonEstimate<'_> {

@@ -15,10 +15,10 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use crate::aabb::Aabb;
-use crate::geometry::{Ray, Shape};
+use crate::geometry::{Frame, Ray, Shape};
 use crate::light::{EmissionSample, Light};
 use crate::material::TransportMode;
-use crate::sampling::uniform_sphere;
+use crate::sampling::{concentric_disk, uniform_sphere};
 use crate::scene::Scene;
 
 /// Beyond this many casters, one sphere around them all: each photon tests every cone.
@@ -68,28 +68,31 @@ impl Projection {
 
     /// The share of `light`'s photons that the projection keeps, for sharing a caustic pass's
     /// photons among the lights: the cones' solid angle over the sphere's from a point light or
-    /// spotlight (summed, at most 1); 1 for the lights it does not aim (`sample_emission`).
+    /// spotlight (summed, at most 1); from far away (a distant light, the sky), the casters'
+    /// shadows' area over the disc the light's photons cross (Σ r_i² / R², at most 1); 1 for
+    /// area lights and when a caster is unbounded.
     pub fn share_of(&self, light: &Light) -> f32 {
-        match (self, light) {
-            (Projection::Spheres(spheres), Light::Point { position, .. }) => {
+        let Projection::Spheres(spheres) = self else { return 1.0 };
+        let from_far = |radius: f32| {
+            (spheres.iter().map(|&(_, r)| r * r).sum::<f32>() / (radius * radius)).min(1.0)
+        };
+        match light {
+            Light::Point { position, .. } => {
                 (cones(spheres, *position).total / (4.0 * PI)).min(1.0)
             }
-            (Projection::Spheres(spheres), Light::Spot(spot)) => {
-                (cones(spheres, spot.position).total / (4.0 * PI)).min(1.0)
-            }
-            (_, Light::Modified { light, .. }) => self.share_of(light),
-            (Projection::Everywhere, _)
-            | (
-                Projection::Spheres(_),
-                Light::Area { .. } | Light::Environment(_) | Light::Distant { .. },
-            ) => 1.0,
+            Light::Spot(spot) => (cones(spheres, spot.position).total / (4.0 * PI)).min(1.0),
+            Light::Distant { radius, .. } => from_far(*radius),
+            Light::Environment(sky) => from_far(sky.sphere().1),
+            Light::Modified { light, .. } => self.share_of(light),
+            Light::Area { .. } => 1.0,
         }
     }
 
-    /// One of `photons` caustic photons from `light`, aimed at the casters from a point light,
-    /// a spotlight and a diffuse area light (from its point drawn by `u_point`; `u_cone` picks
-    /// the cone); the others' as `Light::sample_emission` draws them (a beamed emitter, a
-    /// distant light, the sky: not aimed, as is everything when a caster is unbounded).
+    /// One of `photons` caustic photons from `light`, aimed at the casters: from a point light,
+    /// a spotlight and an area light, diffuse or beamed (from its point drawn by `u_point`),
+    /// along a cone onto a caster (`u_cone` picks the cone); from a distant light and the sky,
+    /// along the direction `Light::sample_emission` draws, across a caster's shadow
+    /// (`across_casters`). When a caster is unbounded, as `Light::sample_emission` draws it.
     pub fn sample_emission(
         &self,
         light: &Light,
@@ -125,6 +128,26 @@ impl Projection {
                 let ray = Ray::new(s.point + side * s.error, dir);
                 Some(EmissionSample { ray, power: *emission * cos * *area / pdf * share })
             }
+            Light::Area { shape, emission, beam: Some(beam), area, .. } => {
+                // A point spotlight at each bit of area (`Light::sample_emission`), aimed.
+                let s = shape.sample_area(u_point)?;
+                let (dir, pdf) = cones(spheres, s.point).sample(u_cone, u_direction)?;
+                let intensity = *area * *emission * beam.beam.towards(dir);
+                if intensity == Vec3::ZERO {
+                    return None;
+                }
+                let side = if s.normal.dot(dir) < 0.0 { -s.normal } else { s.normal };
+                let ray = Ray::new(s.point + side * s.error, dir);
+                Some(EmissionSample { ray, power: intensity / pdf * share })
+            }
+            &Light::Distant { centre, radius, .. } => {
+                let unaimed = light.sample_emission(photons, u_point, u_direction)?;
+                across_casters(spheres, (centre, radius), unaimed, u_cone, u_point)
+            }
+            Light::Environment(sky) => {
+                let unaimed = light.sample_emission(photons, u_point, u_direction)?;
+                across_casters(spheres, sky.sphere(), unaimed, u_cone, u_point)
+            }
             Light::Modified { light, bulb, .. } => {
                 let mut sample =
                     self.sample_emission(light, photons, u_cone, u_point, u_direction)?;
@@ -133,11 +156,50 @@ impl Projection {
                 }
                 Some(sample)
             }
-            Light::Area { beam: Some(_), .. } | Light::Environment(_) | Light::Distant { .. } => {
-                light.sample_emission(photons, u_point, u_direction)
-            }
         }
     }
+}
+
+/// A photon from far away moved across the casters. Unaimed (`unaimed`), it crosses the disc of
+/// radius R facing its direction, R upstream of `centre`, uniformly: density 1 / (π R²). Each
+/// caster's sphere casts on that disc a shadow of its radius r_i around its centre's projection;
+/// the photon picks one with probability r_i² / Σ r_j² (`u_disc`) and a point uniform in it
+/// (`u_point`), of density c(x) / Σ π r_j², c(x) the number of shadows holding x; its power,
+/// L π R² / (pdf_ω n) unaimed, becomes L / (pdf_ω p(x) n): times Σ r_j² / (c(x) R²). A line
+/// through a caster crosses its shadow, and one outside the disc meets nothing (the disc
+/// covers the scene), so the caustic photons' expected power is the unaimed ones'.
+fn across_casters(
+    spheres: &[(Vec3, f32)],
+    (centre, radius): (Vec3, f32),
+    unaimed: EmissionSample,
+    u_disc: f32,
+    u_point: Vec2,
+) -> Option<EmissionSample> {
+    let dir = Vec3::from(unaimed.ray.dir);
+    let frame = Frame::from_normal(dir);
+    let shadows: Vec<(Vec2, f32)> =
+        spheres.iter().map(|&(c, r)| (frame.to_local(c - centre).truncate(), r)).collect();
+    let total: f32 = spheres.iter().map(|&(_, r)| r * r).sum();
+    let mut below = u_disc * total;
+    let chosen = (shadows.iter())
+        .position(|&(_, r)| {
+            below -= r * r;
+            below < 0.0
+        })
+        .unwrap_or(shadows.len() - 1);
+    let (middle, r) = shadows[chosen];
+    let across = middle + concentric_disk(u_point) * r;
+    if across.length_squared() > radius * radius {
+        return None;
+    }
+    // The shadow drawn counts whatever rounding says.
+    let holding = (shadows.iter().enumerate())
+        .filter(|&(i, &(o, r))| i != chosen && o.distance_squared(across) <= r * r)
+        .count()
+        + 1;
+    let origin = centre + frame.to_world(across.extend(-radius));
+    let power = unaimed.power * (total / (holding as f32 * radius * radius));
+    Some(EmissionSample { ray: Ray::new(origin, dir), power })
 }
 
 /// The cones from a point onto the spheres: their solid angles and their sum.
@@ -246,11 +308,65 @@ mod tests {
         }
     }
 
-    /// A spherical area light's aimed photons carry, towards a sphere, the power its unaimed photons
-    /// carry there (Le cos A over the cosine-weighted hemisphere: π A Le), the two means within
-    /// 4 standard errors of each other.
+    /// The mean power per photon that meets each of `spheres` (the casters' bounds), aimed by
+    /// the projection onto them and unaimed, with their standard errors: (aimed, its error,
+    /// unaimed, its error) per sphere.
+    fn power_towards_casters(light: &Light, spheres: &[(Vec3, f32)], n: u64) -> Vec<[f64; 4]> {
+        let projection = Projection::Spheres(spheres.to_vec());
+        let meets = |ray: &Ray, (centre, radius): (Vec3, f32)| {
+            let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
+            let along = (centre - o).dot(d);
+            along > 0.0 && (centre - o).length_squared() - along * along <= radius * radius
+        };
+        let mean_and_error = |aimed: bool, sphere: (Vec3, f32)| {
+            let (mut sum, mut squares) = (0.0f64, 0.0f64);
+            for i in 0..n {
+                let mut s = Sampler::new(5, u64::from(aimed), i);
+                let (u_cone, u_point, u_direction) = (s.next_1d(), s.next_2d(), s.next_2d());
+                let photon = if aimed {
+                    projection.sample_emission(light, 1, u_cone, u_point, u_direction)
+                } else {
+                    light.sample_emission(1, u_point, u_direction)
+                };
+                let x = (photon.filter(|p| meets(&p.ray, sphere)))
+                    .map_or(0.0, |p| f64::from(p.power.x));
+                (sum, squares) = (sum + x, squares + x * x);
+            }
+            let mean = sum / n as f64;
+            (mean, ((squares / n as f64 - mean * mean) / n as f64).sqrt())
+        };
+        (spheres.iter())
+            .map(|&sphere| {
+                let (aimed, aimed_error) = mean_and_error(true, sphere);
+                let (unaimed, unaimed_error) = mean_and_error(false, sphere);
+                [aimed, aimed_error, unaimed, unaimed_error]
+            })
+            .collect()
+    }
+
+    /// `light`'s aimed photons carry, towards each caster, the power its unaimed photons carry
+    /// there, within 4 standard errors, with less noise.
+    fn assert_aimed_photons_carry_the_unaimed_power(light: &Light, spheres: &[(Vec3, f32)]) {
+        for (i, [aimed, aimed_error, unaimed, unaimed_error]) in
+            power_towards_casters(light, spheres, 50_000).into_iter().enumerate()
+        {
+            let figures = format!(
+                "sphere {i}: aimed {aimed} +- {aimed_error}, unaimed {unaimed} +- {unaimed_error}"
+            );
+            assert!(unaimed > 0.0, "{figures}");
+            assert!((aimed - unaimed).abs() < 4.0 * aimed_error.hypot(unaimed_error), "{figures}");
+            assert!(aimed_error < unaimed_error, "aiming must lower the noise: {figures}");
+        }
+    }
+
+    /// Two overlapping casters, off the scene's centre.
+    const CASTERS: [(Vec3, f32); 2] =
+        [(Vec3::new(0.5, 1.0, 0.0), 0.4), (Vec3::new(0.7, 1.2, 0.2), 0.3)];
+
+    /// A spherical area light's aimed photons carry the power its unaimed ones carry (Le cos A
+    /// over the cosine-weighted hemisphere: π A Le).
     #[test]
-    fn aimed_area_photons_carry_the_unaimed_power_towards_a_caster() {
+    fn aimed_area_photons_carry_the_unaimed_power_towards_casters() {
         let light = Light::Area {
             shape: Shape::Sphere { center: Vec3::ZERO, radius: 0.3 },
             emission: Vec3::ONE,
@@ -259,35 +375,29 @@ mod tests {
             area: 4.0 * PI * 0.09,
             primitive: 0,
         };
-        let (centre, radius) = (Vec3::new(0.5, 1.0, 0.0), 0.4);
-        let projection = Projection::Spheres(vec![(centre, radius)]);
-        let meets = |ray: &Ray| {
-            let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.dir));
-            let along = (centre - o).dot(d);
-            along > 0.0 && (centre - o).length_squared() - along * along <= radius * radius
+        assert_aimed_photons_carry_the_unaimed_power(&light, &CASTERS);
+    }
+
+    /// So do a beamed area light's (a point spotlight at each bit of area), a distant light's
+    /// and the sky's (across a disc covering the scene; the casters off the disc's centre, so
+    /// their shadows move with the direction).
+    #[test]
+    fn aimed_beamed_distant_and_sky_photons_carry_the_unaimed_power_towards_casters() {
+        use crate::light::{Beam, BeamSampler, Environment, SpotProfile};
+        let beam = Beam { axis: Vec3::Y, profile: SpotProfile::from_degrees(30.0, 60.0, 1.0) };
+        let beamed = Light::Area {
+            shape: Shape::Sphere { center: Vec3::ZERO, radius: 0.3 },
+            emission: Vec3::ONE,
+            beam: Some(BeamSampler::new(beam)),
+            area: 4.0 * PI * 0.09,
+            primitive: 0,
         };
-        let n = 200_000u64;
-        let mean_and_error = |aimed: bool| {
-            let (mut sum, mut squares) = (0.0f64, 0.0f64);
-            for i in 0..n {
-                let mut s = Sampler::new(5, u64::from(aimed), i);
-                let (u_cone, u_point, u_direction) = (s.next_1d(), s.next_2d(), s.next_2d());
-                let photon = if aimed {
-                    projection.sample_emission(&light, 1, u_cone, u_point, u_direction)
-                } else {
-                    light.sample_emission(1, u_point, u_direction)
-                };
-                let x = photon.filter(|p| meets(&p.ray)).map_or(0.0, |p| f64::from(p.power.x));
-                (sum, squares) = (sum + x, squares + x * x);
-            }
-            let mean = sum / n as f64;
-            (mean, ((squares / n as f64 - mean * mean) / n as f64).sqrt())
-        };
-        let ((aimed, aimed_error), (unaimed, unaimed_error)) =
-            (mean_and_error(true), mean_and_error(false));
-        let figures =
-            format!("aimed {aimed} +- {aimed_error}, unaimed {unaimed} +- {unaimed_error}");
-        assert!((aimed - unaimed).abs() < 4.0 * (aimed_error.hypot(unaimed_error)), "{figures}");
-        assert!(aimed_error < unaimed_error, "aiming must lower the noise: {figures}");
+        assert_aimed_photons_carry_the_unaimed_power(&beamed, &CASTERS);
+        let (centre, radius) = (Vec3::new(0.2, 0.5, -0.1), 2.0);
+        let direction = Vec3::new(-0.3, -1.0, 0.2).normalize();
+        let distant = Light::Distant { direction, irradiance: Vec3::ONE, centre, radius };
+        assert_aimed_photons_carry_the_unaimed_power(&distant, &CASTERS);
+        let sky = Light::Environment(Box::new(Environment::constant(Vec3::ONE, centre, radius)));
+        assert_aimed_photons_carry_the_unaimed_power(&sky, &CASTERS);
     }
 }
