@@ -162,6 +162,7 @@ impl Evaluator {
                     "warp" => state.warps.push(self.warp(items, &key.span)?),
                     // The colour of POV-Ray's quick previews (`+Q5` and below), which a full
                     // render ignores: checked, not used.
+                    "uv_mapping" => self.warn_uv_mapping(&key.span),
                     "quick_color" | "quick_colour" => {
                         if let Some(colour) = value {
                             self.pov_colour(colour)?;
