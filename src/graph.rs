@@ -419,7 +419,8 @@ impl ShapeNode {
             | ShapeNode::Superellipsoid { .. }
             | ShapeNode::JuliaFractal(_)
             | ShapeNode::Mesh { .. }
-            | ShapeNode::Extrusion(_) => Below::Nothing,
+            | ShapeNode::Extrusion(_)
+            | ShapeNode::HeightField { .. } => Below::Nothing,
         }
     }
 }
@@ -908,6 +909,13 @@ pub enum ShapeNode {
     /// by every instance of the glyph), a `bicubic_patch` cut into smooth triangles, POV-Ray's
     /// triangles written in the scene (`smooth_triangle`, `mesh { triangle { } }`, `mesh2`).
     Extrusion(Arc<crate::mesh::Mesh>),
+    /// POV-Ray's `height_field`: its sheet, which is what is seen, and its heights, whose solid
+    /// (the sheet closed by walls and a floor, `mesh::height_field::solid`) CSG reads, made only
+    /// where CSG needs it.
+    HeightField {
+        sheet: Arc<crate::mesh::Mesh>,
+        heights: Arc<crate::mesh::heights::Heights>,
+    },
     /// `union { ... }`: a group.
     Union(Vec<ObjectNode>),
     /// `object { Name ... }`: an instance of a declared object, shared, not copied.

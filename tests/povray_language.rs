@@ -469,3 +469,46 @@ fn vturbulence_is_the_displacement_of_a_turbulence_warp() {
     assert_ne!(center, Octaves { octaves: 1, ..octaves }.vector(Vec3::new(0.3, 1.7, 2.1)));
     assert!(pov_error("sphere { vturbulence(2, 0.5, <1, 2, 3>), 1 }").contains("vturbulence"));
 }
+
+#[test]
+fn directives_may_run_through_a_shape_s_points_and_a_mesh_s_triangles() {
+    // Three points made by `#while`, the count after them: a triangle's worth of polygon.
+    let graph = pov(r#"
+        #declare K = 0;
+        polygon { 4,
+          #while (K < 3)
+            #declare P = <cos(K * 2 * pi / 3), sin(K * 2 * pi / 3)>;
+            P
+            #declare K = K + 1;
+          #end
+          <1, 0>
+          #if (1) translate y #end
+        }
+        mesh {
+          #for (I, 0, 3)
+            triangle { <I, 0, 0>, <I + 1, 0, 0>, <I, 1, 0> }
+          #end
+          translate x
+        }"#);
+    let [polygon, mesh] = &graph.objects[..] else { panic!("{:?}", graph.objects.len()) };
+    let ShapeNode::Polygon { points } = &polygon.shape else { panic!("{:?}", polygon.shape) };
+    assert!(points.len() >= 3, "{points:?}");
+    assert!((points[1] - Vec3::new(-0.5, 0.75f32.sqrt(), 0.0)).length() < 1e-6, "{points:?}");
+    assert_eq!(polygon.transforms.len(), 1, "the `#if` after the points is the polygon's");
+    let ShapeNode::Extrusion(made) = &mesh.shape else { panic!("{:?}", mesh.shape) };
+    assert_eq!(made.triangles.len(), 4);
+    assert_eq!(mesh.transforms.len(), 1, "the `translate` after the triangles is the mesh's");
+    // A value that is not a point is refused where it stands.
+    let error = pov_error(r#"prism { 0, 1, 3, #declare S = "a"; <0, 0>, S, <1, 0> }"#);
+    assert!(error.contains("1:44") && error.contains("not a string"), "{error}");
+}
+
+#[test]
+fn uv_mapping_is_read_with_a_warning_and_mesh_camera_is_refused_by_name() {
+    let graph = pov("sphere { 0, 1 uv_mapping pigment { uv_mapping checker rgb 0, rgb 1 } \
+         texture { uv_mapping pigment { rgb 1 } } }");
+    let warned = graph.warnings.iter().filter(|w| w.contains("`uv_mapping` is not honoured"));
+    assert_eq!(warned.count(), 3, "{:?}", graph.warnings);
+    let error = pov_error("camera { mesh_camera { 1 0 mesh { triangle { 0, x, y } } } }");
+    assert!(error.contains("1:10") && error.contains("`mesh_camera`"), "{error}");
+}

@@ -5,8 +5,8 @@
 //! planes with offsets, `#default`, `inverse` and `clipped_by`; the algebraic surfaces,
 //! blobs, prisms and superellipsoids; boxes flat in one coordinate; shapes_old.inc's infinite
 //! quadrics cut by CSG; bicubic patches; meshes of triangles and smooth triangles,
-//! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons; height fields;
-//! sphere sweeps.
+//! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons; height fields, alone
+//! and in CSG; sphere sweeps; points and triangles made by directives; shapes2.inc's `Pyramid2`.
 
 mod common;
 
@@ -495,6 +495,92 @@ fn height_fields_match_povray_away_from_edges() {
     let files =
         [("gray.png", png(12, 10, false, &gray)), ("palette.png", png(8, 8, true, &palette))];
     agree_with_povray_beside(HEIGHT_FIELDS, "height fields", &files);
+}
+
+/// A height field as the solid below its sheet: cut by a sphere (its sheet and the sphere's
+/// part below it), cutting a sphere (the cap above the sheet, and the sheet seen from below), and
+/// clipping a cylinder (its side below the sheet). The sphere and the cylinder stay inside the
+/// field's square and above its floor, where raydiance's solid and POV-Ray's agree (docs/povray.md).
+const HEIGHT_FIELD_SOLIDS: &str = r#"
+camera { location <0, -0.3, -9> right x*image_width/image_height angle 30 look_at <0, -0.3, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+#declare Field = height_field { function 16, 16 { 0.3 + 0.4 * x + 0.2 * y * y }
+  scale <4, 2, 4> translate <-2, -1, -2> }
+intersection {
+  object { Field pigment { rgb <1, 0, 0> } }
+  sphere { <0, 0, 0>, 0.9 pigment { rgb <0, 1, 0> } }
+  translate <-1.6, 0, 0>
+}
+difference {
+  sphere { <0, 0, 0>, 0.9 pigment { rgb <1, 1, 0> } }
+  object { Field pigment { rgb <1, 0, 1> } }
+  translate <0, 0.3, 1.8>
+}
+cylinder { <0, -1.5, 0>, <0, 3, 0>, 0.8
+  clipped_by { object { Field } }
+  pigment { rgb <0, 0, 1> } translate <1.6, 0, 0> }
+"#;
+
+#[test]
+fn height_fields_in_csg_match_povray_away_from_edges() {
+    let test = "height_fields_in_csg_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(HEIGHT_FIELD_SOLIDS, "height fields in CSG");
+    }
+}
+
+/// Points and triangles with directives among them: a prism's points from an array in `#for`, a
+/// mesh's triangles in `#while`, a sphere sweep's spheres in `#for`.
+const LISTED: &str = r#"
+camera { location <0, 3, -7> right x*image_width/image_height angle 34 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+#declare Star = array[10]
+#for (K, 0, 9)
+  #declare Star[K] = (1 - 0.5 * mod(K, 2)) * <sin(K * pi / 5), cos(K * pi / 5)>;
+#end
+prism { linear_spline -0.3, 0.3, 11,
+  #for (K, 0, 10) Star[mod(K, 10)] #end
+  rotate -60*x translate <-1.8, 1, 0> pigment { rgb <1, 0, 0> } }
+mesh {
+  #local I = 0;
+  #while (I < 6)
+    triangle { <0, 0, 0>, <cos((I + 1) * pi / 3), sin((I + 1) * pi / 3), 0>, <cos(I * pi / 3), sin(I * pi / 3), 0> }
+    #local I = I + 1;
+  #end
+  translate <1.8, 1, 0> pigment { rgb <0, 1, 0> } }
+sphere_sweep { linear_spline 4,
+  #for (K, 0, 3) <K * 0.6 - 0.9, 0.4 * mod(K, 2), 0>, 0.15 + 0.05 * K #end
+  translate <-1.8, -1.3, 0> pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn points_and_triangles_made_by_directives_match_povray_away_from_edges() {
+    let test = "points_and_triangles_made_by_directives_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(LISTED, "points and triangles made by directives");
+    }
+}
+
+/// shapes2.inc's `Pyramid2` (POV-Ray's own file against raydiance's), seen from inside the box
+/// POV-Ray bounds it by, where POV-Ray shows all of it (docs/povray.md).
+const PYRAMID2: &str = r#"
+#include "shapes.inc"
+#include "shapes2.inc"
+camera { location <0.95, 0.9, -0.95> right x*image_width/image_height angle 70 look_at <0, -0.4, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+object { Pyramid2 pigment { rgb <1, 1, 0> } }
+plane { y, -1.5 pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn pyramid2_matches_povray_away_from_edges() {
+    let test = "pyramid2_matches_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(PYRAMID2, "Pyramid2");
+    }
 }
 
 /// Sphere sweeps along each of POV-Ray's three splines, their radii changing along them, one

@@ -103,9 +103,16 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
 pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<String> {
     match dialect {
         Dialect::Scn => message(word, inside),
-        Dialect::Pov => UNSUPPORTED_SHAPES.contains(&word).then(|| {
-            format!("`{word}`: POV-Ray's `{word}` is a shape raydiance does not have yet")
-        }),
+        Dialect::Pov if UNSUPPORTED_SHAPES.contains(&word) => {
+            Some(format!("`{word}`: POV-Ray's `{word}` is a shape raydiance does not have yet"))
+        }
+        Dialect::Pov if word == "mesh_camera" => Some(
+            "`mesh_camera`: POV-Ray 3.7's camera whose rays leave the faces of meshes (for baking \
+             textures) is not built in raydiance; its cameras are perspective, orthographic and \
+             POV-Ray's wide projections"
+                .to_string(),
+        ),
+        Dialect::Pov => None,
     }
 }
 

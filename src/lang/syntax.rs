@@ -776,9 +776,10 @@ pub enum Shape {
         corners: Box<[Expr; 3]>,
         normals: Box<[Expr; 3]>,
     },
-    /// POV-Ray's `mesh { triangle { } smooth_triangle { } ... }`: the triangles as objects.
+    /// POV-Ray's `mesh { triangle { } smooth_triangle { } ... }`: the triangles as objects,
+    /// among the directives that run through them.
     TriangleMesh {
-        triangles: Vec<Object>,
+        triangles: Vec<Item>,
     },
     /// POV-Ray's `mesh2`.
     Mesh2(Box<Mesh2>),
@@ -790,25 +791,29 @@ pub enum Shape {
         sweep: crate::geometry::Sweep,
         heights: [Expr; 2],
         count: Expr,
-        points: Vec<Expr>,
+        /// The points as values, among the directives that run through them.
+        points: Vec<Item>,
         open: bool,
     },
     /// POV-Ray's `lathe`: `count` points (r, y) joined by a spline, turned about y.
     Lathe {
         spline: crate::geometry::SplineKind,
         count: Expr,
-        points: Vec<Expr>,
+        /// The points as values, among the directives that run through them.
+        points: Vec<Item>,
     },
     /// POV-Ray's `sor`: `count` points (r, y), r^2 interpolated by a cubic in y.
     Sor {
         count: Expr,
-        points: Vec<Expr>,
+        /// The points as values, among the directives that run through them.
+        points: Vec<Item>,
         open: bool,
     },
     /// POV-Ray's `polygon`: `count` points of closed outlines in one plane.
     Polygon {
         count: Expr,
-        points: Vec<Expr>,
+        /// The points as values, among the directives that run through them.
+        points: Vec<Item>,
     },
     /// A component of a blob: a sphere, or a cylinder with hemispherical ends, and its strength.
     BlobSphere {
@@ -838,7 +843,8 @@ pub enum Shape {
     SphereSweep {
         spline: SweepSpline,
         count: Expr,
-        points: Vec<Expr>,
+        /// The points as values, among the directives that run through them.
+        points: Vec<Item>,
         tolerance: Option<Expr>,
     },
 }

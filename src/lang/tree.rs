@@ -573,7 +573,10 @@ impl Builder {
                 let key = self.span(&key_pair);
                 Item::LightPower { key, colour: self.colour(inner.next().expect("the colour"))? }
             }
-            Rule::object => Item::Object(self.object(pair)?),
+            // A mesh's triangles stand as their own rules, not as `object`s.
+            Rule::object | Rule::triangle | Rule::smooth_triangle => {
+                Item::Object(self.object(pair)?)
+            }
             Rule::material => Item::Material(self.material(pair)?),
             Rule::material_name => {
                 let name = inner_pair(&pair);
@@ -1303,22 +1306,46 @@ impl Builder {
                 rule => unreachable!("no prism word {rule:?}"),
             }
         }
-        let mut arguments = Vec::new();
-        while let Some(p) = inner.next_if(|p| matches!(p.as_rule(), Rule::expr | Rule::arg_comma)) {
-            if p.as_rule() == Rule::expr {
-                arguments.push(self.expr(p)?);
-            }
-        }
-        let open = inner.next_if(|p| p.as_rule() == Rule::kw_open).is_some();
-        let mut arguments = arguments.into_iter();
-        let mut next = || arguments.next().expect("the grammar gives three arguments");
-        let heights = [next(), next()];
-        let count = next();
-        let points = arguments.collect();
-        let items = self.items(inner)?;
+        let mut next = || self.leading_argument(&mut inner);
+        let heights = [next()?, next()?];
+        let count = next()?;
+        let mut open = false;
+        let rest: Vec<_> = inner
+            .filter(|p| {
+                let word = p.as_rule() == Rule::kw_open;
+                open |= word;
+                !word
+            })
+            .collect();
+        let (points, items) = self.listed_and_items(rest, is_value)?;
         self.leave();
         let shape = Shape::Prism { spline, sweep, heights, count, points, open };
         Ok(Object { shape, items, span })
+    }
+
+    /// A shape's next leading argument (a height, a count), past the commas.
+    fn leading_argument<'i>(
+        &mut self,
+        inner: &mut std::iter::Peekable<impl Iterator<Item = Pair<'i, Rule>>>,
+    ) -> Result<Expr, SceneError> {
+        inner.next_if(|p| p.as_rule() == Rule::arg_comma);
+        self.expr(inner.next().expect("the grammar gives the shape's leading arguments"))
+    }
+
+    /// A shape's listed points (or a mesh's triangles) and its items, which POV-Ray lets
+    /// directives run through (`#while` around the points, `#declare` between them): all are
+    /// folded together, and the list ends with the last item that holds one of its members
+    /// (`member`), the items after it being the object's.
+    fn listed_and_items(
+        &mut self,
+        pairs: Vec<Pair<'_, Rule>>,
+        member: fn(&Item) -> bool,
+    ) -> Result<(Vec<Item>, Vec<Item>), SceneError> {
+        let mut listed =
+            self.items(pairs.into_iter().filter(|p| p.as_rule() != Rule::arg_comma))?;
+        let end = listed.iter().rposition(|item| holds(item, member)).map_or(0, |i| i + 1);
+        let items = listed.split_off(end);
+        Ok((listed, items))
     }
 
     /// POV-Ray's `bicubic_patch { settings... 16 points items }`.
@@ -1377,13 +1404,7 @@ impl Builder {
                  a file: `mesh { \"file.ply\" }`",
             ));
         }
-        let mut triangles = Vec::new();
-        while let Some(triangle) =
-            inner.next_if(|p| matches!(p.as_rule(), Rule::triangle | Rule::smooth_triangle))
-        {
-            triangles.push(self.object(triangle)?);
-        }
-        let items = self.items(inner)?;
+        let (triangles, items) = self.listed_and_items(inner.collect(), is_triangle)?;
         self.leave();
         Ok(Object { shape: Shape::TriangleMesh { triangles }, items, span })
     }
@@ -1491,12 +1512,7 @@ impl Builder {
                 rule => unreachable!("no spline word {rule:?}"),
             };
         }
-        let mut arguments = Vec::new();
-        while let Some(p) = inner.next_if(|p| matches!(p.as_rule(), Rule::expr | Rule::arg_comma)) {
-            if p.as_rule() == Rule::expr {
-                arguments.push(self.expr(p)?);
-            }
-        }
+        let count = self.leading_argument(&mut inner)?;
         let mut open = false;
         let rest: Vec<_> = inner
             .filter(|p| {
@@ -1505,11 +1521,8 @@ impl Builder {
                 !word
             })
             .collect();
-        let items = self.items(rest.into_iter())?;
+        let (points, items) = self.listed_and_items(rest, is_value)?;
         self.leave();
-        let mut arguments = arguments.into_iter();
-        let count = arguments.next().expect("the grammar gives the count");
-        let points = arguments.collect();
         let shape = match rule {
             Rule::lathe => Shape::Lathe { spline, count, points },
             Rule::sor => Shape::Sor { count, points, open },
@@ -1700,21 +1713,20 @@ impl Builder {
             Rule::sweep_b_spline => SweepSpline::BSpline,
             rule => unreachable!("no sweep spline {rule:?}"),
         };
-        let mut arguments = Vec::new();
-        while let Some(p) = inner.next_if(|p| matches!(p.as_rule(), Rule::expr | Rule::arg_comma)) {
-            if p.as_rule() == Rule::expr {
-                arguments.push(self.expr(p)?);
+        let count = self.leading_argument(&mut inner)?;
+        let mut rest = Vec::new();
+        let mut tolerance = None;
+        while let Some(p) = inner.next() {
+            match p.as_rule() {
+                Rule::sweep_tolerance => {
+                    tolerance = Some(self.expr(inner.next().expect("the tolerance"))?);
+                }
+                _ => rest.push(p),
             }
         }
-        let tolerance = match inner.next_if(|p| p.as_rule() == Rule::sweep_tolerance) {
-            Some(_) => Some(self.expr(inner.next().expect("the tolerance"))?),
-            None => None,
-        };
-        let items = self.items(inner)?;
+        let (points, items) = self.listed_and_items(rest, is_value)?;
         self.leave();
-        let mut arguments = arguments.into_iter();
-        let count = arguments.next().expect("the grammar gives the count");
-        let shape = Shape::SphereSweep { spline, count, points: arguments.collect(), tolerance };
+        let shape = Shape::SphereSweep { spline, count, points, tolerance };
         Ok(Object { shape, items, span })
     }
 
@@ -2262,4 +2274,32 @@ fn truth_of(truth: &Pair<'_, Rule>) -> bool {
 
 fn inner_pair<'i>(pair: &Pair<'i, Rule>) -> Pair<'i, Rule> {
     pair.clone().into_inner().next().expect("the grammar gives an inner pair")
+}
+
+/// Whether `item` is, or a directive's block around it holds, an item for which `member` holds.
+fn holds(item: &Item, member: fn(&Item) -> bool) -> bool {
+    let any = |items: &[Item]| items.iter().any(|item| holds(item, member));
+    match item {
+        Item::If { branches, otherwise, .. } => {
+            branches.iter().any(|(_, items)| any(items)) || otherwise.as_deref().is_some_and(any)
+        }
+        Item::Switch { clauses, otherwise, .. } => {
+            clauses.iter().any(|clause| any(&clause.items)) || otherwise.as_deref().is_some_and(any)
+        }
+        Item::While { body, .. } | Item::For { body, .. } => any(body),
+        item => member(item),
+    }
+}
+
+/// A listed point (a value standing alone).
+fn is_value(item: &Item) -> bool {
+    matches!(item, Item::Value(_))
+}
+
+/// A mesh's `triangle` or `smooth_triangle`.
+fn is_triangle(item: &Item) -> bool {
+    matches!(
+        item,
+        Item::Object(Object { shape: Shape::Triangle { .. } | Shape::SmoothTriangle { .. }, .. })
+    )
 }

@@ -41,6 +41,55 @@ pub fn tessellate(heights: &Heights, water_level: f32, smooth: bool) -> Option<M
     (!triangles.is_empty()).then_some(Mesh { positions, normals, triangles })
 }
 
+/// The solid of `heights` (POV-Ray's height field is one, for CSG): the points of its unit
+/// square below the sheet, closed by the sheet (the same two triangles per grid square as
+/// `tessellate`'s, without the water's cut), the four walls and a floor at y = −1, each facing
+/// out. POV-Ray's solid reaches down without end; the floor one full height below the lowest
+/// the sheet can be keeps the mesh within the sheet's size, and so its hit points' error bounds
+/// those of the sheet. Every edge is shared by two triangles: the mesh is closed.
+pub fn solid(heights: &Heights) -> Mesh {
+    const FLOOR: f32 = -1.0;
+    let (columns, rows) = (heights.columns, heights.rows);
+    let height = |j: usize, i: usize| heights.values[(rows - 1 - i) * columns + j];
+    let scale = Vec3::new((columns - 1) as f32, 1.0, (rows - 1) as f32).recip();
+    // The sheet's points, then the floor's below them.
+    let mut positions = Vec::with_capacity(2 * columns * rows);
+    for floor in [false, true] {
+        for i in 0..rows {
+            for j in 0..columns {
+                let y = if floor { FLOOR } else { height(j, i) };
+                positions.push(Vec3::new(j as f32, y, i as f32) * scale);
+            }
+        }
+    }
+    let top = |j: usize, i: usize| (i * columns + j) as u32;
+    let bottom = |j: usize, i: usize| ((rows + i) * columns + j) as u32;
+    let mut triangles = Vec::with_capacity(4 * (columns - 1) * (rows - 1) + 4 * (columns + rows));
+    for i in 0..rows - 1 {
+        for j in 0..columns - 1 {
+            // Counter-clockwise seen from above for the sheet, from below for the floor.
+            triangles.push([top(j, i), top(j, i + 1), top(j + 1, i)]);
+            triangles.push([top(j + 1, i + 1), top(j + 1, i), top(j, i + 1)]);
+            triangles.push([bottom(j, i), bottom(j + 1, i), bottom(j, i + 1)]);
+            triangles.push([bottom(j + 1, i + 1), bottom(j, i + 1), bottom(j + 1, i)]);
+        }
+    }
+    // The boundary in order round the square (+x along z = 0 first), each edge (a, b) walled
+    // by the quad a, b, b's floor, a's floor, facing out.
+    let mut boundary = Vec::with_capacity(2 * (columns + rows));
+    boundary.extend((0..columns - 1).map(|j| ((j, 0), (j + 1, 0))));
+    boundary.extend((0..rows - 1).map(|i| ((columns - 1, i), (columns - 1, i + 1))));
+    boundary.extend((1..columns).rev().map(|j| ((j, rows - 1), (j - 1, rows - 1))));
+    boundary.extend((1..rows).rev().map(|i| ((0, i), (0, i - 1))));
+    for ((ja, ia), (jb, ib)) in boundary {
+        let (a, b) = (top(ja, ia), top(jb, ib));
+        let (a_floor, b_floor) = (bottom(ja, ia), bottom(jb, ib));
+        triangles.push([a, b, a_floor]);
+        triangles.push([b, b_floor, a_floor]);
+    }
+    Mesh { positions, normals: None, triangles }
+}
+
 /// Adds the part of `triangle` at or above `water_level` (cut along it where it crosses),
 /// turned to face up; new corners are appended to `positions` (and `normals`, interpolated).
 fn above_water(
@@ -158,6 +207,35 @@ mod tests {
             let radial = (*p - Vec3::new(0.5, -1.5, 0.5)).normalize();
             assert!(n.dot(radial) > 0.999, "{p}: {n} against {radial}");
         }
+    }
+
+    #[test]
+    fn the_solid_is_closed_faces_out_and_holds_the_points_below_the_sheet() {
+        use crate::geometry::TriangleMesh;
+        let f = |x: f32, z: f32| 0.3 + 0.2 * (6.0 * x).sin() * z;
+        let mesh = solid(&grid(9, f));
+        // Outward: the divergence theorem gives the enclosed volume from the faces.
+        let volume: f32 = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        let solid = TriangleMesh::new(mesh);
+        assert!(solid.is_closed());
+        // The mean height of the sheet (0.3007), and the unit below it down to the floor.
+        assert!((volume - 1.3).abs() < 0.01, "volume {volume}");
+        for (x, z) in [(0.1, 0.2), (0.5, 0.9), (0.93, 0.4), (0.25, 0.75)] {
+            let h = f(x, z);
+            assert!(solid.contains(Vec3::new(x, 0.7 * h, z)), "below the sheet at {x}, {z}");
+            assert!(solid.contains(Vec3::new(x, -0.95, z)), "above the floor at {x}, {z}");
+            assert!(!solid.contains(Vec3::new(x, h + 0.05, z)), "above the sheet at {x}, {z}");
+            assert!(!solid.contains(Vec3::new(x, -1.05, z)), "below the floor at {x}, {z}");
+        }
+        assert!(!solid.contains(Vec3::new(1.05, 0.1, 0.5)), "beside the square");
+        assert!(!solid.contains(Vec3::new(0.5, -0.5, -0.05)), "in front of the square");
     }
 
     #[test]

@@ -24,7 +24,8 @@ use crate::graph::{
 use crate::light::{BeamSampler, Light, Spot, SpotProfile};
 use crate::material::Material;
 use crate::medium::{Density, HenyeyGreenstein, Medium};
-use crate::mesh::Mesh;
+use crate::mesh::heights::Heights;
+use crate::mesh::{Mesh, height_field};
 use crate::texture::{Bump, ImageMap};
 
 /// Scenes with bounded primitives all simple (spheres, planar shapes, boxes as their six faces)
@@ -302,6 +303,9 @@ struct Flattener {
     /// The meshes the scene made (`ShapeNode::Extrusion`), by address, each kept alive with
     /// its key.
     extrusions: HashMap<*const Mesh, (Arc<Mesh>, Arc<TriangleMesh>)>,
+    /// The solids of the height fields in CSG, by their heights' address, each kept alive with
+    /// its key.
+    height_field_solids: HashMap<*const Heights, (Arc<Heights>, Arc<TriangleMesh>)>,
     /// Index of each distinct material description, by address: declared materials are shared.
     material_index: HashMap<*const MaterialDesc, u32>,
     /// The surfaces of CSG operands (material and frame of each), in the order of the CSG
@@ -413,7 +417,7 @@ impl Flattener {
                 let mesh = self.mesh(path, node)?;
                 self.add_mesh(mesh, to_world, material, node)
             }
-            ShapeNode::Extrusion(made) => {
+            ShapeNode::Extrusion(made) | ShapeNode::HeightField { sheet: made, .. } => {
                 let mesh = self.extrusion(made);
                 self.add_mesh(mesh, to_world, material, node)
             }
@@ -494,6 +498,10 @@ impl Flattener {
                 let mesh = self.extrusion(made);
                 closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
             }
+            ShapeNode::HeightField { heights, .. } => {
+                let mesh = self.height_field_solid(heights);
+                closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
+            }
             shape => {
                 check_dimensions(shape, node)?;
                 let mut world = world_shapes(shape, to_world);
@@ -562,6 +570,15 @@ impl Flattener {
             .entry(key)
             .or_insert_with(|| (Arc::clone(made), Arc::new(TriangleMesh::new(Mesh::clone(made)))));
         mesh.1.clone()
+    }
+
+    /// A height field's solid, made and accelerated once however many instances share it.
+    fn height_field_solid(&mut self, heights: &Arc<Heights>) -> Arc<TriangleMesh> {
+        let key = Arc::as_ptr(heights);
+        let made = self.height_field_solids.entry(key).or_insert_with(|| {
+            (Arc::clone(heights), Arc::new(TriangleMesh::new(height_field::solid(heights))))
+        });
+        made.1.clone()
     }
 
     fn material(&mut self, desc: Option<&Arc<MaterialDesc>>) -> Result<u32, SceneError> {
@@ -799,6 +816,7 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         | ShapeNode::Instance(_)
         | ShapeNode::Mesh { .. }
         | ShapeNode::Extrusion(_)
+        | ShapeNode::HeightField { .. }
         | ShapeNode::Csg { .. } => Vec::new(),
     }
 }

@@ -361,6 +361,9 @@ impl Evaluator {
     pub(super) fn look_item(&mut self, item: &Item, look: &mut Look) -> Result<(), SceneError> {
         match item {
             Item::Appearance(a) => self.apply_appearance(a, look)?,
+            Item::PovParam { key, value: None, .. } if key.name == "uv_mapping" => {
+                self.warn_uv_mapping(&key.span)
+            }
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
                 look.pigment.push_transform(transform);

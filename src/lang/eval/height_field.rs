@@ -1,6 +1,7 @@
 //! POV-Ray's `height_field`: its heights read from an image file (found as a font is: beside the
 //! scene, in the include folders, in POV-Ray's library) or sampled from a function on a grid,
-//! made into a mesh of the sheet (`mesh::height_field`).
+//! made into a mesh of the sheet, which is seen; the heights are kept for the solid below it,
+//! which CSG reads (`mesh::height_field`).
 
 use std::sync::Arc;
 
@@ -50,7 +51,7 @@ impl Evaluator {
                 format!("the whole height field is below its water_level {water_level}"),
             )
         })?;
-        Ok(ShapeNode::Extrusion(Arc::new(mesh)))
+        Ok(ShapeNode::HeightField { sheet: Arc::new(mesh), heights: Arc::new(heights) })
     }
 
     /// The heights of `height_field { [type] "file" [gamma g] [premultiplied] }`.

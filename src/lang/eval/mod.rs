@@ -21,6 +21,7 @@ mod image_pigment;
 mod isosurface;
 mod julia;
 mod light;
+mod listed;
 mod material;
 mod medium;
 mod normal;
@@ -229,6 +230,9 @@ pub enum Body<'a> {
     Value(&'a mut Option<Value>),
     /// POV-Ray's `transform { }` (`.pov`).
     Transform(&'a mut transform::TransformState),
+    /// A shape's points or a mesh's triangles, with the directives that run through them: each
+    /// as it stands when it is reached, its values written out (`listed`).
+    Listed(&'a mut Vec<Item>),
 }
 
 impl Body<'_> {
@@ -263,6 +267,7 @@ impl Body<'_> {
                 | ShapeNode::JuliaFractal(_)
                 | ShapeNode::Mesh { .. }
                 | ShapeNode::Extrusion(_)
+                | ShapeNode::HeightField { .. }
                 | ShapeNode::Instance(_) => "in this object",
                 ShapeNode::Blob { .. } => "in this blob",
             },
@@ -283,6 +288,7 @@ impl Body<'_> {
             Body::Sky(_) => "in a sky_sphere",
             Body::Value(_) => "where a value is expected",
             Body::Transform(_) => "in a transform",
+            Body::Listed(_) => "among a shape's points or a mesh's triangles",
         }
     }
 }
@@ -494,6 +500,7 @@ impl Evaluator {
                 Body::Interior(interior) => self.interior_item(item, interior),
                 Body::Sky(sky) => self.sky_item(item, sky),
                 Body::Transform(state) => self.transform_item(item, state),
+                Body::Listed(listed) => self.listed_item(item, listed),
             },
         }
     }

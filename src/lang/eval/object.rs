@@ -126,7 +126,8 @@ impl Evaluator {
             }
             Shape::HeightField(field) => self.height_field(field, &object.span)?,
             Shape::SphereSweep { spline, count, points, tolerance } => {
-                self.sphere_sweep(*spline, count, points, tolerance.as_ref(), &object.span)?
+                let points = self.listed_points(points)?;
+                self.sphere_sweep(*spline, count, &points, tolerance.as_ref(), &object.span)?
             }
             Shape::Quadric { squares, products, linear, constant } => {
                 self.quadric(squares, products, linear, constant)?
@@ -157,18 +158,29 @@ impl Evaluator {
                 ShapeNode::Superellipsoid { e, n }
             }
             Shape::Prism { spline, sweep, heights, count, points, open } => {
-                self.prism((*spline, *sweep), heights, count, points, *open, &object.span)?
+                let points = self.listed_points(points)?;
+                self.prism((*spline, *sweep), heights, count, &points, *open, &object.span)?
             }
             Shape::BicubicPatch(patch) => self.bicubic_patch(patch, &object.span)?,
             Shape::SmoothTriangle { corners, normals } => self.smooth_triangle(corners, normals)?,
-            Shape::TriangleMesh { triangles } => self.triangle_mesh(triangles)?,
+            Shape::TriangleMesh { triangles } => {
+                let triangles = self.listed_triangles(triangles)?;
+                self.triangle_mesh(&triangles)?
+            }
             Shape::Mesh2(mesh) => self.mesh2(mesh, &object.span)?,
             Shape::JuliaFractal(fractal) => self.julia_fractal(fractal)?,
             Shape::Lathe { spline, count, points } => {
-                self.lathe(*spline, count, points, &object.span)?
+                let points = self.listed_points(points)?;
+                self.lathe(*spline, count, &points, &object.span)?
             }
-            Shape::Sor { count, points, open } => self.sor(count, points, *open, &object.span)?,
-            Shape::Polygon { count, points } => self.polygon(count, points, &object.span)?,
+            Shape::Sor { count, points, open } => {
+                let points = self.listed_points(points)?;
+                self.sor(count, &points, *open, &object.span)?
+            }
+            Shape::Polygon { count, points } => {
+                let points = self.listed_points(points)?;
+                self.polygon(count, &points, &object.span)?
+            }
             Shape::BlobSphere { .. } | Shape::BlobCylinder { .. } => {
                 return Err(SceneError::at(
                     &object.span,
@@ -293,6 +305,16 @@ impl Evaluator {
 
     /// An object made to be a value (`#declare`d): a light in it would be placed once, where
     /// it is declared, not wherever the object is used, so it is refused.
+    /// POV-Ray's `uv_mapping`, read with a warning: raydiance's surfaces carry no uv
+    /// coordinates, so the texture stays laid in space as if it were not there.
+    pub(super) fn warn_uv_mapping(&mut self, at: &Span) {
+        let at = self.here(at);
+        self.warnings.push(format!(
+            "{at:?}: warning: `uv_mapping` is not honoured: raydiance's surfaces carry no uv \
+             coordinates, so the texture is laid in space (the object's own coordinates) instead"
+        ));
+    }
+
     pub(super) fn unlit_object(
         &mut self,
         object: &syntax::Object,
@@ -450,6 +472,7 @@ impl Evaluator {
                         ));
                     }
                     "no_shadow" | "no_image" | "no_reflection" => {}
+                    "uv_mapping" => self.warn_uv_mapping(&key.span),
                     other => unreachable!("no object modifier `{other}`"),
                 }
             }
@@ -668,6 +691,7 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::JuliaFractal(_)
         | ShapeNode::Mesh { .. }
         | ShapeNode::Extrusion(_)
+        | ShapeNode::HeightField { .. }
         | ShapeNode::Instance(_) => None,
     }
 }

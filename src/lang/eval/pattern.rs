@@ -185,6 +185,7 @@ impl Evaluator {
                     }
                     // The colour of POV-Ray's quick previews (`+Q5` and below), which a full
                     // render ignores: checked, not used.
+                    "uv_mapping" => self.warn_uv_mapping(&key.span),
                     "quick_color" | "quick_colour" => {
                         if let Some(colour) = value {
                             self.pov_colour(colour)?;

@@ -11,6 +11,7 @@ use super::Evaluator;
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::ShapeNode;
 use crate::lang::syntax::{Expr, Mesh2, Object, Shape, VectorList};
+use crate::lang::value::Value;
 use crate::mesh::Mesh;
 
 /// A triangle's corners, and its corners' normals if it is smooth.
@@ -84,7 +85,22 @@ impl Evaluator {
             return Err(SceneError::at(&face_list.count.span, "the mesh2 has no faces"));
         }
         if let Some(uvs) = &mesh.uvs {
-            let count = self.vectors(uvs, "uv_vectors")?.len();
+            self.check_count(uvs, "uv_vectors")?;
+            for entry in &uvs.entries {
+                match self.value(entry)? {
+                    Value::Numbers(uv) if uv.len() == 2 => {}
+                    other => {
+                        return Err(SceneError::at(
+                            &entry.span,
+                            format!(
+                                "each of the mesh2's uv_vectors is a 2-vector <u, v>, not {}",
+                                other.kind()
+                            ),
+                        ));
+                    }
+                }
+            }
+            let count = uvs.entries.len();
             if let Some(uv_indices) = &mesh.uv_indices {
                 self.indices(uv_indices, "uv_indices", count)?;
             }
