@@ -389,6 +389,7 @@ mod tests {
             shape: Shape::Sphere { center: Vec3::ZERO, radius: 0.3 },
             emission: Vec3::ONE,
             beam: Some(BeamSampler::new(beam)),
+            two_sided: false,
             area: 4.0 * PI * 0.09,
             primitive: 0,
         };
