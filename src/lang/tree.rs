@@ -1309,15 +1309,7 @@ impl Builder {
         let mut next = || self.leading_argument(&mut inner);
         let heights = [next()?, next()?];
         let count = next()?;
-        let mut open = false;
-        let rest: Vec<_> = inner
-            .filter(|p| {
-                let word = p.as_rule() == Rule::kw_open;
-                open |= word;
-                !word
-            })
-            .collect();
-        let (points, items) = self.listed_and_items(rest, is_value)?;
+        let (open, points, items) = self.open_points_and_items(inner)?;
         self.leave();
         let shape = Shape::Prism { spline, sweep, heights, count, points, open };
         Ok(Object { shape, items, span })
@@ -1330,6 +1322,23 @@ impl Builder {
     ) -> Result<Expr, SceneError> {
         inner.next_if(|p| p.as_rule() == Rule::arg_comma);
         self.expr(inner.next().expect("the grammar gives the shape's leading arguments"))
+    }
+
+    /// A point-list shape's `open` word (anywhere among its items), its points and its items.
+    fn open_points_and_items<'i>(
+        &mut self,
+        inner: impl Iterator<Item = Pair<'i, Rule>>,
+    ) -> Result<(bool, Vec<Item>, Vec<Item>), SceneError> {
+        let mut open = false;
+        let rest: Vec<_> = inner
+            .filter(|p| {
+                let word = p.as_rule() == Rule::kw_open;
+                open |= word;
+                !word
+            })
+            .collect();
+        let (points, items) = self.listed_and_items(rest, is_value)?;
+        Ok((open, points, items))
     }
 
     /// A shape's listed points (or a mesh's triangles) and its items, which POV-Ray lets
@@ -1513,15 +1522,7 @@ impl Builder {
             };
         }
         let count = self.leading_argument(&mut inner)?;
-        let mut open = false;
-        let rest: Vec<_> = inner
-            .filter(|p| {
-                let word = p.as_rule() == Rule::kw_open;
-                open |= word;
-                !word
-            })
-            .collect();
-        let (points, items) = self.listed_and_items(rest, is_value)?;
+        let (open, points, items) = self.open_points_and_items(inner)?;
         self.leave();
         let shape = match rule {
             Rule::lathe => Shape::Lathe { spline, count, points },
