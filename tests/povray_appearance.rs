@@ -568,3 +568,20 @@ fn an_image_map_pigment_reads_its_options_and_refuses_what_it_cannot_honour() {
         assert!(error.contains(&expected), "{option}: {error}, not {expected}");
     }
 }
+
+/// An image that is neither beside the scene nor on the include path is looked for in POV-Ray's
+/// installed library, as height fields and fonts are: its `test.png`, which sample scenes use.
+#[test]
+fn an_image_map_finds_povray_s_test_png_in_its_library() {
+    let library = Path::new("/usr/share/povray-3.7/include");
+    if !library.join("test.png").is_file() {
+        assert!(std::env::var_os("CI").is_none(), "CI needs POV-Ray's library (povray-includes)");
+        println!("skipped: POV-Ray's library (Debian's povray-includes) is not installed");
+        return;
+    }
+    let m = material(r#"sphere { 0, 1 pigment { image_map { png "test.png" } } }"#);
+    match &m.diffuse.pattern {
+        Pattern::Image { path, .. } => assert_eq!(path, &library.join("test.png")),
+        other => panic!("not an image: {other:?}"),
+    }
+}

@@ -116,8 +116,8 @@ impl Evaluator {
 }
 
 impl Evaluator {
-    /// The image file named: beside the scene, else in the include folders (POV-Ray's library
-    /// path, where its `test.png` is); a name without extension that is nowhere is looked for
+    /// The image file named: beside the scene, else in the include folders, else in POV-Ray's
+    /// installed library (where its `test.png` is), as height fields and fonts are found; a name without extension that is nowhere is looked for
     /// with the image types' extensions (`image_map { "sign" }` finds `sign.jpg`).
     fn image_file(&self, from: &Path, name: &str) -> PathBuf {
         let find = |name: &str| {
@@ -125,7 +125,8 @@ impl Evaluator {
             if local.is_file() {
                 return Some(local);
             }
-            self.include_folders().into_iter().map(|f| f.join(name)).find(|p| p.is_file())
+            let folders = self.include_folders().into_iter().chain(super::text::povray_library());
+            folders.map(|f| f.join(name)).find(|p| p.is_file())
         };
         let fallback = || {
             let bare = Path::new(name).extension().is_none();

@@ -22,6 +22,11 @@ const INTERNAL_FONTS: [&str; 4] = ["povlogo.ttf", "timrom.ttf", "cyrvetic.ttf", 
 const POVRAY_LIBRARY: [&str; 2] =
     ["/usr/share/povray-3.7/include", "/usr/local/share/povray-3.7/include"];
 
+/// POV-Ray's installed library folders that exist here (searched after the include folders).
+pub(super) fn povray_library() -> impl Iterator<Item = PathBuf> {
+    POVRAY_LIBRARY.iter().map(PathBuf::from).filter(|f| f.is_dir())
+}
+
 /// Fonts larger than this are refused rather than read (the largest CJK fonts are ~20 MB).
 const MAX_FONT_BYTES: u64 = 64 << 20;
 
@@ -91,7 +96,7 @@ impl Evaluator {
         let scene_folder = resolve(&at.file.path, "");
         let mut folders = vec![scene_folder];
         folders.extend(self.include_folders());
-        folders.extend(POVRAY_LIBRARY.iter().map(PathBuf::from).filter(|f| f.is_dir()));
+        folders.extend(povray_library());
         let found = folders
             .iter()
             .flat_map(|folder| names.iter().map(move |name| folder.join(name)))
