@@ -547,11 +547,7 @@ impl Builder {
                 Item::CameraParam { key, value }
             }
             Rule::light_source => {
-                self.enter(&pair)?;
-                let mut inner = pair.into_inner().skip(1);
-                let position = self.expr(inner.next().expect("the position"))?;
-                let items = self.items(inner)?;
-                self.leave();
+                let (position, items) = self.light_source(pair)?;
                 Item::Light { position, items, span }
             }
             Rule::light_colour => {
@@ -994,11 +990,7 @@ impl Builder {
             Rule::light_source => {
                 let span = self.span(&pair);
                 self.pov_only(&inner_pair(&pair), None)?;
-                self.enter(&pair)?;
-                let mut inner = pair.into_inner().skip(1);
-                let position = self.expr(inner.next().expect("the position"))?;
-                let items = self.items(inner)?;
-                self.leave();
+                let (position, items) = self.light_source(pair)?;
                 Declared::Light { position, items, span }
             }
             Rule::transform => {
@@ -1313,6 +1305,16 @@ impl Builder {
         self.leave();
         let shape = Shape::Prism { spline, sweep, heights, count, points, open };
         Ok(Object { shape, items, span })
+    }
+
+    /// `light_source { position items }`: its position and its items.
+    fn light_source(&mut self, pair: Pair<'_, Rule>) -> Result<(Expr, Vec<Item>), SceneError> {
+        self.enter(&pair)?;
+        let mut inner = pair.into_inner().skip(1);
+        let position = self.expr(inner.next().expect("the position"))?;
+        let items = self.items(inner)?;
+        self.leave();
+        Ok((position, items))
     }
 
     /// A shape's next leading argument (a height, a count), past the commas.
