@@ -11,32 +11,25 @@ use crate::lang::value::Value;
 impl Evaluator {
     /// The points of `items`, in the order they are reached.
     pub(super) fn listed_points(&mut self, items: &[Item]) -> Result<Vec<Expr>, SceneError> {
-        Ok(self
-            .listed(items)?
-            .into_iter()
-            .map(|item| match item {
-                Item::Value(point) => point,
-                _ => unreachable!("a list of points holds values only"),
-            })
-            .collect())
+        self.listed(items, |item| match item {
+            Item::Value(point) => point,
+            _ => unreachable!("a list of points holds values only"),
+        })
     }
 
     /// The triangles of `items`, in the order they are reached.
     pub(super) fn listed_triangles(&mut self, items: &[Item]) -> Result<Vec<Object>, SceneError> {
-        Ok(self
-            .listed(items)?
-            .into_iter()
-            .map(|item| match item {
-                Item::Object(triangle) => triangle,
-                _ => unreachable!("a mesh's list holds triangles only"),
-            })
-            .collect())
+        self.listed(items, |item| match item {
+            Item::Object(triangle) => triangle,
+            _ => unreachable!("a mesh's list holds triangles only"),
+        })
     }
 
-    fn listed(&mut self, items: &[Item]) -> Result<Vec<Item>, SceneError> {
+    /// The members of `items` as they are reached, each taken by `member`.
+    fn listed<T>(&mut self, items: &[Item], member: fn(Item) -> T) -> Result<Vec<T>, SceneError> {
         let mut listed = Vec::new();
         self.exec(items, &mut Body::Listed(&mut listed))?;
-        Ok(listed)
+        Ok(listed.into_iter().map(member).collect())
     }
 
     pub(super) fn listed_item(
