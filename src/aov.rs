@@ -19,7 +19,7 @@ use crate::material::{LobeFlags, TransportMode};
 use crate::ray::Ray;
 use crate::region::Region;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, camera_sample};
+use crate::scene::{Scene, camera_samples};
 
 /// Bytes a pixel takes for each channel of AOVs while rendering: its row's value, then its
 /// plane's.
@@ -241,8 +241,9 @@ pub fn render(scene: &Scene, region: &Region, taken: u32, list: &AovList) -> Aov
                 let share = layout.samples_of((row * width + column) as u64);
                 let indices = share.start..share.end.min(share.start.saturating_add(taken));
                 let count = indices.len();
+                let camera_sample = camera_samples(scene, x0 + column, y0 + row);
                 for index in indices {
-                    let (ray, mut sampler) = camera_sample(scene, x0 + column, y0 + row, index);
+                    let (ray, mut sampler) = camera_sample(index);
                     // Where no light reaches the film, every AOV is 0, as the beauty is.
                     let Some(ray) = ray else { continue };
                     let seen = seen(scene, ray, &mut sampler);

@@ -18,7 +18,7 @@ use crate::progress::{Progress, RenderStats};
 use crate::ray::Ray;
 use crate::region::Region;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, camera_sample};
+use crate::scene::{Scene, camera_samples};
 
 /// The most samples one task of a pass traces (and holds the radiance of) between two looks at
 /// `Progress::should_abandon`: a few milliseconds of work, whatever the image or pass size.
@@ -157,8 +157,7 @@ fn render_pass(
                     let mut camera_samples = task
                         .iter()
                         .flat_map(|(column, indices)| {
-                            let x = x0 + column;
-                            indices.clone().map(move |index| camera_sample(scene, x, y, index))
+                            indices.clone().map(camera_samples(scene, x0 + column, y))
                         })
                         .enumerate()
                         .filter_map(|(slot, (ray, sampler))| {

@@ -3,5 +3,5 @@
 mod sampler;
 mod warp;
 
-pub use sampler::Sampler;
+pub use sampler::{PixelSampler, Sampler};
 pub use warp::{concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle};

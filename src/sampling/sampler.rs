@@ -29,16 +29,34 @@ pub struct Sampler {
     dimension: u32,
 }
 
-impl Sampler {
-    pub fn new(seed: u64, pixel: u64, sample_index: u64) -> Self {
-        let pixel_hash = mix64(mix64(seed ^ 0x9e37_79b9_7f4a_7c15) ^ pixel);
+/// What the samples of one pixel share: the hash that selects their scrambles. Made once per
+/// pixel, it saves each of the pixel's samples two of its three hashes (`Sampler::new`).
+#[derive(Debug, Clone, Copy)]
+pub struct PixelSampler {
+    pixel_hash: u64,
+}
+
+impl PixelSampler {
+    pub fn new(seed: u64, pixel: u64) -> Self {
+        PixelSampler { pixel_hash: mix64(mix64(seed ^ 0x9e37_79b9_7f4a_7c15) ^ pixel) }
+    }
+
+    /// The random stream of the pixel's sample `sample_index`.
+    #[inline]
+    pub fn sample(&self, sample_index: u64) -> Sampler {
         Sampler {
-            pixel_hash,
+            pixel_hash: self.pixel_hash,
             // More than 2^32 samples per pixel is beyond any limit the renderer accepts.
             index_reversed: (sample_index as u32).reverse_bits(),
-            sample_hash: mix64(pixel_hash ^ sample_index),
+            sample_hash: mix64(self.pixel_hash ^ sample_index),
             dimension: 0,
         }
+    }
+}
+
+impl Sampler {
+    pub fn new(seed: u64, pixel: u64, sample_index: u64) -> Self {
+        PixelSampler::new(seed, pixel).sample(sample_index)
     }
 
     /// A value in [0, 1): a scrambled van der Corput point.
@@ -79,10 +97,12 @@ impl Sampler {
         let index = self.shuffled_index(shuffle);
         let y_reversed = (0..4)
             .fold(0, |y, byte| y ^ SOBOL_1_REVERSED[byte][(index >> (8 * byte)) as usize & 0xff]);
-        Vec2::new(
-            to_unit(laine_karras(index, scramble_x).reverse_bits()),
-            to_unit(laine_karras(y_reversed, scramble_y).reverse_bits()),
-        )
+        // Both coordinates' bits reversed by one 64-bit reversal, which swaps the halves too:
+        // x's scrambled bits go in the low half and come out in the high one.
+        let scrambled = u64::from(laine_karras(y_reversed, scramble_y)) << 32
+            | u64::from(laine_karras(index, scramble_x));
+        let reversed = scrambled.reverse_bits();
+        Vec2::new(to_unit((reversed >> 32) as u32), to_unit(reversed as u32))
     }
 
     /// The sample index under an Owen scramble of its bits (the most significant bit decides
@@ -207,6 +227,18 @@ mod tests {
             assert_eq!(drawn.next_1d_if(true), skipped.clone().next_1d());
             assert_eq!(skipped.next_1d_if(false), 0.0);
             assert_eq!(drawn.next_2d(), skipped.next_2d(), "after dimension {dimension}");
+        }
+    }
+
+    #[test]
+    fn a_points_first_coordinate_is_the_one_dimensional_value_of_its_dimension() {
+        // Both are the scrambled van der Corput point of the dimension's seeds.
+        for index in 0..64 {
+            let mut s = Sampler::new(2, 11, index);
+            for _ in 0..SOBOL_DIMENSIONS.div_ceil(2) {
+                let x = s.clone().next_1d();
+                assert_eq!(s.next_2d().x, x, "sample {index}, dimension {}", s.dimension);
+            }
         }
     }
 

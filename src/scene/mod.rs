@@ -22,7 +22,7 @@ use crate::lanes::{Floats, LANES, Lane, Mask, RayLanes, Wide};
 use crate::light::{Environment, Light};
 use crate::material::{Bsdf, Material, TransportMode};
 use crate::medium::Medium;
-use crate::sampling::Sampler;
+use crate::sampling::{PixelSampler, Sampler};
 use crate::texture::{Bump, tilt};
 
 /// The most surfaces a ray may cross in a row without scattering (surfaces that only bound a
@@ -439,13 +439,25 @@ impl Scene {
 /// projection leaves the film dark: no light arrives there), and the sampler its path goes on
 /// drawing from.
 pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Option<Ray>, Sampler) {
+    camera_samples(scene, x, y)(index)
+}
+
+/// The camera samples of pixel (x, y) by index (`camera_sample`), the hash their samplers share
+/// made once (`PixelSampler`).
+pub fn camera_samples(
+    scene: &Scene,
+    x: usize,
+    y: usize,
+) -> impl Fn(u32) -> (Option<Ray>, Sampler) + '_ {
     let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
-    let pixel = (y * width + x) as u64;
-    let mut sampler = Sampler::new(scene.settings.seed, pixel, u64::from(index));
-    let jitter = sampler.next_2d();
-    // A pinhole camera needs no lens sample.
-    let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
-    let (u, v) = ((x as f32 + jitter.x) / width as f32, (y as f32 + jitter.y) / height as f32);
-    let ray = scene.camera.sees(u, v).then(|| scene.camera.ray(u, v, lens));
-    (ray, sampler)
+    let pixel = PixelSampler::new(scene.settings.seed, (y * width + x) as u64);
+    move |index| {
+        let mut sampler = pixel.sample(u64::from(index));
+        let jitter = sampler.next_2d();
+        // A pinhole camera needs no lens sample.
+        let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
+        let (u, v) = ((x as f32 + jitter.x) / width as f32, (y as f32 + jitter.y) / height as f32);
+        let ray = scene.camera.sees(u, v).then(|| scene.camera.ray(u, v, lens));
+        (ray, sampler)
+    }
 }
