@@ -111,7 +111,7 @@ impl Sampler {
             .fold(0, |y, byte| y ^ SOBOL_1_REVERSED[byte][(index >> (8 * byte)) as usize & 0xff]);
         // Both coordinates' bits reversed by one 64-bit reversal, which swaps the halves too:
         // x's scrambled bits go in the low half and come out in the high one.
-        let scrambled = u64::from(laine_karras(y_reversed, scramble_y)) << 32
+        let scrambled = (u64::from(laine_karras(y_reversed, scramble_y)) << 32)
             | u64::from(laine_karras(index, scramble_x));
         let reversed = scrambled.reverse_bits();
         Vec2::new(to_unit((reversed >> 32) as u32), to_unit(reversed as u32))
