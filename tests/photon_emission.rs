@@ -179,7 +179,7 @@ fn aimed_caustic_photons_carry_the_power_of_unaimed_ones() {
 /// (r = 0.5) above the floor under a white sky (L = 1) receives straight from the sky exactly
 /// the light of the upper hemisphere: power L π r² 2π. Bound: 4 standard errors. (Photons
 /// started on the disc whatever lay upstream lit the ball from below the horizon too, the part
-/// of the disc above the floor sending them up.)
+/// of the disc above the floor sending them up: 56 % more, by a Monte Carlo of this geometry.)
 #[test]
 fn the_sky_below_an_infinite_floor_does_not_light_what_stands_on_it() {
     let scene = common::scene(
