@@ -81,8 +81,8 @@ impl SampleIntegrator for Direct {
                     let Some(vertex) = path.state.vertex.as_ref().filter(|v| v.is_lit()) else {
                         continue;
                     };
-                    let mask = vertex.lit_lobes(light);
-                    if let Some(shadowed) = light_sample(light, vertex, mask, &mut path.sampler) {
+                    let sampler = &mut path.sampler;
+                    if let Some(shadowed) = light_sample(light, vertex, LobeFlags::ALL, sampler) {
                         shadows.set_lane(lane, shadowed);
                     }
                 }
@@ -119,8 +119,12 @@ pub(super) struct WhittedPath {
     pub ray: Ray,
     /// Radiance gathered so far.
     pub radiance: Vec3,
-    /// Throughput: the product of the delta lobes' weights so far.
+    /// Throughput: the product of the followed lobes' weights so far.
     pub beta: Vec3,
+    /// Where the last followed direction was sampled from a near-specular lobe, that vertex's
+    /// point and the direction's density: light the ray finds is weighted against that
+    /// vertex's light samples (`found_weight`).
+    previous: Option<(Vec3, f32)>,
     bounces: u32,
 }
 
@@ -132,6 +136,7 @@ impl WhittedPath {
             ray,
             radiance: Vec3::ZERO,
             beta: Vec3::ONE,
+            previous: None,
             bounces: 0,
         }
     }
@@ -139,6 +144,14 @@ impl WhittedPath {
     /// A camera path of photon mapping: it follows near-specular lobes too.
     pub fn photon_mapping(ray: Ray) -> Self {
         WhittedPath { follows_near_specular: true, ..WhittedPath::new(ray) }
+    }
+
+    /// The weight of light the path's ray finds with density `light_pdf(from)` of the light's
+    /// own sample at the vertex it left, `from`: the power heuristic where a near-specular lobe
+    /// sampled the ray (every light is sampled at that vertex, through that lobe too:
+    /// `direct_from_light`), 1 after a delta lobe or the camera (no light sample finds it).
+    fn found_weight(&self, light_pdf: impl FnOnce(Vec3) -> f32) -> f32 {
+        self.previous.map_or(1.0, |(from, pdf)| power_heuristic(pdf, light_pdf(from)))
     }
 }
 
@@ -156,13 +169,6 @@ impl Vertex {
     /// Whether it has lobes with a density, which light samples light.
     fn is_lit(&self) -> bool {
         self.bsdf.flags().is_non_delta()
-    }
-
-    /// The lobes through which next-event estimation lights it from `light`: for a point
-    /// light every lobe with a density (no followed ray can meet it), for other lights the
-    /// gathered ones (a followed ray meets them).
-    pub fn lit_lobes(&self, light: &Light) -> LobeFlags {
-        if light.is_delta() { LobeFlags::NON_DELTA } else { self.gathered }
     }
 
     /// The lobes the path follows onward: delta lobes, and near-specular ones under the
@@ -184,13 +190,25 @@ pub(super) fn arrive(
     max_depth: u32,
 ) -> Option<Vertex> {
     let Some(mut hit) = hit else {
-        // Only delta bounces lead here: the camera sees what lies beyond.
-        path.radiance += path.beta * scene.beyond(path.ray.dir.into(), true);
+        // Only followed lobes lead here: the camera sees what lies beyond.
+        let dir = Vec3::from(path.ray.dir);
+        let beyond = match scene.environment() {
+            Some((_, sky)) if path.previous.is_some() => {
+                scene.backdrop() + sky.le(dir) * path.found_weight(|_| sky.pdf(dir))
+            }
+            _ => scene.beyond(dir, true),
+        };
+        path.radiance += path.beta * beyond;
         return None;
     };
     let wo = -Vec3::from(path.ray.dir);
     let material = scene.material(hit.primitive, hit.point);
-    path.radiance += path.beta * material.emitted(hit.normal, wo);
+    let emitted = material.emitted(hit.normal, wo);
+    if emitted != Vec3::ZERO {
+        let light = scene.primitives[hit.primitive as usize].light;
+        let found = |from| light.map_or(0.0, |l| scene.lights[l as usize].pdf(from, &hit));
+        path.radiance += path.beta * emitted * path.found_weight(found);
+    }
     if path.bounces == max_depth {
         return None;
     }
@@ -204,18 +222,20 @@ pub(super) fn arrive(
 }
 
 /// A sample of every light at a lit vertex, in order: its shadow ray and the light it reflects
-/// towards wo through the lobes `lobes` names for it, if unoccluded (`direct_from_light`).
+/// towards wo through the lobes `mask` asks for, if unoccluded (`light_sample`).
 fn light_samples<'a>(
     scene: &'a Scene,
     vertex: &'a Vertex,
-    lobes: impl Fn(&Light) -> LobeFlags + 'a,
+    mask: LobeFlags,
     sampler: &'a mut Sampler,
 ) -> impl Iterator<Item = Option<(ShadowRay, Vec3)>> + 'a {
-    scene.lights.iter().map(move |light| light_sample(light, vertex, lobes(light), sampler))
+    scene.lights.iter().map(move |light| light_sample(light, vertex, mask, sampler))
 }
 
-/// A sample of `light` at a lit vertex through the lobes `mask` (`direct_from_light`), from the
-/// sampler's next point, drawn where `mask` is empty too (each light's draws stay in place).
+/// A sample of `light` at a lit vertex through the lobes `mask` asks for: its gathered lobes
+/// among them, and its followed ones (`Vertex::followed`) if `mask` asks for one with a density,
+/// weighted against the ray the path follows (`direct_from_light`); from the sampler's next
+/// point, drawn where no lobe is asked for too (each light's draws stay in place).
 #[inline]
 fn light_sample(
     light: &Light,
@@ -224,10 +244,13 @@ fn light_sample(
     sampler: &mut Sampler,
 ) -> Option<(ShadowRay, Vec3)> {
     let u = sampler.next_2d();
-    if mask.is_empty() {
+    let gathered = vertex.gathered & mask;
+    let followed = vertex.followed();
+    let followed = if (followed & mask).is_non_delta() { followed } else { LobeFlags::NONE };
+    if gathered.is_empty() && followed.is_empty() {
         return None;
     }
-    direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, mask, u)
+    direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, (gathered, followed), u)
 }
 
 /// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),
@@ -271,22 +294,23 @@ pub(super) fn follow(path: &mut WhittedPath, vertex: &Vertex, sampler: &mut Samp
         return false;
     };
     path.beta *= sample.weight;
+    path.previous = (!sample.is_delta()).then_some((hit.point, sample.pdf));
     path.ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
     path.bounces += 1;
     true
 }
 
-/// Light from every light reflected towards wo at a lit vertex through the lobes `lobes` names
-/// for it, each sample's shadow ray traced at once: what the lanes of `Direct` find together,
-/// one path at a time.
+/// Light from every light reflected towards wo at a lit vertex through the lobes `mask` asks
+/// for (`light_sample`), each sample's shadow ray traced at once: what the lanes of `Direct`
+/// find together, one path at a time.
 pub(super) fn lit_one_at_a_time(
     scene: &Scene,
     vertex: &Vertex,
-    lobes: impl Fn(&Light) -> LobeFlags,
+    mask: LobeFlags,
     sampler: &mut Sampler,
 ) -> Vec3 {
     let mut lit = Vec3::ZERO;
-    for (shadow, reflected) in light_samples(scene, vertex, lobes, sampler).flatten() {
+    for (shadow, reflected) in light_samples(scene, vertex, mask, sampler).flatten() {
         lit += reflected * scene.transmittance(&shadow.ray, shadow.t_max);
     }
     lit
@@ -313,7 +337,7 @@ pub(super) fn whitted(
         let hit = scene.intersect(&path.ray);
         let Some(vertex) = arrive(scene, &mut path, hit, max_depth) else { break };
         let lit = if vertex.is_lit() {
-            lit_one_at_a_time(scene, &vertex, |light| vertex.lit_lobes(light), sampler)
+            lit_one_at_a_time(scene, &vertex, LobeFlags::ALL, sampler)
         } else {
             Vec3::ZERO
         };

@@ -85,30 +85,43 @@ pub fn of(settings: &Settings) -> Box<dyn Integrator> {
     }
 }
 
-/// Light from `light` scattered towards `wo` by the lobes of `bsdf` at `hit` that `mask` asks for
-/// (those with a density among them), from
-/// its sample at `u`, if the shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point
-/// light exactly the course's Lab 4 p / r^2 f |n . wi|). The environment's sample is weighted
-/// against the BSDF's sample of it (`direct::direct_from_environment`), by the power heuristic.
-/// Always inlined into `direct`'s loop over lights, with the light's sample.
+/// Light from `light` scattered towards `wo` by the lobes of `bsdf` at `hit` that `gathered`
+/// and `followed` ask for (those with a density among them), from its sample at `u`, if the
+/// shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point light exactly the course's
+/// Lab 4 p / r^2 f |n . wi|). Through `gathered` the environment's sample is weighted against the
+/// BSDF's sample of it (`direct::direct_from_environment`) by the power heuristic; through
+/// `followed` (the lobes a photon-mapping path goes on by, `Vertex::followed`) every light but a
+/// point light is weighted against the ray sampled from them finding it (`WhittedPath::found`).
+/// A point light takes its whole sample: no ray finds it. Always inlined into `direct`'s loop
+/// over lights, with the light's sample.
 #[inline(always)]
 fn direct_from_light(
     light: &Light,
     hit: &Hit,
     wo: Vec3,
     bsdf: &Bsdf,
-    mask: LobeFlags,
+    (gathered, followed): (LobeFlags, LobeFlags),
     u: Vec2,
 ) -> Option<(ShadowRay, Vec3)> {
     let sample = light.sample(hit, u)?;
-    let f = bsdf.eval_lobes(wo, sample.wi, mask);
+    let cos = hit.shading_normal.dot(sample.wi).abs();
+    if sample.is_delta {
+        let f = bsdf.eval_lobes(wo, sample.wi, gathered | followed);
+        return Some((sample.shadow, f * sample.li * cos / sample.pdf));
+    }
+    let f = bsdf.eval_lobes(wo, sample.wi, gathered);
     let weight = if matches!(light, Light::Environment(_)) {
-        power_heuristic(sample.pdf, bsdf.pdf(wo, sample.wi, mask))
+        power_heuristic(sample.pdf, bsdf.pdf(wo, sample.wi, gathered))
     } else {
         1.0
     };
-    let cos = hit.shading_normal.dot(sample.wi).abs();
-    Some((sample.shadow, f * sample.li * cos * weight / sample.pdf))
+    let mut lit = f * sample.li * cos * weight / sample.pdf;
+    if followed.is_non_delta() {
+        let f = bsdf.eval_lobes(wo, sample.wi, followed);
+        let weight = power_heuristic(sample.pdf, bsdf.pdf(wo, sample.wi, followed));
+        lit += f * sample.li * cos * weight / sample.pdf;
+    }
+    Some((sample.shadow, lit))
 }
 
 /// Veach's power heuristic with exponent 2, for one sample from each strategy:

@@ -23,8 +23,6 @@ use super::direct::{
 use super::missed_light::MissedLight;
 use super::{Integrator, PHOTON_TASK};
 use crate::film::{BYTES_PER_PIXEL, Film};
-use crate::light::Light;
-use crate::material::LobeFlags;
 use crate::photon::{Arrival, Emission, HashGrid, trace_photon};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
@@ -307,12 +305,9 @@ fn visible_point(
         let Some(vertex) = arrive(scene, &mut path, hit, scene.settings.max_depth) else { break };
         let (gathered, followed) = (vertex.gathered, vertex.followed());
         if followed.is_non_delta() {
-            // Point lights seen in a near-specular lobe: only next-event estimation finds
-            // them, whichever way the path goes on.
-            let point_lights =
-                |light: &Light| if light.is_delta() { followed } else { LobeFlags::NONE };
-            path.radiance +=
-                path.beta * lit_one_at_a_time(scene, &vertex, point_lights, &mut sampler);
+            // Lights seen in a near-specular lobe, whichever way the path goes on: a point
+            // light's sample whole, the others' weighted against the ray the lobe samples.
+            path.radiance += path.beta * lit_one_at_a_time(scene, &vertex, followed, &mut sampler);
         }
         if !gathered.is_empty() {
             // With followed lobes too, the path stops here with the gathered lobes'
@@ -325,7 +320,7 @@ fn visible_point(
             };
             if sampler.next_1d_if(!followed.is_empty()) < p {
                 path.beta /= p;
-                let lit = lit_one_at_a_time(scene, &vertex, |_| gathered, &mut sampler);
+                let lit = lit_one_at_a_time(scene, &vertex, gathered, &mut sampler);
                 path.radiance += path.beta * lit;
                 let Vertex { hit, wo, bsdf, .. } = &vertex;
                 let environment =

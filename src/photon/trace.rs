@@ -54,6 +54,17 @@ pub fn trace_photon(
         return;
     };
     let (mut ray, mut power, mut arrival) = (start.ray, start.power, Arrival::Direct);
+    if scene.lights[light].photon_sphere().is_some() {
+        // A photon from infinitely far away (the sky, a distant light) starts on a disc across
+        // the sphere around the bounded objects, which lie all downstream of it; an unbounded
+        // object (a floor) may cross the disc, and where it lies upstream it stops that light
+        // before the disc: the sky below the horizon lit the objects above a floor.
+        let upstream = Ray::new(start.ray.origin.into(), -Vec3::from(start.ray.dir));
+        power *= scene.transmittance(&upstream, f32::INFINITY);
+        if power == Vec3::ZERO {
+            return;
+        }
+    }
     for bounces in 0.. {
         let Some(mut hit) = scene.intersect(&ray) else { break };
         let wo = -Vec3::from(ray.dir);
