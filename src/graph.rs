@@ -415,6 +415,8 @@ impl ShapeNode {
             | ShapeNode::Prism { .. }
             | ShapeNode::Lathe { .. }
             | ShapeNode::Sor { .. }
+            | ShapeNode::Ovus { .. }
+            | ShapeNode::Lemon { .. }
             | ShapeNode::Polygon { .. }
             | ShapeNode::Superellipsoid { .. }
             | ShapeNode::JuliaFractal(_)
@@ -884,6 +886,22 @@ pub enum ShapeNode {
     /// discs at its ends unless `open` (then not a solid).
     Sor {
         pieces: Vec<crate::geometry::SorPiece>,
+        open: bool,
+    },
+    /// POV-Ray's `ovus { bottom, top }`: spheres of these radii at the origin and at
+    /// (0, bottom, 0) joined smoothly (`geometry::ArcSolid::ovus`); 0 < top < 2 bottom.
+    Ovus {
+        bottom: f32,
+        top: f32,
+    },
+    /// POV-Ray's `lemon { base, base_radius, cap, cap_radius, inner_radius [open] }`
+    /// (`geometry::ArcSolid::lemon`): base and cap distinct, radii >= 0, `inner_radius` at
+    /// least `geometry::lemon_min_inner_radius` of the radii over the axis' length times that
+    /// length; `open` leaves the end discs off (then not a solid).
+    Lemon {
+        ends: [Vec3; 2],
+        radii: [f32; 2],
+        inner_radius: f32,
         open: bool,
     },
     /// POV-Ray's polygon: closed outlines (`geometry::close_outlines`) of `points`, all in one

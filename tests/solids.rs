@@ -1,5 +1,5 @@
 //! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
-//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal, lathe, sor and CSG hits against a brute-force march along the ray with the point-inside
+//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal, lathe, sor, ovus, lemon and CSG hits against a brute-force march along the ray with the point-inside
 //! test, inside tests against the operands', an emission-only render against the analytic
 //! silhouette, and build errors.
 
@@ -11,7 +11,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{
     Algebra, BlobComponent, ComponentShape, JuliaDesc, JuliaFunction, Ray, Shape, SplineKind,
-    Sweep, Term, open_spline_segments, sor_pieces, spline_segments,
+    Sweep, Term, lemon_min_inner_radius, open_spline_segments, sor_pieces, spline_segments,
 };
 use raydiance::graph::{
     CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
@@ -825,6 +825,78 @@ fn csg_with_lathe_and_sor_operands_matches_a_march_and_the_operands_inside_tests
     assert!(tally.slivers < tally.rays / 50, "{tally:?}");
 }
 
+/// An ovus of bottom radius 0.6 and a top radius from 0.2 to 1.9 times that: both of POV-Ray's
+/// cases (the joining arc's radius twice the bottom's or twice the top's).
+fn random_ovus(rng: &mut Rng) -> ShapeNode {
+    ShapeNode::Ovus { bottom: 0.6, top: 0.6 * rng.range(0.2, 1.9) }
+}
+
+/// A lemon along a tilted axis of length 1 to 1.5, end radii 0 to 0.5 (one end pointed one time
+/// in three), its inner radius from its least (a sphere's arc) to three times that.
+fn random_lemon(rng: &mut Rng, k: usize) -> ShapeNode {
+    let base = rng.vec(-0.2, 0.2) - 0.5 * Vec3::Y;
+    let cap = base + (Vec3::Y + rng.vec(-0.3, 0.3)).normalize() * rng.range(1.0, 1.5);
+    let radii = [if k % 3 == 0 { 0.0 } else { rng.range(0.0, 0.5) }, rng.range(0.0, 0.5)];
+    let length = (cap - base).length();
+    let [a, b] = radii.map(|r| f64::from(r / length));
+    let least = lemon_min_inner_radius(a, b) as f32 * length;
+    let inner_radius = least * if k % 4 == 1 { 1.0 } else { rng.range(1.0, 3.0) };
+    ShapeNode::Lemon { ends: [base, cap], radii, inner_radius, open: false }
+}
+
+#[test]
+fn ovus_match_a_march_and_their_crossings_agree_with_inside() {
+    // An ovus holds its larger sphere, of radius R = max(bottom, top), and lies in a box of
+    // about 2R by 2R across (its joining arc bulges past the spheres by a little) and
+    // 2 bottom + top <= 3R high: (4/3) pi R^3 / 12 R^3 = 0.35 of its box, taken as 0.3; the box
+    // is 1/5 or more of its world box: 0.06; half that.
+    check_solid_family(67, 8, 0.03, |rng, _| random_ovus(rng));
+}
+
+#[test]
+fn lemons_match_a_march_and_their_crossings_agree_with_inside() {
+    // A lemon's radius is concave in the height (an arc bulging out), so it holds the cone or
+    // frustum between its rims, and at the least the spindle of an arc from tip to tip: a
+    // pointed lemon with a 0.5 rim fills 1/4 of its box, the thinnest spindle here (both radii
+    // 0, three times its least inner radius) about 0.4; the box is 1/5 or more of its world
+    // box: 0.05 or more; less than half that.
+    check_solid_family(71, 8, 0.02, |rng, k| random_lemon(rng, k));
+}
+
+#[test]
+fn csg_with_ovus_and_lemon_operands_matches_a_march_and_the_operands_inside_tests() {
+    let graph = empty_graph();
+    let mut rng = Rng(73);
+    let mut tally = Tally::default();
+    for k in 0..8 {
+        let solid = if k % 2 == 0 { random_ovus(&mut rng) } else { random_lemon(&mut rng, k) };
+        let solid = node(&graph, solid, random_transforms(&mut rng, false));
+        let ball = ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.3, 0.7) };
+        let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
+        let tree = ShapeNode::Csg { op, operands: vec![solid, node(&graph, ball, vec![])] };
+        let tree = node(&graph, tree, random_transforms(&mut rng, false));
+        let shape = built_shape(&graph, tree.clone());
+        let bounds = shape.bounds().expect("a bounded first operand");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..200 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    // Both fill 1/50 or more of their bounds (the tests above); the ball keeps or takes away
+    // half of that or less on average.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 50, "{tally:?}");
+}
+
 #[test]
 fn superellipsoids_match_a_march_and_their_crossings_agree_with_inside() {
     let graph = empty_graph();
@@ -1180,6 +1252,15 @@ fn operands_that_are_not_solids_are_located_errors_naming_them() {
                 open: true,
             },
             "an open cone",
+        ),
+        (
+            ShapeNode::Lemon {
+                ends: [Vec3::ZERO, Vec3::Y],
+                radii: [0.3, 0.2],
+                inner_radius: 1.0,
+                open: true,
+            },
+            "an open lemon",
         ),
     ];
     for (shape, name) in cases {

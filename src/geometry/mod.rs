@@ -2,6 +2,7 @@
 //! `aabb`), which the meshes here build on, and are re-exported here with the shapes they meet.
 
 mod algebraic;
+mod arc_solid;
 mod blob;
 mod cone;
 mod crossings;
@@ -29,6 +30,7 @@ mod triangle_mesh;
 pub use crate::aabb::Aabb;
 pub use crate::ray::{Hit, Ray, offset_origin};
 pub use algebraic::{Algebraic, Term, pov_ray_term_count, pov_ray_terms};
+pub use arc_solid::{ArcSolid, lemon_min_inner_radius};
 pub use blob::{Blob, BlobComponent, ComponentShape};
 pub use cone::Cone;
 pub use crossings::{Crossing, Crossings, MAX_CROSSINGS};

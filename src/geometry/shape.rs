@@ -7,6 +7,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 
 use super::algebraic::Algebraic;
+use super::arc_solid::ArcSolid;
 use super::blob::Blob;
 use super::cone::Cone;
 use super::crossings::Crossings;
@@ -74,6 +75,8 @@ pub enum Shape {
     Lathe(Box<Lathe>),
     /// POV-Ray's surface of revolution (`sor`) under an affine map.
     Sor(Box<Sor>),
+    /// POV-Ray's ovus or lemon (arcs turned about an axis) under an affine map.
+    ArcSolid(Box<ArcSolid>),
     /// POV-Ray's polygon (not a solid), in world space.
     Polygon(Box<Polygon>),
     /// POV-Ray's superellipsoid under an affine map.
@@ -149,6 +152,7 @@ impl Shape {
             Shape::Prism(prism) => prism.intersection(ray, t_max),
             Shape::Lathe(lathe) => lathe.intersection(ray, t_max),
             Shape::Sor(sor) => sor.intersection(ray, t_max),
+            Shape::ArcSolid(solid) => solid.intersection(ray, t_max),
             Shape::Polygon(polygon) => polygon.intersection(ray, t_max),
             Shape::Superellipsoid(s) => s.intersection(ray, t_max),
             Shape::Julia(julia) => julia.intersection(ray, t_max),
@@ -195,6 +199,7 @@ impl Shape {
             Shape::Prism(prism) => prism.hit(ray, at),
             Shape::Lathe(lathe) => lathe.hit(ray, at),
             Shape::Sor(sor) => sor.hit(ray, at),
+            Shape::ArcSolid(solid) => solid.hit(ray, at),
             Shape::Polygon(polygon) => polygon.hit(ray, at),
             Shape::Superellipsoid(s) => s.hit(ray, at),
             Shape::Julia(julia) => julia.hit(ray, at),
@@ -226,6 +231,7 @@ impl Shape {
             | Shape::Prism(_)
             | Shape::Lathe(_)
             | Shape::Sor(_)
+            | Shape::ArcSolid(_)
             | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => self.intersection(ray, t_max).is_some(),
@@ -259,6 +265,7 @@ impl Shape {
             Shape::Prism(prism) => Some(prism.bounds()),
             Shape::Lathe(lathe) => Some(lathe.bounds()),
             Shape::Sor(sor) => Some(sor.bounds()),
+            Shape::ArcSolid(solid) => Some(solid.bounds()),
             Shape::Polygon(polygon) => Some(polygon.bounds()),
             Shape::Superellipsoid(s) => Some(s.bounds()),
             Shape::Julia(julia) => Some(julia.bounds()),
@@ -277,6 +284,7 @@ impl Shape {
             | Shape::Prism(_)
             | Shape::Lathe(_)
             | Shape::Sor(_)
+            | Shape::ArcSolid(_)
             | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => None,
@@ -307,6 +315,7 @@ impl Shape {
             | Shape::Prism(_)
             | Shape::Lathe(_)
             | Shape::Sor(_)
+            | Shape::ArcSolid(_)
             | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => None,
@@ -340,6 +349,7 @@ impl Shape {
             Shape::Prism(prism) => prism.crossings(ray, t_max),
             Shape::Lathe(lathe) => lathe.crossings(ray, t_max),
             Shape::Sor(sor) => sor.crossings(ray, t_max),
+            Shape::ArcSolid(solid) => solid.crossings(ray, t_max),
             Shape::Superellipsoid(s) => s.crossings(ray, t_max),
             Shape::Julia(julia) => julia.crossings(ray, t_max),
             Shape::Mesh { mesh, placement } => match placement {
@@ -366,6 +376,7 @@ impl Shape {
             Shape::Prism(prism) => prism.contains(p),
             Shape::Lathe(lathe) => lathe.contains(p),
             Shape::Sor(sor) => sor.contains(p),
+            Shape::ArcSolid(solid) => solid.contains(p),
             Shape::Superellipsoid(s) => s.contains(p),
             Shape::Julia(julia) => julia.contains(p),
             Shape::Mesh { mesh, placement } => match placement {

@@ -141,7 +141,7 @@ fn convert(
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
 /// The words that begin an object, and those of the blocks objects may stand in.
-const OBJECTS: [&str; 31] = [
+const OBJECTS: [&str; 33] = [
     "bicubic_patch",
     "blob",
     "box",
@@ -154,10 +154,12 @@ const OBJECTS: [&str; 31] = [
     "intersection",
     "julia_fractal",
     "lathe",
+    "lemon",
     "merge",
     "mesh",
     "mesh2",
     "object",
+    "ovus",
     "plane",
     "poly",
     "polygon",
@@ -439,6 +441,8 @@ fn describe(rule: Rule) -> &'static str {
         Rule::prism_sweep => "a sweep (`linear_sweep`, `conic_sweep`)",
         Rule::lathe => "`lathe`",
         Rule::sor => "`sor`",
+        Rule::ovus => "`ovus`",
+        Rule::lemon => "`lemon`",
         Rule::polygon => "`polygon`",
         Rule::height_field => "`height_field`",
         Rule::sphere_sweep => "`sphere_sweep`",

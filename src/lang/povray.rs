@@ -81,7 +81,7 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
              quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG (and, in `.pov` \
              scenes, POV-Ray's quadric, cubic, quartic, poly, blob, prism, superellipsoid, \
              bicubic_patch, smooth_triangle, mesh2, meshes of triangles, julia_fractal, lathe, sor, \
-             polygon, height_field and sphere_sweep)"
+             polygon, height_field, sphere_sweep, ovus and lemon)"
         }
         "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
         | "clipped_by" => {
@@ -117,7 +117,7 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
 }
 
 /// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 3] = ["parametric", "ovus", "lemon"];
+const UNSUPPORTED_SHAPES: [&str; 1] = ["parametric"];
 
 /// The message for POV-Ray's `word`, if it is one of them.
 pub fn message(word: &str, inside: Option<&str>) -> Option<String> {

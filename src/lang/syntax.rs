@@ -765,6 +765,20 @@ pub enum Shape {
     },
     /// POV-Ray's `blob`: its components and `threshold` are among its items.
     Blob,
+    /// POV-Ray's `ovus { bottom_radius, top_radius }`.
+    Ovus {
+        bottom: Expr,
+        top: Expr,
+    },
+    /// POV-Ray's `lemon { base, base_radius, cap, cap_radius, inner_radius [open] }`.
+    Lemon {
+        base: Expr,
+        base_radius: Expr,
+        cap: Expr,
+        cap_radius: Expr,
+        inner_radius: Expr,
+        open: bool,
+    },
     /// POV-Ray's `superellipsoid { <e, n> }`.
     Superellipsoid {
         exponents: Expr,

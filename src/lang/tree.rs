@@ -1138,6 +1138,8 @@ impl Builder {
                 | Rule::blob
                 | Rule::prism
                 | Rule::superellipsoid
+                | Rule::ovus
+                | Rule::lemon
                 | Rule::bicubic_patch
                 | Rule::smooth_triangle
                 | Rule::mesh2
@@ -1242,6 +1244,15 @@ impl Builder {
             }
             Rule::blob => Shape::Blob,
             Rule::superellipsoid => Shape::Superellipsoid { exponents: take(self)? },
+            Rule::ovus => Shape::Ovus { bottom: take(self)?, top: take(self)? },
+            Rule::lemon => Shape::Lemon {
+                base: take(self)?,
+                base_radius: take(self)?,
+                cap: take(self)?,
+                cap_radius: take(self)?,
+                inner_radius: take(self)?,
+                open: false,
+            },
             Rule::prism => unreachable!("read by `prism`"),
             Rule::bicubic_patch => unreachable!("read by `bicubic_patch`"),
             Rule::mesh2 => unreachable!("read by `mesh2`"),
@@ -1270,7 +1281,9 @@ impl Builder {
             }
             rule => unreachable!("no object {rule:?}"),
         };
-        if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } = &mut shape {
+        if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } | Shape::Lemon { open, .. } =
+            &mut shape
+        {
             *open = inner.next_if(|p| p.as_rule() == Rule::kw_open).is_some();
         }
         let items = self.items(inner)?;

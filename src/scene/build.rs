@@ -13,7 +13,7 @@ use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
-    Algebraic, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia, JuliaDesc,
+    Algebraic, ArcSolid, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia, JuliaDesc,
     Lathe, Placement, Planar, PlanarKind, Polygon, Prism, QuadricFrame, QuadricKind, Shape, Sor,
     Superellipsoid, Torus, TriangleMesh, outline_normal, similarity_scale,
 };
@@ -467,7 +467,8 @@ impl Flattener {
                 format!(
                     "{what} is not a solid: the operands of intersection, difference and merge \
                      must be solids (sphere, box, closed cylinder or cone, torus, plane, closed \
-                     mesh, a polynomial surface, a blob, CSG, or objects and unions of these)"
+                     mesh, a polynomial surface, a blob, an ovus, a closed lemon, CSG, or objects \
+                     and unions of these)"
                 ),
             )
         };
@@ -489,6 +490,7 @@ impl Flattener {
             }
             ShapeNode::Prism { open: true, .. } => return Err(not_solid("an open prism")),
             ShapeNode::Sor { open: true, .. } => return Err(not_solid("an open sor")),
+            ShapeNode::Lemon { open: true, .. } => return Err(not_solid("an open lemon")),
             ShapeNode::Polygon { .. } => return Err(not_solid("a polygon")),
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
@@ -801,6 +803,14 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             vec![Shape::Prism(Box::new(Prism::new(segments, sweep, heights, open, m)))]
         }
         ShapeNode::Lathe { ref segments } => vec![Shape::Lathe(Box::new(Lathe::new(segments, m)))],
+        ShapeNode::Ovus { bottom, top } => {
+            let ovus = ArcSolid::ovus(f64::from(bottom), f64::from(top), m);
+            vec![Shape::ArcSolid(Box::new(ovus))]
+        }
+        ShapeNode::Lemon { ends, radii, inner_radius, open } => {
+            let lemon = ArcSolid::lemon(ends, radii.map(f64::from), inner_radius.into(), open, m);
+            vec![Shape::ArcSolid(Box::new(lemon))]
+        }
         ShapeNode::Sor { ref pieces, open } => {
             vec![Shape::Sor(Box::new(Sor::new(pieces, open, m)))]
         }

@@ -10,6 +10,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 mod appearance;
+mod arc_solid;
 mod array;
 mod blob;
 mod camera;
@@ -262,6 +263,8 @@ impl Body<'_> {
                 | ShapeNode::Prism { .. }
                 | ShapeNode::Lathe { .. }
                 | ShapeNode::Sor { .. }
+                | ShapeNode::Ovus { .. }
+                | ShapeNode::Lemon { .. }
                 | ShapeNode::Polygon { .. }
                 | ShapeNode::Superellipsoid { .. }
                 | ShapeNode::JuliaFractal(_)

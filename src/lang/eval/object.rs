@@ -157,6 +157,11 @@ impl Evaluator {
                 let [e, n] = [single(e, &exponents.span)?, single(n, &exponents.span)?];
                 ShapeNode::Superellipsoid { e, n }
             }
+            Shape::Ovus { bottom, top } => self.ovus(bottom, top)?,
+            Shape::Lemon { base, base_radius, cap, cap_radius, inner_radius, open } => {
+                let arguments = [base, base_radius, cap, cap_radius, inner_radius];
+                self.lemon(arguments, *open, &object.span)?
+            }
             Shape::Prism { spline, sweep, heights, count, points, open } => {
                 let points = self.listed_points(points)?;
                 self.prism((*spline, *sweep), heights, count, &points, *open, &object.span)?
@@ -686,6 +691,8 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Prism { .. }
         | ShapeNode::Lathe { .. }
         | ShapeNode::Sor { .. }
+        | ShapeNode::Ovus { .. }
+        | ShapeNode::Lemon { .. }
         | ShapeNode::Polygon { .. }
         | ShapeNode::Superellipsoid { .. }
         | ShapeNode::JuliaFractal(_)
