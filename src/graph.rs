@@ -818,10 +818,12 @@ pub enum ShapeNode {
         edge1: Vec3,
         edge2: Vec3,
     },
+    /// With a hole of radius `hole` (0: none; below `radius`) about its centre.
     Disk {
         center: Vec3,
         normal: Vec3,
         radius: f32,
+        hole: f32,
     },
     /// Closed: with both caps. (An open cylinder is a `Cone` with equal radii and `open`.)
     Cylinder {

@@ -467,3 +467,18 @@ fn ovus_and_lemons_are_read_and_checked_as_povray_reads_them() {
         assert!(error.contains(expected), "{text}: {error}");
     }
 }
+
+/// POV-Ray's disc takes a hole radius below its radius; `.scn`'s disk takes none.
+#[test]
+fn a_disc_s_hole_radius_is_read_and_checked() {
+    let graph = pov("disc { <0, 1, 0>, y, 2, 0.5 }\ndisc { 0, y, 1 }");
+    assert!(matches!(graph.objects[0].shape, ShapeNode::Disk { radius: 2.0, hole: 0.5, .. }));
+    assert!(matches!(graph.objects[1].shape, ShapeNode::Disk { hole: 0.0, .. }));
+    let error = pov_error("disc { 0, y, 1, 1 }");
+    assert!(error.contains("1:17: the disc's hole radius 1 is not below its radius"), "{error}");
+    let error = pov_error("disc { 0, y, 1, -0.5 }");
+    assert!(error.contains("hole radius -0.5 is negative"), "{error}");
+    let scn = parse_scene(Path::new("tests/inline.scn"), "disk { 0, y, 1, 0.5 }");
+    let error = scn.map(|_| ()).unwrap_err().to_string();
+    assert!(error.contains("a disk has no hole radius"), "{error}");
+}

@@ -692,6 +692,26 @@ fn lemons_match_povray_s_csg_of_the_same_solid_away_from_edges() {
     agree_with_povray_as(&ours, &theirs, "lemons");
 }
 
+/// Discs with and without a hole radius, tilted, stretched and mirrored (an emitter here glows
+/// on both sides of a disc).
+const DISCS: &str = r#"
+camera { location <0, 1, -6> right x*image_width/image_height angle 50 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+disc { <-1.8, 0.8, 0>, <0, 0, -1>, 1.1, 0.5 pigment { rgb <1, 0, 0> } }
+disc { <0, 0, 0>, <0.3, 1, -1>, 1, 0.7 scale <-1.6, 1, 1> rotate 20*z translate <1.4, 0.8, 0> pigment { rgb <0, 1, 0> } }
+disc { <0, -1.2, 0>, <0, 1, -0.6>, 1.2 pigment { rgb <0, 0, 1> } }
+disc { <0, -1.2, -0.5>, <0, 1, -0.6>, 0.6, 0.3 pigment { rgb <1, 1, 0> } }
+"#;
+
+#[test]
+fn discs_with_holes_match_povray_away_from_edges() {
+    let test = "discs_with_holes_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(DISCS, "discs");
+    }
+}
+
 /// Renders `text` with POV-Ray and with raydiance and compares which channels each pixel lights.
 fn agree_with_povray(text: &str, name: &str) {
     agree_with_povray_beside(text, name, &[]);

@@ -1232,7 +1232,7 @@ fn operands_that_are_not_solids_are_located_errors_naming_them() {
     let cases = [
         (ShapeNode::Triangle { a: Vec3::ZERO, b: Vec3::X, c: Vec3::Y }, "a triangle"),
         (ShapeNode::Quad { corner: Vec3::ZERO, edge1: Vec3::X, edge2: Vec3::Y }, "a quad"),
-        (ShapeNode::Disk { center: Vec3::ZERO, normal: Vec3::Y, radius: 1.0 }, "a disk"),
+        (ShapeNode::Disk { center: Vec3::ZERO, normal: Vec3::Y, radius: 1.0, hole: 0.0 }, "a disk"),
         (
             ShapeNode::Cone {
                 base: Vec3::ZERO,

@@ -716,10 +716,12 @@ pub enum Shape {
         edge1: Expr,
         edge2: Expr,
     },
+    /// POV-Ray's `disc` may have a hole radius (`.pov`).
     Disk {
         center: Expr,
         normal: Expr,
         radius: Expr,
+        hole: Option<Expr>,
     },
     /// `open`: the side alone, no end disks.
     Cylinder {

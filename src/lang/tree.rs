@@ -1204,9 +1204,12 @@ impl Builder {
             Rule::quad => {
                 Shape::Quad { corner: take(self)?, edge1: take(self)?, edge2: take(self)? }
             }
-            Rule::disk => {
-                Shape::Disk { center: take(self)?, normal: take(self)?, radius: take(self)? }
-            }
+            Rule::disk => Shape::Disk {
+                center: take(self)?,
+                normal: take(self)?,
+                radius: take(self)?,
+                hole: None,
+            },
             Rule::cylinder => Shape::Cylinder {
                 base: take(self)?,
                 cap: take(self)?,
@@ -1285,6 +1288,14 @@ impl Builder {
             &mut shape
         {
             *open = inner.next_if(|p| p.as_rule() == Rule::kw_open).is_some();
+        }
+        if let Shape::Disk { hole, .. } = &mut shape
+            && let Some(comma) = inner.next_if(|p| p.as_rule() == Rule::arg_comma)
+        {
+            if self.dialect == Dialect::Scn {
+                return Err(self.error(&comma, "a disk has no hole radius (POV-Ray's `disc` has)"));
+            }
+            *hole = Some(self.expr(inner.next().expect("the grammar gives the hole radius"))?);
         }
         let items = self.items(inner)?;
         self.leave();

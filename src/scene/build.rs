@@ -774,8 +774,8 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         ShapeNode::Quad { corner, edge1, edge2 } => {
             vec![planar(PlanarKind::Quad, corner, edge1, edge2)]
         }
-        ShapeNode::Disk { center, normal, radius } => {
-            vec![Shape::Planar(disk(center, normal.normalize(), radius))]
+        ShapeNode::Disk { center, normal, radius, hole } => {
+            vec![Shape::Planar(disk(center, normal.normalize(), radius).with_hole(hole / radius))]
         }
         ShapeNode::Cylinder { base, cap, radius } => vec![cone(base, radius, cap, radius, false)],
         ShapeNode::Cone { base, base_radius, cap, cap_radius, open } => {

@@ -67,10 +67,27 @@ impl Evaluator {
                 }
                 ShapeNode::Quad { corner, edge1, edge2 }
             }
-            Shape::Disk { center, normal, radius } => {
+            Shape::Disk { center, normal, radius, hole } => {
                 let center = self.vec3(center)?;
                 let normal = self.nonzero(normal, "the disk's normal")?;
-                ShapeNode::Disk { center, normal, radius: self.positive(radius, "radius")? }
+                let radius = self.positive(radius, "radius")?;
+                let hole = match hole {
+                    Some(hole) => {
+                        let value = self.non_negative(hole, "the disc's hole radius")?;
+                        if value >= radius {
+                            return Err(SceneError::at(
+                                &hole.span,
+                                format!(
+                                    "the disc's hole radius {value} is not below its radius \
+                                     {radius}: nothing would be left of it"
+                                ),
+                            ));
+                        }
+                        value
+                    }
+                    None => 0.0,
+                };
+                ShapeNode::Disk { center, normal, radius, hole }
             }
             Shape::Cylinder { base, cap, radius, open } => {
                 let at = cap.span.clone();
