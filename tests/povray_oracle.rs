@@ -499,6 +499,59 @@ fn height_fields_match_povray_away_from_edges() {
     agree_with_povray_beside(HEIGHT_FIELDS, "height fields", &files);
 }
 
+/// Height fields from POV-Ray's other image types: a plain PGM whose largest value is 9 (scaled
+/// to 8 bits), a raw 8-bit PPM (red the high byte, green the low), and a run-length Targa palette
+/// image stored bottom row first (index × 256).
+const NETPBM_TGA_FIELDS: &str = r#"
+camera { location <0, 3.5, -4> right x*image_width/image_height angle 50 look_at <0, 0.3, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+height_field { pgm "ridge.pgm" translate <-0.5, 0, -0.5> scale <2.2, 1.5, 2.6> translate <-1.3, 0, 0>
+  pigment { rgb <1, 0, 0> } }
+height_field { "steps.ppm" translate <-0.5, 0, -0.5> scale <2.2, 2, 1.8> translate <1, 0, 0.9>
+  pigment { rgb <0, 1, 0> } }
+height_field { tga "block.tga" translate <-0.5, 0, -0.5> scale <2.4, 1.5, 2> translate <1.2, 0, -1.1>
+  pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn height_fields_from_pgm_ppm_and_tga_match_povray_away_from_edges() {
+    let test = "height_fields_from_pgm_ppm_and_tga_match_povray_away_from_edges";
+    if !common::outside_tool("povray", "povray", test) {
+        return;
+    }
+    // A ridge rising to the right and towards the top rows, values 0 to 9.
+    let ridge: Vec<String> =
+        (0..10 * 8).map(|k| ((k % 10) + (7 - k / 10) / 4).min(9).to_string()).collect();
+    let pgm = format!("P2\n# a ridge\n10 8\n9\n{}\n", ridge.join(" ")).into_bytes();
+    // Steps: red rising along the columns, green a little with the rows.
+    let mut ppm = b"P6\n9 7\n255\n".to_vec();
+    for k in 0..9 * 7 {
+        ppm.extend([((k % 9) * 25) as u8, ((k / 9) * 30) as u8, 200]);
+    }
+    // A Targa palette image (type 9), 8 × 6: a block of index 200 in the bottom-left corner of
+    // the image on a floor of index 20, stored bottom row first, in runs.
+    let mut tga = vec![0u8; 18];
+    tga[1] = 1;
+    tga[2] = 9;
+    tga[5] = 0; // 256 palette entries of 24 bits
+    tga[6] = 1;
+    tga[7] = 24;
+    tga[12] = 8;
+    tga[14] = 6;
+    tga[16] = 8;
+    tga.extend((0..256 * 3).map(|i| (i * 53 % 256) as u8));
+    for stored_row in 0..6 {
+        let block = if stored_row < 3 { 3 } else { 0 };
+        if block > 0 {
+            tga.extend([0x80 | (block - 1), 200]);
+        }
+        tga.extend([0x80 | (8 - block - 1), 20]);
+    }
+    let files = [("ridge.pgm", pgm), ("steps.ppm", ppm), ("block.tga", tga)];
+    agree_with_povray_beside(NETPBM_TGA_FIELDS, "height fields from PGM, PPM and TGA", &files);
+}
+
 /// A height field as the solid below its sheet: cut by a sphere (its sheet and the sphere's
 /// part below it), cutting a sphere (the cap above the sheet, and the sheet seen from below), and
 /// clipping a cylinder (its side below the sheet). The sphere and the cylinder stay inside the
