@@ -509,6 +509,10 @@ pub enum ImageProjection {
     Spherical,
     /// `map_type 2`: u the longitude as the sphere's, v = y.
     Cylindrical,
+    /// `map_type 5`: u the longitude as the sphere's, v the angle around the tube of the torus
+    /// of major radius 1 about y, from its inner equator down under the tube first (1/4 at its
+    /// bottom, 1/2 at its outer equator, 3/4 on its top).
+    Torus,
 }
 
 /// The part of a pigment an image gives at each point.

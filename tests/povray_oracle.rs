@@ -765,6 +765,42 @@ fn discs_with_holes_match_povray_away_from_edges() {
     }
 }
 
+/// An image wrapped around tori with `map_type 5`: four colours across the longitude and two
+/// around the tube, on a torus seen from above and one tilted towards the camera.
+const TORUS_MAPS: &str = r#"
+camera { location <0, 2, -6> right x*image_width/image_height angle 45 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+torus { 1, 0.45 pigment { image_map { png "quarters.png" map_type 5 } } rotate -50*x translate <-1.4, 0.3, 0> }
+torus { 1, 0.45 pigment { image_map { png "quarters.png" map_type 5 } } rotate <30, 40, 0> translate <1.4, -0.3, 0> }
+"#;
+
+#[test]
+fn torus_image_maps_match_povray_away_from_edges() {
+    let test = "torus_image_maps_match_povray_away_from_edges";
+    if !common::outside_tool("povray", "povray", test) {
+        return;
+    }
+    // 4 x 2 pixels of full channels: red, green, blue, yellow along the top row, then magenta,
+    // cyan, white and red.
+    let colours: [[u8; 3]; 8] = [
+        [255, 0, 0],
+        [0, 255, 0],
+        [0, 0, 255],
+        [255, 255, 0],
+        [255, 0, 255],
+        [0, 255, 255],
+        [255, 255, 255],
+        [255, 0, 0],
+    ];
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, 4, 2);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.write_header().unwrap().write_image_data(colours.as_flattened()).unwrap();
+    agree_with_povray_beside(TORUS_MAPS, "torus image maps", &[("quarters.png", bytes)]);
+}
+
 /// Renders `text` with POV-Ray and with raydiance and compares which channels each pixel lights.
 fn agree_with_povray(text: &str, name: &str) {
     agree_with_povray_beside(text, name, &[]);
