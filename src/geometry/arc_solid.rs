@@ -15,6 +15,11 @@ use super::quadric::QuadricFrame;
 use super::shape::{Intersection, REL_ERROR};
 use super::{Aabb, Hit, Ray};
 
+/// How near the axis (relative to the solid's size) an arc's centre is taken to be on it, a
+/// sphere: the spindle torus' quartic has near-double roots there, which rounding loses (POV-Ray
+/// 3.8's lemon also turns to a sphere within a tolerance).
+const ON_AXIS: f64 = 1e-5;
+
 /// An arc of the profile: the circle of `radius` about `center` (r, y), over heights `band`
 /// (from below, up to above; infinite for a sphere's cap, which ends where the sphere does).
 #[derive(Debug, Clone, Copy)]
@@ -53,6 +58,11 @@ pub fn lemon_min_inner_radius(base_radius: f64, cap_radius: f64) -> f64 {
     (((b - a).powi(2) + 1.0) * ((a + b).powi(2) + 1.0)).sqrt() / 2.0
 }
 
+/// An arc centre's r (at most 0), or 0 within `ON_AXIS` of a solid of this size.
+fn on_axis(r: f64, size: f64) -> f64 {
+    if r > -ON_AXIS * size { 0.0 } else { r }
+}
+
 impl ArcSolid {
     /// POV-Ray 3.7's `ovus { bottom, top }` (0 < top < 2 bottom) under `to_world`: the sphere of
     /// radius `bottom` at the origin and of radius `top` at (0, bottom, 0), joined by the arc of
@@ -63,12 +73,12 @@ impl ArcSolid {
             let c = 2.0 * b;
             let v = 2.0 * t - b - t * t / (2.0 * b);
             let h = (b * b - v * v).max(0.0).sqrt();
-            (c, DVec2::new(-h, v), -v, (b - v) * t / (c - t) + b)
+            (c, DVec2::new(on_axis(-h, b), v), -v, (b - v) * t / (c - t) + b)
         } else {
             let c = 2.0 * t;
             let v = -2.0 * t + b + 1.5 * t * t / b;
             let h = (t * t - (v - b) * (v - b)).max(0.0).sqrt();
-            (c, DVec2::new(-h, v), -v * b / (c - b), 2.0 * b - v)
+            (c, DVec2::new(on_axis(-h, t), v), -v * b / (c - b), 2.0 * b - v)
         };
         let arcs = [
             Arc { center: DVec2::ZERO, radius: b, band: (f64::NEG_INFINITY, low) },
@@ -101,22 +111,15 @@ impl ArcSolid {
         // The circle through (a, 0) and (b, 1), its centre at the smaller r (lemon.cpp).
         let chord_squared = (b - a).powi(2) + 1.0;
         let f = (4.0 * r * r / chord_squared - 1.0).max(0.0).sqrt();
-        let center = DVec2::new(((a + b - f) / 2.0).min(0.0), ((b - a) * f + 1.0) / 2.0);
+        let center = DVec2::new(on_axis((a + b - f) / 2.0, 1.0), ((b - a) * f + 1.0) / 2.0);
         let arc = Arc { center, radius: r, band: (0.0, 1.0) };
-        let caps = [
-            Cap { height: 0.0, radius: a, up: false },
-            Cap { height: 1.0, radius: b, up: true },
-        ];
+        let caps =
+            [Cap { height: 0.0, radius: a, up: false }, Cap { height: 1.0, radius: b, up: true }];
         let caps = if open { ArrayVec::new() } else { caps.into_iter().collect() };
         ArcSolid::new([arc].into_iter().collect(), caps, open, to_world * own)
     }
 
-    fn new(
-        arcs: ArrayVec<Arc, 3>,
-        caps: ArrayVec<Cap, 2>,
-        open: bool,
-        to_world: Affine3A,
-    ) -> Self {
+    fn new(arcs: ArrayVec<Arc, 3>, caps: ArrayVec<Cap, 2>, open: bool, to_world: Affine3A) -> Self {
         let (mut reach, mut heights) = (0.0f64, (f64::INFINITY, f64::NEG_INFINITY));
         for arc in &arcs {
             let (c, r) = (arc.center, arc.radius);
@@ -127,9 +130,10 @@ impl ArcSolid {
         }
         let mut frame = QuadricFrame::new(to_world, None);
         let mut solid = ArcSolid { frame: frame.clone(), arcs, caps, open, reach, heights };
-        frame.magnitude = solid.own_corners().iter().fold(0.0f32, |m, c| {
-            m.max(to_world.transform_point3(*c).abs().max_element())
-        });
+        frame.magnitude = solid
+            .own_corners()
+            .iter()
+            .fold(0.0f32, |m, c| m.max(to_world.transform_point3(*c).abs().max_element()));
         solid.frame = frame;
         solid
     }
@@ -187,7 +191,12 @@ impl ArcSolid {
                 let discriminant = r2 - (n - a * d).length_squared();
                 if discriminant >= 0.0 {
                     let root = discriminant.sqrt();
-                    found.extend([-a - root, -a + root].into_iter().filter(|&s| on_arc(s)).map(|s| (s, part as u32)));
+                    found.extend(
+                        [-a - root, -a + root]
+                            .into_iter()
+                            .filter(|&s| on_arc(s))
+                            .map(|s| (s, part as u32)),
+                    );
                 }
                 continue;
             }
@@ -235,7 +244,10 @@ impl ArcSolid {
         let roots = self.roots(ray);
         let ts: ArrayVec<f32, 14> = roots.iter().map(|&(t, _)| t).collect();
         let part = |t: f32| roots.iter().find(|r| r.0 == t).map_or(0, |r| r.1);
-        Crossings::from_roots(&ts, t_max, |t| Intersection { triangle: part(t), ..Intersection::at(t) })
+        Crossings::from_roots(&ts, t_max, |t| Intersection {
+            triangle: part(t),
+            ..Intersection::at(t)
+        })
     }
 
     /// The point of part `part` nearest `q` (own space) and the outward normal there.
@@ -310,14 +322,21 @@ mod tests {
             let on_arc = (r - arc.center.x).powi(2) + (y - arc.center.y).powi(2);
             assert!((on_arc - arc.radius.powi(2)).abs() < 1e-9, "{y} {r}");
         }
-        assert!(ovus.contains(Vec3::new(0.0, 1.5, 0.0)) && !ovus.contains(Vec3::new(0.0, 1.7, 0.0)));
+        assert!(
+            ovus.contains(Vec3::new(0.0, 1.5, 0.0)) && !ovus.contains(Vec3::new(0.0, 1.7, 0.0))
+        );
     }
 
     #[test]
     fn a_lemon_runs_between_its_end_discs() {
-        let lemon =
-            ArcSolid::lemon([Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0)], [0.5, 0.3], 1.5, false, Affine3A::IDENTITY);
-        let [arc] = [lemon.arcs[0]];
+        let lemon = ArcSolid::lemon(
+            [Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0)],
+            [0.5, 0.3],
+            1.5,
+            false,
+            Affine3A::IDENTITY,
+        );
+        let arc = lemon.arcs[0];
         // Through the base's and the cap's rims (own space: heights 0 and 1, radii over 2).
         for (y, r) in [(0.0, 0.25), (1.0, 0.15)] {
             let on = (r - arc.center.x).powi(2) + (y - arc.center.y).powi(2);
@@ -328,7 +347,9 @@ mod tests {
         let roots = lemon.roots(&up);
         assert_eq!(roots.len(), 2, "{roots:?}");
         assert!((roots[0].0 - 1.0).abs() < 1e-5 && (roots[1].0 - 3.0).abs() < 1e-5, "{roots:?}");
-        assert!(lemon.contains(Vec3::new(0.0, 1.0, 0.4)) && !lemon.contains(Vec3::new(0.0, 2.1, 0.0)));
+        assert!(
+            lemon.contains(Vec3::new(0.0, 1.0, 0.4)) && !lemon.contains(Vec3::new(0.0, 2.1, 0.0))
+        );
         assert!((lemon_min_inner_radius(0.0, 0.0) - 0.5).abs() < 1e-12, "the sphere on the axis");
     }
 
