@@ -410,6 +410,7 @@ impl ShapeNode {
             | ShapeNode::Cone { .. }
             | ShapeNode::Torus { .. }
             | ShapeNode::Isosurface(_)
+            | ShapeNode::Parametric(_)
             | ShapeNode::Algebraic { .. }
             | ShapeNode::Blob { .. }
             | ShapeNode::Prism { .. }
@@ -853,6 +854,8 @@ pub enum ShapeNode {
     },
     /// POV-Ray's `isosurface { }`: where a function is below its threshold in a container.
     Isosurface(Arc<crate::geometry::IsosurfaceDesc>),
+    /// POV-Ray's `parametric { }`: an open surface, not a solid.
+    Parametric(Arc<crate::geometry::ParametricDesc>),
     /// The surface P(x, y, z) = 0 of the polynomial with these terms (POV-Ray's `quadric`,
     /// `cubic`, `quartic`, `poly`), solid where P < 0; total degree at most
     /// `geometry::MAX_DEGREE`, some term other than the constant not 0.

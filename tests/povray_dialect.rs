@@ -340,16 +340,13 @@ fn a_declared_sky_sphere_is_the_scene_s_sky_by_name() {
 }
 
 /// A syntax error in a `.pov` scene names POV-Ray's word without `.scn`'s advice for it ("the sky
-/// is `settings { background ... }`" misleads where `sky_sphere` is read); a shape neither
-/// dialect has is still named as such.
+/// is `settings { background ... }`" misleads where `sky_sphere` is read).
 #[test]
 fn syntax_errors_in_pov_scenes_do_not_give_scn_advice() {
     let error = pov_error("sphere { 0, 1 } sky_sphere");
     assert!(error.contains("`sky_sphere`") && !error.contains("settings {"), "{error}");
     let error = pov_error("#if (1) background { rgb 1 } #end }");
     assert!(!error.contains("settings {"), "{error}");
-    let error = pov_error("parametric { }");
-    assert!(error.contains("`parametric`") && error.contains("shape"), "{error}");
 }
 
 #[test]
@@ -459,7 +456,7 @@ fn ovus_and_lemons_are_read_and_checked_as_povray_reads_them() {
     }
     assert!(graph.warnings.iter().any(|w| w.contains("inner radius 0.1 is too small")));
     for (text, expected) in [
-        ("ovus { 0, 1 }", "1:8: the ovus' bottom radius 0 is zero"),
+        ("ovus { 0, 1 }", "1:8: error: the ovus' bottom radius 0 is zero"),
         ("lemon { <1, 2, 3>, 0.5, <1, 2, 3>, 0.3, 1 }", "the lemon's base and cap are the same"),
         ("lemon { 0, -0.5, y, 0.3, 1 }", "the lemon's base radius"),
     ] {
@@ -475,10 +472,25 @@ fn a_disc_s_hole_radius_is_read_and_checked() {
     assert!(matches!(graph.objects[0].shape, ShapeNode::Disk { radius: 2.0, hole: 0.5, .. }));
     assert!(matches!(graph.objects[1].shape, ShapeNode::Disk { hole: 0.0, .. }));
     let error = pov_error("disc { 0, y, 1, 1 }");
-    assert!(error.contains("1:17: the disc's hole radius 1 is not below its radius"), "{error}");
+    assert!(
+        error.contains("1:17: error: the disc's hole radius 1 is not below its radius"),
+        "{error}"
+    );
     let error = pov_error("disc { 0, y, 1, -0.5 }");
     assert!(error.contains("hole radius -0.5 is negative"), "{error}");
     let scn = parse_scene(Path::new("tests/inline.scn"), "disk { 0, y, 1, 0.5 }");
     let error = scn.map(|_| ()).unwrap_err().to_string();
     assert!(error.contains("a disk has no hole radius"), "{error}");
+}
+
+/// A parametric surface is open: CSG refuses it by name, where it stands.
+#[test]
+fn a_parametric_surface_is_not_a_csg_operand() {
+    let graph = pov("intersection {\n  parametric { function { u } function { v } function { 0 } \
+         <0, 0>, <1, 1> }\n  sphere { 0, 1 }\n}");
+    let error = raydiance::scene::build(&graph).map(|_| ()).unwrap_err().to_string();
+    assert!(
+        error.contains("inline.pov:2:3") && error.contains("a parametric surface is not a solid"),
+        "{error}"
+    );
 }

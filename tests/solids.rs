@@ -1,5 +1,6 @@
 //! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
-//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal, lathe, sor, ovus, lemon and CSG hits against a brute-force march along the ray with the point-inside
+//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal, lathe, sor, ovus, lemon and CSG hits,
+//! and POV-Ray's parametric surface against the analytic torus it traces, against a brute-force march along the ray with the point-inside
 //! test, inside tests against the operands', an emission-only render against the analytic
 //! silhouette, and build errors.
 
@@ -895,6 +896,111 @@ fn csg_with_ovus_and_lemon_operands_matches_a_march_and_the_operands_inside_test
     // half of that or less on average.
     assert_aimed_floor(&tally, 0.01);
     assert!(tally.slivers < tally.rays / 50, "{tally:?}");
+}
+
+/// The parametric surface and the other shape a `.pov` scene of the two builds to.
+fn built_parametric_and_other(text: &str) -> (Shape, Shape) {
+    let graph = raydiance::lang::parse_scene(Path::new("tests/solids.pov"), text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let scene = build(&graph).unwrap_or_else(|e| panic!("{e}"));
+    let shapes: Vec<Shape> = scene.primitives.iter().map(|p| p.shape.clone()).collect();
+    let (parametric, other): (Vec<Shape>, Vec<Shape>) =
+        shapes.into_iter().partition(|s| matches!(s, Shape::Parametric(_)));
+    (parametric[0].clone(), other[0].clone())
+}
+
+/// POV-Ray's parametric surface of the torus (1 + 0.3 cos v) (cos u, 0, sin u) + 0.3 sin v y,
+/// under transforms (mirrored one time in three), against the analytic torus under the same:
+/// rays aimed through the bounds and rays grazing the torus. Both hit within the pieces'
+/// size, or the ray grazes (the torus' hit is at a glancing angle, or the point either finds
+/// is within that size of the other's surface).
+#[test]
+fn parametric_tori_match_the_analytic_torus_on_aimed_and_grazing_rays() {
+    let mut rng = Rng(79);
+    let (mut rays, mut hits, mut grazes) = (0, 0, 0);
+    for k in 0..3 {
+        let mirror = if k % 3 == 2 { -1.0 } else { 1.0 };
+        let transform = format!(
+            "scale <{}, {}, {}> rotate <{}, {}, {}> translate <{}, {}, {}>",
+            mirror * rng.range(0.6, 1.4),
+            rng.range(0.6, 1.4),
+            rng.range(0.6, 1.4),
+            rng.range(-180.0, 180.0),
+            rng.range(-180.0, 180.0),
+            rng.range(-180.0, 180.0),
+            rng.range(-0.5, 0.5),
+            rng.range(-0.5, 0.5),
+            rng.range(-0.5, 0.5),
+        );
+        let text = format!(
+            "parametric {{ function {{ (1 + 0.3 * cos(v)) * cos(u) }} function {{ 0.3 * sin(v) }} \
+             function {{ (1 + 0.3 * cos(v)) * sin(u) }} <0, 0>, <2 * pi, 2 * pi> \
+             contained_by {{ box {{ <-1.4, -0.4, -1.4>, <1.4, 0.4, 1.4> }} }} max_gradient 1.5 \
+             accuracy 0.002 {transform} }}\ntorus {{ 1, 0.3 {transform} }}"
+        );
+        let (parametric, torus) = built_parametric_and_other(&text);
+        assert!(parametric.crossings(&Ray::new(Vec3::ZERO, Vec3::X), 9.0).list.is_empty());
+        assert!(!parametric.contains(Vec3::ZERO), "an open surface has no inside");
+        let bounds = torus.bounds().expect("bounded");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        // A piece is at most `accuracy` across in (u, v) or along the ray; its box reaches
+        // max_gradient times that further, stretched by the transforms (1.4 at most).
+        let tolerance = 0.02;
+        for i in 0..120 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            if i % 2 == 1
+                && let Some(graze) = grazing(&torus, &ray, &mut rng, size)
+            {
+                ray = graze;
+            }
+            rays += 1;
+            let exact = torus.intersect(&ray, f32::INFINITY);
+            let traced = parametric.intersect(&ray, f32::INFINITY);
+            // The ray's first pass through the torus is thin (it grazes the tube) or glancing.
+            let sliver = |ray: &Ray| {
+                let l = torus.crossings(ray, f32::INFINITY).list;
+                let glancing = torus
+                    .intersect(ray, f32::INFINITY)
+                    .is_some_and(|e| e.normal.dot(Vec3::from(ray.dir)).abs() < 0.3);
+                glancing || l.len() >= 2 && l[1].at.t - l[0].at.t < 0.1
+            };
+            // Within `tolerance` of the torus' surface: the inside test differs around it.
+            let near_torus = |p: Vec3| {
+                let probes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+                probes.iter().any(|&a| torus.contains(p + a * tolerance) != torus.contains(p))
+            };
+            match (&exact, &traced) {
+                (Some(e), Some(t)) => {
+                    let cosine = e.normal.dot(Vec3::from(ray.dir)).abs().max(0.05);
+                    if (e.t - t.t).abs() <= tolerance / cosine {
+                        hits += 1;
+                        // The normal is the surface's, up to its side (an open surface).
+                        let facing = e.normal.dot(t.normal).abs();
+                        assert!(facing > 0.9 || cosine < 0.2, "{ray:?}: {e:?} {t:?}");
+                    } else if t.t < e.t {
+                        // A graze of the torus the analytic test calls a touch.
+                        assert!(near_torus(t.point), "a hit off the torus: {ray:?}: {e:?} {t:?}");
+                        grazes += 1;
+                    } else {
+                        assert!(sliver(&ray), "a crossing missed: {ray:?}: {e:?} {t:?}");
+                        grazes += 1;
+                    }
+                }
+                (Some(e), None) => {
+                    assert!(sliver(&ray), "missed: {ray:?} {e:?}");
+                    grazes += 1;
+                }
+                (None, Some(t)) => {
+                    assert!(near_torus(t.point), "a hit off the torus: {ray:?} {t:?}");
+                    grazes += 1;
+                }
+                (None, None) => {}
+            }
+        }
+    }
+    assert!(hits > rays / 4 && grazes < rays / 5, "{rays} rays: {hits} hits, {grazes} grazes");
 }
 
 #[test]

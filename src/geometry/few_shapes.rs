@@ -104,15 +104,17 @@ impl FewShapes {
                     radius: Floats::splat(radius),
                     error: Floats::splat(sphere_error(center, radius)),
                 },
-                Shape::Planar(Planar { kind, origin, edge1, edge2, normal, hole }) => Simple::Planar {
-                    kind,
-                    hole: Floats::splat(hole),
-                    origin: Vec3Lanes::splat(origin),
-                    edge1: Vec3Lanes::splat(edge1),
-                    edge2: Vec3Lanes::splat(edge2),
-                    normal: Vec3Lanes::splat(normal),
-                    error: Floats::splat(planar_error(origin, edge1, edge2)),
-                },
+                Shape::Planar(Planar { kind, origin, edge1, edge2, normal, hole }) => {
+                    Simple::Planar {
+                        kind,
+                        hole: Floats::splat(hole),
+                        origin: Vec3Lanes::splat(origin),
+                        edge1: Vec3Lanes::splat(edge1),
+                        edge2: Vec3Lanes::splat(edge2),
+                        normal: Vec3Lanes::splat(normal),
+                        error: Floats::splat(planar_error(origin, edge1, edge2)),
+                    }
+                }
                 _ => panic!("`FewShapes::takes` does not take {shape:?}"),
             })
             .collect();

@@ -13,6 +13,7 @@ mod frame;
 mod isosurface;
 mod julia;
 mod lathe;
+mod parametric;
 mod planar;
 mod polygon;
 mod polynomial;
@@ -43,6 +44,7 @@ pub use julia::{
     Algebra, Julia, JuliaDesc, JuliaFunction, MAX_JULIA_ITERATIONS, MAX_JULIA_PRECISION,
 };
 pub use lathe::Lathe;
+pub use parametric::{Parametric, ParametricDesc};
 pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
 pub use polygon::{Polygon, close_outlines, outline_normal};
 pub use polynomial::{MAX_DEGREE, polynomial_roots};

@@ -226,7 +226,9 @@ mod tests {
         // Samples of the ring are in it, and uniform: as many within radius sqrt(5/8) (half
         // its area) as outside it.
         let radii: Vec<f32> = (0..1024)
-            .map(|i| ring.sample(Vec2::new((i % 32) as f32 / 32.0 + 0.01, (i / 32) as f32 / 32.0 + 0.01)))
+            .map(|i| {
+                ring.sample(Vec2::new((i % 32) as f32 / 32.0 + 0.01, (i / 32) as f32 / 32.0 + 0.01))
+            })
             .map(|s| (s.point - ring.origin).length())
             .collect();
         assert!(radii.iter().all(|&r| (0.5 - 1e-6..=1.0 + 1e-6).contains(&r)));

@@ -16,6 +16,7 @@ use super::cuboid::Cuboid;
 use super::isosurface::Isosurface;
 use super::julia::Julia;
 use super::lathe::Lathe;
+use super::parametric::Parametric;
 use super::planar::Planar;
 use super::polygon::Polygon;
 use super::prism::Prism;
@@ -87,6 +88,8 @@ pub enum Shape {
     Csg(Box<Csg>),
     /// POV-Ray's isosurface under an affine map.
     Isosurface(Box<Isosurface>),
+    /// POV-Ray's parametric surface (not a solid) under an affine map.
+    Parametric(Box<Parametric>),
 }
 
 /// A point on a surface with its unit normal (the shape's own orientation).
@@ -158,6 +161,7 @@ impl Shape {
             Shape::Julia(julia) => julia.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.intersection(ray, t_max),
+            Shape::Parametric(surface) => surface.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.intersection(&placement.ray_to_object(ray), t_max)
@@ -205,6 +209,7 @@ impl Shape {
             Shape::Julia(julia) => julia.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
             Shape::Isosurface(isosurface) => isosurface.hit(ray, at),
+            Shape::Parametric(surface) => surface.hit(ray, at),
         }
     }
 
@@ -226,6 +231,7 @@ impl Shape {
             | Shape::Torus(_)
             | Shape::Csg(_)
             | Shape::Isosurface(_)
+            | Shape::Parametric(_)
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
@@ -271,6 +277,7 @@ impl Shape {
             Shape::Julia(julia) => Some(julia.bounds()),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Isosurface(isosurface) => Some(isosurface.bounds()),
+            Shape::Parametric(surface) => Some(surface.bounds()),
         }
     }
 
@@ -297,7 +304,7 @@ impl Shape {
             // Its surfaces are parts of its operands': not sampled as a light.
             Shape::Csg(_) => None,
             // No closed form: not sampled as a light.
-            Shape::Isosurface(_) => None,
+            Shape::Isosurface(_) | Shape::Parametric(_) => None,
         }
     }
 
@@ -310,6 +317,7 @@ impl Shape {
             | Shape::Mesh { .. }
             | Shape::Csg(_)
             | Shape::Isosurface(_)
+            | Shape::Parametric(_)
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
@@ -358,7 +366,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.crossings(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.crossings(ray, t_max),
-            Shape::Planar(_) | Shape::Polygon(_) => Crossings::outside(),
+            Shape::Planar(_) | Shape::Polygon(_) | Shape::Parametric(_) => Crossings::outside(),
         }
     }
 
@@ -385,7 +393,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.contains(p),
             Shape::Isosurface(isosurface) => isosurface.contains(p),
-            Shape::Planar(_) | Shape::Polygon(_) => false,
+            Shape::Planar(_) | Shape::Polygon(_) | Shape::Parametric(_) => false,
         }
     }
 }

@@ -141,7 +141,7 @@ fn convert(
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
 /// The words that begin an object, and those of the blocks objects may stand in.
-const OBJECTS: [&str; 33] = [
+const OBJECTS: [&str; 34] = [
     "bicubic_patch",
     "blob",
     "box",
@@ -160,6 +160,7 @@ const OBJECTS: [&str; 33] = [
     "mesh2",
     "object",
     "ovus",
+    "parametric",
     "plane",
     "poly",
     "polygon",
@@ -442,6 +443,10 @@ fn describe(rule: Rule) -> &'static str {
         Rule::lathe => "`lathe`",
         Rule::sor => "`sor`",
         Rule::ovus => "`ovus`",
+        Rule::parametric => "`parametric`",
+        Rule::parametric_setting | Rule::parametric_word | Rule::precompute_word => {
+            "a parametric setting (`max_gradient`, `accuracy`, `precompute`)"
+        }
         Rule::lemon => "`lemon`",
         Rule::polygon => "`polygon`",
         Rule::height_field => "`height_field`",

@@ -1126,6 +1126,9 @@ impl Builder {
         if rule == Rule::height_field {
             return self.height_field(pair, span);
         }
+        if rule == Rule::parametric {
+            return self.parametric(pair, span);
+        }
         if rule == Rule::sphere_sweep {
             return self.sphere_sweep(pair, span);
         }
@@ -1279,7 +1282,7 @@ impl Builder {
             Rule::intersection => Shape::Intersection,
             Rule::difference => Shape::Difference,
             Rule::merge => Shape::Merge,
-            Rule::isosurface | Rule::height_field | Rule::sphere_sweep => {
+            Rule::isosurface | Rule::height_field | Rule::sphere_sweep | Rule::parametric => {
                 unreachable!("read above")
             }
             rule => unreachable!("no object {rule:?}"),
@@ -1833,6 +1836,39 @@ impl Builder {
 
     /// `isosurface { ... }` (`.pov`): its function, container and settings, and the object's
     /// other items.
+    fn parametric(&mut self, pair: Pair<'_, Rule>, span: Span) -> Result<Object, SceneError> {
+        self.pov_only(&inner_pair(&pair), None)?;
+        self.enter(&pair)?;
+        let (mut functions, mut uv) = (Vec::new(), Vec::new());
+        let (mut container, mut settings, mut rest) = (None, Vec::new(), Vec::new());
+        for part in pair.into_inner().skip(1) {
+            match part.as_rule() {
+                Rule::float_function => functions.push(self.float_function(part)?),
+                Rule::arg_comma => {}
+                Rule::expr if uv.len() < 2 => uv.push(self.expr(part)?),
+                Rule::contained_by => {
+                    let object = part.into_inner().nth(1).expect("the container");
+                    container = Some(self.object(object)?);
+                }
+                Rule::parametric_setting => {
+                    let mut inner = part.into_inner();
+                    let word = inner.next().expect("the word");
+                    let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                    let values = inner.map(|value| self.expr(value)).collect::<Result<_, _>>()?;
+                    settings.push((key, values));
+                }
+                _ => rest.push(part),
+            }
+        }
+        let items = self.items(rest.into_iter())?;
+        self.leave();
+        let functions: [FunctionDef; 3] =
+            functions.try_into().expect("the grammar gives three functions");
+        let uv: [Expr; 2] = uv.try_into().expect("the grammar gives two corners");
+        let shape = Parametric { functions: Box::new(functions), uv, container, settings };
+        Ok(Object { shape: Shape::Parametric(Box::new(shape)), items, span })
+    }
+
     fn isosurface(&mut self, pair: Pair<'_, Rule>, span: Span) -> Result<Object, SceneError> {
         self.pov_only(&inner_pair(&pair), None)?;
         self.enter(&pair)?;

@@ -13,9 +13,9 @@ use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
-    Algebraic, ArcSolid, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia, JuliaDesc,
-    Lathe, Placement, Planar, PlanarKind, Polygon, Prism, QuadricFrame, QuadricKind, Shape, Sor,
-    Superellipsoid, Torus, TriangleMesh, outline_normal, similarity_scale,
+    Algebraic, ArcSolid, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia,
+    JuliaDesc, Lathe, Parametric, Placement, Planar, PlanarKind, Polygon, Prism, QuadricFrame,
+    QuadricKind, Shape, Sor, Superellipsoid, Torus, TriangleMesh, outline_normal, similarity_scale,
 };
 use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
@@ -467,8 +467,7 @@ impl Flattener {
                 format!(
                     "{what} is not a solid: the operands of intersection, difference and merge \
                      must be solids (sphere, box, closed cylinder or cone, torus, plane, closed \
-                     mesh, a polynomial surface, a blob, an ovus, a closed lemon, CSG, or objects \
-                     and unions of these)"
+                     mesh, a polynomial surface, a blob, CSG, or objects and unions of these)"
                 ),
             )
         };
@@ -492,6 +491,7 @@ impl Flattener {
             ShapeNode::Sor { open: true, .. } => return Err(not_solid("an open sor")),
             ShapeNode::Lemon { open: true, .. } => return Err(not_solid("an open lemon")),
             ShapeNode::Polygon { .. } => return Err(not_solid("a polygon")),
+            ShapeNode::Parametric(_) => return Err(not_solid("a parametric surface")),
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
                 closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
@@ -786,6 +786,9 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         }
         ShapeNode::Isosurface(ref desc) => {
             vec![Shape::Isosurface(Box::new(Isosurface::new(desc.clone(), m)))]
+        }
+        ShapeNode::Parametric(ref desc) => {
+            vec![Shape::Parametric(Box::new(Parametric::new(desc.clone(), m)))]
         }
         ShapeNode::Algebraic { ref terms } => {
             vec![Shape::Algebraic(Box::new(Algebraic::new(terms, m)))]

@@ -43,11 +43,10 @@ impl Evaluator {
         if length == 0.0 {
             return Err(SceneError::at(span, "the lemon's base and cap are the same point"));
         }
-        let least = lemon_min_inner_radius(
-            f64::from(base_radius / length),
-            f64::from(cap_radius / length),
-        ) as f32
-            * length;
+        let least =
+            lemon_min_inner_radius(f64::from(base_radius / length), f64::from(cap_radius / length))
+                as f32
+                * length;
         if inner < least {
             self.warnings.push(format!(
                 "{:?}: warning: the lemon's inner radius {inner} is too small; the least is \

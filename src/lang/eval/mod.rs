@@ -28,6 +28,7 @@ mod medium;
 mod normal;
 mod object;
 mod outline;
+mod parametric;
 mod patch;
 mod pattern;
 mod pigment;
@@ -259,6 +260,7 @@ impl Body<'_> {
                 | ShapeNode::Cone { .. }
                 | ShapeNode::Torus { .. }
                 | ShapeNode::Isosurface(_)
+                | ShapeNode::Parametric(_)
                 | ShapeNode::Algebraic { .. }
                 | ShapeNode::Prism { .. }
                 | ShapeNode::Lathe { .. }

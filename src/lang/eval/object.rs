@@ -141,6 +141,9 @@ impl Evaluator {
             Shape::Isosurface(isosurface) => {
                 ShapeNode::Isosurface(Arc::new(self.isosurface(isosurface, &object.span)?))
             }
+            Shape::Parametric(surface) => {
+                ShapeNode::Parametric(Arc::new(self.parametric(surface, &object.span)?))
+            }
             Shape::HeightField(field) => self.height_field(field, &object.span)?,
             Shape::SphereSweep { spline, count, points, tolerance } => {
                 let points = self.listed_points(points)?;
@@ -703,6 +706,7 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Cone { .. }
         | ShapeNode::Torus { .. }
         | ShapeNode::Isosurface(_)
+        | ShapeNode::Parametric(_)
         | ShapeNode::Algebraic { .. }
         | ShapeNode::Blob { .. }
         | ShapeNode::Prism { .. }
