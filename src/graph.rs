@@ -410,11 +410,14 @@ impl ShapeNode {
             | ShapeNode::Cone { .. }
             | ShapeNode::Torus { .. }
             | ShapeNode::Isosurface(_)
+            | ShapeNode::Parametric(_)
             | ShapeNode::Algebraic { .. }
             | ShapeNode::Blob { .. }
             | ShapeNode::Prism { .. }
             | ShapeNode::Lathe { .. }
             | ShapeNode::Sor { .. }
+            | ShapeNode::Ovus { .. }
+            | ShapeNode::Lemon { .. }
             | ShapeNode::Polygon { .. }
             | ShapeNode::Superellipsoid { .. }
             | ShapeNode::JuliaFractal(_)
@@ -507,6 +510,10 @@ pub enum ImageProjection {
     Spherical,
     /// `map_type 2`: u the longitude as the sphere's, v = y.
     Cylindrical,
+    /// `map_type 5`: u the longitude as the sphere's, v the angle around the tube of the torus
+    /// of major radius 1 about y, from its inner equator down under the tube first (1/4 at its
+    /// bottom, 1/2 at its outer equator, 3/4 on its top).
+    Torus,
 }
 
 /// The part of a pigment an image gives at each point.
@@ -816,10 +823,12 @@ pub enum ShapeNode {
         edge1: Vec3,
         edge2: Vec3,
     },
+    /// With a hole of radius `hole` (0: none; below `radius`) about its centre.
     Disk {
         center: Vec3,
         normal: Vec3,
         radius: f32,
+        hole: f32,
     },
     /// Closed: with both caps. (An open cylinder is a `Cone` with equal radii and `open`.)
     Cylinder {
@@ -845,6 +854,8 @@ pub enum ShapeNode {
     },
     /// POV-Ray's `isosurface { }`: where a function is below its threshold in a container.
     Isosurface(Arc<crate::geometry::IsosurfaceDesc>),
+    /// POV-Ray's `parametric { }`: an open surface, not a solid.
+    Parametric(Arc<crate::geometry::ParametricDesc>),
     /// The surface P(x, y, z) = 0 of the polynomial with these terms (POV-Ray's `quadric`,
     /// `cubic`, `quartic`, `poly`), solid where P < 0; total degree at most
     /// `geometry::MAX_DEGREE`, some term other than the constant not 0.
@@ -884,6 +895,22 @@ pub enum ShapeNode {
     /// discs at its ends unless `open` (then not a solid).
     Sor {
         pieces: Vec<crate::geometry::SorPiece>,
+        open: bool,
+    },
+    /// POV-Ray's `ovus { bottom, top }`: spheres of these radii at the origin and at
+    /// (0, bottom, 0) joined smoothly (`geometry::ArcSolid::ovus`); 0 < top < 2 bottom.
+    Ovus {
+        bottom: f32,
+        top: f32,
+    },
+    /// POV-Ray's `lemon { base, base_radius, cap, cap_radius, inner_radius [open] }`
+    /// (`geometry::ArcSolid::lemon`): base and cap distinct, radii >= 0, `inner_radius` at
+    /// least `geometry::lemon_min_inner_radius` of the radii over the axis' length times that
+    /// length; `open` leaves the end discs off (then not a solid).
+    Lemon {
+        ends: [Vec3; 2],
+        radii: [f32; 2],
+        inner_radius: f32,
         open: bool,
     },
     /// POV-Ray's polygon: closed outlines (`geometry::close_outlines`) of `points`, all in one

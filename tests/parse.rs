@@ -140,7 +140,7 @@ fn povray_habits_name_the_povray_word_and_ours() {
         ("area_light", "`area_light`", "emission rgb"),
         ("camera_right", "`right`", "resolution"),
         ("hollow", "`hollow`", "not supported"),
-        ("parametric", "`parametric`", "not supported"),
+        ("parametric", "`parametric`", "a `.pov` scene's) word"),
     ];
     for (name, povray, ours) in cases {
         let path = format!("tests/bad_scenes/povray_{name}.scn");

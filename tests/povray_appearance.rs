@@ -555,7 +555,7 @@ fn an_image_map_pigment_reads_its_options_and_refuses_what_it_cannot_honour() {
     assert_eq!(through.pattern, Pattern::Solid(Vec3::ZERO), "no light through anywhere");
     // Each error names the file, line and column of the word (or value) it refuses.
     for (option, at, says) in [
-        ("map_type 5", "5", "`map_type 5`"),
+        ("map_type 7", "7", "`map_type 7`"),
         ("filter 3, 0.5", "filter", "`filter`: raydiance reads"),
         ("use_index", "use_index", "`use_index`"),
         ("", "\"nothing.png\"", "cannot read `nothing.png`"),

@@ -340,16 +340,13 @@ fn a_declared_sky_sphere_is_the_scene_s_sky_by_name() {
 }
 
 /// A syntax error in a `.pov` scene names POV-Ray's word without `.scn`'s advice for it ("the sky
-/// is `settings { background ... }`" misleads where `sky_sphere` is read); a shape neither
-/// dialect has is still named as such.
+/// is `settings { background ... }`" misleads where `sky_sphere` is read).
 #[test]
 fn syntax_errors_in_pov_scenes_do_not_give_scn_advice() {
     let error = pov_error("sphere { 0, 1 } sky_sphere");
     assert!(error.contains("`sky_sphere`") && !error.contains("settings {"), "{error}");
     let error = pov_error("#if (1) background { rgb 1 } #end }");
     assert!(!error.contains("settings {"), "{error}");
-    let error = pov_error("ovus { 1, 0.5 }");
-    assert!(error.contains("`ovus`") && error.contains("shape"), "{error}");
 }
 
 #[test]
@@ -430,4 +427,70 @@ fn height_fields_and_sphere_sweeps_refuse_what_they_cannot_be_where_it_stands() 
         let error = pov_error(scene);
         assert!(error.contains(at) && error.contains(says), "{scene}:\n{error}");
     }
+}
+
+/// An ovus whose top radius is twice its bottom one or more is POV-Ray's top sphere alone, with
+/// a warning as POV-Ray gives; a lemon's inner radius too small for its rims is raised to the
+/// least that reaches them, with a warning; bad radii and a lemon without length are located
+/// errors.
+#[test]
+fn ovus_and_lemons_are_read_and_checked_as_povray_reads_them() {
+    let graph = pov("ovus { 1, 0.65 }\novus { 0.5, 1 }");
+    assert!(matches!(graph.objects[0].shape, ShapeNode::Ovus { bottom: 1.0, top: 0.65 }));
+    match graph.objects[1].shape {
+        ShapeNode::Sphere { center, radius } => {
+            assert!(close(center, Vec3::new(0.0, 0.5, 0.0)) && radius == 1.0)
+        }
+        ref other => panic!("{other:?}"),
+    }
+    assert!(graph.warnings.iter().any(|w| w.contains(":2:13: warning: the ovus' top radius")));
+    let graph = pov("lemon { <0, 0, 0>, 0.5, <0, 2, 0>, 0.3, 0.1 open }");
+    match graph.objects[0].shape {
+        ShapeNode::Lemon { ends, radii, inner_radius, open } => {
+            assert!(close(ends[1], Vec3::new(0.0, 2.0, 0.0)) && radii == [0.5, 0.3] && open);
+            // sqrt(((b - a)^2 + 1) ((a + b)^2 + 1)) / 2 for the axis of length 1, times 2.
+            let least = ((0.01f32 + 1.0) * (0.16 + 1.0)).sqrt();
+            assert!((inner_radius - least).abs() < 1e-5, "{inner_radius} {least}");
+        }
+        ref other => panic!("{other:?}"),
+    }
+    assert!(graph.warnings.iter().any(|w| w.contains("inner radius 0.1 is too small")));
+    for (text, expected) in [
+        ("ovus { 0, 1 }", "1:8: error: the ovus' bottom radius 0 is zero"),
+        ("lemon { <1, 2, 3>, 0.5, <1, 2, 3>, 0.3, 1 }", "the lemon's base and cap are the same"),
+        ("lemon { 0, -0.5, y, 0.3, 1 }", "the lemon's base radius"),
+    ] {
+        let error = pov_error(text);
+        assert!(error.contains(expected), "{text}: {error}");
+    }
+}
+
+/// POV-Ray's disc takes a hole radius below its radius; `.scn`'s disk takes none.
+#[test]
+fn a_disc_s_hole_radius_is_read_and_checked() {
+    let graph = pov("disc { <0, 1, 0>, y, 2, 0.5 }\ndisc { 0, y, 1 }");
+    assert!(matches!(graph.objects[0].shape, ShapeNode::Disk { radius: 2.0, hole: 0.5, .. }));
+    assert!(matches!(graph.objects[1].shape, ShapeNode::Disk { hole: 0.0, .. }));
+    let error = pov_error("disc { 0, y, 1, 1 }");
+    assert!(
+        error.contains("1:17: error: the disc's hole radius 1 is not below its radius"),
+        "{error}"
+    );
+    let error = pov_error("disc { 0, y, 1, -0.5 }");
+    assert!(error.contains("hole radius -0.5 is negative"), "{error}");
+    let scn = parse_scene(Path::new("tests/inline.scn"), "disk { 0, y, 1, 0.5 }");
+    let error = scn.map(|_| ()).unwrap_err().to_string();
+    assert!(error.contains("a disk has no hole radius"), "{error}");
+}
+
+/// A parametric surface is open: CSG refuses it by name, where it stands.
+#[test]
+fn a_parametric_surface_is_not_a_csg_operand() {
+    let graph = pov("intersection {\n  parametric { function { u } function { v } function { 0 } \
+         <0, 0>, <1, 1> }\n  sphere { 0, 1 }\n}");
+    let error = raydiance::scene::build(&graph).map(|_| ()).unwrap_err().to_string();
+    assert!(
+        error.contains("inline.pov:2:3") && error.contains("a parametric surface is not a solid"),
+        "{error}"
+    );
 }

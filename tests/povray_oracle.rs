@@ -6,7 +6,9 @@
 //! blobs, prisms and superellipsoids; boxes flat in one coordinate; shapes_old.inc's infinite
 //! quadrics cut by CSG; bicubic patches; meshes of triangles and smooth triangles,
 //! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons; height fields, alone
-//! and in CSG; sphere sweeps; points and triangles made by directives; shapes2.inc's `Pyramid2`.
+//! and in CSG; sphere sweeps; points and triangles made by directives; shapes2.inc's `Pyramid2`;
+//! ovus, and lemons (which POV-Ray 3.7.0 lacks) against the CSG of a quartic that is the same
+//! solid.
 
 mod common;
 
@@ -497,6 +499,59 @@ fn height_fields_match_povray_away_from_edges() {
     agree_with_povray_beside(HEIGHT_FIELDS, "height fields", &files);
 }
 
+/// Height fields from POV-Ray's other image types: a plain PGM whose largest value is 9 (scaled
+/// to 8 bits), a raw 8-bit PPM (red the high byte, green the low), and a run-length Targa palette
+/// image stored bottom row first (index × 256).
+const NETPBM_TGA_FIELDS: &str = r#"
+camera { location <0, 3.5, -4> right x*image_width/image_height angle 50 look_at <0, 0.3, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+height_field { pgm "ridge.pgm" translate <-0.5, 0, -0.5> scale <2.2, 1.5, 2.6> translate <-1.3, 0, 0>
+  pigment { rgb <1, 0, 0> } }
+height_field { "steps.ppm" translate <-0.5, 0, -0.5> scale <2.2, 2, 1.8> translate <1, 0, 0.9>
+  pigment { rgb <0, 1, 0> } }
+height_field { tga "block.tga" translate <-0.5, 0, -0.5> scale <2.4, 1.5, 2> translate <1.2, 0, -1.1>
+  pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn height_fields_from_pgm_ppm_and_tga_match_povray_away_from_edges() {
+    let test = "height_fields_from_pgm_ppm_and_tga_match_povray_away_from_edges";
+    if !common::outside_tool("povray", "povray", test) {
+        return;
+    }
+    // A ridge rising to the right and towards the top rows, values 0 to 9.
+    let ridge: Vec<String> =
+        (0..10 * 8).map(|k| ((k % 10) + (7 - k / 10) / 4).min(9).to_string()).collect();
+    let pgm = format!("P2\n# a ridge\n10 8\n9\n{}\n", ridge.join(" ")).into_bytes();
+    // Steps: red rising along the columns, green a little with the rows.
+    let mut ppm = b"P6\n9 7\n255\n".to_vec();
+    for k in 0..9 * 7 {
+        ppm.extend([((k % 9) * 25) as u8, ((k / 9) * 30) as u8, 200]);
+    }
+    // A Targa palette image (type 9), 8 × 6: a block of index 200 in the bottom-left corner of
+    // the image on a floor of index 20, stored bottom row first, in runs.
+    let mut tga = vec![0u8; 18];
+    tga[1] = 1;
+    tga[2] = 9;
+    tga[5] = 0; // 256 palette entries of 24 bits
+    tga[6] = 1;
+    tga[7] = 24;
+    tga[12] = 8;
+    tga[14] = 6;
+    tga[16] = 8;
+    tga.extend((0..256 * 3).map(|i| (i * 53 % 256) as u8));
+    for stored_row in 0..6 {
+        let block = if stored_row < 3 { 3 } else { 0 };
+        if block > 0 {
+            tga.extend([0x80 | (block - 1), 200]);
+        }
+        tga.extend([0x80 | (8 - block - 1), 20]);
+    }
+    let files = [("ridge.pgm", pgm), ("steps.ppm", ppm), ("block.tga", tga)];
+    agree_with_povray_beside(NETPBM_TGA_FIELDS, "height fields from PGM, PPM and TGA", &files);
+}
+
 /// A height field as the solid below its sheet: cut by a sphere (its sheet and the sphere's
 /// part below it), cutting a sphere (the cap above the sheet, and the sheet seen from below), and
 /// clipping a cylinder (its side below the sheet). The sphere and the cylinder stay inside the
@@ -607,6 +662,124 @@ fn sphere_sweeps_match_povray_away_from_edges() {
     }
 }
 
+/// POV-Ray's ovus in both of its cases (the top radius below and above the bottom one), turned,
+/// stretched and mirrored, and one whose top radius is twice its bottom one (the top sphere
+/// alone, with a warning).
+const OVUS: &str = r#"
+camera { location <0, 1, -7> right x*image_width/image_height angle 50 look_at <0, 0.4, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+ovus { 1, 0.65 rotate 25*z translate <-2.3, -0.6, 0> pigment { rgb <1, 0, 0> } }
+ovus { 0.6, 0.9 scale <1, 1.2, 0.8> rotate <30, 0, -15> translate <0, -0.9, 0> pigment { rgb <0, 1, 0> } }
+ovus { 0.5, 0.2 scale <-1.5, 1.5, 1.5> rotate <-20, 0, -40> translate <2.1, 0.3, 0> pigment { rgb <0, 0, 1> } }
+ovus { 0.3, 0.6 rotate 150*x translate <0, 2.2, 1> pigment { rgb <1, 1, 0> } }
+"#;
+
+#[test]
+fn ovus_match_povray_away_from_edges() {
+    let test = "ovus_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(OVUS, "ovus");
+    }
+}
+
+/// POV-Ray 3.8's lemon of end radii a and b along the y axis from 0 to 1 with inner radius r,
+/// written for POV-Ray 3.7 (which has no lemon): its arc is centred at (-c, v), c >= 0
+/// (lemon.cpp), and with S = |p - v y|^2 + c^2 - r^2 its solid is where S < -2 c rho: where
+/// S < 0 (a sphere) and S^2 - 4 c^2 rho^2 > 0 (a quartic, negated to be POV-Ray's inside),
+/// between the planes of its ends.
+fn lemon_as_csg(a: f64, b: f64, r: f64, items: &str) -> String {
+    let chord_squared = (b - a).powi(2) + 1.0;
+    let f = (4.0 * r * r / chord_squared - 1.0).sqrt();
+    let (c, v) = ((f - a - b) / 2.0, ((b - a) * f + 1.0) / 2.0);
+    assert!(c > 0.0, "an arc off the axis");
+    let k = c * c - r * r;
+    // POV-Ray's order of a quartic's 35 terms: x^4 is the 1st, x^2 y^2 the 5th, x^2 z^2 the
+    // 8th, x^2 the 10th, y^4 the 21st, y^2 z^2 the 24th, y^2 the 26th, z^4 the 31st, z^2 the
+    // 33rd, the constant the 35th.
+    let mut terms = [0.0; 35];
+    for (place, value) in [
+        (1, 1.0),
+        (5, 2.0),
+        (8, 2.0),
+        (10, 2.0 * k - 4.0 * c * c),
+        (21, 1.0),
+        (24, 2.0),
+        (26, 2.0 * k),
+        (31, 1.0),
+        (33, 2.0 * k - 4.0 * c * c),
+        (35, k * k),
+    ] {
+        terms[place - 1] = -value;
+    }
+    let terms: Vec<String> = terms.iter().map(|t| t.to_string()).collect();
+    format!(
+        "intersection {{ quartic {{ <{}> sturm translate {v}*y }} sphere {{ <0, {v}, 0>, {} }} \
+         box {{ <-3, 0, -3>, <3, 1, 3> }} {items} }}",
+        terms.join(", "),
+        (r * r - c * c).sqrt()
+    )
+}
+
+#[test]
+fn lemons_match_povray_s_csg_of_the_same_solid_away_from_edges() {
+    let test = "lemons_match_povray_s_csg_of_the_same_solid_away_from_edges";
+    if !common::outside_tool("povray", "povray", test) {
+        return;
+    }
+    let header = "camera { location <0, 1, -7> right x*image_width/image_height angle 36 \
+                  look_at <0, 0.4, 0> }\n#default { finish { emission 1 ambient 0 diffuse 0 } }\n\
+                  background { rgb 0 }\n";
+    let lemons = [
+        (
+            0.3,
+            0.2,
+            0.9,
+            "scale 1.6 rotate 20*z translate <-2.4, -0.8, 0> pigment { rgb <1, 0, 0> }",
+        ),
+        (
+            0.0,
+            0.4,
+            1.2,
+            "scale <1.5, 2, 1.5> rotate <-30, 0, 10> translate <0, -1, 0> pigment { rgb <0, 1, 0> }",
+        ),
+        (
+            0.45,
+            0.45,
+            2.0,
+            "scale <-1.4, 1.4, 1.4> rotate 100*z translate <2.7, 0, 0> pigment { rgb <0, 0, 1> }",
+        ),
+        (0.2, 0.0, 0.8, "scale 1.5 rotate 160*x translate <0, 2.6, 1> pigment { rgb <1, 1, 0> }"),
+    ];
+    let (mut ours, mut theirs) = (header.to_string(), header.to_string());
+    for (a, b, r, items) in lemons {
+        ours.push_str(&format!("lemon {{ <0, 0, 0>, {a}, <0, 1, 0>, {b}, {r} {items} }}\n"));
+        theirs.push_str(&lemon_as_csg(a, b, r, items));
+        theirs.push('\n');
+    }
+    agree_with_povray_as(&ours, &theirs, "lemons");
+}
+
+/// Discs with and without a hole radius, tilted, stretched and mirrored (an emitter here glows
+/// on both sides of a disc).
+const DISCS: &str = r#"
+camera { location <0, 1, -6> right x*image_width/image_height angle 50 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+disc { <-1.8, 0.8, 0>, <0, 0, -1>, 1.1, 0.5 pigment { rgb <1, 0, 0> } }
+disc { <0, 0, 0>, <0.3, 1, -1>, 1, 0.7 scale <-1.6, 1, 1> rotate 20*z translate <1.4, 0.8, 0> pigment { rgb <0, 1, 0> } }
+disc { <0, -1.2, 0>, <0, 1, -0.6>, 1.2 pigment { rgb <0, 0, 1> } }
+disc { <0, -1.2, -0.5>, <0, 1, -0.6>, 0.6, 0.3 pigment { rgb <1, 1, 0> } }
+"#;
+
+#[test]
+fn discs_with_holes_match_povray_away_from_edges() {
+    let test = "discs_with_holes_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(DISCS, "discs");
+    }
+}
+
 /// Renders `text` with POV-Ray and with raydiance and compares which channels each pixel lights.
 fn agree_with_povray(text: &str, name: &str) {
     agree_with_povray_beside(text, name, &[]);
@@ -614,18 +787,29 @@ fn agree_with_povray(text: &str, name: &str) {
 
 /// `agree_with_povray` with `files` (name, contents) written beside the scene.
 fn agree_with_povray_beside(text: &str, name: &str, files: &[(&str, Vec<u8>)]) {
+    compare_with_povray(text, text, name, files);
+}
+
+/// `agree_with_povray` where POV-Ray renders `theirs`, the same geometry written otherwise.
+fn agree_with_povray_as(ours: &str, theirs: &str, name: &str) {
+    compare_with_povray(ours, theirs, name, &[]);
+}
+
+fn compare_with_povray(text: &str, theirs_text: &str, name: &str, files: &[(&str, Vec<u8>)]) {
     let dir = tempfile::tempdir().unwrap();
     for (file, contents) in files {
         std::fs::write(dir.path().join(file), contents).unwrap();
     }
     let scene = dir.path().join("scene.pov");
     std::fs::write(&scene, text).unwrap();
+    let theirs_scene = dir.path().join("theirs.pov");
+    std::fs::write(&theirs_scene, theirs_text).unwrap();
     let ours = dir.path().join("ours.ppm");
     let theirs = dir.path().join("theirs.ppm");
     // POV-Ray finds the scene's files in its working folder.
     let povray = Command::new("povray")
         .current_dir(dir.path())
-        .arg(format!("+I{}", scene.display()))
+        .arg(format!("+I{}", theirs_scene.display()))
         .arg(format!("+O{}", theirs.display()))
         .args(["+FP", &format!("+W{WIDTH}"), &format!("+H{HEIGHT}"), "-D", "-A"])
         .output()

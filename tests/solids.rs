@@ -1,5 +1,6 @@
 //! Solids and CSG, built from scene graphs made in Rust (the language does not have them yet):
-//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal, lathe, sor and CSG hits against a brute-force march along the ray with the point-inside
+//! cone, torus, algebraic surface, blob, prism, superellipsoid, julia fractal, lathe, sor, ovus, lemon and CSG hits,
+//! and POV-Ray's parametric surface against the analytic torus it traces, against a brute-force march along the ray with the point-inside
 //! test, inside tests against the operands', an emission-only render against the analytic
 //! silhouette, and build errors.
 
@@ -11,7 +12,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{
     Algebra, BlobComponent, ComponentShape, JuliaDesc, JuliaFunction, Ray, Shape, SplineKind,
-    Sweep, Term, open_spline_segments, sor_pieces, spline_segments,
+    Sweep, Term, lemon_min_inner_radius, open_spline_segments, sor_pieces, spline_segments,
 };
 use raydiance::graph::{
     CsgOp, IntegratorKind, MaterialDesc, ObjectNode, SceneGraph, ShapeNode, TextureNode, Transform,
@@ -825,6 +826,183 @@ fn csg_with_lathe_and_sor_operands_matches_a_march_and_the_operands_inside_tests
     assert!(tally.slivers < tally.rays / 50, "{tally:?}");
 }
 
+/// An ovus of bottom radius 0.6 and a top radius from 0.2 to 1.9 times that: both of POV-Ray's
+/// cases (the joining arc's radius twice the bottom's or twice the top's).
+fn random_ovus(rng: &mut Rng) -> ShapeNode {
+    ShapeNode::Ovus { bottom: 0.6, top: 0.6 * rng.range(0.2, 1.9) }
+}
+
+/// A lemon along a tilted axis of length 1 to 1.5, end radii 0 to 0.5 (one end pointed one time
+/// in three), its inner radius from its least (a sphere's arc) to three times that.
+fn random_lemon(rng: &mut Rng, k: usize) -> ShapeNode {
+    let base = rng.vec(-0.2, 0.2) - 0.5 * Vec3::Y;
+    let cap = base + (Vec3::Y + rng.vec(-0.3, 0.3)).normalize() * rng.range(1.0, 1.5);
+    let radii = [if k % 3 == 0 { 0.0 } else { rng.range(0.0, 0.5) }, rng.range(0.0, 0.5)];
+    let length = (cap - base).length();
+    let [a, b] = radii.map(|r| f64::from(r / length));
+    let least = lemon_min_inner_radius(a, b) as f32 * length;
+    let inner_radius = least * if k % 4 == 1 { 1.0 } else { rng.range(1.0, 3.0) };
+    ShapeNode::Lemon { ends: [base, cap], radii, inner_radius, open: false }
+}
+
+#[test]
+fn ovus_match_a_march_and_their_crossings_agree_with_inside() {
+    // An ovus holds its larger sphere, of radius R = max(bottom, top), and lies in a box of
+    // about 2R by 2R across (its joining arc bulges past the spheres by a little) and
+    // 2 bottom + top <= 3R high: (4/3) pi R^3 / 12 R^3 = 0.35 of its box, taken as 0.3; the box
+    // is 1/5 or more of its world box: 0.06; half that.
+    check_solid_family(67, 8, 0.03, |rng, _| random_ovus(rng));
+}
+
+#[test]
+fn lemons_match_a_march_and_their_crossings_agree_with_inside() {
+    // A lemon's radius is concave in the height (an arc bulging out), so it holds the cone or
+    // frustum between its rims, and at the least the spindle of an arc from tip to tip: a
+    // pointed lemon with a 0.5 rim fills 1/4 of its box, the thinnest spindle here (both radii
+    // 0, three times its least inner radius) about 0.4; the box is 1/5 or more of its world
+    // box: 0.05 or more; less than half that.
+    check_solid_family(71, 8, 0.02, |rng, k| random_lemon(rng, k));
+}
+
+#[test]
+fn csg_with_ovus_and_lemon_operands_matches_a_march_and_the_operands_inside_tests() {
+    let graph = empty_graph();
+    let mut rng = Rng(73);
+    let mut tally = Tally::default();
+    for k in 0..8 {
+        let solid = if k % 2 == 0 { random_ovus(&mut rng) } else { random_lemon(&mut rng, k) };
+        let solid = node(&graph, solid, random_transforms(&mut rng, false));
+        let ball = ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.3, 0.7) };
+        let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
+        let tree = ShapeNode::Csg { op, operands: vec![solid, node(&graph, ball, vec![])] };
+        let tree = node(&graph, tree, random_transforms(&mut rng, false));
+        let shape = built_shape(&graph, tree.clone());
+        let bounds = shape.bounds().expect("a bounded first operand");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        for _ in 0..100 {
+            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
+        }
+        for _ in 0..200 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
+            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
+        }
+    }
+    // Both fill 1/50 or more of their bounds (the tests above); the ball keeps or takes away
+    // half of that or less on average.
+    assert_aimed_floor(&tally, 0.01);
+    assert!(tally.slivers < tally.rays / 50, "{tally:?}");
+}
+
+/// The parametric surface and the other shape a `.pov` scene of the two builds to.
+fn built_parametric_and_other(text: &str) -> (Shape, Shape) {
+    let graph = raydiance::lang::parse_scene(Path::new("tests/solids.pov"), text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let scene = build(&graph).unwrap_or_else(|e| panic!("{e}"));
+    let shapes: Vec<Shape> = scene.primitives.iter().map(|p| p.shape.clone()).collect();
+    let (parametric, other): (Vec<Shape>, Vec<Shape>) =
+        shapes.into_iter().partition(|s| matches!(s, Shape::Parametric(_)));
+    (parametric[0].clone(), other[0].clone())
+}
+
+/// POV-Ray's parametric surface of the torus (1 + 0.3 cos v) (cos u, 0, sin u) + 0.3 sin v y,
+/// under transforms (mirrored one time in three), against the analytic torus under the same:
+/// rays aimed through the bounds and rays grazing the torus. Both hit within the pieces'
+/// size, or the ray grazes (the torus' hit is at a glancing angle, or the point either finds
+/// is within that size of the other's surface).
+#[test]
+fn parametric_tori_match_the_analytic_torus_on_aimed_and_grazing_rays() {
+    let mut rng = Rng(79);
+    let (mut rays, mut hits, mut grazes) = (0, 0, 0);
+    for k in 0..3 {
+        let mirror = if k % 3 == 2 { -1.0 } else { 1.0 };
+        let transform = format!(
+            "scale <{}, {}, {}> rotate <{}, {}, {}> translate <{}, {}, {}>",
+            mirror * rng.range(0.6, 1.4),
+            rng.range(0.6, 1.4),
+            rng.range(0.6, 1.4),
+            rng.range(-180.0, 180.0),
+            rng.range(-180.0, 180.0),
+            rng.range(-180.0, 180.0),
+            rng.range(-0.5, 0.5),
+            rng.range(-0.5, 0.5),
+            rng.range(-0.5, 0.5),
+        );
+        let text = format!(
+            "parametric {{ function {{ (1 + 0.3 * cos(v)) * cos(u) }} function {{ 0.3 * sin(v) }} \
+             function {{ (1 + 0.3 * cos(v)) * sin(u) }} <0, 0>, <2 * pi, 2 * pi> \
+             contained_by {{ box {{ <-1.4, -0.4, -1.4>, <1.4, 0.4, 1.4> }} }} max_gradient 1.5 \
+             accuracy 0.002 {transform} }}\ntorus {{ 1, 0.3 {transform} }}"
+        );
+        let (parametric, torus) = built_parametric_and_other(&text);
+        assert!(parametric.crossings(&Ray::new(Vec3::ZERO, Vec3::X), 9.0).list.is_empty());
+        assert!(!parametric.contains(Vec3::ZERO), "an open surface has no inside");
+        let bounds = torus.bounds().expect("bounded");
+        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+        // A piece is at most `accuracy` across in (u, v) or along the ray; its box reaches
+        // max_gradient times that further, stretched by the transforms (1.4 at most).
+        let tolerance = 0.02;
+        for i in 0..120 {
+            let origin = center + rng.direction() * 2.0 * size;
+            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+            let mut ray = Ray::new(origin, (target - origin).normalize());
+            if i % 2 == 1
+                && let Some(graze) = grazing(&torus, &ray, &mut rng, size)
+            {
+                ray = graze;
+            }
+            rays += 1;
+            let exact = torus.intersect(&ray, f32::INFINITY);
+            let traced = parametric.intersect(&ray, f32::INFINITY);
+            // The ray's first pass through the torus is thin (it grazes the tube) or glancing.
+            let sliver = |ray: &Ray| {
+                let l = torus.crossings(ray, f32::INFINITY).list;
+                let glancing = torus
+                    .intersect(ray, f32::INFINITY)
+                    .is_some_and(|e| e.normal.dot(Vec3::from(ray.dir)).abs() < 0.3);
+                glancing || l.len() >= 2 && l[1].at.t - l[0].at.t < 0.1
+            };
+            // Within `tolerance` of the torus' surface: the inside test differs around it.
+            let near_torus = |p: Vec3| {
+                let probes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+                probes.iter().any(|&a| torus.contains(p + a * tolerance) != torus.contains(p))
+            };
+            match (&exact, &traced) {
+                (Some(e), Some(t)) => {
+                    let cosine = e.normal.dot(Vec3::from(ray.dir)).abs().max(0.05);
+                    if (e.t - t.t).abs() <= tolerance / cosine {
+                        hits += 1;
+                        // The normal is the surface's, up to its side (an open surface).
+                        let facing = e.normal.dot(t.normal).abs();
+                        assert!(facing > 0.9 || cosine < 0.2, "{ray:?}: {e:?} {t:?}");
+                    } else if t.t < e.t {
+                        // A graze of the torus the analytic test calls a touch.
+                        assert!(near_torus(t.point), "a hit off the torus: {ray:?}: {e:?} {t:?}");
+                        grazes += 1;
+                    } else {
+                        assert!(sliver(&ray), "a crossing missed: {ray:?}: {e:?} {t:?}");
+                        grazes += 1;
+                    }
+                }
+                (Some(e), None) => {
+                    assert!(sliver(&ray), "missed: {ray:?} {e:?}");
+                    grazes += 1;
+                }
+                (None, Some(t)) => {
+                    assert!(near_torus(t.point), "a hit off the torus: {ray:?} {t:?}");
+                    grazes += 1;
+                }
+                (None, None) => {}
+            }
+        }
+    }
+    assert!(hits > rays / 4 && grazes < rays / 5, "{rays} rays: {hits} hits, {grazes} grazes");
+}
+
 #[test]
 fn superellipsoids_match_a_march_and_their_crossings_agree_with_inside() {
     let graph = empty_graph();
@@ -1160,7 +1338,7 @@ fn operands_that_are_not_solids_are_located_errors_naming_them() {
     let cases = [
         (ShapeNode::Triangle { a: Vec3::ZERO, b: Vec3::X, c: Vec3::Y }, "a triangle"),
         (ShapeNode::Quad { corner: Vec3::ZERO, edge1: Vec3::X, edge2: Vec3::Y }, "a quad"),
-        (ShapeNode::Disk { center: Vec3::ZERO, normal: Vec3::Y, radius: 1.0 }, "a disk"),
+        (ShapeNode::Disk { center: Vec3::ZERO, normal: Vec3::Y, radius: 1.0, hole: 0.0 }, "a disk"),
         (
             ShapeNode::Cone {
                 base: Vec3::ZERO,
@@ -1180,6 +1358,15 @@ fn operands_that_are_not_solids_are_located_errors_naming_them() {
                 open: true,
             },
             "an open cone",
+        ),
+        (
+            ShapeNode::Lemon {
+                ends: [Vec3::ZERO, Vec3::Y],
+                radii: [0.3, 0.2],
+                inner_radius: 1.0,
+                open: true,
+            },
+            "an open lemon",
         ),
     ];
     for (shape, name) in cases {

@@ -592,6 +592,7 @@ mod tests {
                         edge1,
                         edge2,
                         normal,
+                        hole: 0.0,
                     })
                 }
             })

@@ -32,6 +32,7 @@ enum Simple {
     },
     Planar {
         kind: PlanarKind,
+        hole: Floats,
         origin: Vec3Lanes,
         edge1: Vec3Lanes,
         edge2: Vec3Lanes,
@@ -103,14 +104,17 @@ impl FewShapes {
                     radius: Floats::splat(radius),
                     error: Floats::splat(sphere_error(center, radius)),
                 },
-                Shape::Planar(Planar { kind, origin, edge1, edge2, normal }) => Simple::Planar {
-                    kind,
-                    origin: Vec3Lanes::splat(origin),
-                    edge1: Vec3Lanes::splat(edge1),
-                    edge2: Vec3Lanes::splat(edge2),
-                    normal: Vec3Lanes::splat(normal),
-                    error: Floats::splat(planar_error(origin, edge1, edge2)),
-                },
+                Shape::Planar(Planar { kind, origin, edge1, edge2, normal, hole }) => {
+                    Simple::Planar {
+                        kind,
+                        hole: Floats::splat(hole),
+                        origin: Vec3Lanes::splat(origin),
+                        edge1: Vec3Lanes::splat(edge1),
+                        edge2: Vec3Lanes::splat(edge2),
+                        normal: Vec3Lanes::splat(normal),
+                        error: Floats::splat(planar_error(origin, edge1, edge2)),
+                    }
+                }
                 _ => panic!("`FewShapes::takes` does not take {shape:?}"),
             })
             .collect();
@@ -208,8 +212,8 @@ impl Simple {
             Simple::Sphere { center, radius, .. } => {
                 (sphere_distance(*center, *radius, o, d), None)
             }
-            Simple::Planar { kind, origin, edge1, edge2, .. } => {
-                let (t, st) = planar_distance(*kind, *origin, *edge1, *edge2, o, d);
+            Simple::Planar { kind, hole, origin, edge1, edge2, .. } => {
+                let (t, st) = planar_distance(*kind, *hole, *origin, *edge1, *edge2, o, d);
                 (t, Some(st))
             }
         }
@@ -229,7 +233,7 @@ mod tests {
     #[test]
     fn agrees_exactly_with_one_ray_and_one_shape_at_a_time() {
         // Planes of a box around the origin, spheres inside and across it, and each planar
-        // kind, some facing the other way.
+        // kind (a disk with a hole too), some facing the other way.
         let mut shapes = vec![
             Shape::Plane { normal: Vec3::X, offset: 1.0 },
             Shape::Plane { normal: -Vec3::X, offset: 2.0 },
@@ -244,7 +248,9 @@ mod tests {
             let (edge1, edge2) = (Vec3::new(0.3, 0.1, 0.0), Vec3::new(0.0, 0.2, 0.4));
             let (edge1, edge2) = if k % 2 == 0 { (edge1, edge2) } else { (edge2, edge1) };
             let normal = edge1.cross(edge2).normalize();
-            shapes.push(Shape::Planar(Planar { kind, origin, edge1, edge2, normal }));
+            // The first disk with a hole (POV-Ray's disc with a hole radius).
+            let hole = if k == 2 { 0.4 } else { 0.0 };
+            shapes.push(Shape::Planar(Planar { kind, origin, edge1, edge2, normal, hole }));
         }
         // A box, as `scene::build` makes one: tested as its six faces.
         let (lo, size) = (Vec3::new(-0.2, -0.35, 0.05), Vec3::new(0.3, 0.2, 0.25));

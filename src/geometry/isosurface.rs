@@ -50,7 +50,7 @@ pub enum Container {
 
 impl Container {
     /// Where the line `o + t d` is inside, if it meets the container.
-    fn span(&self, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
+    pub(super) fn span(&self, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
         match *self {
             Container::Box { min, max } => {
                 let inverse = d.recip();

@@ -2,6 +2,7 @@
 //! `aabb`), which the meshes here build on, and are re-exported here with the shapes they meet.
 
 mod algebraic;
+mod arc_solid;
 mod blob;
 mod cone;
 mod crossings;
@@ -12,6 +13,7 @@ mod frame;
 mod isosurface;
 mod julia;
 mod lathe;
+mod parametric;
 mod planar;
 mod polygon;
 mod polynomial;
@@ -29,6 +31,7 @@ mod triangle_mesh;
 pub use crate::aabb::Aabb;
 pub use crate::ray::{Hit, Ray, offset_origin};
 pub use algebraic::{Algebraic, Term, pov_ray_term_count, pov_ray_terms};
+pub use arc_solid::{ArcSolid, lemon_min_inner_radius};
 pub use blob::{Blob, BlobComponent, ComponentShape};
 pub use cone::Cone;
 pub use crossings::{Crossing, Crossings, MAX_CROSSINGS};
@@ -41,6 +44,7 @@ pub use julia::{
     Algebra, Julia, JuliaDesc, JuliaFunction, MAX_JULIA_ITERATIONS, MAX_JULIA_PRECISION,
 };
 pub use lathe::Lathe;
+pub use parametric::{Parametric, ParametricDesc};
 pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
 pub use polygon::{Polygon, close_outlines, outline_normal};
 pub use polynomial::{MAX_DEGREE, polynomial_roots};

@@ -17,7 +17,7 @@ pub enum PlanarKind {
     Triangle,
     /// s, t in [0, 1]
     Quad,
-    /// s^2 + t^2 <= 1, with `origin` the centre (an ellipse under non-uniform scale)
+    /// hole^2 <= s^2 + t^2 <= 1, with `origin` the centre (an ellipse under non-uniform scale)
     Disk,
 }
 
@@ -30,11 +30,19 @@ pub struct Planar {
     pub edge1: Vec3,
     pub edge2: Vec3,
     pub normal: Vec3,
+    /// A disk's hole: its radius over the disk's, in [0, 1) (POV-Ray's `disc` with a hole
+    /// radius); 0 for the other kinds.
+    pub hole: f32,
 }
 
 impl Planar {
     pub fn new(kind: PlanarKind, origin: Vec3, edge1: Vec3, edge2: Vec3) -> Self {
-        Planar { kind, origin, edge1, edge2, normal: edge1.cross(edge2).normalize() }
+        Planar { kind, origin, edge1, edge2, normal: edge1.cross(edge2).normalize(), hole: 0.0 }
+    }
+
+    /// This disk with a hole of `hole` times its radius.
+    pub fn with_hole(self, hole: f32) -> Self {
+        Planar { hole, ..self }
     }
 
     /// The distance in (0, t_max) and the coordinates along the edges.
@@ -44,6 +52,7 @@ impl Planar {
         let at = |v: Vec3| v.into();
         let (distance, [s, t]) = planar_distance(
             self.kind,
+            self.hole,
             at(self.origin),
             at(self.edge1),
             at(self.edge2),
@@ -105,14 +114,14 @@ impl Planar {
         match self.kind {
             PlanarKind::Triangle => 0.5 * parallelogram,
             PlanarKind::Quad => parallelogram,
-            PlanarKind::Disk => std::f32::consts::PI * parallelogram,
+            PlanarKind::Disk => std::f32::consts::PI * parallelogram * (1.0 - self.hole.powi(2)),
         }
     }
 
     /// A point distributed uniformly by area, from a point `u` of the unit square.
     #[inline(always)]
     pub fn sample(&self, u: Vec2) -> SurfaceSample {
-        let (s, t) = planar_coordinates(self.kind, u).into();
+        let (s, t) = planar_coordinates(self.kind, self.hole, u).into();
         SurfaceSample {
             point: self.origin + s * self.edge1 + t * self.edge2,
             normal: self.normal,
@@ -127,13 +136,21 @@ impl Planar {
     }
 }
 
-/// The coordinates along the edges of a point uniform in the area of a planar shape, from a
-/// point `u` of the unit square.
+/// The coordinates along the edges of a point uniform in the area of a planar shape (a disk's
+/// with its `hole`), from a point `u` of the unit square.
 #[inline]
-pub fn planar_coordinates(kind: PlanarKind, u: Vec2) -> Vec2 {
+pub fn planar_coordinates(kind: PlanarKind, hole: f32, u: Vec2) -> Vec2 {
     match kind {
         PlanarKind::Triangle => uniform_triangle(u),
         PlanarKind::Quad => u,
+        PlanarKind::Disk if hole > 0.0 => {
+            // The squared radius of a point of the disk is uniform in [0, 1]: mapped to
+            // [hole^2, 1] linearly, the point stays uniform by area, now in the ring.
+            let p = concentric_disk(u);
+            let squared = p.length_squared();
+            let ring = (hole * hole + squared * (1.0 - hole * hole)).sqrt();
+            if squared > 0.0 { p * (ring / squared.sqrt()) } else { Vec2::new(ring, 0.0) }
+        }
         PlanarKind::Disk => concentric_disk(u),
     }
 }
@@ -143,6 +160,7 @@ pub fn planar_coordinates(kind: PlanarKind, u: Vec2) -> Vec2 {
 #[inline]
 pub(crate) fn planar_distance<F: Real>(
     kind: PlanarKind,
+    hole: F,
     origin: Vector<F>,
     edge1: Vector<F>,
     edge2: Vector<F>,
@@ -160,7 +178,7 @@ pub(crate) fn planar_distance<F: Real>(
     let inside = match kind {
         PlanarKind::Triangle => s.ge(zero) & t.ge(zero) & (s + t).le(one),
         PlanarKind::Quad => s.ge(zero) & s.le(one) & t.ge(zero) & t.le(one),
-        PlanarKind::Disk => (s * s + t * t).le(one),
+        PlanarKind::Disk => (s * s + t * t).le(one) & (s * s + t * t).ge(hole * hole),
     };
     let distance = edge2.dot(qvec) * inv_det;
     (F::select(inside & det.ne(zero), distance, F::NAN), [s, t])
@@ -201,6 +219,21 @@ mod tests {
         assert_eq!(planar(PlanarKind::Triangle).area(), 0.5);
         assert!((planar(PlanarKind::Disk).area() - std::f32::consts::PI).abs() < 1e-6);
         assert_eq!(planar(PlanarKind::Quad).normal, Vec3::Z, "edge1 x edge2");
+        let ring = planar(PlanarKind::Disk).with_hole(0.5);
+        let ring_hits = |x, y| ring.intersection(&down(x, y), f32::INFINITY).is_some();
+        assert!(ring_hits(0.6, 0.0) && ring_hits(0.0, -0.9) && !ring_hits(0.3, 0.3));
+        assert!((ring.area() - 0.75 * std::f32::consts::PI).abs() < 1e-6);
+        // Samples of the ring are in it, and uniform: as many within radius sqrt(5/8) (half
+        // its area) as outside it.
+        let radii: Vec<f32> = (0..1024)
+            .map(|i| {
+                ring.sample(Vec2::new((i % 32) as f32 / 32.0 + 0.01, (i / 32) as f32 / 32.0 + 0.01))
+            })
+            .map(|s| (s.point - ring.origin).length())
+            .collect();
+        assert!(radii.iter().all(|&r| (0.5 - 1e-6..=1.0 + 1e-6).contains(&r)));
+        let inner = radii.iter().filter(|&&r| r < (0.625f32).sqrt()).count();
+        assert!((inner as i32 - 512).abs() < 40, "{inner}");
     }
 
     #[test]

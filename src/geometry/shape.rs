@@ -7,6 +7,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 
 use super::algebraic::Algebraic;
+use super::arc_solid::ArcSolid;
 use super::blob::Blob;
 use super::cone::Cone;
 use super::crossings::Crossings;
@@ -15,6 +16,7 @@ use super::cuboid::Cuboid;
 use super::isosurface::Isosurface;
 use super::julia::Julia;
 use super::lathe::Lathe;
+use super::parametric::Parametric;
 use super::planar::Planar;
 use super::polygon::Polygon;
 use super::prism::Prism;
@@ -74,6 +76,8 @@ pub enum Shape {
     Lathe(Box<Lathe>),
     /// POV-Ray's surface of revolution (`sor`) under an affine map.
     Sor(Box<Sor>),
+    /// POV-Ray's ovus or lemon (arcs turned about an axis) under an affine map.
+    ArcSolid(Box<ArcSolid>),
     /// POV-Ray's polygon (not a solid), in world space.
     Polygon(Box<Polygon>),
     /// POV-Ray's superellipsoid under an affine map.
@@ -84,6 +88,8 @@ pub enum Shape {
     Csg(Box<Csg>),
     /// POV-Ray's isosurface under an affine map.
     Isosurface(Box<Isosurface>),
+    /// POV-Ray's parametric surface (not a solid) under an affine map.
+    Parametric(Box<Parametric>),
 }
 
 /// A point on a surface with its unit normal (the shape's own orientation).
@@ -149,11 +155,13 @@ impl Shape {
             Shape::Prism(prism) => prism.intersection(ray, t_max),
             Shape::Lathe(lathe) => lathe.intersection(ray, t_max),
             Shape::Sor(sor) => sor.intersection(ray, t_max),
+            Shape::ArcSolid(solid) => solid.intersection(ray, t_max),
             Shape::Polygon(polygon) => polygon.intersection(ray, t_max),
             Shape::Superellipsoid(s) => s.intersection(ray, t_max),
             Shape::Julia(julia) => julia.intersection(ray, t_max),
             Shape::Csg(csg) => csg.intersection(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.intersection(ray, t_max),
+            Shape::Parametric(surface) => surface.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: None } => mesh.intersection(ray, t_max),
             Shape::Mesh { mesh, placement: Some(placement) } => {
                 mesh.intersection(&placement.ray_to_object(ray), t_max)
@@ -195,11 +203,13 @@ impl Shape {
             Shape::Prism(prism) => prism.hit(ray, at),
             Shape::Lathe(lathe) => lathe.hit(ray, at),
             Shape::Sor(sor) => sor.hit(ray, at),
+            Shape::ArcSolid(solid) => solid.hit(ray, at),
             Shape::Polygon(polygon) => polygon.hit(ray, at),
             Shape::Superellipsoid(s) => s.hit(ray, at),
             Shape::Julia(julia) => julia.hit(ray, at),
             Shape::Csg(csg) => csg.hit(ray, at),
             Shape::Isosurface(isosurface) => isosurface.hit(ray, at),
+            Shape::Parametric(surface) => surface.hit(ray, at),
         }
     }
 
@@ -221,11 +231,13 @@ impl Shape {
             | Shape::Torus(_)
             | Shape::Csg(_)
             | Shape::Isosurface(_)
+            | Shape::Parametric(_)
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
             | Shape::Lathe(_)
             | Shape::Sor(_)
+            | Shape::ArcSolid(_)
             | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => self.intersection(ray, t_max).is_some(),
@@ -259,11 +271,13 @@ impl Shape {
             Shape::Prism(prism) => Some(prism.bounds()),
             Shape::Lathe(lathe) => Some(lathe.bounds()),
             Shape::Sor(sor) => Some(sor.bounds()),
+            Shape::ArcSolid(solid) => Some(solid.bounds()),
             Shape::Polygon(polygon) => Some(polygon.bounds()),
             Shape::Superellipsoid(s) => Some(s.bounds()),
             Shape::Julia(julia) => Some(julia.bounds()),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Isosurface(isosurface) => Some(isosurface.bounds()),
+            Shape::Parametric(surface) => Some(surface.bounds()),
         }
     }
 
@@ -277,6 +291,7 @@ impl Shape {
             | Shape::Prism(_)
             | Shape::Lathe(_)
             | Shape::Sor(_)
+            | Shape::ArcSolid(_)
             | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => None,
@@ -289,7 +304,7 @@ impl Shape {
             // Its surfaces are parts of its operands': not sampled as a light.
             Shape::Csg(_) => None,
             // No closed form: not sampled as a light.
-            Shape::Isosurface(_) => None,
+            Shape::Isosurface(_) | Shape::Parametric(_) => None,
         }
     }
 
@@ -302,11 +317,13 @@ impl Shape {
             | Shape::Mesh { .. }
             | Shape::Csg(_)
             | Shape::Isosurface(_)
+            | Shape::Parametric(_)
             | Shape::Algebraic(_)
             | Shape::Blob(_)
             | Shape::Prism(_)
             | Shape::Lathe(_)
             | Shape::Sor(_)
+            | Shape::ArcSolid(_)
             | Shape::Polygon(_)
             | Shape::Superellipsoid(_)
             | Shape::Julia(_) => None,
@@ -340,6 +357,7 @@ impl Shape {
             Shape::Prism(prism) => prism.crossings(ray, t_max),
             Shape::Lathe(lathe) => lathe.crossings(ray, t_max),
             Shape::Sor(sor) => sor.crossings(ray, t_max),
+            Shape::ArcSolid(solid) => solid.crossings(ray, t_max),
             Shape::Superellipsoid(s) => s.crossings(ray, t_max),
             Shape::Julia(julia) => julia.crossings(ray, t_max),
             Shape::Mesh { mesh, placement } => match placement {
@@ -348,7 +366,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.crossings(ray, t_max),
             Shape::Isosurface(isosurface) => isosurface.crossings(ray, t_max),
-            Shape::Planar(_) | Shape::Polygon(_) => Crossings::outside(),
+            Shape::Planar(_) | Shape::Polygon(_) | Shape::Parametric(_) => Crossings::outside(),
         }
     }
 
@@ -366,6 +384,7 @@ impl Shape {
             Shape::Prism(prism) => prism.contains(p),
             Shape::Lathe(lathe) => lathe.contains(p),
             Shape::Sor(sor) => sor.contains(p),
+            Shape::ArcSolid(solid) => solid.contains(p),
             Shape::Superellipsoid(s) => s.contains(p),
             Shape::Julia(julia) => julia.contains(p),
             Shape::Mesh { mesh, placement } => match placement {
@@ -374,7 +393,7 @@ impl Shape {
             },
             Shape::Csg(csg) => csg.contains(p),
             Shape::Isosurface(isosurface) => isosurface.contains(p),
-            Shape::Planar(_) | Shape::Polygon(_) => false,
+            Shape::Planar(_) | Shape::Polygon(_) | Shape::Parametric(_) => false,
         }
     }
 }

@@ -156,7 +156,7 @@ pub const KEYWORDS: &[Keyword] = keywords![
     "strength" => S, "component" => S, "threshold" => S, "hierarchy" => S, "prism" => S, "lathe" => S, "sor" => S, "polygon" => S,
     "linear_spline" => S, "quadratic_spline" => S, "cubic_spline" => S, "bezier_spline" => S,
     "linear_sweep" => S, "conic_sweep" => S, "superellipsoid" => S, "bicubic_patch" => S, "smooth_triangle" => S, "mesh2" => S, "julia_fractal" => S,
-    "height_field" => S, "sphere_sweep" => S,
+    "height_field" => S, "sphere_sweep" => S, "ovus" => S, "lemon" => S, "parametric" => S,
     "atmosphere" => S, "medium" => S, "absorption" => S, "scattering" => S, "anisotropy" => S,
     "fog" => S, "media" => S,
     "pi" => C(Constant::Pi), "x" => C(Constant::X), "y" => C(Constant::Y), "z" => C(Constant::Z),

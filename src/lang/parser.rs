@@ -141,7 +141,7 @@ fn convert(
 const STATEMENTS: [&str; 3] = ["camera", "light_source", "settings"];
 
 /// The words that begin an object, and those of the blocks objects may stand in.
-const OBJECTS: [&str; 31] = [
+const OBJECTS: [&str; 34] = [
     "bicubic_patch",
     "blob",
     "box",
@@ -154,10 +154,13 @@ const OBJECTS: [&str; 31] = [
     "intersection",
     "julia_fractal",
     "lathe",
+    "lemon",
     "merge",
     "mesh",
     "mesh2",
     "object",
+    "ovus",
+    "parametric",
     "plane",
     "poly",
     "polygon",
@@ -439,6 +442,12 @@ fn describe(rule: Rule) -> &'static str {
         Rule::prism_sweep => "a sweep (`linear_sweep`, `conic_sweep`)",
         Rule::lathe => "`lathe`",
         Rule::sor => "`sor`",
+        Rule::ovus => "`ovus`",
+        Rule::parametric => "`parametric`",
+        Rule::parametric_setting | Rule::parametric_word | Rule::precompute_word => {
+            "a parametric setting (`max_gradient`, `accuracy`, `precompute`)"
+        }
+        Rule::lemon => "`lemon`",
         Rule::polygon => "`polygon`",
         Rule::height_field => "`height_field`",
         Rule::sphere_sweep => "`sphere_sweep`",

@@ -76,13 +76,6 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
             "raydiance's camera is a perspective camera given by `location`, `look_at`, `angle` \
              (horizontal, degrees) and `up`; the image's aspect ratio comes from `resolution`"
         }
-        shape if UNSUPPORTED_SHAPES.contains(&shape) => {
-            "this POV-Ray shape is not supported; raydiance has plane, sphere, box, triangle, \
-             quad, disk, cylinder, cone, torus, mesh (.ply, .obj), text and CSG (and, in `.pov` \
-             scenes, POV-Ray's quadric, cubic, quartic, poly, blob, prism, superellipsoid, \
-             bicubic_patch, smooth_triangle, mesh2, meshes of triangles, julia_fractal, lathe, sor, \
-             polygon, height_field and sphere_sweep)"
-        }
         "hollow" | "no_shadow" | "no_image" | "no_reflection" | "double_illuminate" | "inverse"
         | "clipped_by" => {
             "this POV-Ray object modifier is not supported (an object here takes a material and \
@@ -97,15 +90,12 @@ pub fn advice(word: &str, inside: Option<&str>) -> Option<&'static str> {
 }
 
 /// The message for POV-Ray's `word` where a scene read in `dialect` cannot have it: in `.scn`
-/// what to write instead (`advice`); in `.pov`, where the word is POV-Ray's own, only that a
-/// shape is not supported (the `.scn` advice, "write `settings { background ... }`", would
-/// mislead there: the syntax error names the word).
+/// what to write instead (`advice`); in `.pov`, where the word is POV-Ray's own, only what is
+/// not built (the `.scn` advice, "write `settings { background ... }`", would mislead there:
+/// the syntax error names the word).
 pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<String> {
     match dialect {
         Dialect::Scn => message(word, inside),
-        Dialect::Pov if UNSUPPORTED_SHAPES.contains(&word) => {
-            Some(format!("`{word}`: POV-Ray's `{word}` is a shape raydiance does not have yet"))
-        }
         Dialect::Pov if word == "mesh_camera" => Some(
             "`mesh_camera`: POV-Ray 3.7's camera whose rays leave the faces of meshes (for baking \
              textures) is not built in raydiance; its cameras are perspective, orthographic and \
@@ -115,9 +105,6 @@ pub fn message_in(dialect: Dialect, word: &str, inside: Option<&str>) -> Option<
         Dialect::Pov => None,
     }
 }
-
-/// POV-Ray's shapes that neither dialect reads.
-const UNSUPPORTED_SHAPES: [&str; 3] = ["parametric", "ovus", "lemon"];
 
 /// The message for POV-Ray's `word`, if it is one of them.
 pub fn message(word: &str, inside: Option<&str>) -> Option<String> {

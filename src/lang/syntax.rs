@@ -716,10 +716,12 @@ pub enum Shape {
         edge1: Expr,
         edge2: Expr,
     },
+    /// POV-Ray's `disc` may have a hole radius (`.pov`).
     Disk {
         center: Expr,
         normal: Expr,
         radius: Expr,
+        hole: Option<Expr>,
     },
     /// `open`: the side alone, no end disks.
     Cylinder {
@@ -765,6 +767,20 @@ pub enum Shape {
     },
     /// POV-Ray's `blob`: its components and `threshold` are among its items.
     Blob,
+    /// POV-Ray's `ovus { bottom_radius, top_radius }`.
+    Ovus {
+        bottom: Expr,
+        top: Expr,
+    },
+    /// POV-Ray's `lemon { base, base_radius, cap, cap_radius, inner_radius [open] }`.
+    Lemon {
+        base: Expr,
+        base_radius: Expr,
+        cap: Expr,
+        cap_radius: Expr,
+        inner_radius: Expr,
+        open: bool,
+    },
     /// POV-Ray's `superellipsoid { <e, n> }`.
     Superellipsoid {
         exponents: Expr,
@@ -837,6 +853,8 @@ pub enum Shape {
     },
     /// POV-Ray's `isosurface { }` (`.pov`).
     Isosurface(Box<Isosurface>),
+    /// POV-Ray's `parametric { }`.
+    Parametric(Box<Parametric>),
     /// POV-Ray's `height_field { }` (`.pov`).
     HeightField(Box<HeightField>),
     /// POV-Ray's `sphere_sweep`: `count` pairs of a centre and a radius along a spline.
@@ -908,6 +926,18 @@ pub struct Isosurface {
     pub container: Option<Object>,
     /// `threshold`, `accuracy`, `max_gradient`, `max_trace`, `evaluate`, `open`,
     /// `all_intersections`: the word and its values.
+    pub settings: Vec<(Ident, Vec<Expr>)>,
+}
+
+/// `parametric { function { x(u, v) } function { y(u, v) } function { z(u, v) } <u0, v0>,
+/// <u1, v1> contained_by { box | sphere } settings... }`: what the text says, each setting by
+/// its word.
+#[derive(Debug, Clone)]
+pub struct Parametric {
+    pub functions: Box<[FunctionDef; 3]>,
+    pub uv: [Expr; 2],
+    pub container: Option<Object>,
+    /// `max_gradient`, `accuracy`, `precompute`: the word and its values.
     pub settings: Vec<(Ident, Vec<Expr>)>,
 }
 

@@ -1126,6 +1126,9 @@ impl Builder {
         if rule == Rule::height_field {
             return self.height_field(pair, span);
         }
+        if rule == Rule::parametric {
+            return self.parametric(pair, span);
+        }
         if rule == Rule::sphere_sweep {
             return self.sphere_sweep(pair, span);
         }
@@ -1138,6 +1141,8 @@ impl Builder {
                 | Rule::blob
                 | Rule::prism
                 | Rule::superellipsoid
+                | Rule::ovus
+                | Rule::lemon
                 | Rule::bicubic_patch
                 | Rule::smooth_triangle
                 | Rule::mesh2
@@ -1202,9 +1207,12 @@ impl Builder {
             Rule::quad => {
                 Shape::Quad { corner: take(self)?, edge1: take(self)?, edge2: take(self)? }
             }
-            Rule::disk => {
-                Shape::Disk { center: take(self)?, normal: take(self)?, radius: take(self)? }
-            }
+            Rule::disk => Shape::Disk {
+                center: take(self)?,
+                normal: take(self)?,
+                radius: take(self)?,
+                hole: None,
+            },
             Rule::cylinder => Shape::Cylinder {
                 base: take(self)?,
                 cap: take(self)?,
@@ -1242,6 +1250,15 @@ impl Builder {
             }
             Rule::blob => Shape::Blob,
             Rule::superellipsoid => Shape::Superellipsoid { exponents: take(self)? },
+            Rule::ovus => Shape::Ovus { bottom: take(self)?, top: take(self)? },
+            Rule::lemon => Shape::Lemon {
+                base: take(self)?,
+                base_radius: take(self)?,
+                cap: take(self)?,
+                cap_radius: take(self)?,
+                inner_radius: take(self)?,
+                open: false,
+            },
             Rule::prism => unreachable!("read by `prism`"),
             Rule::bicubic_patch => unreachable!("read by `bicubic_patch`"),
             Rule::mesh2 => unreachable!("read by `mesh2`"),
@@ -1265,13 +1282,23 @@ impl Builder {
             Rule::intersection => Shape::Intersection,
             Rule::difference => Shape::Difference,
             Rule::merge => Shape::Merge,
-            Rule::isosurface | Rule::height_field | Rule::sphere_sweep => {
+            Rule::isosurface | Rule::height_field | Rule::sphere_sweep | Rule::parametric => {
                 unreachable!("read above")
             }
             rule => unreachable!("no object {rule:?}"),
         };
-        if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } = &mut shape {
+        if let Shape::Cylinder { open, .. } | Shape::Cone { open, .. } | Shape::Lemon { open, .. } =
+            &mut shape
+        {
             *open = inner.next_if(|p| p.as_rule() == Rule::kw_open).is_some();
+        }
+        if let Shape::Disk { hole, .. } = &mut shape
+            && let Some(comma) = inner.next_if(|p| p.as_rule() == Rule::arg_comma)
+        {
+            if self.dialect == Dialect::Scn {
+                return Err(self.error(&comma, "a disk has no hole radius (POV-Ray's `disc` has)"));
+            }
+            *hole = Some(self.expr(inner.next().expect("the grammar gives the hole radius"))?);
         }
         let items = self.items(inner)?;
         self.leave();
@@ -1809,6 +1836,39 @@ impl Builder {
 
     /// `isosurface { ... }` (`.pov`): its function, container and settings, and the object's
     /// other items.
+    fn parametric(&mut self, pair: Pair<'_, Rule>, span: Span) -> Result<Object, SceneError> {
+        self.pov_only(&inner_pair(&pair), None)?;
+        self.enter(&pair)?;
+        let (mut functions, mut uv) = (Vec::new(), Vec::new());
+        let (mut container, mut settings, mut rest) = (None, Vec::new(), Vec::new());
+        for part in pair.into_inner().skip(1) {
+            match part.as_rule() {
+                Rule::float_function => functions.push(self.float_function(part)?),
+                Rule::arg_comma => {}
+                Rule::expr if uv.len() < 2 => uv.push(self.expr(part)?),
+                Rule::contained_by => {
+                    let object = part.into_inner().nth(1).expect("the container");
+                    container = Some(self.object(object)?);
+                }
+                Rule::parametric_setting => {
+                    let mut inner = part.into_inner();
+                    let word = inner.next().expect("the word");
+                    let key = Ident { name: word.as_str().to_string(), span: self.span(&word) };
+                    let values = inner.map(|value| self.expr(value)).collect::<Result<_, _>>()?;
+                    settings.push((key, values));
+                }
+                _ => rest.push(part),
+            }
+        }
+        let items = self.items(rest.into_iter())?;
+        self.leave();
+        let functions: [FunctionDef; 3] =
+            functions.try_into().expect("the grammar gives three functions");
+        let uv: [Expr; 2] = uv.try_into().expect("the grammar gives two corners");
+        let shape = Parametric { functions: Box::new(functions), uv, container, settings };
+        Ok(Object { shape: Shape::Parametric(Box::new(shape)), items, span })
+    }
+
     fn isosurface(&mut self, pair: Pair<'_, Rule>, span: Span) -> Result<Object, SceneError> {
         self.pov_only(&inner_pair(&pair), None)?;
         self.enter(&pair)?;

@@ -28,6 +28,9 @@ pub const MAX_HEIGHT_SAMPLES: usize = 1 << 22;
 pub enum HeightFormat {
     Png,
     Jpeg,
+    /// PGM or PPM, plain or raw: POV-Ray reads both kinds under either word.
+    Netpbm,
+    Tga,
 }
 
 /// An image file that cannot give a height field.
@@ -46,6 +49,8 @@ pub enum HeightsProblem {
     Png(#[from] png::DecodingError),
     #[error(transparent)]
     Decode(#[from] image::ImageError),
+    #[error(transparent)]
+    Data(#[from] super::height_images::ImageDataError),
     #[error(
         "{columns} x {rows} pixels: a height field has at most {MAX_HEIGHT_SAMPLES} and at least \
          2 x 2"
@@ -58,6 +63,14 @@ pub fn read(path: &Path, format: HeightFormat) -> Result<Heights, HeightsError> 
     let decode = |bytes: &[u8]| match format {
         HeightFormat::Png => from_png(bytes),
         HeightFormat::Jpeg => from_jpeg(bytes),
+        HeightFormat::Netpbm | HeightFormat::Tga => {
+            let decoded = if format == HeightFormat::Tga {
+                super::height_images::from_tga(bytes)
+            } else {
+                super::height_images::from_netpbm(bytes)
+            };
+            decoded.map(|(columns, rows, values)| Heights { columns, rows, values })
+        }
     };
     crate::input::read(path, crate::input::MAX_IMAGE_BYTES)
         .map_err(HeightsProblem::from)
@@ -147,13 +160,13 @@ fn from_jpeg(bytes: &[u8]) -> Result<Heights, HeightsProblem> {
 }
 
 /// A gray sample of `bits` over 0 to 65535 (POV-Ray's gray value × 65535: 8-bit v is v × 257).
-fn full_range(value: u32, bits: u32) -> u32 {
+pub(super) fn full_range(value: u32, bits: u32) -> u32 {
     value * 65535 / ((1u32 << bits) - 1)
 }
 
 /// A colour pixel's height: 8-bit red and green as the high and low bytes; deeper pixels by
 /// their gray.
-fn colour_height(r: u32, g: u32, b: u32, bits: u32) -> u32 {
+pub(super) fn colour_height(r: u32, g: u32, b: u32, bits: u32) -> u32 {
     if bits <= 8 {
         return r * 256 + g;
     }

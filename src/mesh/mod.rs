@@ -1,11 +1,12 @@
 //! Triangle meshes from files (PLY, ASCII and binary, and Wavefront OBJ), from fonts (`text`) and
-//! from height fields' images and functions (`height_field`).
+//! from height fields' images (PNG, JPEG, PGM, PPM, TGA) and functions (`height_field`).
 
 pub mod bezier_patch;
 mod error;
 pub mod extrude;
 pub mod font;
 pub mod height_field;
+mod height_images;
 pub mod heights;
 mod obj;
 mod ply;

@@ -13,9 +13,9 @@ use crate::accel::{Bvh, MAX_PRIMITIVES, Planes};
 use crate::camera::Camera;
 use crate::diagnostic::{SceneError, Span};
 use crate::geometry::{
-    Algebraic, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia, JuliaDesc,
-    Lathe, Placement, Planar, PlanarKind, Polygon, Prism, QuadricFrame, QuadricKind, Shape, Sor,
-    Superellipsoid, Torus, TriangleMesh, outline_normal, similarity_scale,
+    Algebraic, ArcSolid, Blob, Cone, Csg, CsgNode, CsgOp, Cuboid, FewShapes, Isosurface, Julia,
+    JuliaDesc, Lathe, Parametric, Placement, Planar, PlanarKind, Polygon, Prism, QuadricFrame,
+    QuadricKind, Shape, Sor, Superellipsoid, Torus, TriangleMesh, outline_normal, similarity_scale,
 };
 use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
@@ -489,7 +489,9 @@ impl Flattener {
             }
             ShapeNode::Prism { open: true, .. } => return Err(not_solid("an open prism")),
             ShapeNode::Sor { open: true, .. } => return Err(not_solid("an open sor")),
+            ShapeNode::Lemon { open: true, .. } => return Err(not_solid("an open lemon")),
             ShapeNode::Polygon { .. } => return Err(not_solid("a polygon")),
+            ShapeNode::Parametric(_) => return Err(not_solid("a parametric surface")),
             ShapeNode::Mesh { path } => {
                 let mesh = self.mesh(path, node)?;
                 closed_mesh(mesh, to_world).ok_or_else(|| not_solid(NOT_CLOSED))?
@@ -772,8 +774,8 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         ShapeNode::Quad { corner, edge1, edge2 } => {
             vec![planar(PlanarKind::Quad, corner, edge1, edge2)]
         }
-        ShapeNode::Disk { center, normal, radius } => {
-            vec![Shape::Planar(disk(center, normal.normalize(), radius))]
+        ShapeNode::Disk { center, normal, radius, hole } => {
+            vec![Shape::Planar(disk(center, normal.normalize(), radius).with_hole(hole / radius))]
         }
         ShapeNode::Cylinder { base, cap, radius } => vec![cone(base, radius, cap, radius, false)],
         ShapeNode::Cone { base, base_radius, cap, cap_radius, open } => {
@@ -784,6 +786,9 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
         }
         ShapeNode::Isosurface(ref desc) => {
             vec![Shape::Isosurface(Box::new(Isosurface::new(desc.clone(), m)))]
+        }
+        ShapeNode::Parametric(ref desc) => {
+            vec![Shape::Parametric(Box::new(Parametric::new(desc.clone(), m)))]
         }
         ShapeNode::Algebraic { ref terms } => {
             vec![Shape::Algebraic(Box::new(Algebraic::new(terms, m)))]
@@ -801,6 +806,14 @@ fn world_shapes(shape: &ShapeNode, m: Affine3A) -> Vec<Shape> {
             vec![Shape::Prism(Box::new(Prism::new(segments, sweep, heights, open, m)))]
         }
         ShapeNode::Lathe { ref segments } => vec![Shape::Lathe(Box::new(Lathe::new(segments, m)))],
+        ShapeNode::Ovus { bottom, top } => {
+            let ovus = ArcSolid::ovus(f64::from(bottom), f64::from(top), m);
+            vec![Shape::ArcSolid(Box::new(ovus))]
+        }
+        ShapeNode::Lemon { ends, radii, inner_radius, open } => {
+            let lemon = ArcSolid::lemon(ends, radii.map(f64::from), inner_radius.into(), open, m);
+            vec![Shape::ArcSolid(Box::new(lemon))]
+        }
         ShapeNode::Sor { ref pieces, open } => {
             vec![Shape::Sor(Box::new(Sor::new(pieces, open, m)))]
         }

@@ -1,10 +1,11 @@
 //! `image_map`: a PNG or JPEG, its values decoded to linear (sRGB or a power), projected onto
-//! the x-y unit square (repeating, or once), a sphere or a cylinder, nearest or bilinear.
+//! the x-y unit square (repeating, or once), a sphere, a cylinder or a torus, nearest or
+//! bilinear.
 
 use std::f32::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
-use glam::{Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 use crate::graph::{ImageChannel, ImageLook, ImageProjection};
 
@@ -135,6 +136,17 @@ fn project(p: Vec3, projection: ImageProjection) -> (f32, f32) {
             (longitude(), 0.5 + (p.y / len).clamp(-1.0, 1.0).asin() / PI)
         }
         ImageProjection::Cylindrical => (longitude(), p.y),
+        ImageProjection::Torus => {
+            // Across the tube: from the ring of radius 1 to the point, in the (r, y) plane
+            // (POV-Ray's torus_image_map: phi = acos(-r / |q|), 2 pi - phi above the ring).
+            let across = Vec2::new((p.x * p.x + p.z * p.z).sqrt() - 1.0, p.y);
+            let length = across.length();
+            if length == 0.0 {
+                return (longitude(), 0.0);
+            }
+            let phi = (-across.x / length).clamp(-1.0, 1.0).acos();
+            (longitude(), if p.y > 0.0 { 1.0 - phi / TAU } else { phi / TAU })
+        }
     }
 }
 
@@ -197,8 +209,8 @@ mod tests {
         assert_eq!(at(0.75, look(true, false, ImageChannel::Through(0.9))), Vec3::ONE);
     }
 
-    /// POV-Ray's map_type 1 and 2: u the longitude about y from +x towards +z, v the latitude
-    /// (sphere) or the height (cylinder).
+    /// POV-Ray's map_type 1, 2 and 5: u the longitude about y from +x towards +z, v the latitude
+    /// (sphere), the height (cylinder) or the angle around the torus' tube.
     #[test]
     fn spherical_and_cylindrical_projections_follow_povray_s_definitions() {
         let close = |(u, v): (f32, f32), (eu, ev): (f32, f32)| {
@@ -213,6 +225,14 @@ mod tests {
         let cylinder = |p| project(p, ImageProjection::Cylindrical);
         close(cylinder(Vec3::new(0.0, 0.3, -2.0)), (0.75, 0.3));
         close(project(Vec3::new(0.2, 0.7, 5.0), ImageProjection::Planar), (0.2, 0.7));
+        // map_type 5: around the tube of the torus of major radius 1 from its inner equator,
+        // under it first.
+        let torus = |p| project(p, ImageProjection::Torus);
+        close(torus(Vec3::new(0.7, 0.0, 0.0)), (0.0, 0.0));
+        close(torus(Vec3::new(0.0, -0.3, 1.0)), (0.25, 0.25));
+        close(torus(Vec3::new(-1.2, 0.0, 0.0)), (0.5, 0.5));
+        close(torus(Vec3::new(0.0, 0.5, -1.0)), (0.75, 0.75));
+        close(torus(Vec3::new(1.0 + 0.5f32.sqrt(), -0.5f32.sqrt(), 0.0)), (0.0, 0.375));
     }
 
     /// The file's values to linear: the sRGB curve by default, a power with `gamma`.

@@ -162,7 +162,12 @@ impl Evaluator {
                     }
                 }
             }
-            ExprKind::Ident(name) => match parameter(name) {
+            // POV-Ray's `u` and `v` are the first two of a function's x, y and z.
+            ExprKind::Ident(name) => match parameter(name).or_else(|| match name.as_str() {
+                "u" => parameter("x"),
+                "v" => parameter("y"),
+                _ => None,
+            }) {
                 Some(i) => Op::Parameter(i),
                 None => match self.lookup(name) {
                     Some(Value::Float(v)) => Op::Number(*v),

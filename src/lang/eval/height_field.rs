@@ -169,6 +169,8 @@ fn image_format(word: &str) -> Option<HeightFormat> {
     match word {
         "png" => Some(HeightFormat::Png),
         "jpeg" => Some(HeightFormat::Jpeg),
+        "pgm" | "ppm" => Some(HeightFormat::Netpbm),
+        "tga" => Some(HeightFormat::Tga),
         _ => None,
     }
 }
@@ -176,7 +178,7 @@ fn image_format(word: &str) -> Option<HeightFormat> {
 /// The message for an image raydiance does not read as a height field.
 fn unreadable_format(what: &str) -> String {
     format!(
-        "{what}: raydiance reads a height field from a `png` or `jpeg` image or a `function` \
-         (not from POV-Ray's gif, pot, tga, ppm, pgm, tiff, iff, sys, exr or hdr images)"
+        "{what}: raydiance reads a height field from a `png`, `jpeg`, `pgm`, `ppm` or `tga` image \
+         or a `function` (not from POV-Ray's gif, pot, tiff, iff, sys, exr or hdr images)"
     )
 }

@@ -45,13 +45,14 @@ impl Evaluator {
                         0 => ImageProjection::Planar,
                         1 => ImageProjection::Spherical,
                         2 => ImageProjection::Cylindrical,
+                        5 => ImageProjection::Torus,
                         other => {
                             return Err(SceneError::at(
                                 &v.span,
                                 format!(
-                                    "`map_type {other}`: raydiance projects an image_map \
-                                     planar (0), spherical (1) or cylindrical (2), not as \
-                                     POV-Ray's torus (5) or omnimax (7)"
+                                    "`map_type {other}`: an image_map is projected planar (0), \
+                                     spherical (1), cylindrical (2) or toroidal (5), as in \
+                                     POV-Ray 3.7, which refuses the other values too"
                                 ),
                             ));
                         }

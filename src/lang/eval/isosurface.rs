@@ -82,7 +82,7 @@ impl Evaluator {
     }
 
     /// `contained_by`'s box or sphere.
-    fn container(&mut self, object: &syntax::Object) -> Result<Container, SceneError> {
+    pub(super) fn container(&mut self, object: &syntax::Object) -> Result<Container, SceneError> {
         if let Some(item) = object.items.first() {
             return Err(SceneError::at(
                 item.span(),
@@ -102,14 +102,22 @@ impl Evaluator {
         })
     }
 
-    fn setting_number(&mut self, key: &Ident, values: &[Expr]) -> Result<f64, SceneError> {
+    pub(super) fn setting_number(
+        &mut self,
+        key: &Ident,
+        values: &[Expr],
+    ) -> Result<f64, SceneError> {
         match values {
             [value] => self.number(value, &format!("`{}`", key.name)),
             _ => Err(SceneError::at(&key.span, format!("`{}` takes one number", key.name))),
         }
     }
 
-    fn setting_positive(&mut self, key: &Ident, values: &[Expr]) -> Result<f64, SceneError> {
+    pub(super) fn setting_positive(
+        &mut self,
+        key: &Ident,
+        values: &[Expr],
+    ) -> Result<f64, SceneError> {
         let value = self.setting_number(key, values)?;
         if value <= 0.0 {
             return Err(SceneError::at(

@@ -468,9 +468,11 @@ fn area_emitter(light: AreaLight, intensity: Vec3, look_at: Vec3) -> ObjectNode 
                 if axis1.cross(axis2).dot(normal) > 0.0 { (axis1, axis2) } else { (axis2, axis1) };
             (ShapeNode::Quad { corner: position - 0.5 * (axis1 + axis2), edge1, edge2 }, area)
         }
-        (AreaShape::Disk, _) => (ShapeNode::Disk { center: position, normal, radius }, area),
+        (AreaShape::Disk, _) => {
+            (ShapeNode::Disk { center: position, normal, radius, hole: 0.0 }, area)
+        }
         (AreaShape::Sphere, Some(beam)) => {
-            (ShapeNode::Disk { center: position, normal: beam.axis, radius }, area)
+            (ShapeNode::Disk { center: position, normal: beam.axis, radius, hole: 0.0 }, area)
         }
         (AreaShape::Sphere, None) => {
             (ShapeNode::Sphere { center: position, radius }, 4.0 * PI * radius * radius)

@@ -10,6 +10,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 
 mod appearance;
+mod arc_solid;
 mod array;
 mod blob;
 mod camera;
@@ -27,6 +28,7 @@ mod medium;
 mod normal;
 mod object;
 mod outline;
+mod parametric;
 mod patch;
 mod pattern;
 mod pigment;
@@ -258,10 +260,13 @@ impl Body<'_> {
                 | ShapeNode::Cone { .. }
                 | ShapeNode::Torus { .. }
                 | ShapeNode::Isosurface(_)
+                | ShapeNode::Parametric(_)
                 | ShapeNode::Algebraic { .. }
                 | ShapeNode::Prism { .. }
                 | ShapeNode::Lathe { .. }
                 | ShapeNode::Sor { .. }
+                | ShapeNode::Ovus { .. }
+                | ShapeNode::Lemon { .. }
                 | ShapeNode::Polygon { .. }
                 | ShapeNode::Superellipsoid { .. }
                 | ShapeNode::JuliaFractal(_)

@@ -67,10 +67,27 @@ impl Evaluator {
                 }
                 ShapeNode::Quad { corner, edge1, edge2 }
             }
-            Shape::Disk { center, normal, radius } => {
+            Shape::Disk { center, normal, radius, hole } => {
                 let center = self.vec3(center)?;
                 let normal = self.nonzero(normal, "the disk's normal")?;
-                ShapeNode::Disk { center, normal, radius: self.positive(radius, "radius")? }
+                let radius = self.positive(radius, "radius")?;
+                let hole = match hole {
+                    Some(hole) => {
+                        let value = self.non_negative(hole, "the disc's hole radius")?;
+                        if value >= radius {
+                            return Err(SceneError::at(
+                                &hole.span,
+                                format!(
+                                    "the disc's hole radius {value} is not below its radius \
+                                     {radius}: nothing would be left of it"
+                                ),
+                            ));
+                        }
+                        value
+                    }
+                    None => 0.0,
+                };
+                ShapeNode::Disk { center, normal, radius, hole }
             }
             Shape::Cylinder { base, cap, radius, open } => {
                 let at = cap.span.clone();
@@ -124,6 +141,9 @@ impl Evaluator {
             Shape::Isosurface(isosurface) => {
                 ShapeNode::Isosurface(Arc::new(self.isosurface(isosurface, &object.span)?))
             }
+            Shape::Parametric(surface) => {
+                ShapeNode::Parametric(Arc::new(self.parametric(surface, &object.span)?))
+            }
             Shape::HeightField(field) => self.height_field(field, &object.span)?,
             Shape::SphereSweep { spline, count, points, tolerance } => {
                 let points = self.listed_points(points)?;
@@ -156,6 +176,11 @@ impl Evaluator {
                 }
                 let [e, n] = [single(e, &exponents.span)?, single(n, &exponents.span)?];
                 ShapeNode::Superellipsoid { e, n }
+            }
+            Shape::Ovus { bottom, top } => self.ovus(bottom, top)?,
+            Shape::Lemon { base, base_radius, cap, cap_radius, inner_radius, open } => {
+                let arguments = [base, base_radius, cap, cap_radius, inner_radius];
+                self.lemon(arguments, *open, &object.span)?
             }
             Shape::Prism { spline, sweep, heights, count, points, open } => {
                 let points = self.listed_points(points)?;
@@ -681,11 +706,14 @@ pub(super) fn children(shape: &mut ShapeNode) -> Option<&mut Vec<ObjectNode>> {
         | ShapeNode::Cone { .. }
         | ShapeNode::Torus { .. }
         | ShapeNode::Isosurface(_)
+        | ShapeNode::Parametric(_)
         | ShapeNode::Algebraic { .. }
         | ShapeNode::Blob { .. }
         | ShapeNode::Prism { .. }
         | ShapeNode::Lathe { .. }
         | ShapeNode::Sor { .. }
+        | ShapeNode::Ovus { .. }
+        | ShapeNode::Lemon { .. }
         | ShapeNode::Polygon { .. }
         | ShapeNode::Superellipsoid { .. }
         | ShapeNode::JuliaFractal(_)
