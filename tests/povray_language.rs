@@ -512,3 +512,39 @@ fn uv_mapping_is_read_with_a_warning_and_mesh_camera_is_refused_by_name() {
     let error = pov_error("camera { mesh_camera { 1 0 mesh { triangle { 0, x, y } } } }");
     assert!(error.contains("1:10") && error.contains("`mesh_camera`"), "{error}");
 }
+
+#[test]
+fn a_macro_takes_a_block_as_its_argument() {
+    // The sample scenes' `Correct_Pigment_Gamma(pigment { ... }, G)`: a pigment passed to a
+    // macro, made a colour function there and read by component.
+    let red = "#macro Red_Of(P)\n\
+               #local F = function { pigment { P } };\n\
+               #declare G = function { F(x, y, z).x * 2 };\n\
+               #end\n\
+               Red_Of(pigment { rgb <0.25, 0.5, 1> })";
+    assert_eq!(sphere_of("G(0, 0, 0)", red), 0.5);
+    let graph = pov("#macro Second(A, B) object { B } #end\n\
+                     Second(sphere { 0, 1 }, sphere { x, 3 pigment { rgb 1 } })");
+    let ShapeNode::Instance(second) = &graph.objects[0].shape else { panic!("not an instance") };
+    assert!(matches!(second.shape, ShapeNode::Sphere { radius: 3.0, .. }), "{:?}", second.shape);
+    // math.pov's `Graph(function (x) { x * x }, 300, Green)`.
+    let at = "#macro At(F, X) F(X) #end";
+    assert_eq!(sphere_of("At(function (x) { x * 2 }, 1.5)", at), 3.0);
+    let block = scn_error("#macro M(P) #end\nM(pigment { rgb 1 })");
+    assert!(block.starts_with("tests/inline.scn:2:3:"), "{block}");
+    assert!(block.contains("`pigment`"), "{block}");
+}
+
+#[test]
+fn a_polygon_takes_3_vectors_in_any_plane() {
+    // media3.pov's square, and one standing in the plane x = 2.
+    let graph = pov("polygon { 5, <-1, -1, 0>, <1, -1, 0>, <1, 1, 0>, <-1, 1, 0>, <-1, -1, 0> }\n\
+                     polygon { 4, <2, 0, 0>, <2, 1, 0>, <2, 0, 1>, <2, 0, 0> }");
+    let points = |n: usize| match &graph.objects[n].shape {
+        ShapeNode::Polygon { points } => points.clone(),
+        other => panic!("not a polygon: {other:?}"),
+    };
+    assert_eq!(points(0)[2], Vec3::new(1.0, 1.0, 0.0));
+    assert!(points(1).iter().all(|p| p.x == 2.0), "{:?}", points(1));
+    assert_eq!(points(1)[2], Vec3::new(2.0, 0.0, 1.0));
+}

@@ -1198,6 +1198,9 @@ pub enum ExprKind {
     },
     Function(Function, Vec<Expr>),
     Call(Call),
+    /// A block given to a macro as its argument (`Gamma(pigment { ... }, 1.5)`, `.pov`): its
+    /// value is what `#declare` of it binds.
+    Block(Box<Declared>),
 }
 
 /// A component of POV-Ray's colour `<red, green, blue, filter, transmit>`, its index there.

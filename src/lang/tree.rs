@@ -2018,6 +2018,23 @@ impl Builder {
                     }),
                 }
             }
+            // A macro's argument that is a block (`.pov`).
+            Rule::pigment
+            | Rule::finish
+            | Rule::pov_texture
+            | Rule::interior
+            | Rule::normal
+            | Rule::object
+            | Rule::color_map
+            | Rule::float_function => {
+                let span = self.span(&pair);
+                let word = match pair.as_rule() {
+                    Rule::object => inner_pair(&inner_pair(&pair)),
+                    _ => inner_pair(&pair),
+                };
+                self.pov_only(&word, None)?;
+                Ok(Expr { kind: ExprKind::Block(Box::new(self.declared(pair)?)), span })
+            }
             rule => unreachable!("no value {rule:?}"),
         }
     }

@@ -373,6 +373,7 @@ impl Evaluator {
                 }
             },
             ExprKind::Index { .. } => self.index(expr)?,
+            ExprKind::Block(declared) => self.declared(declared, None)?,
             ExprKind::Function(f, args) => self.function(*f, args, at)?,
             ExprKind::Call(call) => {
                 match self.lookup(&call.name.name) {

@@ -257,10 +257,12 @@ impl Evaluator {
             | ExprKind::String(_)
             | ExprKind::Rgb(_)
             | ExprKind::PovColour(..)
-            | ExprKind::ColourParts { .. } => {
+            | ExprKind::ColourParts { .. }
+            | ExprKind::Block(_) => {
                 return Err(SceneError::at(
                     at,
-                    "a function computes numbers: a vector, colour or string cannot stand in it",
+                    "a function computes numbers: a vector, colour, string or block cannot stand \
+                     in it",
                 ));
             }
         };

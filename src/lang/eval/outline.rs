@@ -97,6 +97,14 @@ impl Evaluator {
                     }
                     read.push(p);
                 }
+                // A 3-vector is a `Vector`, not `Numbers`.
+                Value::Vector(v) if N == 3 => {
+                    let mut p = [0.0; N];
+                    for (k, x) in v.to_array().into_iter().enumerate() {
+                        p[k] = single(x, &point.span)?;
+                    }
+                    read.push(p);
+                }
                 other => {
                     return Err(SceneError::at(
                         &point.span,
