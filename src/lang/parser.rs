@@ -11,9 +11,7 @@ use super::dialect::Dialect;
 use super::{hints, keywords, povray};
 use crate::diagnostic::{SceneError, SourceFile, Span};
 
-#[derive(pest_derive::Parser)]
-#[grammar = "../grammar/scn.pest"]
-pub struct ScnParser;
+pub use scn_grammar::{Rule, ScnParser};
 
 /// Deepest nesting of brackets and blocks accepted (counted by `lang::tree` on the pairs): the
 /// tree is walked recursively, so deeper text is an error instead. The parser itself stops on a
