@@ -250,6 +250,7 @@ impl Parametric {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::{FRAC_PI_2, TAU};
 
     /// A function of (u, v) written in Rust.
     #[derive(Debug)]
@@ -270,7 +271,7 @@ mod tests {
         ];
         let desc = ParametricDesc {
             functions,
-            uv: [DVec2::new(0.0, -1.5708), DVec2::new(6.2832, 1.5708)],
+            uv: [DVec2::new(0.0, -FRAC_PI_2), DVec2::new(TAU, FRAC_PI_2)],
             container: Container::Box { min: DVec3::splat(-1.1), max: DVec3::splat(1.1) },
             max_gradient: 1.0,
             accuracy,

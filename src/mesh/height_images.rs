@@ -82,8 +82,8 @@ pub fn from_tga(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), HeightsProblem
     let (depth, descriptor) = (header[16], header[17]);
     check_size(columns, rows)?;
     let (base, compressed) = match kind {
-        1 | 2 | 3 => (kind, false),
-        9 | 10 | 11 => (kind - 8, true),
+        1..=3 => (kind, false),
+        9..=11 => (kind - 8, true),
         other => return Err(ImageDataError::TargaType(other).into()),
     };
     let valid_depth = match base {
