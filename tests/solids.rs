@@ -506,22 +506,7 @@ fn csg_with_blob_operands_matches_a_march_and_the_operands_inside_tests() {
             other
         };
         let tree = ShapeNode::Csg { op, operands: vec![blob, other] };
-        let tree = node(&graph, tree, random_transforms(&mut rng, false));
-        let shape = built_shape(&graph, tree.clone());
-        let bounds = shape.bounds().expect("a bounded first operand");
-        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
-        for _ in 0..100 {
-            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
-        }
-        for _ in 0..300 {
-            let origin = center + rng.direction() * 2.0 * size;
-            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
-            let ray = Ray::new(origin, (target - origin).normalize());
-            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
-            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
-        }
+        check_csg_against_the_march(&graph, tree, 300, &mut rng, &mut tally);
     }
     // The blobs fill more than 1/100 of their bounds (blobs_match_a_march_...); a merge only
     // adds, and the other operand, a solid of half its box or more, keeps or takes away half
@@ -657,6 +642,34 @@ fn prisms_match_a_march_and_their_crossings_agree_with_inside() {
     assert!(tally.slivers < tally.rays / 6, "{tally:?}");
 }
 
+/// `csg` turned and moved at random: its `contains` agrees with its operands' inside tests at
+/// 100 points of its bounds, and `rays` rays aimed into its bounds from outside meet it as a
+/// march along them does (`check_aimed`, `check_ray`).
+fn check_csg_against_the_march(
+    graph: &SceneGraph,
+    csg: ShapeNode,
+    rays: usize,
+    rng: &mut Rng,
+    tally: &mut Tally,
+) {
+    let tree = node(graph, csg, random_transforms(rng, false));
+    let shape = built_shape(graph, tree.clone());
+    let bounds = shape.bounds().expect("a bounded first operand");
+    let (center, size) = (bounds.centroid(), bounds.extent().max_element());
+    for _ in 0..100 {
+        let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+        assert_eq!(shape.contains(p), inside_by_operands(graph, &tree, &[], p), "at {p}");
+    }
+    for _ in 0..rays {
+        let origin = center + rng.direction() * 2.0 * size;
+        let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
+        let aimed_in = inside_by_operands(graph, &tree, &[], target);
+        let ray = Ray::new(origin, (target - origin).normalize());
+        check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, tally);
+        check_ray(&shape, &ray, 400, 1e-4 * size, tally);
+    }
+}
+
 #[test]
 fn csg_with_prism_operands_matches_a_march_and_the_operands_inside_tests() {
     let graph = empty_graph();
@@ -669,22 +682,7 @@ fn csg_with_prism_operands_matches_a_march_and_the_operands_inside_tests() {
         let ball = ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.3, 0.7) };
         let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
         let tree = ShapeNode::Csg { op, operands: vec![prism, node(&graph, ball, vec![])] };
-        let tree = node(&graph, tree, random_transforms(&mut rng, false));
-        let shape = built_shape(&graph, tree.clone());
-        let bounds = shape.bounds().expect("a bounded first operand");
-        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
-        for _ in 0..100 {
-            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
-        }
-        for _ in 0..300 {
-            let origin = center + rng.direction() * 2.0 * size;
-            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
-            let ray = Ray::new(origin, (target - origin).normalize());
-            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
-            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
-        }
+        check_csg_against_the_march(&graph, tree, 300, &mut rng, &mut tally);
     }
     // The prisms fill more than 1/50 of their bounds (prisms_match_a_march_...); the ball
     // keeps or takes away half of that or less on average: more than 1/100.
@@ -803,22 +801,7 @@ fn csg_with_lathe_and_sor_operands_matches_a_march_and_the_operands_inside_tests
         let ball = ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.3, 0.7) };
         let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
         let tree = ShapeNode::Csg { op, operands: vec![solid, node(&graph, ball, vec![])] };
-        let tree = node(&graph, tree, random_transforms(&mut rng, false));
-        let shape = built_shape(&graph, tree.clone());
-        let bounds = shape.bounds().expect("a bounded first operand");
-        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
-        for _ in 0..100 {
-            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
-        }
-        for _ in 0..200 {
-            let origin = center + rng.direction() * 2.0 * size;
-            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
-            let ray = Ray::new(origin, (target - origin).normalize());
-            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
-            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
-        }
+        check_csg_against_the_march(&graph, tree, 200, &mut rng, &mut tally);
     }
     // Both kinds fill 1/50 or more of their bounds (lathes_... and sors_...); the ball keeps
     // or takes away half of that or less on average.
@@ -875,22 +858,7 @@ fn csg_with_ovus_and_lemon_operands_matches_a_march_and_the_operands_inside_test
         let ball = ShapeNode::Sphere { center: rng.vec(-0.3, 0.3), radius: rng.range(0.3, 0.7) };
         let op = [CsgOp::Difference, CsgOp::Intersection, CsgOp::Merge][k % 3];
         let tree = ShapeNode::Csg { op, operands: vec![solid, node(&graph, ball, vec![])] };
-        let tree = node(&graph, tree, random_transforms(&mut rng, false));
-        let shape = built_shape(&graph, tree.clone());
-        let bounds = shape.bounds().expect("a bounded first operand");
-        let (center, size) = (bounds.centroid(), bounds.extent().max_element());
-        for _ in 0..100 {
-            let p = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            assert_eq!(shape.contains(p), inside_by_operands(&graph, &tree, &[], p), "at {p}");
-        }
-        for _ in 0..200 {
-            let origin = center + rng.direction() * 2.0 * size;
-            let target = bounds.min + rng.vec(0.0, 1.0) * bounds.extent();
-            let aimed_in = inside_by_operands(&graph, &tree, &[], target);
-            let ray = Ray::new(origin, (target - origin).normalize());
-            check_aimed(&shape, &ray, target, aimed_in, 1e-4 * size, &mut tally);
-            check_ray(&shape, &ray, 400, 1e-4 * size, &mut tally);
-        }
+        check_csg_against_the_march(&graph, tree, 200, &mut rng, &mut tally);
     }
     // Both fill 1/50 or more of their bounds (the tests above); the ball keeps or takes away
     // half of that or less on average.
