@@ -98,7 +98,7 @@ impl Container {
     }
 
     /// The corners of a box holding the container.
-    fn corners(&self) -> [DVec3; 8] {
+    pub(super) fn corners(&self) -> [DVec3; 8] {
         let (min, max) = match *self {
             Container::Box { min, max } => (min, max),
             Container::Sphere { center, radius } => {

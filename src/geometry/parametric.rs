@@ -118,7 +118,7 @@ pub struct Parametric {
 impl Parametric {
     pub fn new(desc: Arc<ParametricDesc>, to_world: Affine3A) -> Self {
         let frame = QuadricFrame::new(to_world, None);
-        let bounds = Self::own_bounds(&desc);
+        let bounds = desc.container.corners();
         let magnitude = bounds
             .iter()
             .fold(0.0f32, |m, c| m.max(to_world.transform_point3(c.as_vec3()).abs().max_element()));
@@ -129,24 +129,8 @@ impl Parametric {
         Parametric { desc, frame, error }
     }
 
-    fn own_bounds(desc: &ParametricDesc) -> [DVec3; 8] {
-        let (min, max) = match desc.container {
-            Container::Box { min, max } => (min, max),
-            Container::Sphere { center, radius } => {
-                (center - DVec3::splat(radius), center + DVec3::splat(radius))
-            }
-        };
-        std::array::from_fn(|i| {
-            DVec3::new(
-                if i & 1 == 0 { min.x } else { max.x },
-                if i & 2 == 0 { min.y } else { max.y },
-                if i & 4 == 0 { min.z } else { max.z },
-            )
-        })
-    }
-
     pub fn bounds(&self) -> Aabb {
-        let corners = Self::own_bounds(&self.desc);
+        let corners = self.desc.container.corners();
         Aabb::from_points(&corners.map(|c| self.frame.to_world.transform_point3(c.as_vec3())))
     }
 
