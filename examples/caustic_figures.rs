@@ -3,9 +3,13 @@
 //! caustic's core (the 3 x 3 pixels around the reference's brightest pixel on a diffuse
 //! surface) and the ring around it (the diffuse pixels 2 to 6 pixels from that one).
 //!
-//! `cargo run --release --example caustic_figures -- SCENE SIZE ITERATIONS RADIUS SAMPLES [SEEDS]`:
+//! `cargo run --release --example caustic_figures -- SCENE SIZE ITERATIONS RADIUS SAMPLES [SEEDS]
+//! [INTEGRATORS]`:
 //! the reference is `sppm` with ITERATIONS iterations from `photon_radius` RADIUS; the others
-//! take SAMPLES camera samples, averaged over SEEDS seeds (default 1).
+//! take SAMPLES camera samples, averaged over SEEDS seeds (default 1): each figure's error
+//! against the reference is the seeds' mean ± its standard error (the reference's own noise
+//! not included). INTEGRATORS: those compared, by name, comma-separated (default
+//! `photon,final_gather`).
 
 use glam::Vec2;
 use raydiance::graph::IntegratorKind;
@@ -24,6 +28,12 @@ fn main() {
         number(4).expect("SAMPLES") as u32,
     );
     let seeds = number(5).unwrap_or(1.0) as u64;
+    let integrators: Vec<IntegratorKind> = (args
+        .get(6)
+        .map_or("photon,final_gather", String::as_str))
+    .split(',')
+    .map(|name| IntegratorKind::named(name).unwrap_or_else(|| panic!("no integrator {name}")))
+    .collect();
     let load = |integrator, samples, seed| {
         let request = raydiance::RenderRequest {
             samples: Some(samples),
@@ -36,7 +46,8 @@ fn main() {
         let path = std::path::Path::new(&args[0]);
         raydiance::load(path, &request).unwrap_or_else(|e| panic!("{e}"))
     };
-    let mut reference = load(IntegratorKind::Sppm, iterations, 0);
+    // A seed none of the runs compared takes: their photons share none of its passes.
+    let mut reference = load(IntegratorKind::Sppm, iterations, 1000);
     reference.settings.photon_radius = radius;
     let sppm = render(&reference, &Silent).0.image();
     let peak = brightest_diffuse(&reference, &sppm);
@@ -45,16 +56,19 @@ fn main() {
     let expected = figures(&sppm);
     println!("sppm {iterations} iterations, radius {radius}: mean / core at {peak:?} / ring");
     println!("  {:.5} / {:.5} / {:.5}", expected[0], expected[1], expected[2]);
-    for integrator in [IntegratorKind::Photon, IntegratorKind::FinalGather] {
-        let mut sums = [0.0; 3];
+    for integrator in integrators {
         let start = std::time::Instant::now();
-        for seed in 0..seeds {
-            let shown = figures(&render(&load(integrator, samples, seed), &Silent).0.image());
-            (0..3).for_each(|r| sums[r] += shown[r] / seeds as f64);
-        }
-        let error = |r: usize| 100.0 * (sums[r] / expected[r] - 1.0);
+        let shown: Vec<[f64; 3]> = (0..seeds)
+            .map(|seed| figures(&render(&load(integrator, samples, seed), &Silent).0.image()))
+            .collect();
+        let error = |r: usize| {
+            let errors: Vec<f64> =
+                shown.iter().map(|s| 100.0 * (s[r] / expected[r] - 1.0)).collect();
+            let (mean, se) = mean_se(&errors);
+            format!("{mean:+.1} ± {se:.1} %")
+        };
         println!(
-            "{} {samples} samples, {seeds} seeds ({:.1} s): {:+.1} % / {:+.1} % / {:+.1} %",
+            "{} {samples} samples, {seeds} seeds ({:.1} s): {} / {} / {}",
             integrator.name(),
             start.elapsed().as_secs_f64(),
             error(0),
@@ -62,6 +76,14 @@ fn main() {
             error(2)
         );
     }
+}
+
+/// The mean of `values` and its standard error (NaN for one value).
+fn mean_se(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (variance / n).sqrt())
 }
 
 /// Whether pixel (x, y)'s centre sees a surface with a diffuse lobe.
