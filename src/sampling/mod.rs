@@ -4,4 +4,6 @@ mod sampler;
 mod warp;
 
 pub use sampler::{PixelSampler, Sampler};
-pub use warp::{concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle};
+pub use warp::{
+    concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle, uniform_triangle_of,
+};
