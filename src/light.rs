@@ -3,11 +3,9 @@
 //! estimation) and for emission (photon tracing).
 
 mod environment;
-mod lanes;
 mod spot;
 
 pub use environment::Environment;
-pub use lanes::LightLanes;
 pub use spot::{Beam, BeamSampler, Spot, SpotDirection, SpotProfile};
 
 use std::f32::consts::PI;
@@ -329,8 +327,8 @@ fn shadow_ray(hit: &Hit, target: Vec3, wi: Vec3) -> ShadowRay {
     ShadowRay { ray: Ray::new(origin, dir.into()), t_max }
 }
 
-// The kernels of a light sample, written once over `Real`: `Light::sample` computes them for one
-// point, `Light::sample_lanes` for a bounce's lanes.
+// The kernels of a light sample, written once over `Real`, so that lanes of a bounce can
+// compute what `Light::sample` computes for one point.
 
 /// A point light at `position` of intensity `power` seen from `from`: the unit direction
 /// towards it and the radiance arriving, intensity / r^2.

@@ -6,8 +6,7 @@
 use glam::Vec3;
 
 use super::{
-    CameraSample, LanePath, Lanes, SampleIntegrator, ShadowLanes, direct_from_light,
-    power_heuristic,
+    CameraSample, Lanes, SampleIntegrator, ShadowLanes, direct_from_light, power_heuristic,
 };
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
@@ -56,10 +55,9 @@ impl SampleIntegrator for Direct {
     }
 
     /// Traces `LANES` paths at a time, bounce by bounce: their rays meet the scene together,
-    /// and so do the samples of each light in turn (`integrator::light_samples`) and their
-    /// shadow rays. Each path's vertex is `arrive`, a sample of each light (`light_sample`'s
-    /// draw, sample and light) and `leave`, as in `whitted`, with the lights' contributions
-    /// added in the same order, so it gets the same radiance, bit for bit.
+    /// and so do the shadow rays towards each light in turn. Each path's vertex is `arrive`,
+    /// a sample of each light (`light_sample`) and `leave`, as in `whitted`, with the lights' contributions added in
+    /// the same order, so it gets the same radiance, bit for bit.
     fn radiance_of_all(
         &self,
         scene: &Scene,
@@ -74,30 +72,19 @@ impl SampleIntegrator for Direct {
                 let state = &mut path.state;
                 state.vertex = arrive(scene, &mut state.path, found.hit(lane), self.max_depth);
             }
-            // Each light in turn, sampled at every lit vertex, the lanes' samples together: a
-            // lane's sampler draws for the lights in their order, as in `light_samples`.
+            // Each light in turn, sampled at every lit vertex: a lane's sampler draws for the
+            // lights in their order, as in `light_samples`.
             let mut lit = [Vec3::ZERO; LANES];
-            for (index, light) in scene.lights.iter().enumerate() {
-                let mut chosen = [None; LANES];
-                let mut lobes = [None; LANES];
-                for (lane, LanePath { sampler, state, .. }) in lanes.paths_mut() {
-                    let Some(vertex) = state.vertex.as_ref().filter(|v| v.is_lit()) else {
-                        continue;
-                    };
-                    let u = sampler.next_2d();
-                    lobes[lane] = sampled_lobes(vertex, LobeFlags::ALL);
-                    chosen[lane] = lobes[lane].map(|_| (&vertex.hit, index, u));
-                }
-                let samples = super::light_samples(scene, &found.hits, chosen);
+            for light in &scene.lights {
                 let mut shadows = ShadowLanes::new();
                 for (lane, path) in lanes.paths_mut() {
-                    let (Some(vertex), Some(lobes), Some(sample)) =
-                        (&path.state.vertex, lobes[lane], samples[lane])
-                    else {
+                    let Some(vertex) = path.state.vertex.as_ref().filter(|v| v.is_lit()) else {
                         continue;
                     };
-                    let Vertex { hit, wo, bsdf, .. } = vertex;
-                    shadows.set_lane(lane, direct_from_light(light, hit, *wo, bsdf, lobes, sample));
+                    let sampler = &mut path.sampler;
+                    if let Some(shadowed) = light_sample(light, vertex, LobeFlags::ALL, sampler) {
+                        shadows.set_lane(lane, shadowed);
+                    }
                 }
                 for (lane, reached) in shadows.reached(scene).into_iter().enumerate() {
                     lit[lane] += reached;
@@ -257,19 +244,13 @@ fn light_sample(
     sampler: &mut Sampler,
 ) -> Option<(ShadowRay, Vec3)> {
     let u = sampler.next_2d();
-    let lobes = sampled_lobes(vertex, mask)?;
-    let sample = light.sample(&vertex.hit, u)?;
-    Some(direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, lobes, sample))
-}
-
-/// The lobes a light sample at a lit vertex lights through the lobes `mask` asks for (see
-/// `light_sample`): gathered and followed; `None` if neither.
-#[inline(always)]
-fn sampled_lobes(vertex: &Vertex, mask: LobeFlags) -> Option<(LobeFlags, LobeFlags)> {
     let gathered = vertex.gathered & mask;
     let followed = vertex.followed();
     let followed = if (followed & mask).is_non_delta() { followed } else { LobeFlags::NONE };
-    (!gathered.is_empty() || !followed.is_empty()).then_some((gathered, followed))
+    if gathered.is_empty() && followed.is_empty() {
+        return None;
+    }
+    direct_from_light(light, &vertex.hit, vertex.wo, &vertex.bsdf, (gathered, followed), u)
 }
 
 /// The path leaves its vertex: at a lit one it adds `lit` (the light samples found unoccluded),

@@ -26,8 +26,8 @@ use glam::{Vec2, Vec3};
 use crate::film::Film;
 use crate::geometry::{Hit, Ray};
 use crate::graph::{IntegratorKind, Settings};
-use crate::lanes::{Floats, HitLanes, LANES, Lane, Mask, MaskLanes, RayLanes, Vec3Lanes, Wide};
-use crate::light::{Light, LightSample, ShadowRay};
+use crate::lanes::{Floats, LANES, Lane, Mask, MaskLanes, RayLanes, Vec3Lanes};
+use crate::light::{Light, ShadowRay};
 use crate::material::{Bsdf, LobeFlags};
 use crate::progress::{Progress, RenderStats};
 use crate::region::Region;
@@ -86,7 +86,7 @@ pub fn of(settings: &Settings) -> Box<dyn Integrator> {
 }
 
 /// Light from `light` scattered towards `wo` by the lobes of `bsdf` at `hit` that `gathered`
-/// and `followed` ask for (those with a density among them), from its `sample` at `hit`, if the
+/// and `followed` ask for (those with a density among them), from its sample at `u`, if the
 /// shadow ray turns out unoccluded: f Li |n . wi| / pdf (for a point light exactly the course's
 /// Lab 4 p / r^2 f |n . wi|). Through `gathered` the environment's sample is weighted against the
 /// BSDF's sample of it (`direct::direct_from_environment`) by the power heuristic; through
@@ -101,12 +101,13 @@ fn direct_from_light(
     wo: Vec3,
     bsdf: &Bsdf,
     (gathered, followed): (LobeFlags, LobeFlags),
-    sample: LightSample,
-) -> (ShadowRay, Vec3) {
+    u: Vec2,
+) -> Option<(ShadowRay, Vec3)> {
+    let sample = light.sample(hit, u)?;
     let cos = hit.shading_normal.dot(sample.wi).abs();
     if sample.is_delta {
         let f = bsdf.eval_lobes(wo, sample.wi, gathered | followed);
-        return (sample.shadow, f * sample.li * cos / sample.pdf);
+        return Some((sample.shadow, f * sample.li * cos / sample.pdf));
     }
     let f = bsdf.eval_lobes(wo, sample.wi, gathered);
     let weight = if matches!(light, Light::Environment(_)) {
@@ -120,33 +121,7 @@ fn direct_from_light(
         let weight = power_heuristic(sample.pdf, bsdf.pdf(wo, sample.wi, followed));
         lit += f * sample.li * cos * weight / sample.pdf;
     }
-    (sample.shadow, lit)
-}
-
-/// Each lane's light sample (`Light::sample`) where its vertex chose one: of light `light` at
-/// `hit` from `u`. The first chosen light's samples are taken together over the lanes
-/// (`Light::sample_lanes`) where that light's sample is written over lanes, the others one lane
-/// at a time: either way each lane's is the one `Light::sample` gives, bit for bit. `hits` holds
-/// the hits' points, normals and error bounds in lanes.
-#[inline(always)]
-fn light_samples(
-    scene: &Scene,
-    hits: &HitLanes,
-    chosen: [Option<(&Hit, usize, Vec2)>; LANES],
-) -> [Option<LightSample>; LANES] {
-    let first = chosen.iter().flatten().next().map(|&(_, light, _)| light);
-    let u = |coordinate: fn(Vec2) -> f32| {
-        Floats::from_fn(|lane| chosen[lane].map_or(0.0, |(_, _, u)| coordinate(u)))
-    };
-    let together =
-        first.and_then(|light| scene.lights[light].sample_lanes(hits, (u(|u| u.x), u(|u| u.y))));
-    std::array::from_fn(|lane| {
-        let (hit, light, u) = chosen[lane]?;
-        match &together {
-            Some(samples) if first == Some(light) => samples.lane(lane, hit.primitive),
-            _ => scene.lights[light].sample(hit, u),
-        }
-    })
+    Some((sample.shadow, lit))
 }
 
 /// Veach's power heuristic with exponent 2, for one sample from each strategy:

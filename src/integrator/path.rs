@@ -4,10 +4,10 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{CameraSample, Lanes, SampleIntegrator, ShadowLanes, light_samples, power_heuristic};
+use super::{CameraSample, Lanes, SampleIntegrator, ShadowLanes, power_heuristic};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
-use crate::light::{Light, LightSample, ShadowRay};
+use crate::light::{Light, ShadowRay};
 use crate::material::{Bsdf, LobeFlags, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -83,29 +83,6 @@ impl PathState {
     }
 }
 
-/// A path's vertex between its arrival and its leaving (`Path::arrive`, `Path::leave`), where
-/// the light sample is taken: for one path alone, or for a bounce's lanes together.
-pub(super) struct Vertex {
-    hit: Hit,
-    wo: Vec3,
-    bsdf: Bsdf,
-    /// Whether the material lets light straight through (`Material::passes_straight`).
-    passes_straight: bool,
-    /// The light chosen for next-event estimation, the probability of that choice and the
-    /// point that samples it (`Path::choose_light`).
-    light: Option<(usize, f32, Vec2)>,
-    u_lobe: f32,
-    u: Vec2,
-}
-
-impl Vertex {
-    /// The light chosen, the hit it is sampled from and the point that samples it.
-    #[inline(always)]
-    fn chosen_light(&self) -> Option<(&Hit, usize, Vec2)> {
-        self.light.map(|(light, _, u)| (&self.hit, light, u))
-    }
-}
-
 /// What a bounce leaves to its caller: next-event estimation's shadow ray and the radiance it
 /// brings if nothing is in the way, and whether the path goes on (along `PathState::ray`).
 pub(super) struct Bounce {
@@ -133,9 +110,8 @@ impl SampleIntegrator for Path {
     }
 
     /// Traces `LANES` paths at a time, bounce by bounce, so that their rays and their shadow
-    /// rays meet the scene together (`Scene::intersect_lanes`, `Scene::occluded_lanes`) and
-    /// their light samples are taken together (`light_samples`); each path's bounce is
-    /// `bounce`'s arrival and leaving, as for one path, so it gets the same radiance, bit for bit.
+    /// rays meet the scene together (`Scene::intersect_lanes`, `Scene::occluded_lanes`); each
+    /// path's bounce is `bounce`, as for one path, so it gets the same radiance, bit for bit.
     /// A finished path's lane takes the next camera sample.
     fn radiance_of_all(
         &self,
@@ -155,18 +131,9 @@ impl SampleIntegrator for Path {
             let found = scene.intersect_lanes(&rays, active);
             let mut shadows = ShadowLanes::new();
             let mut done = [false; LANES];
-            let mut vertices: [Option<Vertex>; LANES] = std::array::from_fn(|_| None);
             for (lane, path) in lanes.paths_mut() {
-                vertices[lane] =
-                    self.arrive(scene, &mut path.state, found.hit(lane), &mut path.sampler);
-                done[lane] = vertices[lane].is_none();
-            }
-            let chosen = vertices.each_ref().map(|v| v.as_ref().and_then(Vertex::chosen_light));
-            let light_samples = light_samples(scene, &found.hits, chosen);
-            for (lane, path) in lanes.paths_mut() {
-                let Some(vertex) = &vertices[lane] else { continue };
                 let bounce =
-                    self.leave(&mut path.state, vertex, light_samples[lane], &mut path.sampler);
+                    self.bounce(scene, &mut path.state, found.hit(lane), &mut path.sampler);
                 if let Some(shadowed) = bounce.shadowed {
                     shadows.set_lane(lane, shadowed);
                 }
@@ -200,28 +167,10 @@ impl Path {
         hit: Option<Hit>,
         sampler: &mut Sampler,
     ) -> Bounce {
-        let Some(vertex) = self.arrive(scene, path, hit, sampler) else {
-            return Bounce { shadowed: None, continues: false };
-        };
-        let light_sample =
-            vertex.chosen_light().and_then(|(hit, light, u)| scene.lights[light].sample(hit, u));
-        self.leave(path, &vertex, light_sample, sampler)
-    }
-
-    /// A bounce's first part: emission found where the path's ray meets the scene (`hit`), or
-    /// what it finds beyond; then, unless the path ends here (`None`), the BSDF there, the
-    /// light chosen to sample and the BSDF's sample values.
-    #[inline(always)]
-    pub(super) fn arrive(
-        &self,
-        scene: &Scene,
-        path: &mut PathState,
-        hit: Option<Hit>,
-        sampler: &mut Sampler,
-    ) -> Option<Vertex> {
+        let ends = Bounce { shadowed: None, continues: false };
         let Some(mut hit) = hit else {
             path.radiance += path.beta * self.beyond(scene, path);
-            return None;
+            return ends;
         };
         let wo = -Vec3::from(path.ray.dir);
         let material = scene.material(hit.primitive, hit.point);
@@ -230,37 +179,21 @@ impl Path {
             path.radiance += path.beta * emitted * self.emission_weight(scene, &hit, path.previous);
         }
         if path.bounces == self.max_depth {
-            return None;
+            return ends;
         }
         let bsdf = scene.shade(&mut hit, wo, &material, TransportMode::Radiance);
         let flags = bsdf.flags();
         let light = if flags.is_non_delta() { self.choose_light(scene, sampler) } else { None };
         let u_lobe = sampler.next_1d_if(flags.chooses_lobe());
         let u = sampler.next_2d();
-        let passes_straight = material.passes_straight();
-        Some(Vertex { hit, wo, bsdf, passes_straight, light, u_lobe, u })
-    }
-
-    /// A bounce's second part, given the light sample of the light the vertex chose: next-event
-    /// estimation's shadow ray and the radiance it brings, the BSDF sample for the next ray,
-    /// and Russian roulette.
-    #[inline(always)]
-    pub(super) fn leave(
-        &self,
-        path: &mut PathState,
-        vertex: &Vertex,
-        light_sample: Option<LightSample>,
-        sampler: &mut Sampler,
-    ) -> Bounce {
-        let Vertex { ref hit, wo, ref bsdf, .. } = *vertex;
         let beta = path.beta;
-        let shadowed = match (vertex.light, light_sample) {
-            (Some((_, probability, _)), Some(sample)) => self
-                .next_event(hit, wo, bsdf, probability, sample)
+        let shadowed = match light {
+            Some((light, probability, u_light)) => self
+                .next_event(scene, &hit, wo, &bsdf, (light, probability), u_light)
                 .map(|(shadow, li)| (shadow, beta * li)),
-            _ => None,
+            None => None,
         };
-        let Some(sample) = bsdf.sample(wo, vertex.u_lobe, vertex.u, LobeFlags::ALL) else {
+        let Some(sample) = bsdf.sample(wo, u_lobe, u, LobeFlags::ALL) else {
             return Bounce { shadowed, continues: false };
         };
         path.beta *= sample.weight;
@@ -270,12 +203,12 @@ impl Path {
         // the light sample of the vertex before, as if the surface were not there.
         let crossed = sample.flags.contains(LobeFlags::TRANSMISSION)
             && sample.is_delta()
-            && vertex.passes_straight;
+            && material.passes_straight();
         if !crossed {
             path.previous = (!sample.is_delta()).then_some((hit.point, sample.pdf));
         }
         path.seen &= sample.is_delta();
-        path.ray = Ray::new(offset_origin(hit, sample.wi), sample.wi);
+        path.ray = Ray::new(offset_origin(&hit, sample.wi), sample.wi);
         if !path.survives_roulette(sampler) {
             return Bounce { shadowed, continues: false };
         }
@@ -346,17 +279,19 @@ impl Path {
         Some((index, probability, u))
     }
 
-    /// Light of `sample`, from a light chosen with `probability`, scattered by `bsdf` at one
-    /// vertex, weighted against BSDF sampling, if its shadow ray is unoccluded.
+    /// Light from `light`, chosen with `probability`, scattered by `bsdf` at one vertex,
+    /// weighted against BSDF sampling, if its shadow ray is unoccluded.
     #[inline(always)]
     fn next_event(
         &self,
+        scene: &Scene,
         hit: &Hit,
         wo: Vec3,
         bsdf: &Bsdf,
-        probability: f32,
-        sample: LightSample,
+        (light, probability): (usize, f32),
+        u: Vec2,
     ) -> Option<(ShadowRay, Vec3)> {
+        let sample = scene.lights[light].sample(hit, u)?;
         let weighed = !sample.is_delta && self.strategy != Strategy::LightSampling;
         let (f, bsdf_pdf) = if weighed {
             bsdf.eval_pdf(wo, sample.wi, LobeFlags::ALL)
