@@ -491,19 +491,6 @@ impl<F: Real> Vector<F> {
     }
 }
 
-/// `ray::offset_origin`, written once: `point` (of geometric `normal` and error bound `error`)
-/// pushed past its error bound along the normal, to the side `dir` goes.
-#[inline(always)]
-pub fn offset_point<F: Real>(
-    point: Vector<F>,
-    normal: Vector<F>,
-    error: F,
-    dir: Vector<F>,
-) -> Vector<F> {
-    let offset = normal * error;
-    Vector::select(normal.dot(dir).ge(F::ZERO), point + offset, point - offset)
-}
-
 /// The hits of four lanes, coordinate by coordinate: the fields of `Hit` that shading reads.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct HitLanes {
@@ -538,7 +525,9 @@ impl HitLanes {
     /// `offset_origin` in lanes.
     #[inline]
     pub fn offset_origin(&self, dir: Vec3Lanes) -> Vec3Lanes {
-        offset_point(self.point, self.normal, self.error, dir)
+        let offset = self.normal * self.error;
+        let outside = self.normal.dot(dir).ge(Floats::ZERO);
+        Vec3Lanes::select(outside, self.point + offset, self.point - offset)
     }
 }
 

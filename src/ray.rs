@@ -3,8 +3,6 @@
 
 use glam::{Vec3, Vec3A};
 
-use crate::lanes::offset_point;
-
 /// A ray `origin + t * dir` with `dir` of unit length. (`Vec3A`, written and read whole: the
 /// traversals read a ray with 16-byte loads, which wait long for a `Vec3` written as three
 /// floats, as the CPU cannot forward those stores to one load.)
@@ -45,5 +43,6 @@ pub struct Hit {
 /// the normal, to the side `dir` goes (pbrt's robust spawning). Scales with the scene, so a scene
 /// scaled by 1000 or 0.001 renders the same.
 pub fn offset_origin(hit: &Hit, dir: Vec3) -> Vec3 {
-    offset_point(hit.point.into(), hit.normal.into(), hit.error, dir.into()).into()
+    let offset = hit.normal * hit.error;
+    if hit.normal.dot(dir) >= 0.0 { hit.point + offset } else { hit.point - offset }
 }

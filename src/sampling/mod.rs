@@ -4,6 +4,4 @@ mod sampler;
 mod warp;
 
 pub use sampler::{PixelSampler, Sampler};
-pub use warp::{
-    concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle, uniform_triangle_of,
-};
+pub use warp::{concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle};

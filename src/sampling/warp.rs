@@ -4,8 +4,6 @@ use std::f32::consts::{FRAC_PI_4, PI};
 
 use glam::{Vec2, Vec3};
 
-use crate::lanes::Real;
-
 /// Shirley–Chiu concentric map onto the unit disk (area-preserving up to a constant).
 #[inline]
 pub fn concentric_disk(u: Vec2) -> Vec2 {
@@ -54,15 +52,8 @@ pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
 /// `a + b1 (b - a) + b2 (c - a)` (the square-root warp).
 #[inline]
 pub fn uniform_triangle(u: Vec2) -> Vec2 {
-    let (s, t) = uniform_triangle_of(u.x, u.y);
-    Vec2::new(s, t)
-}
-
-/// `uniform_triangle` written once over `Real`: for one point or a point per lane.
-#[inline(always)]
-pub fn uniform_triangle_of<F: Real>(ux: F, uy: F) -> (F, F) {
-    let su = ux.sqrt();
-    (F::ONE - su, uy * su)
+    let su = u.x.sqrt();
+    Vec2::new(1.0 - su, u.y * su)
 }
 
 #[cfg(test)]
