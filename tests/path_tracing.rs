@@ -217,13 +217,33 @@ fn error_falls_like_one_over_root_spp() {
     assert!(slope < -0.4 && slope > -1.0, "RMSE {errors:?}, slope {slope}");
 }
 
+/// Lights of every kind a bounce's lanes sample together (point lights, a quad and a triangle
+/// light, the triangle seen from both sides) or one lane at a time (a disk, a sphere), over a
+/// diffuse floor, a glossy wall and a mirror: each lane's light sample must be the one its path
+/// gets alone.
+const EVERY_LIGHT: &str = "settings { max_depth 6 }
+    camera { location <0, 0.5, -3>  look_at <0, 0, 0>  angle 60 }
+    plane { <0, 1, 0>, -1  material { diffuse rgb 0.6 } }
+    plane { <0, 0, -1>, 2  material { specular rgb 0.5  roughness 0.2 } }
+    sphere { <-0.6, -0.6, 0.3>, 0.4  material { specular rgb 0.9 } }
+    light_source { <0, 0.8, 0>  power rgb 1 }
+    light_source { <0.7, 0.2, -0.6>  power rgb <0.2, 0.3, 0.1> }
+    quad { <-0.3, 1.2, -0.3>, <0.6, 0, 0>, <0, 0, 0.6>  material { emission rgb 3 } }
+    triangle { <0.8, -1, 0.5>, <1.2, -1, 0.9>, <1, 0, 0.7>  material { emission rgb 2 } }
+    disk { <-1, 0.5, 1>, <1, 0, -1>, 0.2  material { emission rgb <1, 2, 3> } }
+    sphere { <0.5, 0.6, 1>, 0.1  material { emission rgb 6 } }";
+
 #[test]
 fn paths_traced_together_get_the_radiance_each_gets_alone() {
+    paths_together_match_paths_alone(&common::scene_file("scenes/cornell-specular.scn"), 32);
+    paths_together_match_paths_alone(&scene(EVERY_LIGHT), 6);
+}
+
+fn paths_together_match_paths_alone(scene: &Scene, max_depth: u32) {
     // Lanes share nothing but their tests against the scene: a path's radiance must not depend
     // on which paths it was traced beside (glass and mirrors end paths at different bounces).
     // Every seventh slot has no sample (as where the film is dark): it is left as it was.
-    let scene = common::scene_file("scenes/cornell-specular.scn");
-    let integrator = Path { max_depth: 32, strategy: Strategy::Mis };
+    let integrator = Path { max_depth, strategy: Strategy::Mis };
     let camera_sample = |i: usize| {
         let mut sampler = Sampler::new(9, i as u64 % 4000, i as u64 / 4000);
         let (x, y) = (sampler.next_1d(), sampler.next_1d());
@@ -233,14 +253,14 @@ fn paths_traced_together_get_the_radiance_each_gets_alone() {
     let untouched = Vec3::splat(-1.0);
     let mut together = vec![untouched; count];
     let mut samples = (0..count).filter(|i| i % 7 != 3).map(camera_sample);
-    integrator.radiance_of_all(&scene, &mut samples, &mut together);
+    integrator.radiance_of_all(scene, &mut samples, &mut together);
     for (i, radiance) in together.iter().enumerate() {
         if i % 7 == 3 {
             assert_eq!(*radiance, untouched, "slot {i} has no sample");
             continue;
         }
         let CameraSample { ray, mut sampler, .. } = camera_sample(i);
-        assert_eq!(*radiance, integrator.radiance(&scene, ray, &mut sampler), "sample {i}");
+        assert_eq!(*radiance, integrator.radiance(scene, ray, &mut sampler), "sample {i}");
     }
     assert!(together.iter().filter(|r| r.max_element() > 0.0).count() > count / 2);
 }
