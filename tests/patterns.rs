@@ -268,7 +268,7 @@ fn a_bump_map_tilts_by_its_image_s_gray_differences() {
     // A pigment's options are refused in a bump_map, and bump_size in an image_map.
     let error = |text: &str| parse_scene(&scene, text).map(|_| ()).unwrap_err().to_string();
     let e = error("sphere { 0, 1  normal { bump_map { \"ramp.png\" filter all 0.5 } } }");
-    assert!(e.contains(":1:42") && e.contains("not in a bump_map"), "{e}");
+    assert!(e.contains(":1:47") && e.contains("not in a bump_map"), "{e}");
     let e = error("sphere { 0, 1  pigment { image_map { \"ramp.png\" bump_size 2 } } }");
     assert!(e.contains(":1:49") && e.contains("not in an image_map"), "{e}");
 }
