@@ -2,14 +2,22 @@
 //! height field, and the shading normal tilts against the height's gradient (Blinn 1978). The
 //! height and its gradient live in the object's own space, as textures do.
 
+use std::path::Path;
+use std::sync::Arc;
+
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::field::shaped_value;
-use crate::graph::{FieldShape, NormalNode, NormalPattern, SlopeMap, compose};
+use super::image_map::{Curve, ImageMap, ImageMapError};
+use crate::graph::{FieldShape, ImageLook, NormalNode, NormalPattern, SlopeMap, compose};
 
-/// Half the step of the central differences that take the height's gradient, in pattern space
-/// (patterns vary over about a unit there).
-const STEP: f32 = 1e-3;
+/// POV-Ray's weights of a colour's gray (its `Greyscale`): a bump_map's heights.
+const GRAY: Vec3 = Vec3::new(0.297, 0.589, 0.114);
+
+/// The span of the central differences that take the height's gradient when `accuracy` is not
+/// given, in pattern space (patterns vary over about a unit there; POV-Ray's default, 0.02, is
+/// coarser).
+pub const DEFAULT_ACCURACY: f32 = 2e-3;
 
 #[derive(Debug, Clone)]
 pub struct Bump {
@@ -26,6 +34,8 @@ enum Kind {
         shape: FieldShape,
         amount: f32,
         slopes: SlopeMap,
+        /// Half the span of the differences.
+        step: f32,
     },
     Map {
         shape: FieldShape,
@@ -33,25 +43,51 @@ enum Kind {
     },
     /// Weights normalised to sum to 1.
     Average(Vec<(f32, Bump)>),
+    /// A bump_map: the image's gray as heights.
+    Image {
+        image: Arc<ImageMap>,
+        look: ImageLook,
+        curve: Curve,
+        amount: f32,
+    },
 }
 
 impl Bump {
-    pub fn new(node: &NormalNode) -> Bump {
+    /// Compiles a normal; `load` reads `bump_map` images (errors are the caller's).
+    pub fn new(
+        node: &NormalNode,
+        load: &mut dyn FnMut(&Path) -> Result<Arc<ImageMap>, ImageMapError>,
+    ) -> Result<Bump, ImageMapError> {
+        let entries = |map: &[(f32, NormalNode)],
+                       load: &mut dyn FnMut(&Path) -> Result<Arc<ImageMap>, ImageMapError>|
+         -> Result<Vec<(f32, Bump)>, ImageMapError> {
+            map.iter().map(|(t, n)| Ok((*t, Bump::new(n, load)?))).collect()
+        };
         let kind = match &node.pattern {
-            NormalPattern::Bumps { shape, amount, slopes } => {
-                Kind::Height { shape: (**shape).clone(), amount: *amount, slopes: slopes.clone() }
-            }
-            NormalPattern::Map { shape, map } => Kind::Map {
+            NormalPattern::Bumps { shape, amount, slopes, accuracy } => Kind::Height {
                 shape: (**shape).clone(),
-                map: map.iter().map(|(t, n)| (*t, Bump::new(n))).collect(),
+                amount: *amount,
+                slopes: slopes.clone(),
+                step: 0.5 * accuracy,
             },
+            NormalPattern::Map { shape, map } => {
+                Kind::Map { shape: (**shape).clone(), map: entries(map, load)? }
+            }
             NormalPattern::Average(map) => {
                 let total: f32 = map.iter().map(|(w, _)| w).sum();
-                Kind::Average(map.iter().map(|(w, n)| (w / total, Bump::new(n))).collect())
+                let map = entries(map, load)?.into_iter().map(|(w, b)| (w / total, b)).collect();
+                Kind::Average(map)
             }
+            NormalPattern::Image { path, look, amount } => Kind::Image {
+                image: load(path)?,
+                look: *look,
+                curve: Curve::new(look.gamma),
+                amount: *amount,
+            },
         };
         let to_pattern = compose(&node.transforms).inverse();
-        Bump { kind, to_pattern, gradient_to_object: Mat3::from(to_pattern.matrix3).transpose() }
+        let gradient_to_object = Mat3::from(to_pattern.matrix3).transpose();
+        Ok(Bump { kind, to_pattern, gradient_to_object })
     }
 
     /// The gradient of the displacement at `p` (object space), in object space: the shading
@@ -59,9 +95,9 @@ impl Bump {
     pub fn gradient(&self, p: Vec3) -> Vec3 {
         let q = self.to_pattern.transform_point3(p);
         let in_pattern = match &self.kind {
-            Kind::Height { shape, amount, slopes } => {
+            Kind::Height { shape, amount, slopes, step } => {
                 let height = |q: Vec3| profile(slopes, shaped_value(shape, q));
-                let axis = |d: Vec3| (height(q + d * STEP) - height(q - d * STEP)) / (2.0 * STEP);
+                let axis = |d: Vec3| (height(q + d * *step) - height(q - d * *step)) / (2.0 * step);
                 return self.gradient_to_object
                     * Vec3::new(axis(Vec3::X), axis(Vec3::Y), axis(Vec3::Z))
                     * *amount;
@@ -75,6 +111,14 @@ impl Bump {
                 a + (map[j].1.gradient(q) - a) * s
             }
             Kind::Average(map) => map.iter().map(|(w, b)| b.gradient(q) * *w).sum(),
+            Kind::Image { image, look, curve, amount } => {
+                // Central differences a texel wide (bilinear heights are linear across it).
+                let height = |q: Vec3| image.sample(q, look, curve).dot(GRAY);
+                let (du, dv) = image.texel();
+                let axis = |d: Vec3| (height(q + d * 0.5) - height(q - d * 0.5)) / d.length();
+                let step = du.min(dv);
+                Vec3::new(axis(Vec3::X * du), axis(Vec3::Y * dv), axis(Vec3::Z * step)) * *amount
+            }
         };
         // The entries' gradients are in this node's pattern space.
         self.gradient_to_object * in_pattern
@@ -126,8 +170,14 @@ pub fn tilt(shading: Vec3, gradient: Vec3, geometric: Vec3, wo: Vec3) -> Vec3 {
 
 #[cfg(test)]
 mod tests {
+    use std::f32::consts::{PI, TAU};
+
     use super::*;
     use crate::graph::{Field, Transform, Wave};
+
+    fn compile(node: &NormalNode) -> Bump {
+        Bump::new(node, &mut |_| unreachable!("no image")).unwrap()
+    }
 
     fn gradient_x(amount: f32, transforms: Vec<Transform>) -> Bump {
         let shape = FieldShape {
@@ -138,8 +188,13 @@ mod tests {
             frequency: 1.0,
             phase: 0.0,
         };
-        Bump::new(&NormalNode {
-            pattern: NormalPattern::Bumps { shape: Box::new(shape), amount, slopes: Vec::new() },
+        compile(&NormalNode {
+            pattern: NormalPattern::Bumps {
+                shape: Box::new(shape),
+                amount,
+                slopes: Vec::new(),
+                accuracy: DEFAULT_ACCURACY,
+            },
             transforms,
         })
     }
@@ -153,6 +208,39 @@ mod tests {
             .gradient(Vec3::new(0.6, 0.2, 0.7));
         assert!((g - Vec3::new(0.25, 0.0, 0.0)).length() < 1e-3, "{g}");
         assert_eq!(gradient_x(0.0, Vec::new()).gradient(Vec3::splat(0.4)), Vec3::ZERO);
+    }
+
+    /// The gradient is a central difference `accuracy` wide: across a sine wave of period 1
+    /// (0.5 + 0.5 sin 2πx) it is cos(2πx) sin(πh) / h for a span h, the derivative π cos(2πx)
+    /// as h shrinks.
+    #[test]
+    fn accuracy_is_the_span_of_the_differences() {
+        let sine = |accuracy: f32| {
+            let shape = FieldShape {
+                field: Field::Gradient(Vec3::X),
+                turbulence: None,
+                warps: Vec::new(),
+                wave: Wave::Sine,
+                frequency: 1.0,
+                phase: 0.0,
+            };
+            let pattern = NormalPattern::Bumps {
+                shape: Box::new(shape),
+                amount: 1.0,
+                slopes: Vec::new(),
+                accuracy,
+            };
+            compile(&NormalNode { pattern, transforms: Vec::new() })
+        };
+        for x in [0.1f32, 0.3, 0.45] {
+            let p = Vec3::new(x, 0.2, 0.3);
+            let expected = |h: f32| (TAU * x).cos() * (PI * h).sin() / h;
+            for h in [0.5, 0.2, DEFAULT_ACCURACY] {
+                let g = sine(h).gradient(p);
+                assert!((g.x - expected(h)).abs() < 1e-3, "h {h} at {x}: {g}");
+                assert_eq!((g.y, g.z), (0.0, 0.0));
+            }
+        }
     }
 
     #[test]
@@ -170,10 +258,11 @@ mod tests {
                 shape: Box::new(FieldShape { field: Field::Gradient(Vec3::X), ..shape.clone() }),
                 amount,
                 slopes: Vec::new(),
+                accuracy: DEFAULT_ACCURACY,
             },
             transforms: Vec::new(),
         };
-        let map = Bump::new(&NormalNode {
+        let map = compile(&NormalNode {
             pattern: NormalPattern::Map {
                 shape: Box::new(shape.clone()),
                 map: vec![(0.0, entry(0.0)), (1.0, entry(1.0))],
