@@ -255,14 +255,14 @@ fn a_bump_map_tilts_by_its_image_s_gray_differences() {
     let bump = normal("bump_size 2");
     let slope = 2.0 * (16.0 / 255.0) / (1.0 / 16.0);
     for x in [0.2f32, 0.37, 0.5, 0.81] {
-        let g = bump.gradient(Vec3::new(x, 0.3, 0.7));
+        let g = bump.perturbation(Vec3::new(x, 0.3, 0.7), Vec3::Z);
         assert!((g - Vec3::new(slope, 0.0, 0.0)).length() < 1e-4, "at x {x}: {g}, not {slope}");
         // The image repeats over the x-y plane (map_type 0).
-        assert!((bump.gradient(Vec3::new(x + 3.0, -5.3, 2.0)) - g).length() < 1e-4);
+        assert!((bump.perturbation(Vec3::new(x + 3.0, -5.3, 2.0), Vec3::Z) - g).length() < 1e-4);
     }
-    assert_eq!(normal("bump_size 0").gradient(Vec3::new(0.4, 0.3, 0.0)), Vec3::ZERO);
+    assert_eq!(normal("bump_size 0").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z), Vec3::ZERO);
     assert!(
-        (normal("").gradient(Vec3::new(0.4, 0.3, 0.0)).x - slope / 2.0).abs() < 1e-4,
+        (normal("").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z).x - slope / 2.0).abs() < 1e-4,
         "bump_size 1"
     );
     // A pigment's options are refused in a bump_map, and bump_size in an image_map.

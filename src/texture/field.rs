@@ -274,14 +274,8 @@ fn hexagon(p: Vec2) -> f32 {
 /// ripples' sines, waves' cosines fading with distance; their sum over its spread (that of a
 /// sum of waves of random phases) mapped to [0, 1].
 fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
-    const SOURCES: u32 = 10;
     let (mut sum, mut spread) = (0.0, 0.0);
-    for i in 0..SOURCES {
-        let source = Vec3::new(
-            cell_random(IVec3::ZERO, 10 + 3 * i),
-            cell_random(IVec3::ZERO, 11 + 3 * i),
-            cell_random(IVec3::ZERO, 12 + 3 * i),
-        );
+    for source in wave_sources() {
         let d = q.distance(source);
         let crest = TAU * (d * frequency + phase);
         let weight = if *field == Field::Waves { 1.0 / (1.0 + d) } else { 1.0 };
@@ -289,6 +283,17 @@ fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
         spread += weight * weight;
     }
     (0.5 + 0.25 * sum / spread.sqrt()).clamp(0.0, 1.0)
+}
+
+/// The ten fixed sources of ripples and waves, in the unit cube.
+pub fn wave_sources() -> impl ExactSizeIterator<Item = Vec3> {
+    (0..10).map(|i| {
+        Vec3::new(
+            cell_random(IVec3::ZERO, 10 + 3 * i),
+            cell_random(IVec3::ZERO, 11 + 3 * i),
+            cell_random(IVec3::ZERO, 12 + 3 * i),
+        )
+    })
 }
 
 #[cfg(test)]
