@@ -153,6 +153,9 @@ pub struct CameraDesc {
     pub aperture: f32,
     /// Distance along the view direction that is in focus; `None` means the image plane's.
     pub focal_distance: Option<f32>,
+    /// POV-Ray's `normal { }` in a camera: each ray's direction tilted as a bumped surface's
+    /// normal is, by the pattern at the image position (x - 1/2, 1/2 - y, 0).
+    pub normal: Option<NormalNode>,
     pub span: Span,
 }
 
