@@ -1,5 +1,7 @@
 //! The camera: the lab's image-plane form, to which POV-Ray's `look_at` form is converted.
 
+use std::sync::Arc;
+
 use glam::{Vec2, Vec3};
 
 use crate::diagnostic::SceneError;
@@ -7,10 +9,11 @@ use crate::geometry::Ray;
 use crate::graph::{CameraDesc, CameraForm};
 use crate::projection::{Frame, Projection};
 use crate::sampling::concentric_disk;
+use crate::texture::{Bump, ImageMap, tilt};
 
 /// Rays leave `origin` through `origin + forward + a * left + b * up`, a, b in [-1, 1]:
 /// a = 1 is the image's left edge (column 0), b = 1 its top edge (row 0).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Camera {
     pub origin: Vec3,
     pub left: Vec3,
@@ -20,6 +23,8 @@ pub struct Camera {
     pub aperture: f32,
     pub focal_distance: f32,
     pub kind: CameraKind,
+    /// POV-Ray's camera `normal { }`: the rays' directions tilted by it.
+    pub bump: Option<Bump>,
 }
 
 /// How rays leave the camera.
@@ -99,7 +104,15 @@ impl Camera {
             CameraForm::Lab { .. } | CameraForm::LookAt { .. } => CameraKind::Perspective,
         };
         let aperture = desc.aperture;
-        let camera = Camera { origin, left, up, forward, aperture, focal_distance, kind };
+        let bump = match &desc.normal {
+            Some(normal) => Some(
+                Bump::new(normal, &mut |path| ImageMap::load(path).map(Arc::new)).map_err(|e| {
+                    SceneError::at(&desc.span, format!("cannot read the camera's bump_map: {e}"))
+                })?,
+            ),
+            None => None,
+        };
+        let camera = Camera { origin, left, up, forward, aperture, focal_distance, kind, bump };
         Ok((camera, warnings))
     }
 
@@ -108,6 +121,20 @@ impl Camera {
     /// not `see`, the projection's formula continued.)
     #[inline]
     pub fn ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
+        let ray = self.straight_ray(x, y, lens);
+        let Some(bump) = &self.bump else {
+            return ray;
+        };
+        // As POV-Ray's camera normal: the unit direction perturbed as a surface normal is, by
+        // the pattern at the image position with x to the right and y up, centred.
+        let dir = Vec3::from(ray.dir);
+        let by = bump.perturbation(Vec3::new(x - 0.5, 0.5 - y, 0.0), dir);
+        Ray::new(ray.origin.into(), tilt(dir, by, dir, dir))
+    }
+
+    /// `ray` before the camera's `normal`.
+    #[inline]
+    fn straight_ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
         match &self.kind {
             CameraKind::Perspective => {}
             CameraKind::Orthographic => {

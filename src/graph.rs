@@ -153,6 +153,9 @@ pub struct CameraDesc {
     pub aperture: f32,
     /// Distance along the view direction that is in focus; `None` means the image plane's.
     pub focal_distance: Option<f32>,
+    /// POV-Ray's `normal { }` in a camera: each ray's direction tilted as a bumped surface's
+    /// normal is, by the pattern at the image position (x - 1/2, 1/2 - y, 0).
+    pub normal: Option<NormalNode>,
     pub span: Span,
 }
 
@@ -552,12 +555,16 @@ pub struct NormalNode {
 #[derive(Debug, Clone, PartialEq)]
 pub enum NormalPattern {
     /// The surface is displaced by `amount` times the pattern's value (through the slope map's
-    /// heights, if any): the normal tilts against the value's gradient.
-    Bumps { shape: Box<FieldShape>, amount: f32, slopes: SlopeMap },
+    /// heights, if any): the normal tilts against the value's gradient, taken by central
+    /// differences `accuracy` apart in pattern space (POV-Ray's `accuracy`).
+    Bumps { shape: Box<FieldShape>, amount: f32, slopes: SlopeMap, accuracy: f32 },
     /// `normal_map`: the entries' perturbations, interpolated by the pattern's value.
     Map { shape: Box<FieldShape>, map: Vec<(f32, NormalNode)> },
     /// `average`: the weighted mean of the entries' perturbations.
     Average(Vec<(f32, NormalNode)>),
+    /// `bump_map`: displaced by `amount` times the image's gray (0.297 r + 0.589 g + 0.114 b)
+    /// where the image lies (`look`'s projection; bilinear), its gradient taken across a texel.
+    Image { path: PathBuf, look: ImageLook, amount: f32 },
 }
 
 /// `slope_map { [position <height, slope>] }`: a height profile over the pattern's value,
@@ -644,8 +651,11 @@ pub enum Field {
     Cells,
     /// 0 where floor(x) + floor(y) + floor(z) is even, else 1.
     Checker,
-    /// Voronoi cells of one random point per unit cube: second-nearest minus nearest distance.
-    Crackle,
+    /// Voronoi cells of one random point per unit cube: `form` weighs the distances to the
+    /// nearest, second and third nearest points, each measured in the `metric` (the m-norm,
+    /// (|dx|^m + |dy|^m + |dz|^m + offset)^(1/m)); `solid`: the nearest point's cell's random
+    /// value instead.
+    Crackle(Crackle),
     /// Noise cubed.
     Dents,
     /// frac(p . axis), `axis` a unit vector.
@@ -697,6 +707,20 @@ pub enum Field {
     Wood,
     /// Ten octaves of |noise| (sharp creases).
     Wrinkles,
+}
+
+/// POV-Ray's crackle parameters (defaults: form <-1, 1, 0>, metric 2, offset 0, not solid).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Crackle {
+    pub form: Vec3,
+    pub metric: f32,
+    pub offset: f32,
+    pub solid: bool,
+}
+
+impl Crackle {
+    pub const DEFAULT: Crackle =
+        Crackle { form: Vec3::new(-1.0, 1.0, 0.0), metric: 2.0, offset: 0.0, solid: false };
 }
 
 /// POV-Ray's `turbulence amount octaves omega lambda`.

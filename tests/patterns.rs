@@ -138,9 +138,10 @@ fn pattern_maps_interpolate_between_their_entries() {
 }
 
 /// POV-Ray's manual: `checker texture { A } texture { B }` (and `brick`, `hexagon`) takes
-/// textures where the colours stand; `tiles { A tile2 B }` is the old name of `checker`'s.
+/// textures where the colours stand, and `checker pigment { A } pigment { B }` pigments;
+/// `tiles { A tile2 B }` is the old name of `checker`'s.
 #[test]
-fn block_patterns_and_tiles_take_textures_in_place_of_colours() {
+fn block_patterns_and_tiles_take_textures_and_pigments_in_place_of_colours() {
     let finish = "finish { diffuse 1 ambient 0 }";
     let red = format!("texture {{ pigment {{ rgb <1, 0, 0> }} {finish} }}");
     let blue = format!("texture {{ pigment {{ rgb <0, 0, 1> }} {finish} }}");
@@ -148,15 +149,38 @@ fn block_patterns_and_tiles_take_textures_in_place_of_colours() {
     let plain = pov(&format!(
         "box {{ -100, 100  pigment {{ checker rgb <1, 0, 0>, rgb <0, 0, 1> }} {finish} }}"
     ));
+    let pigments = pov(&format!(
+        "#declare Red = pigment {{ rgb <1, 0, 0> }}
+         box {{ -100, 100  pigment {{ checker pigment {{ Red }}, pigment {{ rgb <0, 0, 1> }} }}
+           {finish} }}"
+    ));
     let tiles = pov(&format!("box {{ -100, 100  texture {{ tiles {{ {red} tile2 {blue} }} }} }}"));
     let mut seen = Vec::new();
     for p in POINTS.iter().chain(&[Vec3::new(1.5, 0.5, 0.5), Vec3::new(0.5, 0.5, 0.5)]) {
         let c = kd(&checker, *p);
         assert_eq!(c, kd(&plain, *p), "as the pigment's checker at {p}");
+        assert_eq!(c, kd(&pigments, *p), "pigments as colours at {p}");
         assert_eq!(c, kd(&tiles, *p), "tiles as checker at {p}");
         seen.push(c);
     }
     assert!(seen.contains(&Vec3::X) && seen.contains(&Vec3::Z), "both textures show: {seen:?}");
+    // A patterned pigment in a block: brick's mortar is the first (a gradient along x), the
+    // brick the second; each keeps its own transforms.
+    let brick = pov(&format!(
+        "box {{ -100, 100  pigment {{ brick pigment {{ gradient x scale 4 }} pigment {{ rgb 1 }} }}
+           {finish} }}"
+    ));
+    assert_eq!(kd(&brick, Vec3::new(2.0, 1.5, 1.0)), Vec3::ONE, "in a brick");
+    let mortar = kd(&brick, Vec3::new(1.0, 0.1, 1.0));
+    assert!((mortar - Vec3::splat(0.25)).abs().max_element() < 1e-4, "mortar: {mortar}");
+    // A pigment in a pigment stands only after a block pattern.
+    let refused = parse_scene(
+        Path::new("tests/inline.pov"),
+        "box { -1, 1  pigment { bozo pigment { rgb 1 } } }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(refused.contains(":1:24") && refused.contains("pigment_map"), "{refused}");
     // A pattern that takes a map refuses textures, where it is written.
     let refused = parse_scene(
         Path::new("tests/inline.pov"),
@@ -183,6 +207,70 @@ fn a_bump_of_amount_zero_changes_nothing_bit_for_bit() {
     assert_eq!(plain.pixels, zero.pixels);
     let bumped = common::render_image(&scene("normal { bumps 1  scale 0.1 }"));
     assert_ne!(plain.pixels, bumped.pixels, "a bump of amount 1 shows");
+    // So for a bump_map.
+    let (_dir, image) = checker_image();
+    let bump_map =
+        |size: f32| format!("normal {{ bump_map {{ \"{image}\" bump_size {size} }} scale 0.5 }}");
+    assert_eq!(plain.pixels, common::render_image(&scene(&bump_map(0.0))).pixels);
+    assert_ne!(plain.pixels, common::render_image(&scene(&bump_map(0.2))).pixels);
+}
+
+/// An 8 × 8 PNG of 2 × 2 texel squares, black and white, in a folder of its own: its path.
+fn checker_image() -> (tempfile::TempDir, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("checker.png");
+    image::GrayImage::from_fn(8, 8, |x, y| {
+        image::Luma([if (x / 2 + y / 2) % 2 == 0 { 0 } else { 255 }])
+    })
+    .save(&path)
+    .unwrap();
+    let path = path.to_str().expect("a UTF-8 path").to_string();
+    (dir, path)
+}
+
+/// `bump_map`: the image's gray is the height, bilinear between texel centres; the gradient is
+/// the height's difference across one texel per texel width, times `bump_size`, as POV-Ray's
+/// bump_map tilts by neighbouring texels' differences.
+#[test]
+fn a_bump_map_tilts_by_its_image_s_gray_differences() {
+    use std::sync::Arc;
+    let dir = tempfile::tempdir().unwrap();
+    // Gray 0, 16, ..., 240 along x, one row: with `gamma 1` heights i·16/255.
+    image::GrayImage::from_fn(16, 1, |x, _| image::Luma([(x * 16) as u8]))
+        .save(dir.path().join("ramp.png"))
+        .unwrap();
+    let scene = dir.path().join("scene.pov");
+    let normal = |options: &str| {
+        let text = format!(
+            "sphere {{ 0, 1  normal {{ bump_map {{ png \"ramp\" gamma 1 {options} }} }} }}"
+        );
+        let graph = parse_scene(&scene, &text).unwrap_or_else(|e| panic!("{e}"));
+        let node =
+            graph.objects[0].material.as_ref().and_then(|m| m.normal.clone()).expect("a normal");
+        raydiance::texture::Bump::new(&node, &mut |path| {
+            raydiance::texture::ImageMap::load(path).map(Arc::new)
+        })
+        .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let bump = normal("bump_size 2");
+    let slope = 2.0 * (16.0 / 255.0) / (1.0 / 16.0);
+    for x in [0.2f32, 0.37, 0.5, 0.81] {
+        let g = bump.perturbation(Vec3::new(x, 0.3, 0.7), Vec3::Z);
+        assert!((g - Vec3::new(slope, 0.0, 0.0)).length() < 1e-4, "at x {x}: {g}, not {slope}");
+        // The image repeats over the x-y plane (map_type 0).
+        assert!((bump.perturbation(Vec3::new(x + 3.0, -5.3, 2.0), Vec3::Z) - g).length() < 1e-4);
+    }
+    assert_eq!(normal("bump_size 0").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z), Vec3::ZERO);
+    assert!(
+        (normal("").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z).x - slope / 2.0).abs() < 1e-4,
+        "bump_size 1"
+    );
+    // A pigment's options are refused in a bump_map, and bump_size in an image_map.
+    let error = |text: &str| parse_scene(&scene, text).map(|_| ()).unwrap_err().to_string();
+    let e = error("sphere { 0, 1  normal { bump_map { \"ramp.png\" filter all 0.5 } } }");
+    assert!(e.contains(":1:47") && e.contains("not in a bump_map"), "{e}");
+    let e = error("sphere { 0, 1  pigment { image_map { \"ramp.png\" bump_size 2 } } }");
+    assert!(e.contains(":1:49") && e.contains("not in an image_map"), "{e}");
 }
 
 #[test]
@@ -195,6 +283,9 @@ fn a_strongly_bumped_white_object_in_a_white_furnace_creates_no_energy() {
         ("ripples 0.5  frequency 10", 0.6),
         ("bumps 0.1  scale 0.2", 0.9),
     ];
+    let (_dir, image) = checker_image();
+    let bump_map = format!("bump_map {{ \"{image}\" bump_size 0.1 }} scale 0.5");
+    let cases = cases.into_iter().chain([(bump_map.as_str(), 0.6)]);
     for (normal, lowest) in cases {
         let s = common::scene(&format!(
             "settings {{ resolution 20, 20  samples 64  max_depth 50  background rgb 1 }}

@@ -138,15 +138,15 @@ fn normal_is_bump_mapping_and_srgb_is_decoded() {
     let m = bumped.objects[0].material.as_ref().unwrap();
     assert!(m.normal.is_some(), "bumps: bump mapping");
     assert!(bumped.warnings.iter().all(|w| !w.contains("`normal`")), "{:?}", bumped.warnings);
-    // A normal raydiance does not read (an image's bumps) is read whole, with a warning.
-    let graph = pov(
-        "sphere { 0, 1 pigment { srgb <1, 0.5, 0> } finish { diffuse 1 } normal { bump_map { png \"b.png\" } } }",
-    );
-    assert!(
-        graph.warnings.iter().any(|w| w.contains("`normal`") && w.contains(":1:")),
-        "{:?}",
-        graph.warnings
-    );
+    // An image's bumps (`bump_map`) are read too: a missing file is refused where it is named.
+    let missing = parse_scene(
+        Path::new("tests/inline.pov"),
+        "sphere { 0, 1 normal { bump_map { png \"b.png\" } } }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(missing.contains(":1:39:") && missing.contains("b.png"), "{missing}");
+    let graph = pov("sphere { 0, 1 pigment { srgb <1, 0.5, 0> } finish { diffuse 1 } }");
     let m = graph.objects[0].material.as_ref().unwrap();
     let Pattern::Solid(c) = m.diffuse.pattern else { panic!() };
     assert!((c.y - 0.214_041).abs() < 1e-5, "sRGB 0.5 is linear 0.214: {c}");

@@ -97,6 +97,24 @@ fn angle_sets_the_horizontal_field_of_view_from_right() {
 }
 
 #[test]
+fn a_camera_normal_tilts_each_ray_by_its_pattern_at_the_image_position() {
+    let view = "location 0 right 2*x up y angle 90 look_at z";
+    let straight = camera_of_pov(&format!("camera {{ {view} }}"));
+    // Through (u, v) = (0.75, 0.25) the pattern is read at (0.25, 0.25, 0), where `gradient y`
+    // rises with slope 1 along y and `gradient x` along x: amount 0.5 tilts by 2/15 of those
+    // gradients (POV-Ray's strength, docs/language.md).
+    let d = towards(&straight, 0.75, 0.25);
+    let k = 0.5 * 2.0 / 15.0;
+    for (pattern, gradient) in [("gradient y", Vec3::Y * k), ("gradient x", Vec3::X * k)] {
+        let bent = camera_of_pov(&format!("camera {{ {view} normal {{ {pattern} 0.5 }} }}"));
+        // As a surface normal is perturbed: minus the gradient's part across the direction.
+        let expected = (d - (gradient - d * gradient.dot(d))).normalize();
+        let got = towards(&bent, 0.75, 0.25);
+        assert!((got - expected).length() < 1e-3, "{pattern}: {got} against {expected}");
+    }
+}
+
+#[test]
 fn sky_tilts_the_camera() {
     let camera = camera_of_pov("camera { location 0 sky x look_at z }");
     // With sky x, up is x and right is x cross z = -y (the image turned a quarter).

@@ -389,14 +389,19 @@ sphere { 0, 1 pigment { Col_Glass_Ruby } finish { F_Glass1 } interior { I_Glass_
 #include "stones.inc"
 sphere { 0, 1 texture { T_Grnt0 finish { diffuse 1 } } }
 sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
+sphere { 0, 1 texture { T_Grnt6a scale <1, 3, 2> rotate <0, 0, 40> } }
+sphere { 0, 1 texture { T_Grnt9a scale <3.5, 5, 4> rotate <0, 0, 60> } }
 #if (g1.red != 0.26 | g1.green != 0.41 | g1.blue != 0.31) #error "T_Grnt21's green" #end
 "#);
-        let texture = |i: usize| {
-            let material = graph.objects[i].material.clone().expect("a material");
-            let texture =
-                crate::texture::Texture::new(&material.diffuse, &mut |_| unreachable!("no image"));
+        let material = |i: usize| graph.objects[i].material.clone().expect("a material");
+        let eval = |node: &crate::graph::TextureNode| {
+            let texture = crate::texture::Texture::new(node, &mut |_| unreachable!("no image"));
             texture.expect("a texture without images")
         };
+        let texture = |i: usize| eval(&material(i).diffuse);
+        // A layer's light through (filter + transmit), grey.
+        let through =
+            |i: usize| eval(&material(i).pigment.clone().expect("a see-through pigment").through);
         // T_Grnt0's granite runs through five colours, back to the first: every value lies on
         // the line between two successive ones.
         let map = [
@@ -417,12 +422,23 @@ sphere { 0, 1 texture { T_Stone7 finish { diffuse 1 } } }
             });
             assert!(on_the_map, "{seen}");
         }
-        // T_Stone7 is its base layer: colors.inc's Salmon, everywhere.
-        let salmon = texture(1).eval(glam::Vec3::new(0.3, -0.2, 0.7));
-        assert!(
-            (salmon - glam::Vec3::new(0.435294, 0.258824, 0.258824)).abs().max_element() < 1e-6,
-            "{salmon}"
-        );
+        // T_Stone7 is colors.inc's Salmon under T_Grnt6a's and T_Grnt9a's see-through veins:
+        // each layer's colour c shows with weight 1 - t, the one under it with t (its transmit).
+        let salmon = glam::Vec3::new(0.435294, 0.258824, 0.258824);
+        let (stone, veins, top) = (texture(1), [texture(2), texture(3)], [through(2), through(3)]);
+        let mut salmon_seen = 0.0f32;
+        for i in 0..200 {
+            let p = glam::Vec3::new(i as f32 * 0.037, 0.5, i as f32 * -0.023);
+            let expected = veins.iter().zip(&top).fold(salmon, |under, (colour, through)| {
+                let t = through.eval(p).x;
+                colour.eval(p) * (1.0 - t) + under * t
+            });
+            let seen = stone.eval(p);
+            assert!((seen - expected).abs().max_element() < 1e-5, "{seen} {expected}");
+            salmon_seen = salmon_seen.max(top[0].eval(p).x * top[1].eval(p).x);
+        }
+        // The veins let some of the salmon show (and the test would see a wrong weight).
+        assert!(salmon_seen > 0.3, "{salmon_seen}");
     }
 
     /// The colour (times POV-Ray's default `diffuse` 0.6) of the texture of `scene`'s object.

@@ -458,6 +458,7 @@ fn describe(rule: Rule) -> &'static str {
             "a height field's image (`png \"file.png\"`)"
         }
         Rule::pov_image_map => "`image_map`",
+        Rule::bump_map | Rule::bump_map_word => "`bump_map`",
         Rule::image_option | Rule::image_option_word | Rule::image_all => {
             "an image_map option (`map_type`, `once`, `interpolate`, `gamma`, `filter`, `transmit`)"
         }

@@ -113,9 +113,10 @@ pub enum Item {
     },
     /// A value standing alone (a macro's body such as `(X * X)`).
     Value(Expr),
-    /// POV-Ray's `image_map { [type] "file" options }` in a pigment (`.pov`): the file's
-    /// name and the options (`PovParam`s: `map_type`, `once`, `interpolate`, `gamma`, `filter`,
-    /// `transmit`, `filter all`, `transmit all`, ...).
+    /// POV-Ray's `image_map { [type] "file" options }` in a pigment (`.pov`), or `bump_map {
+    /// }` in a normal: the file's name and the options (`PovParam`s: `map_type`, `once`,
+    /// `interpolate`, `gamma`, `filter`, `transmit`, `filter all`, `transmit all`, `bump_size`,
+    /// ...).
     ImageMap {
         file: Expr,
         options: Vec<Item>,

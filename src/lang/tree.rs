@@ -717,8 +717,10 @@ impl Builder {
                 };
                 Item::PovParam { key, value, items: Vec::new() }
             }
-            Rule::pov_image_map => {
-                self.pov_only(&inner_pair(&pair), Some("pigment"))?;
+            Rule::pov_image_map | Rule::bump_map => {
+                if pair.as_rule() == Rule::pov_image_map {
+                    self.pov_only(&inner_pair(&pair), Some("pigment"))?;
+                }
                 self.enter(&pair)?;
                 let mut inner = pair.into_inner().skip(1).peekable();
                 // The file's type names no decoder: the file's own bytes say what it is.

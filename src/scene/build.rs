@@ -589,26 +589,33 @@ impl Flattener {
         if let Some(&index) = self.material_index.get(&key) {
             return Ok(index);
         }
-        let texture = match desc {
-            Some(d) => {
-                let images = &mut self.images;
-                // Keyed by the file itself, however the scene names it.
-                let mut load = |path: &Path| {
-                    let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-                    match images.get(&file) {
-                        Some(image) => Ok(image.clone()),
-                        None => {
-                            let image = Arc::new(ImageMap::load(path)?);
-                            images.insert(file, image.clone());
-                            Ok(image)
-                        }
-                    }
-                };
-                SurfaceTexture::new(d, &mut load).map_err(|e| {
-                    SceneError::at(&d.span, format!("cannot read the image_map: {e}"))
-                })?
+        let images = &mut self.images;
+        // Keyed by the file itself, however the scene names it.
+        let mut load = |path: &Path| {
+            let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+            match images.get(&file) {
+                Some(image) => Ok(image.clone()),
+                None => {
+                    let image = Arc::new(ImageMap::load(path)?);
+                    images.insert(file, image.clone());
+                    Ok(image)
+                }
             }
-            None => None,
+        };
+        let (texture, bump) = match desc {
+            Some(d) => {
+                let texture = SurfaceTexture::new(d, &mut load).map_err(|e| {
+                    SceneError::at(&d.span, format!("cannot read the image_map: {e}"))
+                })?;
+                let bump = match &d.normal {
+                    Some(normal) => Some(Bump::new(normal, &mut load).map_err(|e| {
+                        SceneError::at(&d.span, format!("cannot read the bump_map: {e}"))
+                    })?),
+                    None => None,
+                };
+                (texture, bump)
+            }
+            None => (None, None),
         };
         if let Some(d) = desc {
             // Given but unused parameters are reported (warnings: the language allows them).
@@ -641,7 +648,7 @@ impl Flattener {
         let index = self.materials.len() as u32;
         self.materials.push(desc.map_or_else(Material::default, |d| Material::from(&**d)));
         self.textures.push(texture);
-        self.bumps.push(desc.and_then(|d| d.normal.as_ref()).map(Bump::new));
+        self.bumps.push(bump);
         let interior = desc.and_then(|d| d.interior.as_ref()).map(|interior| {
             self.media.push(medium(interior));
             self.medium_spans.push(interior.span.clone());

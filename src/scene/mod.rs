@@ -346,10 +346,15 @@ impl Scene {
     /// bumps there.
     fn bumped(&self, bump: &Bump, frame: u32, hit: &Hit, wo: Vec3) -> Option<Vec3> {
         let to_object = &self.frames[frame as usize];
-        let gradient = bump.gradient(to_object.transform_point3(hit.point));
-        // A gradient is a covector: to world space by the transpose of world-to-object.
-        let gradient = glam::Mat3::from(to_object.matrix3).transpose() * gradient;
-        let shading_normal = tilt(hit.shading_normal, gradient, hit.normal, wo);
+        // The object's transform is the pattern's outermost one (POV-Ray transforms textures
+        // with their objects): the normal goes to object space by the inverse transpose of
+        // world-to-object's linear part B, unit there, and its tilt back by B^T, times the
+        // normal's length there (`Bump::perturbation`).
+        let tilt_to_world = glam::Mat3::from(to_object.matrix3).transpose();
+        let normal = tilt_to_world.inverse() * hit.shading_normal;
+        let length = normal.length();
+        let by = bump.perturbation(to_object.transform_point3(hit.point), normal / length);
+        let shading_normal = tilt(hit.shading_normal, tilt_to_world * by * length, hit.normal, wo);
         (shading_normal != hit.shading_normal).then_some(shading_normal)
     }
 

@@ -10,7 +10,7 @@ use super::BOUNDARY_NUDGE;
 use super::fractal::fractal;
 use super::noise::{Octaves, cell_random, noise};
 use super::warp::warped;
-use crate::graph::{Field, FieldShape, Turbulence, Wave};
+use crate::graph::{Crackle, Field, FieldShape, Turbulence, Wave};
 
 /// The shaped value of a pattern at `p` (pattern space), in [0, 1].
 pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
@@ -25,7 +25,7 @@ pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
         | Field::Bozo
         | Field::Bumps
         | Field::Cells
-        | Field::Crackle
+        | Field::Crackle(_)
         | Field::Dents
         | Field::Function(_)
         | Field::Gradient(_)
@@ -58,7 +58,7 @@ pub fn default_wave(field: &Field) -> Wave {
         | Field::Bumps
         | Field::Cells
         | Field::Checker
-        | Field::Crackle
+        | Field::Crackle(_)
         | Field::Dents
         | Field::Function(_)
         | Field::Gradient(_)
@@ -123,7 +123,7 @@ fn raw(field: &Field, q: Vec3, shape: &FieldShape) -> f32 {
             let cell = (q + BOUNDARY_NUDGE).floor();
             (cell.x + cell.y + cell.z).rem_euclid(2.0)
         }
-        Field::Crackle => crackle(q),
+        Field::Crackle(parameters) => crackle(q, parameters),
         Field::Dents => noise(q).powi(3),
         Field::Function(function) => {
             let v = function.0.value(q.as_dvec3()) as f32;
@@ -213,27 +213,44 @@ fn brick(q: Vec3, size: Vec3, mortar: f32) -> f32 {
     if in_mortar { 0.0 } else { 1.0 }
 }
 
-/// One random feature point per unit cube; the second-nearest minus the nearest distance.
-fn crackle(q: Vec3) -> f32 {
+/// One random feature point per unit cube (POV-Ray's crackle): the form's weighted sum of the
+/// distances to the three nearest points in the metric, or with `solid` the nearest point's
+/// cell's random value. The points of the 27 cubes around the point's own are searched: the
+/// nearest always lies among them, the second and third all but always.
+fn crackle(q: Vec3, parameters: &Crackle) -> f32 {
+    let Crackle { form, metric, offset, solid } = *parameters;
     let home = q.floor().as_ivec3();
-    let (mut nearest, mut second) = (f32::MAX, f32::MAX);
+    // The three smallest sums |d|^m (the m-th powers of the distances) and the nearest's cell.
+    let mut nearest = [f32::MAX; 3];
+    let mut nearest_cell = home;
     for dz in -1..=1 {
         for dy in -1..=1 {
             for dx in -1..=1 {
                 let cell = home + IVec3::new(dx, dy, dz);
                 let jitter =
                     Vec3::new(cell_random(cell, 1), cell_random(cell, 2), cell_random(cell, 3));
-                let d = (cell.as_vec3() + jitter).distance(q);
-                if d < nearest {
-                    second = nearest;
-                    nearest = d;
-                } else if d < second {
-                    second = d;
+                let d = (cell.as_vec3() + jitter - q).abs();
+                let sum = if metric == 2.0 {
+                    d.length_squared()
+                } else {
+                    d.x.powf(metric) + d.y.powf(metric) + d.z.powf(metric)
+                };
+                if sum < nearest[0] {
+                    nearest = [sum, nearest[0], nearest[1]];
+                    nearest_cell = cell;
+                } else if sum < nearest[1] {
+                    nearest = [nearest[0], sum, nearest[1]];
+                } else if sum < nearest[2] {
+                    nearest[2] = sum;
                 }
             }
         }
     }
-    (second - nearest).min(1.0)
+    if solid {
+        return cell_random(nearest_cell, 4);
+    }
+    let distance = |sum: f32| (sum + offset).max(0.0).powf(1.0 / metric);
+    form.x * distance(nearest[0]) + form.y * distance(nearest[1]) + form.z * distance(nearest[2])
 }
 
 /// Hexagons of unit side, corners towards ±z, in the x-z plane (centres √3 apart along x); the
@@ -257,14 +274,8 @@ fn hexagon(p: Vec2) -> f32 {
 /// ripples' sines, waves' cosines fading with distance; their sum over its spread (that of a
 /// sum of waves of random phases) mapped to [0, 1].
 fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
-    const SOURCES: u32 = 10;
     let (mut sum, mut spread) = (0.0, 0.0);
-    for i in 0..SOURCES {
-        let source = Vec3::new(
-            cell_random(IVec3::ZERO, 10 + 3 * i),
-            cell_random(IVec3::ZERO, 11 + 3 * i),
-            cell_random(IVec3::ZERO, 12 + 3 * i),
-        );
+    for source in wave_sources() {
         let d = q.distance(source);
         let crest = TAU * (d * frequency + phase);
         let weight = if *field == Field::Waves { 1.0 / (1.0 + d) } else { 1.0 };
@@ -272,6 +283,17 @@ fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
         spread += weight * weight;
     }
     (0.5 + 0.25 * sum / spread.sqrt()).clamp(0.0, 1.0)
+}
+
+/// The ten fixed sources of ripples and waves, in the unit cube.
+pub fn wave_sources() -> impl ExactSizeIterator<Item = Vec3> {
+    (0..10).map(|i| {
+        Vec3::new(
+            cell_random(IVec3::ZERO, 10 + 3 * i),
+            cell_random(IVec3::ZERO, 11 + 3 * i),
+            cell_random(IVec3::ZERO, 12 + 3 * i),
+        )
+    })
 }
 
 #[cfg(test)]
@@ -306,7 +328,7 @@ mod tests {
         Field::Bumps,
         Field::Cells,
         Field::Checker,
-        Field::Crackle,
+        Field::Crackle(Crackle::DEFAULT),
         Field::Dents,
         Field::Gradient(Vec3::Y),
         Field::Granite,
@@ -414,6 +436,64 @@ mod tests {
         let quilted = Field::Quilted { control0: 1.0, control1: 1.0 };
         assert!(value(&quilted, Vec3::splat(0.5)) < 0.01);
         assert!(value(&quilted, Vec3::new(0.5, 0.5, 0.9999)) > 0.99);
+    }
+
+    /// The distances to the nearest points of a wider search (5³ cubes) than crackle's, in
+    /// the m-norm, sorted.
+    fn brute_force_distances(q: Vec3, metric: f32) -> Vec<f32> {
+        let home = q.floor().as_ivec3();
+        let mut distances = Vec::new();
+        for dz in -2..=2 {
+            for dy in -2..=2 {
+                for dx in -2..=2 {
+                    let cell = home + IVec3::new(dx, dy, dz);
+                    let jitter =
+                        Vec3::new(cell_random(cell, 1), cell_random(cell, 2), cell_random(cell, 3));
+                    let d = (cell.as_vec3() + jitter - q).abs();
+                    let sum = d.x.powf(metric) + d.y.powf(metric) + d.z.powf(metric);
+                    distances.push(sum.powf(1.0 / metric));
+                }
+            }
+        }
+        distances.sort_by(f32::total_cmp);
+        distances
+    }
+
+    #[test]
+    fn crackle_weighs_the_nearest_distances_in_its_metric() {
+        let raw_crackle = |crackle: Crackle, q: Vec3| {
+            raw(&Field::Crackle(crackle), q, &plain(&Field::Crackle(crackle)))
+        };
+        for metric in [1.0, 2.0, 3.0] {
+            for q in points().step_by(61) {
+                let d = brute_force_distances(q, metric);
+                let form = |form: Vec3, offset: f32| {
+                    raw_crackle(Crackle { form, metric, offset, solid: false }, q)
+                };
+                let near = |a: f32, b: f32| (a - b).abs() < 1e-4 * (1.0 + b.abs());
+                assert!(near(form(Vec3::X, 0.0), d[0]), "metric {metric} at {q}: nearest");
+                assert!(near(form(Vec3::Y, 0.0), d[1]), "second nearest");
+                assert!(near(form(Vec3::Z, 0.0), d[2]), "third nearest");
+                assert!(near(form(Vec3::new(-1.0, 1.0, 0.0), 0.0), d[1] - d[0]), "the default");
+                // The offset is added under the root: (d^m + offset)^(1/m).
+                let lifted = (d[0].powf(metric) + 0.3).powf(1.0 / metric);
+                assert!(near(form(Vec3::X, 0.3), lifted), "offset");
+            }
+        }
+        // Solid: one value over each cell, the nearest point's, which differs between cells.
+        let solid = Crackle { solid: true, ..Crackle::DEFAULT };
+        let mut values = Vec::new();
+        for q in points().step_by(61) {
+            let cell = q.floor().as_ivec3();
+            let point = cell.as_vec3()
+                + Vec3::new(cell_random(cell, 1), cell_random(cell, 2), cell_random(cell, 3));
+            // A step a hundredth of the way towards the cell's own point stays in its cell.
+            let v = raw_crackle(solid, point);
+            assert_eq!(v, raw_crackle(solid, point + (q - point) * 0.01), "flat near {point}");
+            values.push(v);
+        }
+        values.dedup();
+        assert!(values.len() > 10, "cells differ: {values:?}");
     }
 
     #[test]

@@ -74,6 +74,11 @@ impl ImageMap {
         Ok(ImageMap { width, height, texels: decoded.pixels().map(|p| p.0).collect() })
     }
 
+    /// The width of one texel in (u, v), along u and along v.
+    pub fn texel(&self) -> (f32, f32) {
+        (1.0 / self.width as f32, 1.0 / self.height as f32)
+    }
+
     /// The image's part `look.channel` at `p`, a point of the pattern's space, projected as
     /// `look` says; `curve` decodes the file's values to linear.
     pub fn sample(&self, p: Vec3, look: &ImageLook, curve: &Curve) -> Vec3 {

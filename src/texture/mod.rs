@@ -8,7 +8,7 @@ mod image_map;
 mod noise;
 mod warp;
 
-pub use bump::{Bump, tilt};
+pub use bump::{Bump, DEFAULT_ACCURACY, tilt};
 pub use field::{default_wave, shaped_value, wave};
 pub use image_map::{Curve, ImageMap, ImageMapError};
 pub use noise::{Octaves, fbm, noise, perlin};

@@ -19,7 +19,7 @@ pub fn warped(shape: &FieldShape, p: Vec3) -> Vec3 {
         | Field::Bumps
         | Field::Cells
         | Field::Checker
-        | Field::Crackle
+        | Field::Crackle(_)
         | Field::Dents
         | Field::Function(_)
         | Field::Gradient(_)

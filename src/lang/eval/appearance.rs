@@ -128,7 +128,7 @@ impl Evaluator {
                     // modifiers and transforms make its pigment (`pattern_texture` reads the
                     // map's textures).
                     let black = Look::default().pigment;
-                    let items = textures_as_map(&appearance.items)?;
+                    let items = blocks_as_map(&appearance.items, AppearanceKind::Texture)?;
                     let (pigment, finish) = self.patterned(&items, &black)?;
                     texture.pigment = pigment;
                     texture.finish = finish.unwrap_or(texture.finish);
@@ -197,7 +197,8 @@ impl Evaluator {
         items: &[Item],
         base: &Pigment,
     ) -> Result<Pigment, SceneError> {
-        Ok(self.patterned(items, base)?.0)
+        let items = blocks_as_map(items, AppearanceKind::Pigment)?;
+        Ok(self.patterned(&items, base)?.0)
     }
 
     /// The pigment `items` make, starting from `base`, and the finish of the textures of a
@@ -500,43 +501,67 @@ impl Evaluator {
     }
 }
 
-/// A patterned texture's items with the textures a block pattern takes in place of colours
-/// (`checker texture { A } texture { B }`) made the texture_map they stand for: the i-th of n
-/// at i / (n - 1), where the pattern's colours stand.
-fn textures_as_map(items: &[Item]) -> Result<Vec<Item>, SceneError> {
-    let is_texture =
-        |item: &Item| matches!(item, Item::Appearance(a) if a.kind == AppearanceKind::Texture);
-    let textures: Vec<&Item> = items.iter().filter(|item| is_texture(item)).collect();
-    let mut rest: Vec<Item> = items.iter().filter(|item| !is_texture(item)).cloned().collect();
-    let Some(first) = textures.first() else { return Ok(rest) };
+/// A patterned texture's or pigment's items with the textures or pigments a block pattern takes
+/// in place of colours (`checker texture { A } texture { B }`, `checker pigment { A } pigment {
+/// B }`) made the texture_map or pigment_map they stand for: the i-th of n at i / (n - 1), where
+/// the pattern's colours stand.
+fn blocks_as_map(items: &[Item], kind: AppearanceKind) -> Result<Vec<Item>, SceneError> {
+    let is_block = |item: &Item| matches!(item, Item::Appearance(a) if a.kind == kind);
+    let blocks: Vec<&Item> = items.iter().filter(|item| is_block(item)).collect();
+    let mut rest: Vec<Item> = items.iter().filter(|item| !is_block(item)).cloned().collect();
+    let Some(first) = blocks.first() else { return Ok(rest) };
+    let map_kind = match kind {
+        AppearanceKind::Texture => MapKind::Texture,
+        AppearanceKind::Pigment => MapKind::Pigment,
+        AppearanceKind::Finish | AppearanceKind::Interior | AppearanceKind::Normal => {
+            unreachable!("only textures and pigments stand for a block pattern's colours")
+        }
+    };
     let pattern = items.iter().rev().find_map(|item| match item {
         Item::Pattern { kind, span, .. } => Some((*kind, span)),
         _ => None,
     });
-    if let Some((kind, span)) = pattern
-        && block_colours(kind).is_none()
-    {
-        return Err(SceneError::at(
-            span,
-            format!(
-                "`{}` takes a texture_map, not textures (only `checker`, `brick` and `hexagon` \
-                 take textures in place of colours)",
-                kind.word()
-            ),
-        ));
+    match pattern {
+        Some((pattern, _)) if block_colours(pattern).is_some() => {}
+        Some((pattern, span)) => {
+            return Err(SceneError::at(
+                span,
+                format!(
+                    "`{}` takes a {}, not {}s (only `checker`, `brick` and `hexagon` take them \
+                     in place of colours)",
+                    pattern.word(),
+                    map_kind.word(),
+                    kind.word()
+                ),
+            ));
+        }
+        // A texture's textures without a pattern are its layers' place, read as before; a
+        // pigment has no such reading.
+        None if kind == AppearanceKind::Texture => {}
+        None => {
+            return Err(SceneError::at(
+                first.span(),
+                "a pigment stands in a pigment only after `checker`, `brick` or `hexagon`",
+            ));
+        }
     }
-    let last = (textures.len() - 1).max(1) as f64;
-    let entries = textures
+    let last = (blocks.len() - 1).max(1) as f64;
+    let entries = blocks
         .iter()
         .enumerate()
-        .map(|(i, texture)| {
-            let span = texture.span().clone();
+        .map(|(i, block)| {
+            let span = block.span().clone();
             let position = Expr { kind: ExprKind::Number(i as f64 / last), span: span.clone() };
-            Item::MapBlock { position: Some(position), items: vec![(*texture).clone()], span }
+            // A pigment_map's entry holds a pigment's items; a texture_map's, the texture.
+            let items = match block {
+                Item::Appearance(a) if kind == AppearanceKind::Pigment => a.items.clone(),
+                _ => vec![(*block).clone()],
+            };
+            Item::MapBlock { position: Some(position), items, span }
         })
         .collect();
     let span = first.span().clone();
-    rest.push(Item::PatternMap { kind: MapKind::Texture, entries, span });
+    rest.push(Item::PatternMap { kind: map_kind, entries, span });
     Ok(rest)
 }
 

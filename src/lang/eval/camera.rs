@@ -10,7 +10,7 @@ use super::{Body, Evaluator, as_float, as_vector};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{CameraDesc, CameraForm};
 use crate::lang::dialect::Dialect;
-use crate::lang::syntax::{Item, ProjectionWord};
+use crate::lang::syntax::{AppearanceKind, Item, ProjectionWord};
 use crate::lang::value::Value;
 use crate::projection::{Frame, Projection};
 
@@ -32,6 +32,9 @@ const POV_LOCATION: Vec3 = Vec3::ZERO;
 const POV_DIRECTION: Vec3 = Vec3::Z;
 const POV_UP: Vec3 = Vec3::Y;
 const POV_RIGHT: Vec3 = Vec3::new(1.33, 0.0, 0.0);
+
+/// Where a `.pov` camera's `normal { }` is kept among the parameters.
+const NORMAL: &str = "#normal";
 
 /// The camera's parameters as given: value and where its key is written.
 pub type CameraParams = HashMap<String, (Value, Span)>;
@@ -90,6 +93,15 @@ impl Evaluator {
                 .map(f64::from)
                 .collect();
             given.insert(TRANSFORMS.to_string(), (Value::Numbers(numbers), t.span.clone()));
+            return Ok(());
+        }
+        if let (Item::Appearance(a), Dialect::Pov) = (item, self.dialect)
+            && a.kind == AppearanceKind::Normal
+        {
+            let normal = self.normal(a, None)?.map(Arc::new);
+            if given.insert(NORMAL.to_string(), (Value::Normal(normal), a.span.clone())).is_some() {
+                return Err(SceneError::at(&a.span, "the camera's `normal` is given twice"));
+            }
             return Ok(());
         }
         let Item::CameraParam { key, value } = item else {
@@ -209,7 +221,8 @@ impl Evaluator {
                 format!("focal_distance {d} must be positive"),
             ));
         }
-        self.camera = Some(CameraDesc { form, aperture, focal_distance, span: self.here(span) });
+        let span = self.here(span);
+        self.camera = Some(CameraDesc { form, aperture, focal_distance, normal: None, span });
         Ok(())
     }
 }
@@ -331,7 +344,11 @@ impl Evaluator {
             }
             None => CameraForm::Lab { origin: location, left, up: half_up, forward: direction },
         };
-        Ok(CameraDesc { form, aperture: 0.0, focal_distance: None, span: self.here(span) })
+        let normal = match given.get(NORMAL) {
+            Some((Value::Normal(normal), _)) => normal.as_deref().cloned(),
+            _ => None,
+        };
+        Ok(CameraDesc { form, aperture: 0.0, focal_distance: None, normal, span: self.here(span) })
     }
 }
 

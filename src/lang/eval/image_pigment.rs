@@ -1,18 +1,38 @@
 //! POV-Ray's `image_map { [type] "file" options }` in a pigment (`.pov`): the image's colour,
 //! and its filter and transmit (`filter all`, `transmit all`, the file's alpha, and all light
-//! through outside a `once` image), projected as `map_type` says (`docs/povray.md`).
+//! through outside a `once` image), projected as `map_type` says (`docs/povray.md`); and
+//! `bump_map { }` in a normal (both dialects), the image's gray as heights.
 
 use std::path::{Path, PathBuf};
 
 use super::Evaluator;
 use super::pigment::Pigment;
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{ImageChannel, ImageLook, ImageProjection, Pattern, TextureNode};
+use crate::graph::{ImageChannel, ImageLook, ImageProjection, NormalPattern, Pattern, TextureNode};
 use crate::lang::syntax::{Expr, Item};
 use crate::texture::ImageMap;
 
 /// The file types POV-Ray finds a name without extension by, in its order of search.
 const EXTENSIONS: [&str; 3] = ["png", "jpg", "jpeg"];
+
+/// Which image a file and options stand for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ImageUse {
+    /// `image_map` in a pigment.
+    Pigment,
+    /// `bump_map` in a normal.
+    Bump,
+}
+
+/// An image's file and options as read.
+struct ImageOptions {
+    path: PathBuf,
+    look: ImageLook,
+    filter: f32,
+    transmit: f32,
+    /// A bump_map's `bump_size`.
+    bump_size: f32,
+}
 
 impl Evaluator {
     pub(super) fn image_pigment(
@@ -21,23 +41,75 @@ impl Evaluator {
         options: &[Item],
         span: &Span,
     ) -> Result<Pigment, SceneError> {
-        let name = self.string(file, "`image_map`")?;
+        let ImageOptions { path, look, filter, transmit, .. } =
+            self.image_options(file, options, ImageUse::Pigment)?;
+        let alpha = ImageMap::has_alpha(&path)
+            .map_err(|e| SceneError::at(span, format!("cannot read the image_map: {e}")))?;
+        let node = |channel| {
+            let pattern =
+                Pattern::Image { path: path.clone(), look: ImageLook { channel, ..look } };
+            TextureNode { pattern, transforms: Vec::new() }
+        };
+        let colour = node(ImageChannel::Colour);
+        if !alpha && !look.once && filter == 0.0 && transmit == 0.0 {
+            return Ok(Pigment::opaque(colour));
+        }
+        Ok(Pigment {
+            colour,
+            filter: node(ImageChannel::Filter(filter)),
+            through: node(ImageChannel::Through(filter + transmit)),
+        })
+    }
+
+    /// `bump_map { [type] "file" options }`: the image's gray as heights, `bump_size` (1) the
+    /// amount; always bilinear, so that the heights have a gradient between texel centres.
+    pub(super) fn bump_image(
+        &mut self,
+        file: &Expr,
+        options: &[Item],
+    ) -> Result<NormalPattern, SceneError> {
+        let ImageOptions { path, look, bump_size, .. } =
+            self.image_options(file, options, ImageUse::Bump)?;
+        Ok(NormalPattern::Image {
+            path,
+            look: ImageLook { bilinear: true, ..look },
+            amount: bump_size,
+        })
+    }
+
+    fn image_options(
+        &mut self,
+        file: &Expr,
+        options: &[Item],
+        used: ImageUse,
+    ) -> Result<ImageOptions, SceneError> {
+        let (word, a_word) = match used {
+            ImageUse::Pigment => ("image_map", "an image_map"),
+            ImageUse::Bump => ("bump_map", "a bump_map"),
+        };
+        let name = self.string(file, &format!("`{word}`"))?;
         let path = self.image_file(&file.span.file.path, &name);
         if !path.is_file() {
             return Err(SceneError::at(&file.span, super::not_found(&name, &path)));
         }
         let mut look = ImageLook::colour();
-        let (mut filter, mut transmit) = (0.0, 0.0);
+        let (mut filter, mut transmit, mut bump_size) = (0.0, 0.0, 1.0);
         for option in options {
             let Item::PovParam { key, value, .. } = option else {
                 return Err(SceneError::at(
                     option.span(),
-                    format!("{} cannot stand in an image_map", option.describe()),
+                    format!("{} cannot stand in {a_word}", option.describe()),
                 ));
             };
             let value = value.as_ref().map(|v| &v.value);
             let needs =
                 |what: &str| SceneError::at(&key.span, format!("`{}` needs {what}", key.name));
+            let only_in = |other: &str| {
+                SceneError::at(
+                    &key.span,
+                    format!("`{}` stands in {other}, not in {a_word}", key.name),
+                )
+            };
             match key.name.as_str() {
                 "map_type" => {
                     let v = value.ok_or_else(|| needs("a number"))?;
@@ -50,7 +122,7 @@ impl Evaluator {
                             return Err(SceneError::at(
                                 &v.span,
                                 format!(
-                                    "`map_type {other}`: an image_map is projected planar (0), \
+                                    "`map_type {other}`: {a_word} is projected planar (0), \
                                      spherical (1), cylindrical (2) or toroidal (5), as in \
                                      POV-Ray 3.7, which refuses the other values too"
                                 ),
@@ -69,8 +141,13 @@ impl Evaluator {
                     let v = value.ok_or_else(|| needs("a value"))?;
                     look.gamma = Some(self.positive(v, "the image's gamma")?);
                 }
+                "filter all" | "transmit all" if used == ImageUse::Bump => {
+                    return Err(only_in("an image_map"));
+                }
                 "filter all" => filter = self.unit(value.ok_or_else(|| needs("a value"))?)?,
                 "transmit all" => transmit = self.unit(value.ok_or_else(|| needs("a value"))?)?,
+                "bump_size" if used == ImageUse::Pigment => return Err(only_in("a bump_map")),
+                "bump_size" => bump_size = self.single(value.ok_or_else(|| needs("a value"))?)?,
                 // The default for images that are not palettes; a palette's colours are
                 // read as colours too.
                 "use_color" | "use_colour" => {}
@@ -78,32 +155,17 @@ impl Evaluator {
                     return Err(SceneError::at(
                         &key.span,
                         format!(
-                            "`{}`: raydiance reads an image_map's colours and alpha as they \
+                            "`{}`: raydiance reads {a_word}'s colours and alpha as they \
                              are, with `filter all` and `transmit all` over the whole image, \
                              not per palette entry (`filter N, V`), by index or premultiplied",
                             key.name
                         ),
                     ));
                 }
-                other => unreachable!("the grammar gives no image_map option `{other}`"),
+                other => unreachable!("the grammar gives no image option `{other}`"),
             }
         }
-        let alpha = ImageMap::has_alpha(&path)
-            .map_err(|e| SceneError::at(span, format!("cannot read the image_map: {e}")))?;
-        let node = |channel| {
-            let pattern =
-                Pattern::Image { path: path.clone(), look: ImageLook { channel, ..look } };
-            TextureNode { pattern, transforms: Vec::new() }
-        };
-        let colour = node(ImageChannel::Colour);
-        if !alpha && !look.once && filter == 0.0 && transmit == 0.0 {
-            return Ok(Pigment::opaque(colour));
-        }
-        Ok(Pigment {
-            colour,
-            filter: node(ImageChannel::Filter(filter)),
-            through: node(ImageChannel::Through(filter + transmit)),
-        })
+        Ok(ImageOptions { path, look, filter, transmit, bump_size })
     }
 
     /// A value in [0, 1].

@@ -196,6 +196,9 @@ pub struct Evaluator {
     include_path: Vec<PathBuf>,
     /// `.pov`: whether the warning that a pattern's textures share one finish has been given.
     warned_map_finish: bool,
+    /// `.pov`: whether the warning that layered textures share the top one's finish has been
+    /// given (the standard includes' stones layer many).
+    warned_layer_finish: bool,
     /// `.pov`: whether the warning that a surface's negative colour is clamped has been given.
     warned_negative_colour: bool,
     /// `.pov`: the files opened by `#fopen`.

@@ -7,6 +7,7 @@ use crate::diagnostic::SceneError;
 use crate::graph::{NormalNode, NormalPattern, Transform};
 use crate::lang::syntax::{Appearance, Item, MapKind, PatternKind};
 use crate::lang::value::Value;
+use crate::texture::DEFAULT_ACCURACY;
 
 /// A pattern's amount in a normal when none is given (POV-Ray's).
 const DEFAULT_AMOUNT: f32 = 0.5;
@@ -17,6 +18,8 @@ pub struct NormalState {
     transforms: Vec<Transform>,
     /// A declared normal named in it.
     base: Option<NormalNode>,
+    /// A `bump_map`'s pattern.
+    image: Option<NormalPattern>,
 }
 
 impl NormalNode {
@@ -34,7 +37,7 @@ impl Evaluator {
         base: Option<&NormalNode>,
     ) -> Result<Option<NormalNode>, SceneError> {
         if appearance.items.is_empty() {
-            // Read whole (a form raydiance does not render, such as `bump_map`), or empty.
+            // Read whole (a form raydiance does not render), or empty.
             self.warn_normal(&appearance.span);
             return Ok(base.cloned());
         }
@@ -51,8 +54,12 @@ impl Evaluator {
             pattern: PatternState::default(),
             transforms: Vec::new(),
             base: base.cloned(),
+            image: None,
         };
         self.exec(items, &mut Body::Normal(&mut state))?;
+        if let Some(pattern) = state.image {
+            return Ok(Some(NormalNode { pattern, transforms: state.transforms }));
+        }
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
             return Ok(state.base.map(|mut node| {
                 node.transforms.extend(state.transforms);
@@ -79,7 +86,12 @@ impl Evaluator {
                 let shape = Box::new(self.field_shape(kind, &arguments, &state.pattern, &at)?);
                 match map.kind {
                     MapKind::Normal => NormalPattern::Map { shape, map: map.normals },
-                    MapKind::Slope => NormalPattern::Bumps { shape, amount, slopes: map.slopes },
+                    MapKind::Slope => NormalPattern::Bumps {
+                        shape,
+                        amount,
+                        slopes: map.slopes,
+                        accuracy: state.pattern.accuracy.unwrap_or(DEFAULT_ACCURACY),
+                    },
                     MapKind::Pigment | MapKind::Texture => {
                         return Err(SceneError::at(
                             &at,
@@ -93,7 +105,12 @@ impl Evaluator {
                     return Err(SceneError::at(&at, "a color_map stands in a pigment"));
                 }
                 let shape = Box::new(self.field_shape(kind, &arguments, &state.pattern, &at)?);
-                NormalPattern::Bumps { shape, amount, slopes: Vec::new() }
+                NormalPattern::Bumps {
+                    shape,
+                    amount,
+                    slopes: Vec::new(),
+                    accuracy: state.pattern.accuracy.unwrap_or(DEFAULT_ACCURACY),
+                }
             }
         };
         Ok(Some(NormalNode { pattern, transforms: state.transforms }))
@@ -106,11 +123,17 @@ impl Evaluator {
     ) -> Result<(), SceneError> {
         if let Item::Pattern { .. } = item {
             state.transforms.clear();
+            state.image = None;
         }
         if self.pattern_item(item, &mut state.pattern)? {
             return Ok(());
         }
         match item {
+            Item::ImageMap { file, options, .. } => {
+                state.image = Some(self.bump_image(file, options)?);
+                state.pattern.word = None;
+                state.transforms.clear();
+            }
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
                 state.transforms.push(transform);
@@ -119,6 +142,7 @@ impl Evaluator {
                 Value::Normal(node) => {
                     state.base = node.map(|n| (*n).clone());
                     state.pattern.word = None;
+                    state.image = None;
                     state.transforms.clear();
                 }
                 other => {

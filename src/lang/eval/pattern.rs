@@ -12,8 +12,8 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::function::FloatFunction;
 use crate::graph::{
-    Field, FieldShape, Fractal, FractalColouring, FractalSet, NormalNode, Pattern, PatternFunction,
-    SlopeMap, Turbulence, Warp, Wave,
+    Crackle, Field, FieldShape, Fractal, FractalColouring, FractalSet, NormalNode, Pattern,
+    PatternFunction, SlopeMap, Turbulence, Warp, Wave,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
@@ -54,6 +54,13 @@ pub struct PatternState {
     control0: Option<f32>,
     control1: Option<f32>,
     agate_turb: Option<f32>,
+    /// crackle's `form`, `metric`, `offset` and `solid`.
+    crackle_form: Option<Vec3>,
+    metric: Option<f32>,
+    offset: Option<f32>,
+    solid: bool,
+    /// A normal's `accuracy`: the span of the differences that take its gradient.
+    pub accuracy: Option<f32>,
     /// A fractal's `interior`, `exterior` and `exponent`.
     interior: Option<FractalColouring>,
     exterior: Option<FractalColouring>,
@@ -136,6 +143,36 @@ impl Evaluator {
                     "control0" => state.control0 = Some(number(self)?),
                     "control1" => state.control1 = Some(number(self)?),
                     "agate_turb" => state.agate_turb = Some(number(self)?),
+                    "offset" => state.offset = Some(number(self)?),
+                    "solid" => state.solid = true,
+                    "accuracy" => {
+                        let accuracy = number(self)?;
+                        if accuracy <= 0.0 {
+                            let at = value.as_ref().map_or(&key.span, |v| &v.span);
+                            return Err(SceneError::at(
+                                at,
+                                format!("a normal's accuracy {accuracy} must be positive"),
+                            ));
+                        }
+                        state.accuracy = Some(accuracy);
+                    }
+                    "metric" => {
+                        let metric = number(self)?;
+                        if metric <= 0.0 {
+                            let at = value.as_ref().map_or(&key.span, |v| &v.span);
+                            return Err(SceneError::at(
+                                at,
+                                format!("crackle's metric {metric} must be positive"),
+                            ));
+                        }
+                        state.metric = Some(metric);
+                    }
+                    "form" => {
+                        let v = value
+                            .as_ref()
+                            .ok_or_else(|| SceneError::at(&key.span, "`form` needs a vector"))?;
+                        state.crackle_form = Some(self.vec3(&v.value)?);
+                    }
                     "brick_size" => {
                         let v = value.as_ref().ok_or_else(|| {
                             SceneError::at(&key.span, "`brick_size` needs a size")
@@ -548,7 +585,12 @@ impl Evaluator {
             PatternKind::Bumps => Field::Bumps,
             PatternKind::Cells => Field::Cells,
             PatternKind::Checker => Field::Checker,
-            PatternKind::Crackle => Field::Crackle,
+            PatternKind::Crackle => Field::Crackle(Crackle {
+                form: state.crackle_form.unwrap_or(Crackle::DEFAULT.form),
+                metric: state.metric.unwrap_or(Crackle::DEFAULT.metric),
+                offset: state.offset.unwrap_or(Crackle::DEFAULT.offset),
+                solid: state.solid,
+            }),
             PatternKind::Dents => Field::Dents,
             PatternKind::Function | PatternKind::PigmentPattern => {
                 let function =

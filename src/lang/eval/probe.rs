@@ -56,6 +56,7 @@ impl Evaluator {
                 },
                 aperture: 0.0,
                 focal_distance: None,
+                normal: None,
                 span: span.clone(),
             },
             lights: Vec::new(),
