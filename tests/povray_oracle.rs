@@ -8,7 +8,7 @@
 //! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons; height fields, alone
 //! and in CSG; sphere sweeps; points and triangles made by directives; shapes2.inc's `Pyramid2`;
 //! ovus, and lemons (which POV-Ray 3.7.0 lacks) against the CSG of a quartic that is the same
-//! solid.
+//! solid; parametric surfaces.
 
 mod common;
 
@@ -36,8 +36,16 @@ const CAMERAS: [&str; 5] = [
     "camera { location <0, 8, 0> right x*image_width/image_height look_at <0, 0, 0> }",
 ];
 
-const WIDTH: usize = 64;
-const HEIGHT: usize = 48;
+/// The size of both renders and raydiance's samples a pixel.
+#[derive(Clone, Copy)]
+struct Render {
+    width: usize,
+    height: usize,
+    samples: usize,
+}
+
+/// What every comparison renders unless it says otherwise.
+const USUAL: Render = Render { width: 64, height: 48, samples: 16 };
 
 /// The pixels of a binary (P6) or plain (P3) PPM as numbers in [0, 1].
 fn ppm(path: &Path) -> Vec<f32> {
@@ -780,6 +788,35 @@ fn discs_with_holes_match_povray_away_from_edges() {
     }
 }
 
+/// POV-Ray's parametric surfaces, cheap enough for the debug build (a ray's search of the (u, v)
+/// pieces is most of the cost): a saddle, part of a cylinder mirrored and turned, and a paraboloid
+/// cap needing a `max_gradient` above 1, each with a coarse `accuracy` (POV-Ray's hits depend on
+/// it as raydiance's do), one with `precompute`.
+const PARAMETRICS: &str = r#"
+camera { location <0, 1, -5.5> right x*image_width/image_height angle 45 look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+parametric { function { u } function { 0.8 * u * v } function { v } <-1, -1>, <1, 1>
+  contained_by { box { <-1, -0.8, -1>, <1, 0.8, 1> } } accuracy 0.01 precompute 10, x, y, z
+  rotate <-25, 35, 0> translate <-1.2, 0.5, 0.3> pigment { rgb <1, 0, 0> } }
+parametric { function { cos(u) } function { v } function { sin(u) } <0, -0.8>, <0.7 * pi, 0.8>
+  contained_by { box { <-0.6, -0.8, 0>, <1, 0.8, 1> } } accuracy 0.01
+  scale <-1, 1, 1> rotate <0, 30, 20> translate <1.4, 0.4, 0> pigment { rgb <0, 1, 0> } }
+parametric { function { u } function { u * u + v * v } function { v } <-0.7, -0.7>, <0.7, 0.7>
+  contained_by { box { <-0.7, 0, -0.7>, <0.7, 1, 0.7> } } max_gradient 1.5 accuracy 0.01
+  rotate 180*x translate <0, -0.2, 0> pigment { rgb <0, 0, 1> } }
+"#;
+
+#[test]
+fn parametric_surfaces_match_povray_away_from_edges() {
+    let test = "parametric_surfaces_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        // Fewer samples than usual: the search of the (u, v) pieces is most of the time.
+        let few = Render { samples: 4, ..USUAL };
+        compare_with_povray(PARAMETRICS, PARAMETRICS, "parametric surfaces", &[], few);
+    }
+}
+
 /// Renders `text` with POV-Ray and with raydiance and compares which channels each pixel lights.
 fn agree_with_povray(text: &str, name: &str) {
     agree_with_povray_beside(text, name, &[]);
@@ -787,15 +824,22 @@ fn agree_with_povray(text: &str, name: &str) {
 
 /// `agree_with_povray` with `files` (name, contents) written beside the scene.
 fn agree_with_povray_beside(text: &str, name: &str, files: &[(&str, Vec<u8>)]) {
-    compare_with_povray(text, text, name, files);
+    compare_with_povray(text, text, name, files, USUAL);
 }
 
 /// `agree_with_povray` where POV-Ray renders `theirs`, the same geometry written otherwise.
 fn agree_with_povray_as(ours: &str, theirs: &str, name: &str) {
-    compare_with_povray(ours, theirs, name, &[]);
+    compare_with_povray(ours, theirs, name, &[], USUAL);
 }
 
-fn compare_with_povray(text: &str, theirs_text: &str, name: &str, files: &[(&str, Vec<u8>)]) {
+fn compare_with_povray(
+    text: &str,
+    theirs_text: &str,
+    name: &str,
+    files: &[(&str, Vec<u8>)],
+    render: Render,
+) {
+    let Render { width, height, samples } = render;
     let dir = tempfile::tempdir().unwrap();
     for (file, contents) in files {
         std::fs::write(dir.path().join(file), contents).unwrap();
@@ -811,27 +855,27 @@ fn compare_with_povray(text: &str, theirs_text: &str, name: &str, files: &[(&str
         .current_dir(dir.path())
         .arg(format!("+I{}", theirs_scene.display()))
         .arg(format!("+O{}", theirs.display()))
-        .args(["+FP", &format!("+W{WIDTH}"), &format!("+H{HEIGHT}"), "-D", "-A"])
+        .args(["+FP", &format!("+W{width}"), &format!("+H{height}"), "-D", "-A"])
         .output()
         .expect("POV-Ray is the oracle: install Debian's `povray`");
     assert!(povray.status.success(), "{}", String::from_utf8_lossy(&povray.stderr));
-    let size = [WIDTH.to_string(), HEIGHT.to_string()];
+    let size = [width.to_string(), height.to_string(), samples.to_string()];
     let status = Command::new(env!("CARGO_BIN_EXE_raydiance"))
         .args(["render", scene.to_str().unwrap(), "-o", ours.to_str().unwrap()])
-        .args(["--width", &size[0], "--height", &size[1], "--samples", "16"])
+        .args(["--width", &size[0], "--height", &size[1], "--samples", &size[2]])
         .output()
         .unwrap();
     assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
     let (a, b) = (classes(&ppm(&theirs)), classes(&ppm(&ours)));
-    assert_eq!((a.len(), b.len()), (WIDTH * HEIGHT, WIDTH * HEIGHT));
+    assert_eq!((a.len(), b.len()), (width * height, width * height));
     // A pixel differs only on an edge: where POV-Ray's own neighbours differ.
     let edge = |k: usize| {
-        let (x, y) = ((k % WIDTH) as i64, (k / WIDTH) as i64);
+        let (x, y) = ((k % width) as i64, (k / width) as i64);
         [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
             let (u, v) = (x + dx, y + dy);
-            (0..WIDTH as i64).contains(&u)
-                && (0..HEIGHT as i64).contains(&v)
-                && a[(v * WIDTH as i64 + u) as usize] != a[k]
+            (0..width as i64).contains(&u)
+                && (0..height as i64).contains(&v)
+                && a[(v * width as i64 + u) as usize] != a[k]
         })
     };
     let wrong: Vec<usize> = (0..a.len()).filter(|&k| a[k] != b[k] && !edge(k)).collect();
