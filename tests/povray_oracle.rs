@@ -241,14 +241,14 @@ fn prisms_match_povray_away_from_edges() {
 }
 
 /// POV-Ray's superellipsoids: a rounded box, a stretched cushion, a pinched star (exponents
-/// above 2), a mirrored one.
+/// above 2, the star given as one number, which POV-Ray promotes to <e, e>), a mirrored one.
 const SUPERELLIPSOIDS: &str = r#"
 camera { location <0, 3, -7> right x*image_width/image_height angle 38 look_at <0, 0, 0> }
 #default { finish { emission 1 ambient 0 diffuse 0 } }
 background { rgb 0 }
 superellipsoid { <0.25, 0.25> rotate <20, 30, 0> scale 0.8 translate <-1.6, 0.9, 0> pigment { rgb <1, 0, 0> } }
 superellipsoid { <1, 0.3> scale <1, 0.6, 0.8> rotate 60*x translate <1.6, 0.9, 0> pigment { rgb <0, 1, 0> } }
-superellipsoid { <2.5, 2.5> rotate <-20, 10, 0> translate <-1.4, -1.3, 0> pigment { rgb <0, 0, 1> } }
+superellipsoid { 2.5 rotate <-20, 10, 0> translate <-1.4, -1.3, 0> pigment { rgb <0, 0, 1> } }
 superellipsoid { <0.6, 1.8> scale <-1, 1, 1> rotate <30, 20, 0> translate <1.4, -1.2, 0> pigment { rgb <1, 1, 0> } }
 "#;
 

@@ -158,6 +158,8 @@ impl Evaluator {
             Shape::Superellipsoid { exponents } => {
                 let [e, n] = match self.value(exponents)? {
                     Value::Numbers(v) if v.len() == 2 => [v[0], v[1]],
+                    // POV-Ray promotes a number to the vector <e, e> (cliche.pov).
+                    Value::Float(e) => [e, e],
                     other => {
                         return Err(SceneError::at(
                             &exponents.span,
