@@ -134,6 +134,12 @@ impl Evaluator {
                         }
                     }
                 };
+                let positive = |e: &mut Self, what: &str| -> Result<f32, SceneError> {
+                    match value {
+                        Some(v) => e.positive(&v.value, what),
+                        None => number(e),
+                    }
+                };
                 match key.name.as_str() {
                     "frequency" => state.frequency = Some(number(self)?),
                     "phase" => state.phase = Some(number(self)?),
@@ -145,28 +151,8 @@ impl Evaluator {
                     "agate_turb" => state.agate_turb = Some(number(self)?),
                     "offset" => state.offset = Some(number(self)?),
                     "solid" => state.solid = true,
-                    "accuracy" => {
-                        let accuracy = number(self)?;
-                        if accuracy <= 0.0 {
-                            let at = value.as_ref().map_or(&key.span, |v| &v.span);
-                            return Err(SceneError::at(
-                                at,
-                                format!("a normal's accuracy {accuracy} must be positive"),
-                            ));
-                        }
-                        state.accuracy = Some(accuracy);
-                    }
-                    "metric" => {
-                        let metric = number(self)?;
-                        if metric <= 0.0 {
-                            let at = value.as_ref().map_or(&key.span, |v| &v.span);
-                            return Err(SceneError::at(
-                                at,
-                                format!("crackle's metric {metric} must be positive"),
-                            ));
-                        }
-                        state.metric = Some(metric);
-                    }
+                    "accuracy" => state.accuracy = Some(positive(self, "a normal's accuracy")?),
+                    "metric" => state.metric = Some(positive(self, "crackle's metric")?),
                     "form" => {
                         let v = value
                             .as_ref()
