@@ -175,7 +175,8 @@ fn own_perturbation(shape: &FieldShape, q: Vec3) -> Option<Vec3> {
             let sources = wave_sources();
             let count = sources.len() as f32;
             let sum = sources
-                .map(|source| {
+                .iter()
+                .map(|&source| {
                     let radius = q - source;
                     let length = radius.length();
                     let crest = length * shape.frequency + shape.phase;

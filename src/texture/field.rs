@@ -3,6 +3,7 @@
 //! scale, contrast and orientation as POV-Ray's, not its noise bit for bit.
 
 use std::f32::consts::{PI, TAU};
+use std::sync::LazyLock;
 
 use glam::{IVec3, Vec2, Vec3};
 
@@ -275,7 +276,7 @@ fn hexagon(p: Vec2) -> f32 {
 /// sum of waves of random phases) mapped to [0, 1].
 fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
     let (mut sum, mut spread) = (0.0, 0.0);
-    for source in wave_sources() {
+    for &source in wave_sources() {
         let d = q.distance(source);
         let crest = TAU * (d * frequency + phase);
         let weight = if *field == Field::Waves { 1.0 / (1.0 + d) } else { 1.0 };
@@ -285,15 +286,20 @@ fn sources(field: &Field, q: Vec3, frequency: f32, phase: f32) -> f32 {
     (0.5 + 0.25 * sum / spread.sqrt()).clamp(0.0, 1.0)
 }
 
-/// The ten fixed sources of ripples and waves, in the unit cube.
-pub fn wave_sources() -> impl ExactSizeIterator<Item = Vec3> {
-    (0..10).map(|i| {
-        Vec3::new(
-            cell_random(IVec3::ZERO, 10 + 3 * i),
-            cell_random(IVec3::ZERO, 11 + 3 * i),
-            cell_random(IVec3::ZERO, 12 + 3 * i),
-        )
-    })
+/// The ten fixed sources of ripples and waves, in the unit cube: hashed once, not at every
+/// shading point.
+pub fn wave_sources() -> &'static [Vec3; 10] {
+    static SOURCES: LazyLock<[Vec3; 10]> = LazyLock::new(|| {
+        std::array::from_fn(|i| {
+            let i = i as u32;
+            Vec3::new(
+                cell_random(IVec3::ZERO, 10 + 3 * i),
+                cell_random(IVec3::ZERO, 11 + 3 * i),
+                cell_random(IVec3::ZERO, 12 + 3 * i),
+            )
+        })
+    });
+    &SOURCES
 }
 
 #[cfg(test)]
