@@ -121,6 +121,22 @@ fn declared_pigments_finishes_and_textures_are_used_by_name() {
 }
 
 #[test]
+fn a_macro_in_a_pigment_writes_its_items_or_starts_a_colour_s_expression() {
+    // isocacti.pov: `pigment { Rand_Array_Item(RockColors, RS) * RRand(0.1, 1, RS) }`.
+    let m = material(
+        "#macro Red() rgb <1, 0, 0> #end\n\
+         sphere { 0, 1 pigment { Red() * 0.5 } finish { diffuse 1 } }",
+    );
+    assert!(close(solid(&m), Vec3::new(0.5, 0.0, 0.0)));
+    // A macro that writes the pigment's items stays one.
+    let m = material(
+        "#macro Blue() color rgb <0, 0, 1> #end\n\
+         sphere { 0, 1 pigment { Blue() } finish { diffuse 1 } }",
+    );
+    assert!(close(solid(&m), Vec3::new(0.0, 0.0, 1.0)));
+}
+
+#[test]
 fn a_checker_pigment_is_scaled_by_diffuse_and_keeps_its_transforms() {
     let m = material("plane { y, 0 pigment { checker color rgb 1, color rgb 0 scale 2 } }");
     // The pigment's colour, which each hit shares out by the finish's `diffuse` 0.6.

@@ -5,6 +5,7 @@
 /// The text of the built-in include file `name`, if there is one.
 pub fn file(name: &str) -> Option<&'static str> {
     match name {
+        "arrays.inc" => Some(include_str!("library/arrays.inc")),
         "ash.map" => Some(include_str!("library/ash.map")),
         "benediti.map" => Some(include_str!("library/benediti.map")),
         "bubinga.map" => Some(include_str!("library/bubinga.map")),
@@ -160,7 +161,8 @@ mod tests {
 
     use crate::graph::MaterialDesc;
 
-    const NAMES: [&str; 35] = [
+    const NAMES: [&str; 36] = [
+        "arrays.inc",
         "ash.map",
         "benediti.map",
         "bubinga.map",
@@ -209,6 +211,77 @@ mod tests {
             let graph = pov(&format!("#include \"{name}\""));
             assert!(graph.objects.is_empty(), "{name} declares, and makes nothing");
         }
+    }
+
+    /// The spheres' radii of `scene`, in the order they were made.
+    fn radii(scene: &str) -> Vec<f32> {
+        let graph = pov(scene);
+        let radius = |object: &crate::graph::ObjectNode| match object.shape {
+            crate::graph::ShapeNode::Sphere { radius, .. } => radius,
+            ref other => panic!("a sphere, not {other:?}"),
+        };
+        graph.objects.iter().map(radius).collect()
+    }
+
+    #[test]
+    fn arrays_inc_sorts_reverses_resizes_and_picks() {
+        // 57 draws (duplicates among them) sorted, then written out as radii: the radii ascend
+        // and are the draws, each as often.
+        let header = r#"#include "arrays.inc"
+#declare S = seed(3);
+#declare A = array[57];
+#for (I, 0, 56) #declare A[I] = 1 + int(20 * rand(S)); #end
+#declare Drawn = A;
+"#;
+        let drawn = radii(&format!("{header}#for (I, 0, 56) sphere {{ 0, Drawn[I] }} #end"));
+        let sorted = radii(&format!(
+            "{header}Sort_Array(A)
+#for (I, 0, 56) sphere {{ 0, A[I] }} #end"
+        ));
+        let mut expected = drawn.clone();
+        expected.sort_by(f32::total_cmp);
+        assert_eq!(sorted, expected);
+        assert!(drawn != expected, "the draws were not already in order");
+        // Only items 10 to 20 sorted; a redefined Sort_Compare sorts largest first.
+        let partial = radii(&format!(
+            "{header}#macro Sort_Compare(Array, IdxA, IdxB) (Array[IdxA] > Array[IdxB]) #end
+Sort_Partial_Array(A, 10, 20)
+#for (I, 0, 56) sphere {{ 0, A[I] }} #end"
+        ));
+        let mut expected = drawn.clone();
+        expected[10..=20].sort_by(|a, b| b.total_cmp(a));
+        assert_eq!(partial, expected);
+        // Reversed (odd and even lengths), resized shorter and longer.
+        for n in [5, 6] {
+            let reversed = radii(&format!(
+                "#include \"arrays.inc\"\n#declare A = array[{n}];\n#for (I, 0, {n} - 1) #declare A[I] = I + 1; #end
+Reverse_Array(A)\n#for (I, 0, {n} - 1) sphere {{ 0, A[I] }} #end"
+            ));
+            let expected: Vec<f32> = (1..=n).rev().map(|r| r as f32).collect();
+            assert_eq!(reversed, expected);
+        }
+        let resized = radii(
+            r#"#include "arrays.inc"
+#declare A = array[4] {1, 2, 3, 4}
+Resize_Array(A, 2)
+#declare B = A;
+Resize_Array(A, 3)
+#if (defined(A[2])) #error "a new item is unset" #end
+#for (I, 0, dimension_size(B, 1) - 1) sphere { 0, B[I] } #end
+sphere { 0, dimension_size(A, 1) }"#,
+        );
+        assert_eq!(resized, [1.0, 2.0, 3.0]);
+        // A picked item is one of the array's, and every item is picked in 200 draws.
+        let picked = radii(
+            r#"#include "arrays.inc"
+#declare A = array[4] {1, 2, 3, 4}
+#declare S = seed(1);
+#for (I, 1, 200) sphere { 0, Rand_Array_Item(A, S) } #end"#,
+        );
+        for item in [1.0, 2.0, 3.0, 4.0] {
+            assert!(picked.contains(&item), "{item} never picked");
+        }
+        assert!(picked.iter().all(|r| [1.0, 2.0, 3.0, 4.0].contains(r)));
     }
 
     #[test]
