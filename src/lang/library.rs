@@ -752,6 +752,114 @@ Near(VMax(<1, 7, 3>), 7, "vmax")
     }
 
     #[test]
+    fn textures_inc_declares_every_name_of_povray_s() {
+        // POV-Ray's names the tests above do not name, by what each declares, each on a sphere.
+        let added: [(&str, &[&str]); 6] = [
+            (
+                "color_map",
+                &[
+                    "Brown_Agate_Map",
+                    "Pink_Granite_Map",
+                    "Blue_Sky_Map",
+                    "Lightning_CMap1",
+                    "Lightning_CMap2",
+                ][..],
+            ),
+            (
+                "pigment",
+                &[
+                    "Brown_Agate",
+                    "Pink_Granite",
+                    "Blue_Sky",
+                    "Bright_Blue_Sky",
+                    "Blue_Sky2",
+                    "Blue_Sky3",
+                    "Blood_Sky",
+                    "Apocalypse",
+                    "Clouds",
+                    "FBM_Clouds",
+                    "Cherry_Wood",
+                    "Pine_Wood",
+                    "Dark_Wood",
+                    "Tan_Wood",
+                    "Candy_Cane",
+                    "Peel",
+                ][..],
+            ),
+            (
+                "texture",
+                &[
+                    "Shadow_Clouds",
+                    "EMBWood1",
+                    "Yellow_Pine",
+                    "Rosewood",
+                    "Sandalwood",
+                    "Glass3",
+                    "Green_Glass",
+                    "NBglass",
+                    "NBoldglass",
+                    "NBwinebottle",
+                    "NBbeerbottle",
+                    "Ruby_Glass",
+                    "Dark_Green_Glass",
+                    "Yellow_Glass",
+                    "Orange_Glass",
+                    "Vicks_Bottle_Glass",
+                    "Brushed_Aluminum",
+                    "Brass_Valley",
+                    "Rust",
+                    "Rusty_Iron",
+                    "Soft_Silver",
+                    "New_Penny",
+                    "Gold_Nugget",
+                    "Aluminum",
+                    "Bright_Bronze",
+                    "Water",
+                    "Cork",
+                    "Lightning1",
+                    "Lightning2",
+                    "Starfield",
+                ][..],
+            ),
+            ("finish", &["Metallic_Finish"][..]),
+            ("interior", &["Water_Int"][..]),
+            (
+                "material",
+                &[
+                    "M_Glass2",
+                    "M_Glass3",
+                    "M_Green_Glass",
+                    "M_NB_Glass",
+                    "M_NB_Old_Glass",
+                    "M_NB_Winebottle_Glass",
+                    "M_NB_Beerbottle_Glass",
+                    "M_Ruby_Glass",
+                    "M_Dark_Green_Glass",
+                    "M_Yellow_Glass",
+                    "M_Orange_Glass",
+                    "M_Vicks_Bottle_Glass",
+                    "M_Water",
+                ][..],
+            ),
+        ];
+        let mut scene = String::from("#include \"textures.inc\"\n");
+        for (kind, names) in added {
+            for name in names {
+                scene += &match kind {
+                    "color_map" => format!(
+                        "sphere {{ 0, 1 pigment {{ gradient x color_map {{ {name} }} }} }}\n"
+                    ),
+                    _ => format!("sphere {{ 0, 1 {kind} {{ {name} }} }}\n"),
+                };
+            }
+        }
+        let graph = pov(&scene);
+        assert_eq!(graph.objects.len(), 66);
+        // Including the file says nothing: a texture's warnings come where an object wears it.
+        assert!(pov("#include \"textures.inc\"").warnings.is_empty());
+    }
+
+    #[test]
     fn textures_inc_s_added_names_hold_povray_s_colours() {
         let wood =
             object_texture("#include \"textures.inc\"\nsphere { 0, 1 pigment { DMFWood5 } }");
