@@ -539,6 +539,13 @@ fn macros_may_make_a_mesh_s_triangles_and_items() {
     assert!(number.starts_with("tests/inline.pov:1:8:") && number.contains("a string"), "{number}");
     let scn = scn_error("mesh { }");
     assert!(scn.starts_with("tests/inline.scn:1:1:") && scn.contains("POV-Ray's"), "{scn}");
+    // A triangle that an include brings among a shape's points is refused there too.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tri.inc"), "triangle { 0, x, y }").unwrap();
+    let scene = dir.path().join("points.pov");
+    let text = "polygon { 4, <0, 0>, <1, 0>, #include \"tri.inc\" <0, 1>, <0, 0> }";
+    let among = parse_scene(&scene, text).map(|_| ()).unwrap_err().to_string();
+    assert!(among.contains("tri.inc:1:1:") && among.contains("among a shape's points"), "{among}");
 }
 
 #[test]
