@@ -2,7 +2,7 @@
 //! harness): directions are binned over the sphere and the counts compared with the integral of
 //! the pdf over each bin.
 
-mod common;
+use crate::common;
 
 use std::f32::consts::PI;
 

@@ -1,7 +1,7 @@
 //! The `photon` and `sppm` integrators against closed forms, against `path`, against an
 //! analytic caustic; determinism over threads; stopping between iterations.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
