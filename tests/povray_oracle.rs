@@ -10,7 +10,7 @@
 //! ovus, and lemons (which POV-Ray 3.7.0 lacks) against the CSG of a quartic that is the same
 //! solid; parametric surfaces.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;
