@@ -1,7 +1,7 @@
 //! AOVs (`render --aov`): what they hold at the first surface that is not a perfect mirror or
 //! glass, and that split renders merge into a single render's.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

@@ -4,7 +4,7 @@
 //! hits and MIS agree; its photons carry its power inside the cone; nothing outside the cone is
 //! lit.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 use std::path::Path;

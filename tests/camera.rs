@@ -1,6 +1,6 @@
 //! The camera's two forms, its orientation (left-handed, red wall on the left) and thin lens.
 
-mod common;
+use crate::common;
 
 use common::{render_image, scene};
 use glam::{Vec2, Vec3, Vec3A};

@@ -2,7 +2,7 @@
 //! harness): directions are binned over the sphere and the counts compared with the integral of
 //! the pdf over each bin.
 
-mod common;
+use crate::common;
 
 use std::f32::consts::PI;
 
@@ -69,15 +69,29 @@ fn chi_square_in(
     bins: Bins,
     resolved: usize,
     what: &str,
-    mut sample: impl FnMut(&mut Sampler) -> Option<Vec3>,
+    sample: impl FnMut(&mut Sampler) -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f32,
+) {
+    chi_square_of(bins, resolved, what, draw(sample), pdf);
+}
+
+/// The directions of SAMPLES draws (`None`: a sample that is discrete or failed, left out).
+fn draw(mut sample: impl FnMut(&mut Sampler) -> Option<Vec3>) -> Vec<Vec3> {
+    (0..SAMPLES).filter_map(|i| sample(&mut Sampler::new(11, i as u64, 0))).collect()
+}
+
+/// `chi_square_in` of directions already drawn (SAMPLES draws, of which these are the ones
+/// `pdf` describes).
+fn chi_square_of(
+    bins: Bins,
+    resolved: usize,
+    what: &str,
+    directions: impl IntoIterator<Item = Vec3>,
     pdf: impl Fn(Vec3) -> f32,
 ) {
     let mut observed = vec![0.0f64; COS_BINS * PHI_BINS];
-    for i in 0..SAMPLES {
-        let mut sampler = Sampler::new(11, i as u64, 0);
-        if let Some(d) = sample(&mut sampler) {
-            observed[bins.bin_of(d)] += 1.0;
-        }
+    for d in directions {
+        observed[bins.bin_of(d)] += 1.0;
     }
     // Expected counts: the pdf integrated over each bin by the midpoint rule. Where a coarse
     // and a fine grid disagree the bin is cut by an edge of the distribution (a cone's rim, a
@@ -289,6 +303,12 @@ fn rough_lobes_match_their_pdf(
         })
         .count();
     let sparse = |count: usize| count * 10 < probes as usize;
+    // One set of draws for both sides, each side's histogram taking the directions on its side.
+    let directions = draw(|s| {
+        let sample = bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL)?;
+        assert!(!sample.is_delta(), "{what}: a rough lobe is not delta");
+        Some(sample.wi)
+    });
     for (side, bins, count, sign) in [
         ("reflection", reflection, reflected_probes, true),
         ("transmission", transmission, transmitted_probes, false),
@@ -298,15 +318,11 @@ fn rough_lobes_match_their_pdf(
         }
         let on_side = |wi: Vec3| reflected(wi) == sign;
         let resolved = if sparse(count) { 0 } else { 10 };
-        chi_square_in(
+        chi_square_of(
             bins,
             resolved,
             &format!("{what}, {side}"),
-            |s| {
-                let sample = bsdf.sample(wo, s.next_1d(), s.next_2d(), LobeFlags::ALL)?;
-                assert!(!sample.is_delta(), "{what}: a rough lobe is not delta");
-                on_side(sample.wi).then_some(sample.wi)
-            },
+            directions.iter().copied().filter(|&wi| on_side(wi)),
             |wi| if on_side(wi) { pdf(wi) } else { 0.0 },
         );
     }

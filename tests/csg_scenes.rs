@@ -2,7 +2,7 @@
 //! its analytic silhouette, and the deepest nesting the language allows rendered on a small
 //! stack.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

@@ -1,6 +1,6 @@
 //! Images are a pure function of scene, settings and seed: not of threads, passes or runs.
 
-mod common;
+use crate::common;
 
 use common::scene_file;
 use raydiance::progress::Silent;

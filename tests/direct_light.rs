@@ -1,7 +1,7 @@
 //! The course's Lab 4 result: direct light from point lights, checked against the formula
 //! L = p / r^2 * kd / pi * |n . wi| computed here, independently of the renderer.
 
-mod common;
+use crate::common;
 
 use std::f32::consts::PI;
 

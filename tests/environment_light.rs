@@ -2,7 +2,7 @@
 //! white furnaces converge to 1 with every integrator, a textured sky's light sampling agrees
 //! with BSDF sampling, and POV-Ray's `background` is seen without lighting.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,6 +1,6 @@
 //! Image files: EXR and HDR PPM round trips, OpenEXR's own reader, malformed PPMs.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! The same scene written with transforms, declarations, instances, expressions and `matrix`
 //! renders the same image as the plain form.
 
-mod common;
+use crate::common;
 
 use common::{LAB_BOX, max_abs_difference, render_image, scene};
 

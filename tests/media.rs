@@ -2,7 +2,7 @@
 //! transmittance of scattering slabs by free-flight sampling, emission against its closed form,
 //! a fog's estimators against each other, and the integrators that refuse media.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! Meshes: PLY (ASCII, binary) and OBJ files give the same surface as the `box` primitive, real
 //! data loads with its counts, bad files give located errors, instances share one mesh.
 
-mod common;
+use crate::common;
 
 use common::{LAB_BOX, max_abs_difference, render_image, scene};
 use raydiance::geometry::Shape;

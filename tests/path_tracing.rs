@@ -1,7 +1,7 @@
 //! The path integrator against closed forms of the rendering equation, and its estimators
 //! (light sampling, BSDF sampling, MIS) against each other, with statistical bounds.
 
-mod common;
+use crate::common;
 
 use common::{LAB_BOX, OneAtATime, assert_films_agree, assert_uniform_radiance, path_with, scene};
 use glam::{Vec2, Vec3};

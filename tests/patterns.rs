@@ -3,7 +3,7 @@
 //! interpolate between their entries, and bump mapping changes nothing at amount 0, never
 //! creates energy in a white furnace and stays finite and positive at grazing angles.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! shared out among the lights in proportion to power; photons aimed at the casters of caustics
 //! carry the caustics' power.
 
-mod common;
+use crate::common;
 
 use std::f32::consts::PI;
 

@@ -1,14 +1,16 @@
 //! The `photon` and `sppm` integrators against closed forms, against `path`, against an
 //! analytic caustic; determinism over threads; stopping between iterations.
 
-mod common;
+use crate::common;
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use common::{scene, scene_file};
 use glam::DVec3;
 use raydiance::film::Film;
 use raydiance::graph::IntegratorKind;
+use raydiance::image::Image;
 use raydiance::progress::{Progress, Silent};
 use raydiance::render::render;
 use raydiance::scene::Scene;
@@ -229,7 +231,7 @@ fn analytic_caustic_power(radius: f64) -> f64 {
 /// Irradiance power arriving on the floor within `radius` of the point under the sphere, as an
 /// image shows it: pixels whose centre sees that floor, each pixel's radiance times pi / albedo
 /// (a Lambertian floor of albedo 0.8 has L = 0.8 E / pi) times the floor area it covers.
-fn image_power_on_floor(scene: &Scene, image: &raydiance::image::Image, radius: f32) -> f64 {
+fn image_power_on_floor(scene: &Scene, image: &Image, radius: f32) -> f64 {
     let (w, h) = (image.width, image.height);
     let floor_point = |x: f32, y: f32| {
         let ray = scene.camera.ray(x / w as f32, y / h as f32, glam::Vec2::ZERO);
@@ -293,7 +295,7 @@ fn caustic_power_equals_the_analytic_estimate_and_path_misses_it() {
 }
 
 /// The mean of `image` over a rectangle given in fractions of its width and height.
-fn region_mean(image: &raydiance::image::Image, (x0, y0, x1, y1): (f32, f32, f32, f32)) -> f64 {
+fn region_mean(image: &Image, (x0, y0, x1, y1): (f32, f32, f32, f32)) -> f64 {
     let (w, h) = (image.width as f32, image.height as f32);
     let (xs, ys) = ((x0 * w) as usize..(x1 * w) as usize, (y0 * h) as usize..(y1 * h) as usize);
     let n = (xs.len() * ys.len()) as f64;
@@ -314,12 +316,26 @@ fn log_log_slope(points: &[(f64, f64)]) -> f64 {
     cov / var
 }
 
+/// The image of each pass a render reports (`sppm`: after 1, 2, 4, ... iterations), with its
+/// iterations: a render stopped there gives the same film bit for bit
+/// (`sppm_stopped_keeps_the_completed_iterations`), so one render stands for all of them.
+#[derive(Default)]
+struct Passes(Mutex<Vec<(u32, Image)>>);
+
+impl Progress for Passes {
+    fn advance(&self, _: u64) {}
+
+    fn pass_done(&self, film: &Film) {
+        self.0.lock().unwrap().push((film.samples, film.image()));
+    }
+}
+
 /// `sppm` converges to `path` on S2 (the lab box, point light) and S3 (the lab box, area light):
 /// the relative error of the mean radiance in fixed regions (back wall, floor, left wall,
 /// ceiling, a sphere) against a 2048-spp `path` render falls as iterations grow, with a fitted
 /// log-log slope of about -1/3 (bias falls as n^(alpha - 1) = n^(-1/3) with alpha = 2/3; a
 /// biased estimator would level off at slope 0). Bound: slope below -0.15, and the error at 64
-/// iterations under 5%.
+/// iterations under 5%. The images at 2, 4, ... 64 iterations are the passes of one render.
 #[test]
 fn sppm_converges_to_path_on_s2_and_s3() {
     let regions = [
@@ -332,17 +348,22 @@ fn sppm_converges_to_path_on_s2_and_s3() {
     for file in ["scenes/lab4-gi-point.scn", "scenes/cornell-area.scn"] {
         let reference = with(scene_file(file), IntegratorKind::Path, 32, 2048, 1);
         let reference = render(&reference, &Silent).0.image();
-        let mut errors = Vec::new();
-        for iterations in [2, 4, 8, 16, 32, 64] {
-            let s = with(scene_file(file), IntegratorKind::Sppm, 32, iterations, 10_000);
-            let image = render(&s, &Silent).0.image();
-            let error = regions
-                .iter()
-                .map(|&r| (region_mean(&image, r) / region_mean(&reference, r) - 1.0).abs())
-                .sum::<f64>()
-                / regions.len() as f64;
-            errors.push((f64::from(iterations), error));
-        }
+        let passes = Passes::default();
+        render(&with(scene_file(file), IntegratorKind::Sppm, 32, 64, 10_000), &passes);
+        let passes = passes.0.into_inner().unwrap();
+        let iterations: Vec<u32> = passes.iter().map(|(n, _)| *n).collect();
+        assert_eq!(iterations, [1, 2, 4, 8, 16, 32, 64]);
+        let errors: Vec<(f64, f64)> = passes[1..]
+            .iter()
+            .map(|(iterations, image)| {
+                let error = regions
+                    .iter()
+                    .map(|&r| (region_mean(image, r) / region_mean(&reference, r) - 1.0).abs())
+                    .sum::<f64>()
+                    / regions.len() as f64;
+                (f64::from(*iterations), error)
+            })
+            .collect();
         let slope = log_log_slope(&errors);
         let last = errors.last().unwrap().1;
         assert!(slope < -0.15 && last < 0.05, "{file}: slope {slope}, errors {errors:?}");

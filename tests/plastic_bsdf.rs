@@ -3,7 +3,7 @@
 //! a Lambertian base kd / pi (1 - F(n.o)) (1 - F(n.i)). The coat is integrated over microfacet
 //! normals as in `rough_bsdf.rs`, the base over a grid in (cos theta, phi).
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

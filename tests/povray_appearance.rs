@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 use glam::Vec3;
 use raydiance::graph::{MaterialDesc, Pattern, SceneGraph};

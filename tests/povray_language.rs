@@ -504,6 +504,77 @@ fn directives_may_run_through_a_shape_s_points_and_a_mesh_s_triangles() {
 }
 
 #[test]
+fn macros_may_make_a_mesh_s_triangles_and_items() {
+    // A macro's triangles, alone, in `#for`, after a triangle; a macro's transform after them.
+    let graph = pov(r#"
+        #macro Tri(X) triangle { <X, 0, 0>, <X + 1, 0, 0>, <X, 1, 0> } #end
+        #macro Placed() translate 2*y #end
+        mesh { Tri(0) Tri(1) }
+        mesh { #for (I, 0, 2) Tri(I) #end Placed() }
+        mesh { triangle { 0, x, y } Tri(1) #declare D = 3; Tri(D) Placed() scale 2 }
+        #declare M = mesh { Tri(0) }
+        mesh { M translate x }"#);
+    let triangles = |k: usize| match &graph.objects[k].shape {
+        ShapeNode::Extrusion(made) => made.triangles.len(),
+        other => panic!("{k}: not a mesh: {other:?}"),
+    };
+    assert_eq!([triangles(0), triangles(1), triangles(2)], [2, 3, 3]);
+    let ShapeNode::Extrusion(made) = &graph.objects[2].shape else { panic!() };
+    assert!(made.positions.contains(&Vec3::new(4.0, 0.0, 0.0)), "{:?}", made.positions);
+    assert_eq!(graph.objects[1].transforms.len(), 1, "the macro's `translate` is the mesh's");
+    assert_eq!(graph.objects[2].transforms.len(), 2);
+    // `mesh { Declared_Mesh items }` is that mesh, as `object { }` is (POV-Ray's).
+    let ShapeNode::Instance(declared) = &graph.objects[3].shape else { panic!("not an instance") };
+    assert!(matches!(&declared.shape, ShapeNode::Extrusion(m) if m.triangles.len() == 1));
+    assert_eq!(graph.objects[3].transforms.len(), 1);
+    // A triangle after the mesh's items, from a macro or not, is refused where it stands; so
+    // is a mesh that gets no triangle, and a value that is not an object or a file's name.
+    let late =
+        pov_error("#macro Tri() triangle { 0, x, y } #end\nmesh { Tri() translate x Tri() }");
+    assert!(late.starts_with("tests/inline.pov:1:14:"), "{late}");
+    assert!(late.contains("after the mesh's items") && late.contains("2:26"), "{late}");
+    let none = pov_error("#macro Nothing() #end\nmesh { Nothing() pigment { rgb 1 } }");
+    assert!(none.starts_with("tests/inline.pov:2:1:") && none.contains("no triangles"), "{none}");
+    let number = pov_error("mesh { 3 }");
+    assert!(number.starts_with("tests/inline.pov:1:8:") && number.contains("a string"), "{number}");
+    let scn = scn_error("mesh { }");
+    assert!(scn.starts_with("tests/inline.scn:1:1:") && scn.contains("POV-Ray's"), "{scn}");
+    // A triangle that an include brings among a shape's points is refused there too.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tri.inc"), "triangle { 0, x, y }").unwrap();
+    let scene = dir.path().join("points.pov");
+    let text = "polygon { 4, <0, 0>, <1, 0>, #include \"tri.inc\" <0, 1>, <0, 0> }";
+    let among = parse_scene(&scene, text).map(|_| ()).unwrap_err().to_string();
+    assert!(among.contains("tri.inc:1:1:") && among.contains("among a shape's points"), "{among}");
+}
+
+#[test]
+fn a_mesh_s_triangles_read_their_uv_vectors_with_a_warning() {
+    // allobjects.pov's smooth triangles, and uv made by a loop.
+    let graph = pov(r#"
+        mesh {
+          smooth_triangle {
+            <0.56, 0, -1> <0.73, -0.24, 0.64> <0.16, 0.49, -1> <-0.08, 0.82, 0.57>
+            <0.23, 0.71, -0.6> <0.62, 0.79, 0.02>
+            uv_vectors <0, -1> <1.25664, -1> <1.25664, -0.6>
+          }
+          #for (I, 0, 1) triangle { 0, x, y uv_vectors <I, 0>, <I + 1, 0>, <I, 1> } #end
+        }"#);
+    let ShapeNode::Extrusion(made) = &graph.objects[0].shape else { panic!("not a mesh") };
+    assert_eq!(made.triangles.len(), 3);
+    let warned = graph.warnings.iter().filter(|w| w.contains("uv_vectors are read but not used"));
+    assert_eq!(warned.count(), 1, "one warning a mesh: {:?}", graph.warnings);
+    // A uv is a 2-vector; `uv_vectors` stand only in a mesh's triangle, and only in `.pov`.
+    let three = pov_error("mesh { triangle { 0, x, y uv_vectors <0, 0>, <1, 0, 0>, <0, 1> } }");
+    assert!(three.contains("1:46") && three.contains("2-vector"), "{three}");
+    let alone = pov_error("triangle { 0, x, y uv_vectors <0, 0>, <1, 0>, <0, 1> }");
+    assert!(alone.contains("1:20") && alone.contains("`uv_vectors`"), "{alone}");
+    let scn =
+        scn_error("triangle { <0, 0, 0>, <1, 0, 0>, <0, 1, 0> uv_vectors <0, 0>, <1, 0>, <0, 1> }");
+    assert!(scn.contains("1:44") && scn.contains("POV-Ray"), "{scn}");
+}
+
+#[test]
 fn uv_mapping_is_read_with_a_warning_and_mesh_camera_is_refused_by_name() {
     let graph = pov("sphere { 0, 1 uv_mapping pigment { uv_mapping checker rgb 0, rgb 1 } \
          texture { uv_mapping pigment { rgb 1 } } }");

@@ -3,7 +3,7 @@
 //! light, area lights of the point light's power, `shadowless`, `looks_like`, located errors, and
 //! POV-Ray's own brightness at the camera's `look_at` (Debian's `povray` as the oracle).
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 use std::path::Path;

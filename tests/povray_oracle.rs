@@ -10,7 +10,7 @@
 //! ovus, and lemons (which POV-Ray 3.7.0 lacks) against the CSG of a quartic that is the same
 //! solid; parametric surfaces.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;
@@ -594,7 +594,8 @@ fn height_fields_in_csg_match_povray_away_from_edges() {
 }
 
 /// Points and triangles with directives among them: a prism's points from an array in `#for`, a
-/// mesh's triangles in `#while`, a sphere sweep's spheres in `#for`.
+/// mesh's triangles in `#while`, a sphere sweep's spheres in `#for`, a mesh's triangles (with
+/// `uv_vectors`) made by a macro called alone and in `#for`, and its transform by another.
 const LISTED: &str = r#"
 camera { location <0, 3, -7> right x*image_width/image_height angle 34 look_at <0, 0, 0> }
 #default { finish { emission 1 ambient 0 diffuse 0 } }
@@ -616,6 +617,12 @@ mesh {
 sphere_sweep { linear_spline 4,
   #for (K, 0, 3) <K * 0.6 - 0.9, 0.4 * mod(K, 2), 0>, 0.15 + 0.05 * K #end
   translate <-1.8, -1.3, 0> pigment { rgb <0, 0, 1> } }
+#macro Blade(A)
+  triangle { <0, 0, 0>, <cos(A + pi / 4), sin(A + pi / 4), 0>, <cos(A), sin(A), 0>
+    uv_vectors <0, 0>, <1, 0>, <0, 1> }
+#end
+#macro Placed() translate <1.8, -1.3, 0> #end
+mesh { Blade(0) #for (K, 1, 3) Blade(K * pi / 2) #end Placed() pigment { rgb <1, 1, 0> } }
 "#;
 
 #[test]

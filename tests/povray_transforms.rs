@@ -3,7 +3,7 @@
 //! `max_extent`, `trace`, `inside`) and `#ifdef` of an array's element (`docs/povray.md`):
 //! each against hand-worked values, and against POV-Ray 3.7 itself where it is installed.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

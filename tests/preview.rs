@@ -3,7 +3,7 @@
 //! beside the last picture, nothing outside the page is served, and only this machine is
 //! listened on unless asked. (`preview_browser.rs` drives the page in a real browser.)
 
-mod common;
+use crate::common;
 
 use std::io::{BufRead, BufReader};
 use std::net::{SocketAddr, TcpStream, UdpSocket};

@@ -4,7 +4,7 @@
 //! Skipped, with a line saying so, where Chromium or its driver is not installed; under CI
 //! (`.ci/run` installs them) it must run.
 
-mod common;
+use crate::common;
 
 use std::net::TcpListener;
 use std::process::{Child, Command, Stdio};

@@ -2,7 +2,7 @@
 //! where each meets it alone (`Scene::intersect`, `Scene::occluded`), whether the lanes test
 //! every shape (a scene of few simple shapes) or traverse the BVH (a scene of many).
 
-mod common;
+use crate::common;
 
 use common::{LAB_BOX, scene};
 use glam::Vec3;

@@ -1,7 +1,7 @@
 //! Robustness: scale invariance (spawned rays clear surfaces at any scale), deep nesting, and
 //! interruption with Ctrl-C.
 
-mod common;
+use crate::common;
 
 use common::{max_abs_difference, mean, render_image, scene};
 

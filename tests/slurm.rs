@@ -3,7 +3,7 @@
 //! image of one render; an array of 2 frames times 2 shares makes each frame's. Skipped, with a line saying so, where Slurm is not installed; under CI
 //! (`.ci/run` installs it) it must run.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

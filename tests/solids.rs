@@ -4,7 +4,7 @@
 //! test, inside tests against the operands', an emission-only render against the analytic
 //! silhouette, and build errors.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::Arc;

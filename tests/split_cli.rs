@@ -2,7 +2,7 @@
 //! refusal (a message naming the files, a non-zero exit, nothing written), the scheduler's
 //! variables, and animation frames.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

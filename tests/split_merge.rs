@@ -1,7 +1,7 @@
 //! Shares of the sample set and tiles of the image, rendered apart into part files and merged in
 //! any order, make the image of one render (within 1e-6 relative per pixel).
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

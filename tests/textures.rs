@@ -1,7 +1,7 @@
 //! Textures in scenes: the course's Lab 4 formula with kd from the pattern, patterns that move with
 //! their objects, image maps decoded to linear.
 
-mod common;
+use crate::common;
 
 use std::f32::consts::PI;
 

@@ -434,8 +434,8 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::patch_type
         | Rule::patch_flatness
         | Rule::patch_u_steps
-        | Rule::patch_v_steps
-        | Rule::patch_uv_vectors => "a patch setting (`type`, `flatness`, `u_steps`, `v_steps`)",
+        | Rule::patch_v_steps => "a patch setting (`type`, `flatness`, `u_steps`, `v_steps`)",
+        Rule::triangle_uv | Rule::uv_vectors => "`uv_vectors`",
         Rule::prism_spline => "a spline (`linear_spline`, ...)",
         Rule::prism_sweep => "a sweep (`linear_sweep`, `conic_sweep`)",
         Rule::lathe => "`lathe`",

@@ -172,6 +172,12 @@ pub enum Item {
         value: Option<Colour>,
         items: Vec<Item>,
     },
+    /// POV-Ray's `uv_vectors <uv1> <uv2> <uv3>` of a mesh's triangle (`.pov`): the uv
+    /// coordinates of its corners, right after them.
+    UvVectors {
+        corners: Box<[Expr; 3]>,
+        span: Span,
+    },
 }
 
 #[derive(Debug, Clone)]
@@ -411,6 +417,7 @@ impl Item {
             },
             Item::MapBlock { .. } => "a map's entry",
             Item::PovParam { .. } => "a finish or interior item",
+            Item::UvVectors { .. } => "a mesh triangle's `uv_vectors`",
         }
     }
 
@@ -438,7 +445,8 @@ impl Item {
             | Item::ImageMap { span, .. }
             | Item::Pattern { span, .. }
             | Item::PatternMap { span, .. }
-            | Item::MapBlock { span, .. } => span,
+            | Item::MapBlock { span, .. }
+            | Item::UvVectors { span, .. } => span,
             Item::Appearance(a) => &a.span,
             Item::PovParam { key, .. } => &key.span,
             Item::Macro(m) => &m.span,

@@ -594,6 +594,13 @@ impl Builder {
                 self.leave();
                 Item::ColorMap { entries: items, span }
             }
+            Rule::triangle_uv => {
+                let mut inner = pair.into_inner().filter(|p| p.as_rule() != Rule::arg_comma);
+                self.pov_only(&inner.next().expect("the word"), Some("triangle"))?;
+                let mut next = || self.expr(inner.next().expect("the grammar gives three uv"));
+                let corners = Box::new([next()?, next()?, next()?]);
+                Item::UvVectors { corners, span }
+            }
             Rule::map_entry => {
                 let mut inner = pair.into_inner().peekable();
                 let position = self.arithmetic(inner.next().expect("the position"))?;
@@ -1167,10 +1174,18 @@ impl Builder {
         if rule == Rule::julia_fractal {
             return self.julia_fractal(pair);
         }
-        if rule == Rule::mesh
-            && pair.clone().into_inner().nth(1).is_some_and(|p| p.as_rule() != Rule::expr)
-        {
-            return self.triangle_mesh(pair);
+        if rule == Rule::mesh {
+            // A mesh of a file names it where a mesh of triangles has its first triangle, a
+            // directive or item, or (`.pov`) a macro's call that may make triangles.
+            let Some(head) = pair.clone().into_inner().nth(1).filter(|p| p.as_rule() == Rule::expr)
+            else {
+                return self.triangle_mesh(pair, None);
+            };
+            if self.dialect == Dialect::Pov
+                && let ExprKind::Call(call) = self.expr(head)?.kind
+            {
+                return self.triangle_mesh(pair, Some(call));
+            }
         }
         if matches!(rule, Rule::lathe | Rule::sor | Rule::polygon) {
             return self.point_list_shape(pair);
@@ -1404,7 +1419,7 @@ impl Builder {
         while let Some(setting) = inner.next_if(|p| p.as_rule() == Rule::patch_setting) {
             let mut parts = setting.into_inner().filter(|p| p.as_rule() != Rule::arg_comma);
             let word = parts.next().expect("the setting's word");
-            if word.as_rule() == Rule::patch_uv_vectors {
+            if word.as_rule() == Rule::uv_vectors {
                 patch.uv_vectors.clear();
                 for corner in parts {
                     patch.uv_vectors.push(self.expr(corner)?);
@@ -1417,7 +1432,7 @@ impl Builder {
                 Rule::patch_flatness => patch.flatness = value,
                 Rule::patch_u_steps => patch.u_steps = value,
                 Rule::patch_v_steps => patch.v_steps = value,
-                Rule::patch_uv_vectors => unreachable!("read above"),
+                Rule::uv_vectors => unreachable!("read above"),
                 rule => unreachable!("no patch setting {rule:?}"),
             }
         }
@@ -1431,20 +1446,31 @@ impl Builder {
         Ok(Object { shape: Shape::BicubicPatch(Box::new(patch)), items, span })
     }
 
-    /// POV-Ray's `mesh { triangle { } smooth_triangle { } ... items }`.
-    fn triangle_mesh(&mut self, pair: Pair<'_, Rule>) -> Result<Object, SceneError> {
+    /// POV-Ray's `mesh { triangle { } smooth_triangle { } ... items }`; `call`, a macro's call
+    /// that stands first, in the place of a mesh's file (whose `expr` it was read from).
+    fn triangle_mesh(
+        &mut self,
+        pair: Pair<'_, Rule>,
+        call: Option<Call>,
+    ) -> Result<Object, SceneError> {
         let span = self.span(&pair);
         self.enter(&pair)?;
-        let mut inner = pair.into_inner().skip(1).peekable();
+        let mut inner = pair.into_inner().peekable();
+        let word = inner.next().expect("the grammar gives `mesh`");
         if self.dialect == Dialect::Scn {
-            let first = inner.peek().expect("the grammar gives a triangle");
             return Err(self.error(
-                first,
+                inner.peek().unwrap_or(&word),
                 "a mesh of `triangle` blocks is POV-Ray's (a `.pov` scene's); a `.scn` mesh reads \
                  a file: `mesh { \"file.ply\" }`",
             ));
         }
-        let (triangles, items) = self.listed_and_items(inner.collect(), is_triangle)?;
+        if call.is_some() {
+            inner.next();
+        }
+        let (mut triangles, items) = self.listed_and_items(inner.collect(), is_triangle)?;
+        if let Some(call) = call {
+            triangles.insert(0, Item::Call(call));
+        }
         self.leave();
         Ok(Object { shape: Shape::TriangleMesh { triangles }, items, span })
     }

@@ -181,13 +181,7 @@ impl Evaluator {
 
     /// A string where `what` needs one, shared with where it came from.
     pub(super) fn text(&mut self, expr: &Expr, what: &str) -> Result<Arc<String>, SceneError> {
-        match self.value(expr)? {
-            Value::String(s) => Ok(s),
-            other => Err(SceneError::at(
-                &expr.span,
-                format!("{what} needs a string, not {}", other.kind()),
-            )),
-        }
+        text_of(self.value(expr)?, expr, what)
     }
 
     /// `#declare S = concat(S, ...)` (or `#local`): appends to the string S holds, in place where
@@ -946,6 +940,16 @@ pub(super) fn single_vector(v: DVec3, at: &Span) -> Result<Vec3, SceneError> {
     let vanishing = below & v.cmpne(DVec3::ZERO);
     let v = if below.all() { v } else { DVec3::select(vanishing, DVec3::ZERO, v) };
     Ok(Vec3::new(single(v.x, at)?, single(v.y, at)?, single(v.z, at)?))
+}
+
+/// `value`, `expr`'s, as a string where `what` needs one.
+pub(super) fn text_of(value: Value, expr: &Expr, what: &str) -> Result<Arc<String>, SceneError> {
+    match value {
+        Value::String(s) => Ok(s),
+        other => {
+            Err(SceneError::at(&expr.span, format!("{what} needs a string, not {}", other.kind())))
+        }
+    }
 }
 
 #[cfg(test)]

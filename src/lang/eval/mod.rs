@@ -235,9 +235,17 @@ pub enum Body<'a> {
     Value(&'a mut Option<Value>),
     /// POV-Ray's `transform { }` (`.pov`).
     Transform(&'a mut transform::TransformState),
-    /// A shape's points or a mesh's triangles, with the directives that run through them: each
-    /// as it stands when it is reached, its values written out (`listed`).
-    Listed(&'a mut Vec<Item>),
+    /// A shape's points, with the directives that run through them: each as it stands when it
+    /// is reached, its values written out (`listed`).
+    Listed(&'a mut Vec<syntax::Expr>),
+    /// POV-Ray's mesh of triangles (`.pov`): its triangles as they are reached, written out as
+    /// the points are, while `triangles` is open; its first other item makes the mesh of them
+    /// into `node`'s shape and closes them, and that item and those after it are the object's
+    /// (`triangles::mesh_item`).
+    Mesh {
+        triangles: &'a mut Option<Vec<syntax::Object>>,
+        node: &'a mut ObjectNode,
+    },
 }
 
 impl Body<'_> {
@@ -296,7 +304,8 @@ impl Body<'_> {
             Body::Sky(_) => "in a sky_sphere",
             Body::Value(_) => "where a value is expected",
             Body::Transform(_) => "in a transform",
-            Body::Listed(_) => "among a shape's points or a mesh's triangles",
+            Body::Listed(_) => "among a shape's points",
+            Body::Mesh { .. } => "in a mesh",
         }
     }
 }
@@ -490,6 +499,7 @@ impl Evaluator {
             | Item::PovParam { .. }
             | Item::ClippedBy { .. }
             | Item::ImageMap { .. }
+            | Item::UvVectors { .. }
             | Item::Value(_) => match body {
                 Body::Scene => self.scene_item(item),
                 Body::Settings(settings) => self.setting_item(item, settings),
@@ -509,6 +519,7 @@ impl Evaluator {
                 Body::Sky(sky) => self.sky_item(item, sky),
                 Body::Transform(state) => self.transform_item(item, state),
                 Body::Listed(listed) => self.listed_item(item, listed),
+                Body::Mesh { triangles, node } => self.mesh_item(item, triangles, node),
             },
         }
     }

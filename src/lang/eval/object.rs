@@ -5,7 +5,7 @@ use std::sync::Arc;
 use glam::{Mat3, Vec3};
 
 use super::Look;
-use super::expression::{single, single_vector};
+use super::expression::{single, single_vector, text_of};
 use super::transform::matrix_of;
 use super::{
     Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE, resolve,
@@ -190,10 +190,8 @@ impl Evaluator {
             }
             Shape::BicubicPatch(patch) => self.bicubic_patch(patch, &object.span)?,
             Shape::SmoothTriangle { corners, normals } => self.smooth_triangle(corners, normals)?,
-            Shape::TriangleMesh { triangles } => {
-                let triangles = self.listed_triangles(triangles)?;
-                self.triangle_mesh(&triangles)?
-            }
+            // Made of its triangles as its body reaches them (`mesh_items`, below).
+            Shape::TriangleMesh { .. } => ShapeNode::Union(Vec::new()),
             Shape::Mesh2(mesh) => self.mesh2(mesh, &object.span)?,
             Shape::JuliaFractal(fractal) => self.julia_fractal(fractal)?,
             Shape::Lathe { spline, count, points } => {
@@ -214,10 +212,17 @@ impl Evaluator {
                     "a blob's component stands only in a blob",
                 ));
             }
-            Shape::Mesh { file } => {
-                let name = self.string(file, "`mesh`")?;
-                ShapeNode::Mesh { path: resolve(&file.span.file.path, &name) }
-            }
+            Shape::Mesh { file } => match self.value(file)? {
+                // POV-Ray's `mesh { Declared_Mesh items }` (`.pov`): that object, as in
+                // `object { }` (POV-Ray takes any object there).
+                Value::Object(object) if self.dialect == Dialect::Pov => {
+                    ShapeNode::Instance(object)
+                }
+                value => {
+                    let name = text_of(value, file, "`mesh`")?;
+                    ShapeNode::Mesh { path: resolve(&file.span.file.path, &name) }
+                }
+            },
             Shape::Text { font, string, thickness, offset } => {
                 self.text_shape(font, string, thickness, offset, &span)?
             }
@@ -263,7 +268,12 @@ impl Evaluator {
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.looks.push(None);
         self.shapings.push(Shaping::default());
-        let items = self.exec(&object.items, &mut Body::Object(&mut node));
+        let items = match &object.shape {
+            Shape::TriangleMesh { triangles } => {
+                self.mesh_items(triangles, &object.items, &mut node)
+            }
+            _ => self.exec(&object.items, &mut Body::Object(&mut node)),
+        };
         let look = self.looks.pop().flatten();
         let shaping = self.shapings.pop().unwrap_or_default();
         items?;

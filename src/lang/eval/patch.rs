@@ -47,11 +47,7 @@ impl Evaluator {
             for corner in &patch.uv_vectors {
                 self.value(corner)?;
             }
-            let at = self.here(&first.span);
-            self.warnings.push(format!(
-                "{at:?}: warning: the bicubic_patch's uv_vectors are read but not used: they serve \
-                 `uv_mapping`, which raydiance's textures do not have"
-            ));
+            self.warn_unused_uv("bicubic_patch's", &first.span);
         }
         let mesh = tessellate(&points, steps);
         if mesh.triangles.is_empty() {

@@ -1,5 +1,6 @@
 //! POV-Ray's triangles written in the scene: `smooth_triangle`, `mesh { triangle { }
-//! smooth_triangle { } ... }` and `mesh2`, each made into a mesh (`ShapeNode::Extrusion`).
+//! smooth_triangle { } ... }` (its body, `Body::Mesh`) and `mesh2`, each made into a mesh
+//! (`ShapeNode::Extrusion`).
 //! Smooth triangles carry their corners' normals, interpolated across them; a flat triangle
 //! among them gets its face's normal at its corners.
 
@@ -7,10 +8,10 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::Evaluator;
+use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::ShapeNode;
-use crate::lang::syntax::{Expr, Mesh2, Object, Shape, VectorList};
+use crate::graph::{ObjectNode, ShapeNode};
+use crate::lang::syntax::{Expr, Item, Mesh2, Object, Shape, VectorList};
 use crate::lang::value::Value;
 use crate::mesh::Mesh;
 
@@ -42,17 +43,87 @@ impl Evaluator {
         Ok((points, Some(directions)))
     }
 
-    /// `mesh { triangle { } smooth_triangle { } ... }`: one material for all, so a triangle
-    /// takes no items of its own.
-    pub(super) fn triangle_mesh(&mut self, triangles: &[Object]) -> Result<ShapeNode, SceneError> {
-        let mut corners = Vec::with_capacity(triangles.len());
-        for triangle in triangles {
-            if let Some(item) = triangle.items.first() {
+    /// `mesh { triangle { } smooth_triangle { } ... items }`: `listed`, the triangles among the
+    /// directives and macro calls that run through them, and `items`, the mesh's, run as one
+    /// body, as POV-Ray reads them: its triangles, then its items, with the directives and macro
+    /// calls anywhere (a macro may make triangles or items).
+    pub(super) fn mesh_items(
+        &mut self,
+        listed: &[Item],
+        items: &[Item],
+        node: &mut ObjectNode,
+    ) -> Result<(), SceneError> {
+        let mut triangles = Some(Vec::new());
+        for part in [listed, items] {
+            self.exec(part, &mut Body::Mesh { triangles: &mut triangles, node })?;
+        }
+        self.close_mesh(&mut triangles, node)
+    }
+
+    /// An item in a mesh: a triangle while they are open, else the object's item.
+    pub(super) fn mesh_item(
+        &mut self,
+        item: &Item,
+        triangles: &mut Option<Vec<Object>>,
+        node: &mut ObjectNode,
+    ) -> Result<(), SceneError> {
+        if let Item::Object(
+            triangle @ Object {
+                shape: Shape::Triangle { .. } | Shape::SmoothTriangle { .. }, ..
+            },
+        ) = item
+        {
+            let Some(triangles) = triangles else {
                 return Err(SceneError::at(
-                    item.span(),
-                    "a triangle of a mesh takes no texture or transform of its own here: the \
-                     mesh's items apply to all its triangles",
+                    &triangle.span,
+                    "a triangle after the mesh's items: its triangles come first, then its \
+                     texture, transforms and other items (as POV-Ray requires)",
                 ));
+            };
+            triangles.push(self.written_triangle(triangle)?);
+            return Ok(());
+        }
+        self.close_mesh(triangles, node)?;
+        self.object_item(item, node)
+    }
+
+    /// The mesh of the triangles, if they are still open, made `node`'s shape.
+    fn close_mesh(
+        &mut self,
+        triangles: &mut Option<Vec<Object>>,
+        node: &mut ObjectNode,
+    ) -> Result<(), SceneError> {
+        if let Some(triangles) = triangles.take() {
+            node.shape = self.triangle_mesh(&triangles, &node.span)?;
+        }
+        Ok(())
+    }
+
+    /// The mesh of a `mesh`'s triangles: one material for all, so a triangle takes no items of
+    /// its own but its corners' `uv_vectors` (read and checked, with a warning).
+    fn triangle_mesh(
+        &mut self,
+        triangles: &[Object],
+        span: &Span,
+    ) -> Result<ShapeNode, SceneError> {
+        if triangles.is_empty() {
+            return Err(SceneError::at(span, "the mesh has no triangles"));
+        }
+        let mut corners = Vec::with_capacity(triangles.len());
+        let mut uv_at = None;
+        for triangle in triangles {
+            for item in &triangle.items {
+                let Item::UvVectors { corners, span } = item else {
+                    return Err(SceneError::at(
+                        item.span(),
+                        "a triangle of a mesh takes no texture or transform of its own here: \
+                         the mesh's items apply to all its triangles",
+                    ));
+                };
+                for corner in corners.iter() {
+                    self.uv(corner, "triangle's")?;
+                }
+                uv_at.get_or_insert(span.clone());
             }
             corners.push(match &triangle.shape {
                 Shape::Triangle { a, b, c } => {
@@ -63,6 +134,9 @@ impl Evaluator {
                 }
                 _ => unreachable!("a mesh holds `triangle` and `smooth_triangle` blocks only"),
             });
+        }
+        if let Some(at) = uv_at {
+            self.warn_unused_uv("mesh's triangles'", &at);
         }
         Ok(made(unwelded(&corners)))
     }
@@ -87,28 +161,13 @@ impl Evaluator {
         if let Some(uvs) = &mesh.uvs {
             self.check_count(uvs, "uv_vectors")?;
             for entry in &uvs.entries {
-                match self.value(entry)? {
-                    Value::Numbers(uv) if uv.len() == 2 => {}
-                    other => {
-                        return Err(SceneError::at(
-                            &entry.span,
-                            format!(
-                                "each of the mesh2's uv_vectors is a 2-vector <u, v>, not {}",
-                                other.kind()
-                            ),
-                        ));
-                    }
-                }
+                self.uv(entry, "mesh2's")?;
             }
             let count = uvs.entries.len();
             if let Some(uv_indices) = &mesh.uv_indices {
                 self.indices(uv_indices, "uv_indices", count)?;
             }
-            let at = self.here(span);
-            self.warnings.push(format!(
-                "{at:?}: warning: the mesh2's uv_vectors are read but not used: they serve \
-                 `uv_mapping`, which raydiance's textures do not have"
-            ));
+            self.warn_unused_uv("mesh2's", span);
         }
         let Some(normals) = &mesh.normals else {
             return Ok(made(Mesh { positions, normals: None, triangles: faces }));
@@ -136,6 +195,29 @@ impl Evaluator {
             })
             .collect();
         Ok(made(unwelded(&corners)))
+    }
+
+    /// One of the `whose` uv_vectors: a 2-vector <u, v>.
+    fn uv(&mut self, expr: &Expr, whose: &str) -> Result<(), SceneError> {
+        match self.value(expr)? {
+            Value::Numbers(uv) if uv.len() == 2 => Ok(()),
+            other => Err(SceneError::at(
+                &expr.span,
+                format!(
+                    "each of the {whose} uv_vectors is a 2-vector <u, v>, not {}",
+                    other.kind()
+                ),
+            )),
+        }
+    }
+
+    /// The warning that the `whose` uv_vectors are read, not used.
+    pub(super) fn warn_unused_uv(&mut self, whose: &str, at: &Span) {
+        let at = self.here(at);
+        self.warnings.push(format!(
+            "{at:?}: warning: the {whose} uv_vectors are read but not used: they serve \
+             `uv_mapping`, which raydiance's textures do not have"
+        ));
     }
 
     /// A list's vectors, as many as it says.
