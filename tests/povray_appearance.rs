@@ -121,6 +121,43 @@ fn declared_pigments_finishes_and_textures_are_used_by_name() {
 }
 
 #[test]
+fn a_macro_in_a_pigment_writes_its_items_or_starts_a_colour_s_expression() {
+    // isocacti.pov: `pigment { Rand_Array_Item(RockColors, RS) * RRand(0.1, 1, RS) }`.
+    let m = material(
+        "#macro Red() rgb <1, 0, 0> #end\n\
+         sphere { 0, 1 pigment { Red() * 0.5 } finish { diffuse 1 } }",
+    );
+    assert!(close(solid(&m), Vec3::new(0.5, 0.0, 0.0)));
+    // A macro that writes the pigment's items stays one.
+    let m = material(
+        "#macro Blue() color rgb <0, 0, 1> #end\n\
+         sphere { 0, 1 pigment { Blue() } finish { diffuse 1 } }",
+    );
+    assert!(close(solid(&m), Vec3::new(0.0, 0.0, 1.0)));
+}
+
+#[test]
+fn layers_that_differ_in_finish_are_warned_about_where_an_object_wears_them() {
+    let declared = "#declare T = texture { pigment { rgb 1 } finish { diffuse 0.9 } }\n\
+                    texture { pigment { rgbt <1, 0, 0, 0.5> } finish { phong 1 } }\n";
+    let differ = |graph: &SceneGraph| {
+        let said: Vec<&String> =
+            graph.warnings.iter().filter(|w| w.contains("differ in their finish")).collect();
+        said.iter().map(|w| w.contains("inline.pov:2:")).collect::<Vec<_>>()
+    };
+    // Declared and never worn (as the library's textures are): nothing said.
+    assert_eq!(differ(&pov(declared)), Vec::<bool>::new());
+    // Worn, twice: said once, at the layer that differs.
+    let worn =
+        format!("{declared}sphere {{ 0, 1 texture {{ T }} }}\nbox {{ 0, 1 texture {{ T }} }}");
+    assert_eq!(differ(&pov(&worn)), [true]);
+    // Layered on the object itself.
+    let own = "sphere { 0, 1 texture { pigment { rgb 1 } }\n\
+               texture { pigment { rgbt <1, 0, 0, 0.5> } finish { phong 1 } } }";
+    assert_eq!(differ(&pov(own)), [true]);
+}
+
+#[test]
 fn a_checker_pigment_is_scaled_by_diffuse_and_keeps_its_transforms() {
     let m = material("plane { y, 0 pigment { checker color rgb 1, color rgb 0 scale 2 } }");
     // The pigment's colour, which each hit shares out by the finish's `diffuse` 0.6.

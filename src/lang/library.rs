@@ -5,6 +5,7 @@
 /// The text of the built-in include file `name`, if there is one.
 pub fn file(name: &str) -> Option<&'static str> {
     match name {
+        "arrays.inc" => Some(include_str!("library/arrays.inc")),
         "ash.map" => Some(include_str!("library/ash.map")),
         "benediti.map" => Some(include_str!("library/benediti.map")),
         "bubinga.map" => Some(include_str!("library/bubinga.map")),
@@ -160,7 +161,8 @@ mod tests {
 
     use crate::graph::MaterialDesc;
 
-    const NAMES: [&str; 35] = [
+    const NAMES: [&str; 36] = [
+        "arrays.inc",
         "ash.map",
         "benediti.map",
         "bubinga.map",
@@ -209,6 +211,77 @@ mod tests {
             let graph = pov(&format!("#include \"{name}\""));
             assert!(graph.objects.is_empty(), "{name} declares, and makes nothing");
         }
+    }
+
+    /// The spheres' radii of `scene`, in the order they were made.
+    fn radii(scene: &str) -> Vec<f32> {
+        let graph = pov(scene);
+        let radius = |object: &crate::graph::ObjectNode| match object.shape {
+            crate::graph::ShapeNode::Sphere { radius, .. } => radius,
+            ref other => panic!("a sphere, not {other:?}"),
+        };
+        graph.objects.iter().map(radius).collect()
+    }
+
+    #[test]
+    fn arrays_inc_sorts_reverses_resizes_and_picks() {
+        // 57 draws (duplicates among them) sorted, then written out as radii: the radii ascend
+        // and are the draws, each as often.
+        let header = r#"#include "arrays.inc"
+#declare S = seed(3);
+#declare A = array[57];
+#for (I, 0, 56) #declare A[I] = 1 + int(20 * rand(S)); #end
+#declare Drawn = A;
+"#;
+        let drawn = radii(&format!("{header}#for (I, 0, 56) sphere {{ 0, Drawn[I] }} #end"));
+        let sorted = radii(&format!(
+            "{header}Sort_Array(A)
+#for (I, 0, 56) sphere {{ 0, A[I] }} #end"
+        ));
+        let mut expected = drawn.clone();
+        expected.sort_by(f32::total_cmp);
+        assert_eq!(sorted, expected);
+        assert!(drawn != expected, "the draws were not already in order");
+        // Only items 10 to 20 sorted; a redefined Sort_Compare sorts largest first.
+        let partial = radii(&format!(
+            "{header}#macro Sort_Compare(Array, IdxA, IdxB) (Array[IdxA] > Array[IdxB]) #end
+Sort_Partial_Array(A, 10, 20)
+#for (I, 0, 56) sphere {{ 0, A[I] }} #end"
+        ));
+        let mut expected = drawn.clone();
+        expected[10..=20].sort_by(|a, b| b.total_cmp(a));
+        assert_eq!(partial, expected);
+        // Reversed (odd and even lengths), resized shorter and longer.
+        for n in [5, 6] {
+            let reversed = radii(&format!(
+                "#include \"arrays.inc\"\n#declare A = array[{n}];\n#for (I, 0, {n} - 1) #declare A[I] = I + 1; #end
+Reverse_Array(A)\n#for (I, 0, {n} - 1) sphere {{ 0, A[I] }} #end"
+            ));
+            let expected: Vec<f32> = (1..=n).rev().map(|r| r as f32).collect();
+            assert_eq!(reversed, expected);
+        }
+        let resized = radii(
+            r#"#include "arrays.inc"
+#declare A = array[4] {1, 2, 3, 4}
+Resize_Array(A, 2)
+#declare B = A;
+Resize_Array(A, 3)
+#if (defined(A[2])) #error "a new item is unset" #end
+#for (I, 0, dimension_size(B, 1) - 1) sphere { 0, B[I] } #end
+sphere { 0, dimension_size(A, 1) }"#,
+        );
+        assert_eq!(resized, [1.0, 2.0, 3.0]);
+        // A picked item is one of the array's, and every item is picked in 200 draws.
+        let picked = radii(
+            r#"#include "arrays.inc"
+#declare A = array[4] {1, 2, 3, 4}
+#declare S = seed(1);
+#for (I, 1, 200) sphere { 0, Rand_Array_Item(A, S) } #end"#,
+        );
+        for item in [1.0, 2.0, 3.0, 4.0] {
+            assert!(picked.contains(&item), "{item} never picked");
+        }
+        assert!(picked.iter().all(|r| [1.0, 2.0, 3.0, 4.0].contains(r)));
     }
 
     #[test]
@@ -676,6 +749,114 @@ Near(VMax(<1, 7, 3>), 7, "vmax")
             let text = super::file(file).expect("built in");
             assert_eq!(text.matches("rgb <").count(), 255, "{file}");
         }
+    }
+
+    #[test]
+    fn textures_inc_declares_every_name_of_povray_s() {
+        // POV-Ray's names the tests above do not name, by what each declares, each on a sphere.
+        let added: [(&str, &[&str]); 6] = [
+            (
+                "color_map",
+                &[
+                    "Brown_Agate_Map",
+                    "Pink_Granite_Map",
+                    "Blue_Sky_Map",
+                    "Lightning_CMap1",
+                    "Lightning_CMap2",
+                ][..],
+            ),
+            (
+                "pigment",
+                &[
+                    "Brown_Agate",
+                    "Pink_Granite",
+                    "Blue_Sky",
+                    "Bright_Blue_Sky",
+                    "Blue_Sky2",
+                    "Blue_Sky3",
+                    "Blood_Sky",
+                    "Apocalypse",
+                    "Clouds",
+                    "FBM_Clouds",
+                    "Cherry_Wood",
+                    "Pine_Wood",
+                    "Dark_Wood",
+                    "Tan_Wood",
+                    "Candy_Cane",
+                    "Peel",
+                ][..],
+            ),
+            (
+                "texture",
+                &[
+                    "Shadow_Clouds",
+                    "EMBWood1",
+                    "Yellow_Pine",
+                    "Rosewood",
+                    "Sandalwood",
+                    "Glass3",
+                    "Green_Glass",
+                    "NBglass",
+                    "NBoldglass",
+                    "NBwinebottle",
+                    "NBbeerbottle",
+                    "Ruby_Glass",
+                    "Dark_Green_Glass",
+                    "Yellow_Glass",
+                    "Orange_Glass",
+                    "Vicks_Bottle_Glass",
+                    "Brushed_Aluminum",
+                    "Brass_Valley",
+                    "Rust",
+                    "Rusty_Iron",
+                    "Soft_Silver",
+                    "New_Penny",
+                    "Gold_Nugget",
+                    "Aluminum",
+                    "Bright_Bronze",
+                    "Water",
+                    "Cork",
+                    "Lightning1",
+                    "Lightning2",
+                    "Starfield",
+                ][..],
+            ),
+            ("finish", &["Metallic_Finish"][..]),
+            ("interior", &["Water_Int"][..]),
+            (
+                "material",
+                &[
+                    "M_Glass2",
+                    "M_Glass3",
+                    "M_Green_Glass",
+                    "M_NB_Glass",
+                    "M_NB_Old_Glass",
+                    "M_NB_Winebottle_Glass",
+                    "M_NB_Beerbottle_Glass",
+                    "M_Ruby_Glass",
+                    "M_Dark_Green_Glass",
+                    "M_Yellow_Glass",
+                    "M_Orange_Glass",
+                    "M_Vicks_Bottle_Glass",
+                    "M_Water",
+                ][..],
+            ),
+        ];
+        let mut scene = String::from("#include \"textures.inc\"\n");
+        for (kind, names) in added {
+            for name in names {
+                scene += &match kind {
+                    "color_map" => format!(
+                        "sphere {{ 0, 1 pigment {{ gradient x color_map {{ {name} }} }} }}\n"
+                    ),
+                    _ => format!("sphere {{ 0, 1 {kind} {{ {name} }} }}\n"),
+                };
+            }
+        }
+        let graph = pov(&scene);
+        assert_eq!(graph.objects.len(), 66);
+        // Including the file says nothing: a texture's warnings come where an object wears it.
+        assert!(pov("#include \"textures.inc\"").warnings.is_empty());
     }
 
     #[test]

@@ -88,6 +88,10 @@ pub struct Look {
     pub normal: Option<NormalNode>,
     /// `interior { }`: `ior 1` and empty when not given.
     pub interior: Interior,
+    /// Where a layer over another with a different finish was flattened (the top's finish
+    /// applies to both): warned about when the look is given to an object, so that a declared
+    /// texture no object wears (the library's) says nothing.
+    pub finish_flattened_at: Option<String>,
 }
 
 impl Default for Look {
@@ -98,6 +102,7 @@ impl Default for Look {
             finish: POV_FINISH,
             normal: None,
             interior: Interior::default(),
+            finish_flattened_at: None,
         }
     }
 }
@@ -138,6 +143,7 @@ impl Evaluator {
                 look.pigment = texture.pigment;
                 look.finish = texture.finish;
                 look.normal = texture.normal;
+                look.finish_flattened_at = texture.finish_flattened_at;
             }
             AppearanceKind::Interior => {
                 self.exec(&appearance.items, &mut Body::Interior(&mut look.interior))?
@@ -377,6 +383,7 @@ impl Evaluator {
                     look.pigment = l.pigment.clone();
                     look.finish = l.finish.clone();
                     look.normal = l.normal.clone();
+                    look.finish_flattened_at = l.finish_flattened_at.clone();
                 }
                 other => {
                     return Err(SceneError::at(
@@ -428,7 +435,14 @@ impl Evaluator {
     /// point of a patterned one. `ambient` is light only where `diffuse` is 0 (the object only
     /// glows); `emission` always is.
     pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
-        let Look { pigment, finish, normal, interior } = look;
+        let Look { pigment, finish, normal, interior, finish_flattened_at } = look;
+        if let Some(at) = finish_flattened_at.as_ref().filter(|_| !self.warned_layer_finish) {
+            self.warned_layer_finish = true;
+            self.warnings.push(format!(
+                "{at}: warning: layered `texture`: the layers differ in their finish; the top \
+                 one's applies to both (said once a scene)"
+            ));
+        }
         let colour = pigment.colour.max_value();
         let refracts = !pigment.is_opaque();
         let mut reflection = finish.reflection.max(Vec3::ZERO);

@@ -581,20 +581,15 @@ impl Evaluator {
 
     /// POV-Ray's layered textures: a `texture` over another shows the one under it through its
     /// pigment's filter and transmit, point by point (`Pigment::over`). Flattened into one look:
-    /// the top one's finish applies to both (with a warning, once a scene, where the top lets light
-    /// through);
-    /// an opaque top covers the layer under it, as in POV-Ray.
+    /// the top one's finish applies to both (warned about, once a scene, where an object wears
+    /// it: `look_material`); an opaque top covers the layer under it, as in POV-Ray.
     pub(super) fn layer(&mut self, under: &Look, over: &mut Look, span: &Span) {
         if over.pigment.is_opaque() {
             return;
         }
-        if under.finish != over.finish && !self.warned_layer_finish {
-            self.warned_layer_finish = true;
-            let at = self.here(span);
-            self.warnings.push(format!(
-                "{at:?}: warning: layered `texture`: the layers differ in their finish; the top \
-                 one's applies to both (said once a scene)"
-            ));
+        // `over` began as a copy of `under`, so an earlier flattening is kept.
+        if under.finish != over.finish {
+            over.finish_flattened_at = Some(format!("{:?}", self.here(span)));
         }
         over.pigment = over.pigment.over(&under.pigment);
     }
