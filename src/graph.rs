@@ -342,6 +342,7 @@ impl TextureNode {
         let children: Vec<&TextureNode> = match &self.pattern {
             Pattern::Checker(a, b) | Pattern::Stripes { a, b, .. } => vec![a, b],
             Pattern::Mix { a, b, t } => vec![a, b, t],
+            Pattern::Warped { node, .. } => vec![node],
             Pattern::Field { map, .. } | Pattern::Average(map) => {
                 map.iter().map(|(_, node)| node).collect()
             }
@@ -366,6 +367,7 @@ impl TextureNode {
                 a.max_value().max(b.max_value())
             }
             Pattern::Mix { a, b, .. } => a.max_value().max(b.max_value()),
+            Pattern::Warped { node, .. } => node.max_value(),
             Pattern::Field { map, .. } | Pattern::Average(map) => {
                 map.iter().fold(Vec3::ZERO, |m, (_, c)| m.max(c.max_value()))
             }
@@ -487,6 +489,12 @@ pub enum Pattern {
     },
     /// POV-Ray's `average`: the weighted mean of the textures (weights need not sum to 1).
     Average(TextureMap),
+    /// The texture at the point moved by a warp (`pigment { P_Declared warp { } }`,
+    /// `average ... warp { }`).
+    Warped {
+        warp: Warp,
+        node: Box<TextureNode>,
+    },
 }
 
 /// How an image is projected, sampled and decoded, and which of a pigment's parts it gives
@@ -741,10 +749,24 @@ pub enum Warp {
     /// axis repeats; the k-th copy is moved by k * offset and, when k is odd, mirrored along the
     /// axes where `flip` is not 0.
     Repeat { axis: usize, width: f32, offset: Vec3, flip: Vec3 },
-    /// `black_hole <centre>, radius  strength falloff inverse`: points within `radius` of the
-    /// centre are pulled towards it (pushed away when `inverse`) by strength * (1 - d / radius)
-    /// ^ falloff of their distance.
-    BlackHole { centre: Vec3, radius: f32, strength: f32, falloff: f32, inverse: bool },
+    /// `black_hole <centre>, radius  strength falloff inverse repeat <r> turbulence <t>`.
+    BlackHole(BlackHole),
+}
+
+/// POV-Ray's black hole warp: a point p within `radius` of the centre c is moved to
+/// p + s (p - c) (p - s (p - c) when `inverse`), s = min(strength (1 - |p - c| / radius)^falloff,
+/// 1), so that the pattern looks drawn into the hole (pushed out of it). With `repeat`, a hole
+/// stands in every block of that size (the components that are 0 do not repeat), each moved
+/// within its block by a random part of `jitter` (POV-Ray's `turbulence` here).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlackHole {
+    pub centre: Vec3,
+    pub radius: f32,
+    pub strength: f32,
+    pub falloff: f32,
+    pub inverse: bool,
+    pub repeat: Vec3,
+    pub jitter: Vec3,
 }
 
 /// How a value in [0, 1) is shaped (POV-Ray's wave types).

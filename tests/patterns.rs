@@ -356,3 +356,56 @@ fn pov_normals_read_maps_and_declared_normals() {
     .to_string();
     assert!(error.contains("needs its position"), "{error}");
 }
+
+/// POV-Ray's warps, against values `povray` 3.7 renders (a gradient x in flat light): a black
+/// hole at c of radius r moves p within it to p + s (p − c), s = strength (1 − |p − c| / r)^falloff
+/// (`inverse`: p − s (p − c)); its `repeat <r>` stands a hole in every block of size r; warps
+/// apply from the last written to the first; and a declared pigment or an `average` takes
+/// warps as a pattern does.
+#[test]
+fn warps_move_points_as_povray_s_do() {
+    let finish = "finish { diffuse 1 ambient 0 }";
+    let gradient = |warps: &str| {
+        let s = pov(&format!("box {{ -100, 100  pigment {{ gradient x {warps} }} {finish} }}"));
+        move |x: f32| kd(&s, Vec3::new(x, 0.0, 0.0)).x
+    };
+    let close = |a: f32, b: f32| (a - b).abs() < 1e-4;
+    // s = 1 · (1 − 0.5)¹ = 0.5: 0.5 reads 0.75 (povray: 0.75), inverse 0.25.
+    let hole = gradient("warp { black_hole <0, 0, 0>, 1  falloff 1 }");
+    assert!(close(hole(0.5), 0.75), "{}", hole(0.5));
+    assert!(close(hole(1.5), 0.5), "outside the hole: {}", hole(1.5));
+    let inverse = gradient("warp { black_hole <0, 0, 0>, 1  falloff 1  strength 1  inverse }");
+    assert!(close(inverse(0.5), 0.25), "{}", inverse(0.5));
+    // Repeated every 3 along x (blkhole.pov's `repeat <2, 1.5, 0>` is this form).
+    let repeated = gradient("warp { black_hole <0, 0, 0>, 1  falloff 1  repeat <3, 0, 0> }");
+    assert!(close(repeated(3.5), 0.75) && close(repeated(-2.5), 0.75), "{}", repeated(3.5));
+    assert!(close(repeated(1.5), 0.5), "between the holes: {}", repeated(1.5));
+    // The black hole (written last) first: 0.3 → 0.45, then repeated into [0, 0.25): 0.2
+    // (povray: values up to 0.24 in a period of 1/6); written order would give 0.075.
+    let ordered = gradient(
+        "warp { repeat x * 0.25 } warp { black_hole <0, 0, 0>, 1  strength 0.5  falloff 0 }",
+    );
+    assert!(close(ordered(0.3), 0.2), "{}", ordered(0.3));
+    // A declared pigment, and an average, warped.
+    let declared = pov(&format!(
+        "#declare P = pigment {{ gradient x }}
+         box {{ -100, 100  pigment {{ P warp {{ black_hole <0, 0, 0>, 1  falloff 1 }} }} {finish} }}"
+    ));
+    assert!(close(kd(&declared, Vec3::new(0.5, 0.0, 0.0)).x, 0.75));
+    let averaged = pov(&format!(
+        "box {{ -100, 100  pigment {{ average pigment_map {{ [1 gradient x] [1 gradient x] }}
+           warp {{ black_hole <0, 0, 0>, 1  falloff 1 }} }} {finish} }}"
+    ));
+    assert!(close(kd(&averaged, Vec3::new(0.5, 0.0, 0.0)).x, 0.75));
+    // A warp's items are its kind's, refused by name where they stand.
+    for (warp, says) in [
+        ("warp { repeat x  strength 2 }", ":1:52: error: `strength` belongs to a `black_hole`"),
+        ("warp { black_hole 0, 1  offset y }", ":1:59: error: `offset` belongs to a `repeat`"),
+        ("warp { black_hole 0, 1  repeat <1, -1, 0> }", ":1:66: error: repeat [1, -1, 0]"),
+        ("warp { turbulence 0.5  repeat x }", ":1:58: error: `repeat` in a `turbulence` warp"),
+    ] {
+        let text = format!("box {{ -1, 1  pigment {{ gradient x {warp} }} }}");
+        let error = parse_scene(Path::new("tests/inline.pov"), &text).unwrap_err().to_string();
+        assert!(error.contains(says), "{warp}: {error}");
+    }
+}

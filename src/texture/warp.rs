@@ -3,10 +3,13 @@
 
 use glam::Vec3;
 
-use super::noise::Octaves;
-use crate::graph::{Field, FieldShape, Turbulence, Warp};
+use super::noise::{Octaves, cell_random};
+use crate::graph::{BlackHole, Field, FieldShape, Turbulence, Warp};
 
-/// The point `p` moved by the pattern's turbulence (where it is a warp) and warps, in order.
+/// The point `p` moved by the pattern's turbulence (where it is a warp), then by its warps from
+/// the last written to the first, as POV-Ray applies them (`Warp_EPoint` walks its list
+/// backwards; measured with `povray`: `warp { repeat x*0.25 } warp { black_hole ... }` repeats
+/// the black hole's output, not the other way round).
 pub fn warped(shape: &FieldShape, p: Vec3) -> Vec3 {
     let classic = match shape.field {
         Field::Agate { .. }
@@ -39,7 +42,7 @@ pub fn warped(shape: &FieldShape, p: Vec3) -> Vec3 {
         | Field::Waves
         | Field::Wrinkles => shape.turbulence.map(Warp::Turbulence),
     };
-    classic.iter().chain(&shape.warps).fold(p, |p, warp| apply(*warp, p))
+    classic.iter().chain(shape.warps.iter().rev()).fold(p, |p, warp| apply(*warp, p))
 }
 
 /// One warp applied to `p`.
@@ -62,14 +65,35 @@ pub fn apply(warp: Warp, p: Vec3) -> Vec3 {
             }
             q + offset * copy
         }
-        Warp::BlackHole { centre, radius, strength, falloff, inverse } => {
-            let d = p - centre;
-            let distance = d.length();
-            if distance >= radius {
-                return p;
-            }
-            let pull = (strength * (1.0 - distance / radius).powf(falloff)).min(1.0);
-            if inverse { p + d * pull } else { p - d * pull }
-        }
+        Warp::BlackHole(hole) => hole.apply(p),
     }
 }
+
+impl BlackHole {
+    /// `p` moved by the hole nearest to it (POV-Ray's BlackHoleWarp::WarpPoint).
+    fn apply(&self, p: Vec3) -> Vec3 {
+        let mut centre = self.centre;
+        if self.repeat != Vec3::ZERO {
+            // The block p is in along each repeating axis (0 along the others).
+            let repeats = self.repeat.cmpgt(Vec3::ZERO);
+            let block = Vec3::select(repeats, (p / self.repeat).floor(), Vec3::ZERO);
+            let cell = block.as_ivec3();
+            let jitter = Vec3::new(
+                cell_random(cell, JITTER_STREAM),
+                cell_random(cell, JITTER_STREAM + 1),
+                cell_random(cell, JITTER_STREAM + 2),
+            );
+            centre += self.jitter * jitter + self.repeat * block;
+        }
+        let d = p - centre;
+        let distance = d.length();
+        if distance >= self.radius {
+            return p;
+        }
+        let s = (self.strength * (1.0 - distance / self.radius).powf(self.falloff)).min(1.0);
+        if self.inverse { p - d * s } else { p + d * s }
+    }
+}
+
+/// The streams of `cell_random` that place each repeated black hole (apart from the patterns').
+const JITTER_STREAM: u32 = 40;

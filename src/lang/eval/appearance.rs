@@ -239,7 +239,15 @@ impl Evaluator {
         if let Item::Pattern { .. } = item {
             state.pigment.set_transforms(Vec::new());
         }
+        let warp = matches!(item, Item::PovParam { key, .. } if key.name == "warp");
         if self.pattern_item(item, &mut state.pattern)? {
+            if let (true, None, Some(&last)) =
+                (warp, &state.pattern.word, state.pattern.warps.last())
+            {
+                // `pigment { P_Declared warp { } }`: the declared pigment, warped (were a
+                // pattern's word to follow, it would take the warp instead).
+                state.pigment = state.pigment.clone().warped(last);
+            }
             return Ok(());
         }
         match item {
