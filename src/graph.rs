@@ -379,6 +379,7 @@ impl TextureNode {
             Pattern::Image { look, .. } => match look.channel {
                 ImageChannel::Colour | ImageChannel::Through(_) => Vec3::ONE,
                 ImageChannel::Filter(f) => Vec3::splat(f),
+                ImageChannel::Index => Vec3::splat(255.0),
             },
         }
     }
@@ -537,6 +538,9 @@ pub enum ImageChannel {
     /// Filter + transmit: the given `filter all` + `transmit all` plus the texels' transparency
     /// (1 - alpha), at most 1; 1 outside a `once` image.
     Through(f32),
+    /// A palette image's index of each texel, 0 to 255, on every channel (a bump_map's
+    /// `use_index`); the colour in an image without a palette.
+    Index,
 }
 
 impl ImageLook {

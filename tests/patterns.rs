@@ -265,6 +265,26 @@ fn a_bump_map_tilts_by_its_image_s_gray_differences() {
         (normal("").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z).x - slope / 2.0).abs() < 1e-4,
         "bump_size 1"
     );
+    // `use_index`: a palette image's indices are the heights (POV-Ray's bump_map). Index x at
+    // column x, its colour dark to light the other way: the index rises by 1 a texel where the
+    // gray falls by 16/255.
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, 16, 1);
+        encoder.set_color(png::ColorType::Indexed);
+        encoder.set_depth(png::BitDepth::Four);
+        let palette: Vec<u8> = (0..16u8).flat_map(|i| [240 - 16 * i; 3]).collect();
+        encoder.set_palette(palette);
+        let mut writer = encoder.write_header().unwrap();
+        let packed: Vec<u8> = (0..8u8).map(|i| (2 * i) << 4 | (2 * i + 1)).collect();
+        writer.write_image_data(&packed).unwrap();
+    }
+    std::fs::write(dir.path().join("ramp.png"), bytes).unwrap();
+    let by_index =
+        normal("bump_size 0.5 use_index").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z);
+    assert!((by_index - Vec3::new(0.5 * 16.0, 0.0, 0.0)).length() < 1e-3, "{by_index}");
+    let by_gray = normal("bump_size 0.5").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z);
+    assert!((by_gray.x + 0.5 * slope / 2.0).abs() < 1e-4, "its colours fall: {by_gray}");
     // A pigment's options are refused in a bump_map, and bump_size in an image_map.
     let error = |text: &str| parse_scene(&scene, text).map(|_| ()).unwrap_err().to_string();
     let e = error("sphere { 0, 1  normal { bump_map { \"ramp.png\" filter all 0.5 } } }");
@@ -408,4 +428,37 @@ fn warps_move_points_as_povray_s_do() {
         let error = parse_scene(Path::new("tests/inline.pov"), &text).unwrap_err().to_string();
         assert!(error.contains(says), "{warp}: {error}");
     }
+}
+
+/// POV-Ray's `bump_size` in a normal is its amount, as the number after the pattern's word is
+/// (the last written wins), and renews a declared normal's amount.
+#[test]
+fn bump_size_is_a_normal_s_amount() {
+    use std::sync::Arc;
+    let bump = |text: &str| {
+        let graph =
+            parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"));
+        let node =
+            graph.objects[0].material.as_ref().and_then(|m| m.normal.clone()).expect("a normal");
+        raydiance::texture::Bump::new(&node, &mut |path| {
+            raydiance::texture::ImageMap::load(path).map(Arc::new)
+        })
+        .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let plain = bump("sphere { 0, 1  normal { crackle 0.4  scale 0.2 } }");
+    let sized = bump("sphere { 0, 1  normal { crackle 0.9  scale 0.2  bump_size 0.4 } }");
+    let declared = bump(
+        "#declare N = normal { crackle 0.9  scale 0.2 }
+         sphere { 0, 1  normal { N  bump_size 0.4 } }",
+    );
+    let stronger = bump("sphere { 0, 1  normal { crackle 0.9  scale 0.2 } }");
+    let mut tilted = false;
+    for p in POINTS {
+        let n = p.normalize();
+        let expected = plain.perturbation(p, n);
+        assert_eq!(sized.perturbation(p, n), expected, "at {p}");
+        assert_eq!(declared.perturbation(p, n), expected, "at {p}");
+        tilted |= (stronger.perturbation(p, n) - expected).length() > 1e-4;
+    }
+    assert!(tilted, "the amount changes the tilt");
 }

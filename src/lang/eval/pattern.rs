@@ -61,6 +61,8 @@ pub struct PatternState {
     solid: bool,
     /// A normal's `accuracy`: the span of the differences that take its gradient.
     pub accuracy: Option<f32>,
+    /// A normal's `bump_size`: its amount, as the number after the pattern's word.
+    pub bump_size: Option<f32>,
     /// A fractal's `interior`, `exterior` and `exponent`.
     interior: Option<FractalColouring>,
     exterior: Option<FractalColouring>,
@@ -150,6 +152,7 @@ impl Evaluator {
                     "offset" => state.offset = Some(number(self)?),
                     "solid" => state.solid = true,
                     "accuracy" => state.accuracy = Some(positive(self, "a normal's accuracy")?),
+                    "bump_size" => state.bump_size = Some(number(self)?),
                     "metric" => state.metric = Some(positive(self, "crackle's metric")?),
                     "form" => {
                         let v = value
