@@ -755,6 +755,35 @@ pub enum Warp {
     Repeat { axis: usize, width: f32, offset: Vec3, flip: Vec3 },
     /// `black_hole <centre>, radius  strength falloff inverse repeat <r> turbulence <t>`.
     BlackHole(BlackHole),
+    /// `planar`, `cylindrical`, `spherical`, `toroidal`: the point's place on that surface.
+    Mapping(Mapping),
+}
+
+/// POV-Ray's mapping warps (warp.cpp): the point p becomes (u, v, d), its place on a surface and
+/// its distance from it, so that a pattern of x and y wraps around the surface. u is the angle
+/// about y from +x towards +z in turns (planar: x), v the angle from the x-z plane (spherical,
+/// from −y at 0 to +y at 1), y (cylindrical, planar) or the angle around the torus's tube in
+/// turns; u and v are multiplied by d^`dist_exp` (0: not). The result's axes are turned so that
+/// its z lies along `orientation` (z when not given).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mapping {
+    pub surface: MappingSurface,
+    pub orientation: Vec3,
+    pub dist_exp: f32,
+}
+
+/// The surface of a mapping warp.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MappingSurface {
+    /// `planar <orientation>, offset`: (x, y, offset).
+    Planar { offset: f32 },
+    /// About the y axis: (turns about y, y, distance from the axis).
+    Cylindrical,
+    /// About the origin: (turns about y, height 0 to 1, distance from the origin).
+    Spherical,
+    /// About the circle of radius `major_radius` in the x-z plane: (turns about y, turns around
+    /// the tube, distance from the circle).
+    Toroidal { major_radius: f32 },
 }
 
 /// POV-Ray's black hole warp: a point p within `radius` of the centre c is moved to

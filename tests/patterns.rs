@@ -462,3 +462,35 @@ fn bump_size_is_a_normal_s_amount() {
     }
     assert!(tilted, "the amount changes the tilt");
 }
+
+/// POV-Ray's mapping warps (warp.cpp; `povray` renders these values): a point becomes its turns
+/// about y (x), its height on the surface (y) and its distance from it (z).
+#[test]
+fn mapping_warps_wrap_a_pattern_around_their_surface() {
+    let value = |pattern: &str, p: Vec3| {
+        let s = pov(&format!(
+            "box {{ -100, 100  pigment {{ {pattern} }} finish {{ diffuse 1 ambient 0 }} }}"
+        ));
+        kd(&s, p).x
+    };
+    let cases = [
+        ("gradient x warp { cylindrical }", Vec3::new(0.0, 0.3, 1.0), 0.25),
+        ("gradient x warp { cylindrical }", Vec3::new(-1.0, 0.0, 0.0), 0.5),
+        ("gradient y warp { cylindrical }", Vec3::new(1.0, 0.3, 0.0), 0.3),
+        ("gradient x warp { cylindrical dist_exp 1 }", Vec3::new(0.0, 0.0, 0.5), 0.125),
+        ("gradient y warp { spherical }", Vec3::new(1.0, 0.0, 0.0), 0.5),
+        ("gradient y warp { spherical }", Vec3::new(1.0, 1.0, 0.0), 0.75),
+        ("gradient y warp { toroidal }", Vec3::new(1.5, 0.0, 0.0), 0.5),
+        ("gradient y warp { toroidal }", Vec3::new(1.0, -0.5, 0.0), 0.25),
+        ("gradient y warp { toroidal major_radius 2 }", Vec3::new(2.0, -0.5, 0.0), 0.25),
+        ("gradient z warp { planar z, 0.3 }", Vec3::new(0.7, 0.2, 0.9), 0.3),
+        ("gradient x warp { planar }", Vec3::new(0.7, 0.2, 0.9), 0.7),
+    ];
+    for (pattern, p, expected) in cases {
+        let v = value(pattern, p);
+        assert!((v - expected).abs() < 1e-4, "{pattern} at {p}: {v}, not {expected}");
+    }
+    let text = "box { -1, 1  pigment { gradient x warp { spherical major_radius 2 } } }";
+    let error = parse_scene(Path::new("tests/inline.pov"), text).unwrap_err().to_string();
+    assert!(error.contains(":1:52: error: `major_radius` belongs to a `toroidal`"), "{error}");
+}

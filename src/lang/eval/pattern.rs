@@ -12,8 +12,8 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::function::FloatFunction;
 use crate::graph::{
-    BlackHole, Crackle, Field, FieldShape, Fractal, FractalColouring, FractalSet, NormalNode,
-    Pattern, PatternFunction, SlopeMap, Turbulence, Warp, Wave,
+    BlackHole, Crackle, Field, FieldShape, Fractal, FractalColouring, FractalSet, Mapping,
+    MappingSurface, NormalNode, Pattern, PatternFunction, SlopeMap, Turbulence, Warp, Wave,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
@@ -229,14 +229,27 @@ impl Evaluator {
             .iter()
             .find_map(|item| match item {
                 Item::PovParam { key, .. }
-                    if matches!(key.name.as_str(), "turbulence" | "repeat" | "black_hole") =>
+                    if matches!(
+                        key.name.as_str(),
+                        "turbulence"
+                            | "repeat"
+                            | "black_hole"
+                            | "planar"
+                            | "cylindrical"
+                            | "spherical"
+                            | "toroidal"
+                    ) =>
                 {
                     Some(key.name.clone())
                 }
                 _ => None,
             })
             .ok_or_else(|| {
-                SceneError::at(at, "a warp needs `turbulence`, `repeat` or `black_hole`")
+                SceneError::at(
+                    at,
+                    "a warp needs `turbulence`, `repeat`, `black_hole`, `planar`, `cylindrical`, \
+                     `spherical` or `toroidal`",
+                )
             })?;
         let mut turbulence = Turbulence { amount: Vec3::ZERO, octaves: 6, omega: 0.5, lambda: 2.0 };
         let (mut repeat, mut offset, mut flip) = (None, Vec3::ZERO, Vec3::ZERO);
@@ -249,6 +262,8 @@ impl Evaluator {
             repeat: Vec3::ZERO,
             jitter: Vec3::ZERO,
         };
+        let (mut orientation, mut dist_exp) = (Vec3::Z, 0.0);
+        let (mut offset_along, mut major_radius) = (0.0, 1.0);
         for item in items {
             let Item::PovParam { key, value, items: rest } = item else {
                 return Err(Self::misplaced_in_warp(item));
@@ -324,10 +339,42 @@ impl Evaluator {
                     let v = value.ok_or_else(|| needs("an amount"))?;
                     hole.jitter = self.splat_vec3(v)?;
                 }
+                ("planar", "planar") => {
+                    // `planar [<orientation>, offset]`.
+                    if let Some(v) = value {
+                        orientation = self.nonzero(v, "the planar warp's orientation")?.normalize();
+                        let Some(Item::Value(offset)) = rest.first() else {
+                            return Err(needs("an orientation and an offset (`planar z, 0`)"));
+                        };
+                        offset_along = self.single(offset)?;
+                    }
+                }
+                (
+                    "cylindrical" | "spherical" | "toroidal",
+                    "cylindrical" | "spherical" | "toroidal",
+                ) if key.name == kind => {}
+                ("cylindrical" | "spherical" | "toroidal", "orientation") => {
+                    let v = value.ok_or_else(|| needs("a vector"))?;
+                    orientation = self.nonzero(v, "the warp's orientation")?.normalize();
+                }
+                ("cylindrical" | "spherical" | "toroidal", "dist_exp") => {
+                    dist_exp = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                ("toroidal", "major_radius") => {
+                    major_radius = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                (_, "orientation" | "dist_exp") => {
+                    return Err(belongs("cylindrical`, `spherical` or `toroidal"));
+                }
+                (_, "major_radius") => return Err(belongs("toroidal")),
                 (_, "octaves" | "omega" | "lambda") => return Err(belongs("turbulence")),
                 (_, "offset" | "flip") => return Err(belongs("repeat")),
                 (_, "strength" | "falloff" | "inverse") => return Err(belongs("black_hole")),
-                (_, "turbulence" | "repeat" | "black_hole") => {
+                (
+                    _,
+                    "turbulence" | "repeat" | "black_hole" | "planar" | "cylindrical" | "spherical"
+                    | "toroidal",
+                ) => {
                     return Err(SceneError::at(
                         &key.span,
                         format!(
@@ -347,6 +394,26 @@ impl Evaluator {
                 Ok(Warp::Repeat { axis, width, offset, flip })
             }
             "black_hole" => Ok(Warp::BlackHole(hole)),
+            "planar" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Planar { offset: offset_along },
+                orientation,
+                dist_exp,
+            })),
+            "cylindrical" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Cylindrical,
+                orientation,
+                dist_exp,
+            })),
+            "spherical" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Spherical,
+                orientation,
+                dist_exp,
+            })),
+            "toroidal" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Toroidal { major_radius },
+                orientation,
+                dist_exp,
+            })),
             other => unreachable!("a warp's kind is one of three words, not `{other}`"),
         }
     }
