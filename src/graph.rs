@@ -757,6 +757,10 @@ pub enum Warp {
     BlackHole(BlackHole),
     /// `planar`, `cylindrical`, `spherical`, `toroidal`: the point's place on that surface.
     Mapping(Mapping),
+    /// The inverse of a pigment's transforms written before a later warp: POV-Ray applies them
+    /// to the point after that warp (`gradient x scale 2 warp { repeat x*0.5 }` repeats every
+    /// 0.5 of the object's space).
+    Transform(Affine3A),
 }
 
 /// POV-Ray's mapping warps (warp.cpp): the point p becomes (u, v, d), its place on a surface and

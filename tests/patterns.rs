@@ -406,6 +406,11 @@ fn warps_move_points_as_povray_s_do() {
         "warp { repeat x * 0.25 } warp { black_hole <0, 0, 0>, 1  strength 0.5  falloff 0 }",
     );
     assert!(close(ordered(0.3), 0.2), "{}", ordered(0.3));
+    // Transforms written before a warp apply after it (povray: period 0.5, values below 0.25).
+    let scaled = gradient("scale 2  warp { repeat x * 0.5 }");
+    assert!(close(scaled(0.75), 0.125) && close(scaled(1.25), 0.125), "{}", scaled(0.75));
+    let after = gradient("warp { repeat x * 0.5 }  scale 2");
+    assert!(close(after(0.75), 0.375), "{}", after(0.75));
     // A declared pigment, and an average, warped.
     let declared = pov(&format!(
         "#declare P = pigment {{ gradient x }}

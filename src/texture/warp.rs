@@ -69,6 +69,7 @@ pub fn apply(warp: Warp, p: Vec3) -> Vec3 {
         }
         Warp::BlackHole(hole) => hole.apply(p),
         Warp::Mapping(mapping) => mapping.apply(p),
+        Warp::Transform(inverse) => inverse.transform_point3(p),
     }
 }
 
