@@ -342,6 +342,7 @@ impl TextureNode {
         let children: Vec<&TextureNode> = match &self.pattern {
             Pattern::Checker(a, b) | Pattern::Stripes { a, b, .. } => vec![a, b],
             Pattern::Mix { a, b, t } => vec![a, b, t],
+            Pattern::Warped { node, .. } => vec![node],
             Pattern::Field { map, .. } | Pattern::Average(map) => {
                 map.iter().map(|(_, node)| node).collect()
             }
@@ -366,6 +367,7 @@ impl TextureNode {
                 a.max_value().max(b.max_value())
             }
             Pattern::Mix { a, b, .. } => a.max_value().max(b.max_value()),
+            Pattern::Warped { node, .. } => node.max_value(),
             Pattern::Field { map, .. } | Pattern::Average(map) => {
                 map.iter().fold(Vec3::ZERO, |m, (_, c)| m.max(c.max_value()))
             }
@@ -377,6 +379,7 @@ impl TextureNode {
             Pattern::Image { look, .. } => match look.channel {
                 ImageChannel::Colour | ImageChannel::Through(_) => Vec3::ONE,
                 ImageChannel::Filter(f) => Vec3::splat(f),
+                ImageChannel::Index => Vec3::splat(255.0),
             },
         }
     }
@@ -487,6 +490,12 @@ pub enum Pattern {
     },
     /// POV-Ray's `average`: the weighted mean of the textures (weights need not sum to 1).
     Average(TextureMap),
+    /// The texture at the point moved by a warp (`pigment { P_Declared warp { } }`,
+    /// `average ... warp { }`).
+    Warped {
+        warp: Warp,
+        node: Box<TextureNode>,
+    },
 }
 
 /// How an image is projected, sampled and decoded, and which of a pigment's parts it gives
@@ -529,6 +538,9 @@ pub enum ImageChannel {
     /// Filter + transmit: the given `filter all` + `transmit all` plus the texels' transparency
     /// (1 - alpha), at most 1; 1 outside a `once` image.
     Through(f32),
+    /// A palette image's index of each texel, 0 to 255, on every channel (a bump_map's
+    /// `use_index`); the colour in an image without a palette.
+    Index,
 }
 
 impl ImageLook {
@@ -741,10 +753,57 @@ pub enum Warp {
     /// axis repeats; the k-th copy is moved by k * offset and, when k is odd, mirrored along the
     /// axes where `flip` is not 0.
     Repeat { axis: usize, width: f32, offset: Vec3, flip: Vec3 },
-    /// `black_hole <centre>, radius  strength falloff inverse`: points within `radius` of the
-    /// centre are pulled towards it (pushed away when `inverse`) by strength * (1 - d / radius)
-    /// ^ falloff of their distance.
-    BlackHole { centre: Vec3, radius: f32, strength: f32, falloff: f32, inverse: bool },
+    /// `black_hole <centre>, radius  strength falloff inverse repeat <r> turbulence <t>`.
+    BlackHole(BlackHole),
+    /// `planar`, `cylindrical`, `spherical`, `toroidal`: the point's place on that surface.
+    Mapping(Mapping),
+    /// The inverse of a pigment's transforms written before a later warp: POV-Ray applies them
+    /// to the point after that warp (`gradient x scale 2 warp { repeat x*0.5 }` repeats every
+    /// 0.5 of the object's space).
+    Transform(Affine3A),
+}
+
+/// POV-Ray's mapping warps (warp.cpp): the point p becomes (u, v, d), its place on a surface and
+/// its distance from it, so that a pattern of x and y wraps around the surface. u is the angle
+/// about y from +x towards +z in turns (planar: x), v the angle from the x-z plane (spherical,
+/// from −y at 0 to +y at 1), y (cylindrical, planar) or the angle around the torus's tube in
+/// turns; u and v are multiplied by d^`dist_exp` (0: not). The result's axes are turned so that
+/// its z lies along `orientation` (z when not given).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mapping {
+    pub surface: MappingSurface,
+    pub orientation: Vec3,
+    pub dist_exp: f32,
+}
+
+/// The surface of a mapping warp.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MappingSurface {
+    /// `planar <orientation>, offset`: (x, y, offset).
+    Planar { offset: f32 },
+    /// About the y axis: (turns about y, y, distance from the axis).
+    Cylindrical,
+    /// About the origin: (turns about y, height 0 to 1, distance from the origin).
+    Spherical,
+    /// About the circle of radius `major_radius` in the x-z plane: (turns about y, turns around
+    /// the tube, distance from the circle).
+    Toroidal { major_radius: f32 },
+}
+
+/// POV-Ray's black hole warp: a point p within `radius` of the centre c is moved to
+/// p + s (p - c) (p - s (p - c) when `inverse`), s = min(strength (1 - |p - c| / radius)^falloff,
+/// 1), so that the pattern looks drawn into the hole (pushed out of it). With `repeat`, a hole
+/// stands in every block of that size (the components that are 0 do not repeat), each moved
+/// within its block by a random part of `jitter` (POV-Ray's `turbulence` here).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlackHole {
+    pub centre: Vec3,
+    pub radius: f32,
+    pub strength: f32,
+    pub falloff: f32,
+    pub inverse: bool,
+    pub repeat: Vec3,
+    pub jitter: Vec3,
 }
 
 /// How a value in [0, 1) is shaped (POV-Ray's wave types).

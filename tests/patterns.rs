@@ -265,6 +265,26 @@ fn a_bump_map_tilts_by_its_image_s_gray_differences() {
         (normal("").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z).x - slope / 2.0).abs() < 1e-4,
         "bump_size 1"
     );
+    // `use_index`: a palette image's indices are the heights (POV-Ray's bump_map). Index x at
+    // column x, its colour dark to light the other way: the index rises by 1 a texel where the
+    // gray falls by 16/255.
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, 16, 1);
+        encoder.set_color(png::ColorType::Indexed);
+        encoder.set_depth(png::BitDepth::Four);
+        let palette: Vec<u8> = (0..16u8).flat_map(|i| [240 - 16 * i; 3]).collect();
+        encoder.set_palette(palette);
+        let mut writer = encoder.write_header().unwrap();
+        let packed: Vec<u8> = (0..8u8).map(|i| (2 * i) << 4 | (2 * i + 1)).collect();
+        writer.write_image_data(&packed).unwrap();
+    }
+    std::fs::write(dir.path().join("ramp.png"), bytes).unwrap();
+    let by_index =
+        normal("bump_size 0.5 use_index").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z);
+    assert!((by_index - Vec3::new(0.5 * 16.0, 0.0, 0.0)).length() < 1e-3, "{by_index}");
+    let by_gray = normal("bump_size 0.5").perturbation(Vec3::new(0.4, 0.3, 0.0), Vec3::Z);
+    assert!((by_gray.x + 0.5 * slope / 2.0).abs() < 1e-4, "its colours fall: {by_gray}");
     // A pigment's options are refused in a bump_map, and bump_size in an image_map.
     let error = |text: &str| parse_scene(&scene, text).map(|_| ()).unwrap_err().to_string();
     let e = error("sphere { 0, 1  normal { bump_map { \"ramp.png\" filter all 0.5 } } }");
@@ -355,4 +375,127 @@ fn pov_normals_read_maps_and_declared_normals() {
     .unwrap_err()
     .to_string();
     assert!(error.contains("needs its position"), "{error}");
+}
+
+/// POV-Ray's warps, against values `povray` 3.7 renders (a gradient x in flat light): a black
+/// hole at c of radius r moves p within it to p + s (p − c), s = strength (1 − |p − c| / r)^falloff
+/// (`inverse`: p − s (p − c)); its `repeat <r>` stands a hole in every block of size r; warps
+/// apply from the last written to the first; and a declared pigment or an `average` takes
+/// warps as a pattern does.
+#[test]
+fn warps_move_points_as_povray_s_do() {
+    let finish = "finish { diffuse 1 ambient 0 }";
+    let gradient = |warps: &str| {
+        let s = pov(&format!("box {{ -100, 100  pigment {{ gradient x {warps} }} {finish} }}"));
+        move |x: f32| kd(&s, Vec3::new(x, 0.0, 0.0)).x
+    };
+    let close = |a: f32, b: f32| (a - b).abs() < 1e-4;
+    // s = 1 · (1 − 0.5)¹ = 0.5: 0.5 reads 0.75 (povray: 0.75), inverse 0.25.
+    let hole = gradient("warp { black_hole <0, 0, 0>, 1  falloff 1 }");
+    assert!(close(hole(0.5), 0.75), "{}", hole(0.5));
+    assert!(close(hole(1.5), 0.5), "outside the hole: {}", hole(1.5));
+    let inverse = gradient("warp { black_hole <0, 0, 0>, 1  falloff 1  strength 1  inverse }");
+    assert!(close(inverse(0.5), 0.25), "{}", inverse(0.5));
+    // Repeated every 3 along x (blkhole.pov's `repeat <2, 1.5, 0>` is this form).
+    let repeated = gradient("warp { black_hole <0, 0, 0>, 1  falloff 1  repeat <3, 0, 0> }");
+    assert!(close(repeated(3.5), 0.75) && close(repeated(-2.5), 0.75), "{}", repeated(3.5));
+    assert!(close(repeated(1.5), 0.5), "between the holes: {}", repeated(1.5));
+    // The black hole (written last) first: 0.3 → 0.45, then repeated into [0, 0.25): 0.2
+    // (povray: values up to 0.24 in a period of 1/6); written order would give 0.075.
+    let ordered = gradient(
+        "warp { repeat x * 0.25 } warp { black_hole <0, 0, 0>, 1  strength 0.5  falloff 0 }",
+    );
+    assert!(close(ordered(0.3), 0.2), "{}", ordered(0.3));
+    // Transforms written before a warp apply after it (povray: period 0.5, values below 0.25).
+    let scaled = gradient("scale 2  warp { repeat x * 0.5 }");
+    assert!(close(scaled(0.75), 0.125) && close(scaled(1.25), 0.125), "{}", scaled(0.75));
+    let after = gradient("warp { repeat x * 0.5 }  scale 2");
+    assert!(close(after(0.75), 0.375), "{}", after(0.75));
+    // A declared pigment, and an average, warped.
+    let declared = pov(&format!(
+        "#declare P = pigment {{ gradient x }}
+         box {{ -100, 100  pigment {{ P warp {{ black_hole <0, 0, 0>, 1  falloff 1 }} }} {finish} }}"
+    ));
+    assert!(close(kd(&declared, Vec3::new(0.5, 0.0, 0.0)).x, 0.75));
+    let averaged = pov(&format!(
+        "box {{ -100, 100  pigment {{ average pigment_map {{ [1 gradient x] [1 gradient x] }}
+           warp {{ black_hole <0, 0, 0>, 1  falloff 1 }} }} {finish} }}"
+    ));
+    assert!(close(kd(&averaged, Vec3::new(0.5, 0.0, 0.0)).x, 0.75));
+    // A warp's items are its kind's, refused by name where they stand.
+    for (warp, says) in [
+        ("warp { repeat x  strength 2 }", ":1:52: error: `strength` belongs to a `black_hole`"),
+        ("warp { black_hole 0, 1  offset y }", ":1:59: error: `offset` belongs to a `repeat`"),
+        ("warp { black_hole 0, 1  repeat <1, -1, 0> }", ":1:66: error: repeat [1, -1, 0]"),
+        ("warp { turbulence 0.5  repeat x }", ":1:58: error: `repeat` in a `turbulence` warp"),
+    ] {
+        let text = format!("box {{ -1, 1  pigment {{ gradient x {warp} }} }}");
+        let error = parse_scene(Path::new("tests/inline.pov"), &text).unwrap_err().to_string();
+        assert!(error.contains(says), "{warp}: {error}");
+    }
+}
+
+/// POV-Ray's `bump_size` in a normal is its amount, as the number after the pattern's word is
+/// (the last written wins), and renews a declared normal's amount.
+#[test]
+fn bump_size_is_a_normal_s_amount() {
+    use std::sync::Arc;
+    let bump = |text: &str| {
+        let graph =
+            parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"));
+        let node =
+            graph.objects[0].material.as_ref().and_then(|m| m.normal.clone()).expect("a normal");
+        raydiance::texture::Bump::new(&node, &mut |path| {
+            raydiance::texture::ImageMap::load(path).map(Arc::new)
+        })
+        .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let plain = bump("sphere { 0, 1  normal { crackle 0.4  scale 0.2 } }");
+    let sized = bump("sphere { 0, 1  normal { crackle 0.9  scale 0.2  bump_size 0.4 } }");
+    let declared = bump(
+        "#declare N = normal { crackle 0.9  scale 0.2 }
+         sphere { 0, 1  normal { N  bump_size 0.4 } }",
+    );
+    let stronger = bump("sphere { 0, 1  normal { crackle 0.9  scale 0.2 } }");
+    let mut tilted = false;
+    for p in POINTS {
+        let n = p.normalize();
+        let expected = plain.perturbation(p, n);
+        assert_eq!(sized.perturbation(p, n), expected, "at {p}");
+        assert_eq!(declared.perturbation(p, n), expected, "at {p}");
+        tilted |= (stronger.perturbation(p, n) - expected).length() > 1e-4;
+    }
+    assert!(tilted, "the amount changes the tilt");
+}
+
+/// POV-Ray's mapping warps (warp.cpp; `povray` renders these values): a point becomes its turns
+/// about y (x), its height on the surface (y) and its distance from it (z).
+#[test]
+fn mapping_warps_wrap_a_pattern_around_their_surface() {
+    let value = |pattern: &str, p: Vec3| {
+        let s = pov(&format!(
+            "box {{ -100, 100  pigment {{ {pattern} }} finish {{ diffuse 1 ambient 0 }} }}"
+        ));
+        kd(&s, p).x
+    };
+    let cases = [
+        ("gradient x warp { cylindrical }", Vec3::new(0.0, 0.3, 1.0), 0.25),
+        ("gradient x warp { cylindrical }", Vec3::new(-1.0, 0.0, 0.0), 0.5),
+        ("gradient y warp { cylindrical }", Vec3::new(1.0, 0.3, 0.0), 0.3),
+        ("gradient x warp { cylindrical dist_exp 1 }", Vec3::new(0.0, 0.0, 0.5), 0.125),
+        ("gradient y warp { spherical }", Vec3::new(1.0, 0.0, 0.0), 0.5),
+        ("gradient y warp { spherical }", Vec3::new(1.0, 1.0, 0.0), 0.75),
+        ("gradient y warp { toroidal }", Vec3::new(1.5, 0.0, 0.0), 0.5),
+        ("gradient y warp { toroidal }", Vec3::new(1.0, -0.5, 0.0), 0.25),
+        ("gradient y warp { toroidal major_radius 2 }", Vec3::new(2.0, -0.5, 0.0), 0.25),
+        ("gradient z warp { planar z, 0.3 }", Vec3::new(0.7, 0.2, 0.9), 0.3),
+        ("gradient x warp { planar }", Vec3::new(0.7, 0.2, 0.9), 0.7),
+    ];
+    for (pattern, p, expected) in cases {
+        let v = value(pattern, p);
+        assert!((v - expected).abs() < 1e-4, "{pattern} at {p}: {v}, not {expected}");
+    }
+    let text = "box { -1, 1  pigment { gradient x warp { spherical major_radius 2 } } }";
+    let error = parse_scene(Path::new("tests/inline.pov"), text).unwrap_err().to_string();
+    assert!(error.contains(":1:52: error: `major_radius` belongs to a `toroidal`"), "{error}");
 }

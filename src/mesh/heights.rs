@@ -113,14 +113,8 @@ fn from_png(bytes: &[u8]) -> Result<Heights, HeightsProblem> {
     let channels = frame.color_type.samples();
     let mut values = Vec::with_capacity(columns * rows);
     for line in buffer.chunks_exact(frame.line_size).take(rows) {
-        let sample = |column: usize, channel: usize| -> u32 {
-            let bit = (column * channels + channel) * bits as usize;
-            match bits {
-                16 => u32::from(u16::from_be_bytes([line[bit / 8], line[bit / 8 + 1]])),
-                8 => u32::from(line[bit / 8]),
-                _ => u32::from(line[bit / 8] >> (8 - bits as usize - bit % 8)) & ((1 << bits) - 1),
-            }
-        };
+        let sample =
+            |column: usize, channel: usize| packed_sample(line, column * channels + channel, bits);
         for column in 0..columns {
             let height = match frame.color_type {
                 ColorType::Indexed => sample(column, 0) * 256,
@@ -136,6 +130,17 @@ fn from_png(bytes: &[u8]) -> Result<Heights, HeightsProblem> {
         }
     }
     Ok(Heights { columns, rows, values })
+}
+
+/// Sample `index` of a PNG scan line of `bits`-deep samples (1, 2 and 4 bits packed from the
+/// high bits of each byte, 16 bits big-endian).
+pub fn packed_sample(line: &[u8], index: usize, bits: u32) -> u32 {
+    let bit = index * bits as usize;
+    match bits {
+        16 => u32::from(u16::from_be_bytes([line[bit / 8], line[bit / 8 + 1]])),
+        8 => u32::from(line[bit / 8]),
+        _ => u32::from(line[bit / 8] >> (8 - bits as usize - bit % 8)) & ((1 << bits) - 1),
+    }
 }
 
 fn from_jpeg(bytes: &[u8]) -> Result<Heights, HeightsProblem> {

@@ -305,7 +305,7 @@ pub fn wave_sources() -> &'static [Vec3; 10] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::graph::{Fractal, FractalColouring, FractalSet, Warp};
+    use crate::graph::{BlackHole, Fractal, FractalColouring, FractalSet, Warp};
     use crate::texture::warp;
 
     fn plain(field: &Field) -> FieldShape {
@@ -533,26 +533,63 @@ mod tests {
         let flipped = FieldShape { warps: vec![flip], ..gradient.clone() };
         // The odd copy [0.5, 1) mirrors the slab: 0.6 reads 0.5 - 0.1.
         assert!((shaped_value(&flipped, Vec3::new(0.6, 0.0, 0.0)) - 0.4).abs() < 1e-5);
-        // Black hole: no effect outside its radius; inside, points are pulled to the centre.
-        let hole = Warp::BlackHole {
+        // Black hole (POV-Ray's, measured with `povray`): no effect outside its radius; inside,
+        // p + s (p - c) with s = strength (1 - d / r)^falloff, so that the pattern looks drawn
+        // in; `inverse` moves p the other way.
+        let hole = BlackHole {
             centre: Vec3::ZERO,
             radius: 1.0,
             strength: 1.0,
             falloff: 2.0,
             inverse: false,
+            repeat: Vec3::ZERO,
+            jitter: Vec3::ZERO,
         };
         let far = Vec3::new(1.5, 0.2, 0.0);
-        assert_eq!(warp::apply(hole, far), far);
+        assert_eq!(warp::apply(Warp::BlackHole(hole), far), far);
         let near = Vec3::new(0.5, 0.0, 0.0);
-        assert!((warp::apply(hole, near) - Vec3::new(0.375, 0.0, 0.0)).length() < 1e-6);
-        let pushed = Warp::BlackHole {
-            centre: Vec3::ZERO,
-            radius: 1.0,
-            strength: 1.0,
-            falloff: 2.0,
-            inverse: true,
-        };
-        assert!((warp::apply(pushed, near) - Vec3::new(0.625, 0.0, 0.0)).length() < 1e-6);
+        let drawn = warp::apply(Warp::BlackHole(hole), near);
+        assert!((drawn - Vec3::new(0.625, 0.0, 0.0)).length() < 1e-6, "{drawn}");
+        let pushed = warp::apply(Warp::BlackHole(BlackHole { inverse: true, ..hole }), near);
+        assert!((pushed - Vec3::new(0.375, 0.0, 0.0)).length() < 1e-6, "{pushed}");
+        // Repeated every 4 along x and 3 along y (not along z): the hole at the origin stands
+        // again at <4k, 3m, 0>, and nowhere else along z.
+        let repeated = Warp::BlackHole(BlackHole { repeat: Vec3::new(4.0, 3.0, 0.0), ..hole });
+        for block in [Vec3::new(4.0, 0.0, 0.0), Vec3::new(-8.0, 6.0, 0.0)] {
+            let moved = warp::apply(repeated, block + near);
+            assert!((moved - (block + Vec3::new(0.625, 0.0, 0.0))).length() < 1e-5, "{moved}");
+        }
+        let beside = Vec3::new(0.5, 0.0, 4.0);
+        assert_eq!(warp::apply(repeated, beside), beside, "z does not repeat");
+        // Jittered: each block's hole moves by a random part of the jitter (within [0, 1)² of
+        // the block's corner here), so points farther than the radius from that square never
+        // move, and the blocks' holes differ.
+        let jittered = Warp::BlackHole(BlackHole {
+            radius: 0.5,
+            repeat: Vec3::new(4.0, 4.0, 0.0),
+            jitter: Vec3::new(1.0, 1.0, 0.0),
+            ..hole
+        });
+        let mut moves = Vec::new();
+        for block in 0..8 {
+            let corner = Vec3::new(4.0 * block as f32, 4.0, 0.0);
+            let mut moved = Vec::new();
+            for i in 0..24 {
+                for j in 0..24 {
+                    let offset = Vec3::new(i as f32 * 0.1 - 0.4, j as f32 * 0.1 - 0.4, 0.0);
+                    let p = corner + offset;
+                    let shift = warp::apply(jittered, p) - p;
+                    if shift != Vec3::ZERO {
+                        assert!(offset.x.max(offset.y) < 1.5, "{offset}");
+                        assert!(offset.x.min(offset.y) > -0.5, "{offset}");
+                        moved.push((i, j));
+                    }
+                }
+            }
+            assert!(!moved.is_empty(), "block {block} has its hole");
+            moves.push(moved);
+        }
+        assert!(moves.windows(2).any(|w| w[0] != w[1]), "the holes are jittered");
         // Turbulence moves points by at most its amount times the octaves' total weight.
         let turbulence =
             Turbulence { amount: Vec3::splat(0.1), octaves: 3, omega: 0.5, lambda: 2.0 };

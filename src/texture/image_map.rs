@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::graph::{ImageChannel, ImageLook, ImageProjection};
+use crate::mesh::heights::packed_sample;
 
 #[derive(Debug)]
 pub struct ImageMap {
@@ -16,6 +17,8 @@ pub struct ImageMap {
     /// The file's 8-bit values, RGBA, rows top to bottom; decoded to linear as they are read
     /// (the curve is the `image_map`'s).
     texels: Vec<[u8; 4]>,
+    /// A palette PNG's index of each texel, in the same order (a bump_map's `use_index`).
+    indices: Option<Vec<u8>>,
 }
 
 /// The most texels one image may have (8192 × 8192).
@@ -38,6 +41,8 @@ pub enum Unreadable {
     Format(#[from] std::io::Error),
     #[error(transparent)]
     Decode(#[from] image::ImageError),
+    #[error(transparent)]
+    Palette(#[from] png::DecodingError),
     #[error("{width} x {height} texels, more than raydiance reads in one image ({MAX_TEXELS})")]
     TooLarge { width: u32, height: u32 },
 }
@@ -71,7 +76,12 @@ impl ImageMap {
         }
         let decoded = reader()?.decode()?.to_rgba8();
         let (width, height) = (decoded.width() as usize, decoded.height() as usize);
-        Ok(ImageMap { width, height, texels: decoded.pixels().map(|p| p.0).collect() })
+        let texels = decoded.pixels().map(|p| p.0).collect();
+        let indices = match reader()?.format() {
+            Some(image::ImageFormat::Png) => palette_indices(&bytes)?,
+            _ => None,
+        };
+        Ok(ImageMap { width, height, texels, indices })
     }
 
     /// The width of one texel in (u, v), along u and along v.
@@ -86,7 +96,7 @@ impl ImageMap {
         let outside = !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v);
         if look.once && outside {
             return match look.channel {
-                ImageChannel::Colour | ImageChannel::Filter(_) => Vec3::ZERO,
+                ImageChannel::Colour | ImageChannel::Filter(_) | ImageChannel::Index => Vec3::ZERO,
                 ImageChannel::Through(_) => Vec3::ONE,
             };
         }
@@ -99,7 +109,11 @@ impl ImageMap {
             } else {
                 (x.rem_euclid(w), y.rem_euclid(h))
             };
-            let [r, g, b, a] = self.texels[(h - 1 - y) as usize * self.width + x as usize];
+            let i = (h - 1 - y) as usize * self.width + x as usize;
+            if let (ImageChannel::Index, Some(indices)) = (look.channel, &self.indices) {
+                return Vec4::splat(f32::from(indices[i]));
+            }
+            let [r, g, b, a] = self.texels[i];
             Vec4::new(curve.0[r as usize], curve.0[g as usize], curve.0[b as usize], a as f32)
                 / Vec4::new(1.0, 1.0, 1.0, 255.0)
         };
@@ -118,11 +132,33 @@ impl ImageMap {
             texel(i, j)
         };
         match look.channel {
-            ImageChannel::Colour => value.truncate(),
+            // An image without a palette gives its colours for its indices, as POV-Ray's.
+            ImageChannel::Colour | ImageChannel::Index => value.truncate(),
             ImageChannel::Filter(f) => Vec3::splat(f),
             ImageChannel::Through(t) => Vec3::splat((t + 1.0 - value.w).min(1.0)),
         }
     }
+}
+
+/// A palette PNG's index of each texel, rows top to bottom; `None` for other PNGs.
+fn palette_indices(bytes: &[u8]) -> Result<Option<Vec<u8>>, Unreadable> {
+    let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    let header = decoder.read_header_info()?;
+    if header.color_type != png::ColorType::Indexed {
+        return Ok(None);
+    }
+    decoder.set_transformations(png::Transformations::IDENTITY);
+    let mut reader = decoder.read_info()?;
+    let mut buffer = vec![0; reader.output_buffer_size().unwrap_or(0)];
+    let frame = reader.next_frame(&mut buffer)?;
+    let bits = frame.bit_depth as u32;
+    let (width, height) = (frame.width as usize, frame.height as usize);
+    let indices = buffer
+        .chunks_exact(frame.line_size)
+        .take(height)
+        .flat_map(|line| (0..width).map(move |x| packed_sample(line, x, bits) as u8))
+        .collect();
+    Ok(Some(indices))
 }
 
 /// The image's (u, v) of a point of the pattern's space (POV-Ray's `map_type`s).
@@ -180,7 +216,12 @@ mod tests {
 
     /// Two texels side by side: red on the left, blue (half transparent) on the right.
     fn red_blue() -> ImageMap {
-        ImageMap { width: 2, height: 1, texels: vec![[255, 0, 0, 255], [0, 0, 255, 128]] }
+        ImageMap {
+            width: 2,
+            height: 1,
+            texels: vec![[255, 0, 0, 255], [0, 0, 255, 128]],
+            indices: None,
+        }
     }
 
     fn look(once: bool, bilinear: bool, channel: ImageChannel) -> ImageLook {

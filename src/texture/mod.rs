@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
-use crate::graph::{ColorMap, FieldShape, ImageLook, Pattern, TextureNode, compose};
+use crate::graph::{ColorMap, FieldShape, ImageLook, Pattern, TextureNode, Warp, compose};
 
 #[derive(Debug, Clone)]
 pub struct Texture {
@@ -70,6 +70,10 @@ enum Kind {
     },
     /// Weights normalised to sum to 1.
     Average(Vec<(f32, Texture)>),
+    Warped {
+        warp: Warp,
+        texture: Box<Texture>,
+    },
 }
 
 /// Nudge applied to points before cell-based patterns: a plane that lies exactly on a cell
@@ -120,6 +124,7 @@ impl Texture {
                 }
                 Kind::Average(entries)
             }
+            Pattern::Warped { warp, node } => Kind::Warped { warp: *warp, texture: sub(node)? },
         };
         Ok(Texture { kind, to_pattern: compose(&node.transforms).inverse() })
     }
@@ -162,6 +167,7 @@ impl Texture {
                 if i == j { a } else { a + (map[j].1.eval(q) - a) * s }
             }
             Kind::Average(map) => map.iter().map(|(weight, t)| t.eval(q) * *weight).sum(),
+            Kind::Warped { warp, texture } => texture.eval(warp::apply(*warp, q)),
         }
     }
 }

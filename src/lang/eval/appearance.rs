@@ -12,7 +12,9 @@ use super::pattern::{PatternState, block_colours};
 use super::pigment::Pigment;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode};
+use crate::graph::{
+    MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode, Warp, compose,
+};
 use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
 };
@@ -245,7 +247,27 @@ impl Evaluator {
         if let Item::Pattern { .. } = item {
             state.pigment.set_transforms(Vec::new());
         }
+        let warp = matches!(item, Item::PovParam { key, .. } if key.name == "warp");
         if self.pattern_item(item, &mut state.pattern)? {
+            let last = if warp { state.pattern.warps.pop() } else { None };
+            match (&state.pattern.word, last) {
+                (None, Some(last)) => {
+                    // `pigment { P_Declared warp { } }`: the declared pigment, warped (were a
+                    // pattern's word to follow, it would take the warp instead).
+                    state.pigment = state.pigment.clone().warped(last);
+                    state.pattern.warps.push(last);
+                }
+                (Some(_), Some(last)) => {
+                    // The transforms written so far apply to the point after this warp.
+                    let before = std::mem::take(&mut state.pigment.colour.transforms);
+                    state.pigment.set_transforms(Vec::new());
+                    if !before.is_empty() {
+                        state.pattern.warps.push(Warp::Transform(compose(&before).inverse()));
+                    }
+                    state.pattern.warps.push(last);
+                }
+                (_, None) => {}
+            }
             return Ok(());
         }
         match item {

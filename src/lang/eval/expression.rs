@@ -87,6 +87,15 @@ impl Evaluator {
         single_vector(self.vector(expr)?, &expr.span)
     }
 
+    /// A vector, or a number promoted to one with three equal components (POV-Ray's promotion
+    /// where a vector is expected: `turbulence 0.5`, `brick_size 2`).
+    pub(super) fn splat_vec3(&mut self, expr: &Expr) -> Result<Vec3, SceneError> {
+        match self.value(expr)? {
+            Value::Float(f) => Ok(Vec3::splat(single(f, &expr.span)?)),
+            _ => self.vec3(expr),
+        }
+    }
+
     pub(super) fn nonzero(&mut self, expr: &Expr, what: &str) -> Result<Vec3, SceneError> {
         let v = self.vec3(expr)?;
         if v.length() == 0.0 {

@@ -61,8 +61,9 @@ impl Evaluator {
         })
     }
 
-    /// `bump_map { [type] "file" options }`: the image's gray as heights, `bump_size` (1) the
-    /// amount; always bilinear, so that the heights have a gradient between texel centres.
+    /// `bump_map { [type] "file" options }`: the image's gray (`use_index`: a palette image's
+    /// indices) as heights, `bump_size` (1) the amount; always bilinear, so that the heights
+    /// have a gradient between texel centres.
     pub(super) fn bump_image(
         &mut self,
         file: &Expr,
@@ -150,7 +151,9 @@ impl Evaluator {
                 "bump_size" => bump_size = self.single(value.ok_or_else(|| needs("a value"))?)?,
                 // The default for images that are not palettes; a palette's colours are
                 // read as colours too.
-                "use_color" | "use_colour" => {}
+                "use_color" | "use_colour" => look.channel = ImageChannel::Colour,
+                // POV-Ray's bump_map: a palette image's indices as the heights.
+                "use_index" if used == ImageUse::Bump => look.channel = ImageChannel::Index,
                 "filter" | "transmit" | "use_index" | "use_alpha" | "premultiplied" => {
                     return Err(SceneError::at(
                         &key.span,

@@ -63,12 +63,19 @@ impl Evaluator {
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
             return Ok(state.base.map(|mut node| {
                 node.transforms.extend(state.transforms);
+                // `normal { N_Declared bump_size 2 }`: the declared bumps, by a new amount.
+                if let (NormalPattern::Bumps { amount, .. }, Some(size)) =
+                    (&mut node.pattern, state.pattern.bump_size)
+                {
+                    *amount = size;
+                }
                 node
             }));
         };
-        let amount = match arguments.get(own_arguments(kind)) {
-            Some(a) => self.single(&a.value)?,
-            None => DEFAULT_AMOUNT,
+        let amount = match (state.pattern.bump_size, arguments.get(own_arguments(kind))) {
+            (Some(size), _) => size,
+            (None, Some(a)) => self.single(&a.value)?,
+            (None, None) => DEFAULT_AMOUNT,
         };
         let average = kind == PatternKind::Average;
         let map = match &state.pattern.map {

@@ -12,8 +12,8 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::function::FloatFunction;
 use crate::graph::{
-    Crackle, Field, FieldShape, Fractal, FractalColouring, FractalSet, NormalNode, Pattern,
-    PatternFunction, SlopeMap, Turbulence, Warp, Wave,
+    BlackHole, Crackle, Field, FieldShape, Fractal, FractalColouring, FractalSet, Mapping,
+    MappingSurface, NormalNode, Pattern, PatternFunction, SlopeMap, Turbulence, Warp, Wave,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
@@ -61,11 +61,14 @@ pub struct PatternState {
     solid: bool,
     /// A normal's `accuracy`: the span of the differences that take its gradient.
     pub accuracy: Option<f32>,
+    /// A normal's `bump_size`: its amount, as the number after the pattern's word.
+    pub bump_size: Option<f32>,
     /// A fractal's `interior`, `exterior` and `exponent`.
     interior: Option<FractalColouring>,
     exterior: Option<FractalColouring>,
     exponent: Option<u32>,
-    warps: Vec<Warp>,
+    /// The `warp { }`s in the order written (POV-Ray applies the last written first).
+    pub warps: Vec<Warp>,
     /// The function pattern's compiled function.
     function: Option<Arc<FloatFunction>>,
     /// A `color_map`'s entries.
@@ -95,10 +98,7 @@ impl Evaluator {
             }
             Item::TextureParam(param) => match param.kind {
                 TextureParamKind::Turbulence => {
-                    let amount = match self.value(&param.value)? {
-                        Value::Float(f) => Vec3::splat(f as f32),
-                        _ => self.vec3(&param.value)?,
-                    };
+                    let amount = self.splat_vec3(&param.value)?;
                     if amount.min_element() < 0.0 {
                         return Err(SceneError::at(
                             &param.value.span,
@@ -152,6 +152,7 @@ impl Evaluator {
                     "offset" => state.offset = Some(number(self)?),
                     "solid" => state.solid = true,
                     "accuracy" => state.accuracy = Some(positive(self, "a normal's accuracy")?),
+                    "bump_size" => state.bump_size = Some(number(self)?),
                     "metric" => state.metric = Some(positive(self, "crackle's metric")?),
                     "form" => {
                         let v = value
@@ -163,10 +164,7 @@ impl Evaluator {
                         let v = value.as_ref().ok_or_else(|| {
                             SceneError::at(&key.span, "`brick_size` needs a size")
                         })?;
-                        let size = match self.value(&v.value)? {
-                            Value::Float(f) => Vec3::splat(f as f32),
-                            _ => self.vec3(&v.value)?,
-                        };
+                        let size = self.splat_vec3(&v.value)?;
                         if size.min_element() <= 0.0 {
                             return Err(SceneError::at(
                                 &v.span,
@@ -222,14 +220,50 @@ impl Evaluator {
         Ok(true)
     }
 
-    /// `warp { turbulence ... | repeat ... | black_hole ... }`.
+    /// `warp { turbulence ... | repeat ... | black_hole ... }`: the first of those three words
+    /// names the warp, as in POV-Ray, and the other items are that warp's (a black hole's
+    /// `repeat <r>` and `turbulence <t>` are its own: holes repeated in blocks of r, each moved
+    /// by up to t).
     fn warp(&mut self, items: &[Item], at: &Span) -> Result<Warp, SceneError> {
-        let mut warp: Option<Warp> = None;
+        let kind = items
+            .iter()
+            .find_map(|item| match item {
+                Item::PovParam { key, .. }
+                    if matches!(
+                        key.name.as_str(),
+                        "turbulence"
+                            | "repeat"
+                            | "black_hole"
+                            | "planar"
+                            | "cylindrical"
+                            | "spherical"
+                            | "toroidal"
+                    ) =>
+                {
+                    Some(key.name.clone())
+                }
+                _ => None,
+            })
+            .ok_or_else(|| {
+                SceneError::at(
+                    at,
+                    "a warp needs `turbulence`, `repeat`, `black_hole`, `planar`, `cylindrical`, \
+                     `spherical` or `toroidal`",
+                )
+            })?;
         let mut turbulence = Turbulence { amount: Vec3::ZERO, octaves: 6, omega: 0.5, lambda: 2.0 };
-        let (mut offset, mut flip) = (Vec3::ZERO, Vec3::ZERO);
-        let (mut strength, mut falloff, mut inverse) = (1.0, 2.0, false);
-        let mut repeat: Option<(usize, f32)> = None;
-        let mut hole: Option<(Vec3, f32)> = None;
+        let (mut repeat, mut offset, mut flip) = (None, Vec3::ZERO, Vec3::ZERO);
+        let mut hole = BlackHole {
+            centre: Vec3::ZERO,
+            radius: 1.0,
+            strength: 1.0,
+            falloff: 2.0,
+            inverse: false,
+            repeat: Vec3::ZERO,
+            jitter: Vec3::ZERO,
+        };
+        let (mut orientation, mut dist_exp) = (Vec3::Z, 0.0);
+        let (mut offset_along, mut major_radius) = (0.0, 1.0);
         for item in items {
             let Item::PovParam { key, value, items: rest } = item else {
                 return Err(Self::misplaced_in_warp(item));
@@ -237,26 +271,27 @@ impl Evaluator {
             let value = value.as_ref().map(|v| &v.value);
             let needs =
                 |what: &str| SceneError::at(&key.span, format!("`{}` needs {what}", key.name));
-            match key.name.as_str() {
-                "turbulence" => {
-                    let v = value.ok_or_else(|| needs("an amount"))?;
-                    turbulence.amount = match self.value(v)? {
-                        Value::Float(f) => Vec3::splat(f as f32),
-                        _ => self.vec3(v)?,
-                    };
-                    warp = Some(Warp::Turbulence(turbulence));
+            let belongs = |warp: &str| {
+                SceneError::at(
+                    &key.span,
+                    format!("`{}` belongs to a `{warp}` warp, not to a `{kind}` warp", key.name),
+                )
+            };
+            match (kind.as_str(), key.name.as_str()) {
+                ("turbulence", "turbulence") => {
+                    turbulence.amount = self.splat_vec3(value.ok_or_else(|| needs("an amount"))?)?
                 }
-                "octaves" => {
+                ("turbulence", "octaves") => {
                     turbulence.octaves =
                         self.integer(value.ok_or_else(|| needs("a count"))?, 1, 16)? as u32
                 }
-                "omega" => {
+                ("turbulence", "omega") => {
                     turbulence.omega = self.single(value.ok_or_else(|| needs("a value"))?)?
                 }
-                "lambda" => {
+                ("turbulence", "lambda") => {
                     turbulence.lambda = self.single(value.ok_or_else(|| needs("a value"))?)?
                 }
-                "repeat" => {
+                ("repeat", "repeat") => {
                     let v = value.ok_or_else(|| needs("a direction"))?;
                     let direction = self.nonzero(v, "the repeat's direction")?;
                     let axis = direction.abs().max_position();
@@ -268,30 +303,119 @@ impl Evaluator {
                     }
                     repeat = Some((axis, direction[axis].abs()));
                 }
-                "offset" => offset = self.vec3(value.ok_or_else(|| needs("a vector"))?)?,
-                "flip" => flip = self.vec3(value.ok_or_else(|| needs("a vector"))?)?,
-                "black_hole" => {
-                    let centre = self.vec3(value.ok_or_else(|| needs("a centre"))?)?;
+                ("repeat", "offset") => {
+                    offset = self.vec3(value.ok_or_else(|| needs("a vector"))?)?
+                }
+                ("repeat", "flip") => flip = self.vec3(value.ok_or_else(|| needs("a vector"))?)?,
+                ("black_hole", "black_hole") => {
+                    hole.centre = self.vec3(value.ok_or_else(|| needs("a centre"))?)?;
                     let Some(Item::Value(radius)) = rest.first() else {
                         return Err(needs("a centre and a radius (`black_hole <c>, r`)"));
                     };
-                    hole = Some((centre, self.positive(radius, "the black hole's radius")?));
+                    hole.radius = self.positive(radius, "the black hole's radius")?;
                 }
-                "strength" => strength = self.single(value.ok_or_else(|| needs("a value"))?)?,
-                "falloff" => falloff = self.single(value.ok_or_else(|| needs("a value"))?)?,
-                "inverse" => inverse = true,
-                other => unreachable!("the grammar gives no warp item `{other}`"),
+                ("black_hole", "strength") => {
+                    hole.strength = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                ("black_hole", "falloff") => {
+                    hole.falloff = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                ("black_hole", "inverse") => hole.inverse = true,
+                ("black_hole", "repeat") => {
+                    let v = value.ok_or_else(|| needs("the size of the blocks"))?;
+                    hole.repeat = self.splat_vec3(v)?;
+                    if hole.repeat.min_element() < 0.0 {
+                        return Err(SceneError::at(
+                            &v.span,
+                            format!(
+                                "repeat {}: a black hole's blocks have no negative size \
+                                 (0: not repeated along that axis)",
+                                hole.repeat
+                            ),
+                        ));
+                    }
+                }
+                ("black_hole", "turbulence") => {
+                    let v = value.ok_or_else(|| needs("an amount"))?;
+                    hole.jitter = self.splat_vec3(v)?;
+                }
+                ("planar", "planar") => {
+                    // `planar [<orientation>, offset]`.
+                    if let Some(v) = value {
+                        orientation = self.nonzero(v, "the planar warp's orientation")?.normalize();
+                        let Some(Item::Value(offset)) = rest.first() else {
+                            return Err(needs("an orientation and an offset (`planar z, 0`)"));
+                        };
+                        offset_along = self.single(offset)?;
+                    }
+                }
+                (
+                    "cylindrical" | "spherical" | "toroidal",
+                    "cylindrical" | "spherical" | "toroidal",
+                ) if key.name == kind => {}
+                ("cylindrical" | "spherical" | "toroidal", "orientation") => {
+                    let v = value.ok_or_else(|| needs("a vector"))?;
+                    orientation = self.nonzero(v, "the warp's orientation")?.normalize();
+                }
+                ("cylindrical" | "spherical" | "toroidal", "dist_exp") => {
+                    dist_exp = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                ("toroidal", "major_radius") => {
+                    major_radius = self.single(value.ok_or_else(|| needs("a value"))?)?
+                }
+                (_, "orientation" | "dist_exp") => {
+                    return Err(belongs("cylindrical`, `spherical` or `toroidal"));
+                }
+                (_, "major_radius") => return Err(belongs("toroidal")),
+                (_, "octaves" | "omega" | "lambda") => return Err(belongs("turbulence")),
+                (_, "offset" | "flip") => return Err(belongs("repeat")),
+                (_, "strength" | "falloff" | "inverse") => return Err(belongs("black_hole")),
+                (
+                    _,
+                    "turbulence" | "repeat" | "black_hole" | "planar" | "cylindrical" | "spherical"
+                    | "toroidal",
+                ) => {
+                    return Err(SceneError::at(
+                        &key.span,
+                        format!(
+                            "`{}` in a `{kind}` warp: a warp is of one kind (write a second \
+                             `warp {{ }}`)",
+                            key.name
+                        ),
+                    ));
+                }
+                (_, other) => unreachable!("the grammar gives no warp item `{other}`"),
             }
         }
-        if let Some((axis, width)) = repeat {
-            warp = Some(Warp::Repeat { axis, width, offset, flip });
+        match kind.as_str() {
+            "turbulence" => Ok(Warp::Turbulence(turbulence)),
+            "repeat" => {
+                let (axis, width) = repeat.expect("a repeat warp has its `repeat`");
+                Ok(Warp::Repeat { axis, width, offset, flip })
+            }
+            "black_hole" => Ok(Warp::BlackHole(hole)),
+            "planar" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Planar { offset: offset_along },
+                orientation,
+                dist_exp,
+            })),
+            "cylindrical" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Cylindrical,
+                orientation,
+                dist_exp,
+            })),
+            "spherical" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Spherical,
+                orientation,
+                dist_exp,
+            })),
+            "toroidal" => Ok(Warp::Mapping(Mapping {
+                surface: MappingSurface::Toroidal { major_radius },
+                orientation,
+                dist_exp,
+            })),
+            other => unreachable!("a warp's kind is one of three words, not `{other}`"),
         }
-        if let Some((centre, radius)) = hole {
-            warp = Some(Warp::BlackHole { centre, radius, strength, falloff, inverse });
-        }
-        warp.ok_or_else(|| {
-            SceneError::at(at, "a warp needs `turbulence`, `repeat` or `black_hole`")
-        })
     }
 
     /// The pigment of the pattern `kind`: its value through its map (the color_map, a map of
@@ -330,7 +454,9 @@ impl Evaluator {
             if map.is_empty() {
                 return Err(SceneError::at(at, "`average` needs a map of what it averages"));
             }
-            return Ok((Pigment::mapped(map, Pattern::Average), finish));
+            let averaged = Pigment::mapped(map, Pattern::Average);
+            let pigment = state.warps.iter().fold(averaged, |pigment, warp| pigment.warped(*warp));
+            return Ok((pigment, finish));
         }
         if map.is_empty() {
             map = match block_colours(kind) {

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::graph::{Pattern, TextureMap, TextureNode, Transform};
+use crate::graph::{Pattern, TextureMap, TextureNode, Transform, Warp};
 
 /// A pigment: three textures of one pattern and transforms: the colour, the filter and
 /// filter + transmit (grey). Kept as filter and filter + transmit so that layering and the
@@ -72,6 +72,24 @@ impl Pigment {
         self.filter.transforms.clone_from(&transforms);
         self.through.transforms.clone_from(&transforms);
         self.colour.transforms = transforms;
+    }
+
+    /// The pigment evaluated where `warp` moves each point (all three textures alike); the
+    /// transforms pushed after it apply before it, as POV-Ray's do.
+    pub fn warped(self, warp: Warp) -> Pigment {
+        let wrap = |node: TextureNode| match node.pattern {
+            // A solid colour is the same anywhere (an opaque pigment's filter and through).
+            Pattern::Solid(_) => node,
+            _ => TextureNode {
+                pattern: Pattern::Warped { warp, node: Box::new(node) },
+                transforms: Vec::new(),
+            },
+        };
+        Pigment {
+            colour: wrap(self.colour),
+            filter: wrap(self.filter),
+            through: wrap(self.through),
+        }
     }
 
     /// The pigment of a pattern through a map of pigments: `pattern` makes the pattern of a
