@@ -92,9 +92,11 @@ impl SampleIntegrator for Direct {
             }
             for (lane, lit) in lit.into_iter().enumerate() {
                 let Some(path) = lanes.path_mut(lane) else { continue };
-                let state = &mut path.state;
-                let continues = state.vertex.take().is_some_and(|vertex| {
-                    leave(scene, &mut state.path, &vertex, lit, &mut path.sampler, None)
+                let WhittedLane { path: whitted, vertex } = &mut path.state;
+                // Read in place: the next bounce's `arrive` overwrites it (taken out, the
+                // vertex was copied).
+                let continues = vertex.as_ref().is_some_and(|vertex| {
+                    leave(scene, whitted, vertex, lit, &mut path.sampler, None)
                 });
                 if !continues && let Some(path) = lanes.take(lane) {
                     radiance[path.slot] = path.state.path.radiance;
