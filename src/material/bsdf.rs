@@ -171,7 +171,7 @@ impl Bsdf {
         if self.leaks(wo, wi) {
             return Vec3::ZERO;
         }
-        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi), LobeFlags::ALL)
+        self.eval_world(wo, wi, LobeFlags::ALL)
     }
 
     /// f(wo, wi) of the lobes with a density that `mask` asks for.
@@ -180,19 +180,28 @@ impl Bsdf {
         if self.leaks(wo, wi) {
             return Vec3::ZERO;
         }
-        self.eval_local(self.frame.to_local(wo), self.frame.to_local(wi), mask)
+        self.eval_world(wo, wi, mask)
     }
 
-    /// `eval_lobes` in the shading frame. Always inlined: next-event estimation calls it once
-    /// per light sample, and out of line its call costs as much as a Lambertian lobe's work.
-    /// A lone lobe (every material of S1–S7) is evaluated without the walk over lobes, which
-    /// would give the same sum of one term.
+    /// `eval_lobes` of world directions, without the check for leaks. Always inlined:
+    /// next-event estimation calls it once per light sample, and out of line its call costs as
+    /// much as a Lambertian lobe's work. A lone lobe (every material of S1–S7) is evaluated
+    /// without the walk over lobes, which would give the same sum of one term, and takes the
+    /// directions to the shading frame itself (`Lobe::eval_by`): a Lambertian lobe's cosines
+    /// alone are computed.
     #[inline(always)]
-    fn eval_local(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
+    fn eval_world(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
+        let local = |v| self.frame.to_local(v);
         if let [lobe] = self.lobes.as_slice() {
             let taken = lobe.flags().is_in(mask);
-            return if taken { lobe.eval(wo, wi, self.mode) } else { Vec3::ZERO };
+            return if taken { lobe.eval_by(local, wo, wi, self.mode) } else { Vec3::ZERO };
         }
+        self.eval_local(local(wo), local(wi), mask)
+    }
+
+    /// `eval_lobes` in the shading frame, over any number of lobes.
+    #[inline(always)]
+    fn eval_local(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
         let taking = self.lobes.iter().filter(|lobe| lobe.flags().is_in(mask));
         let mut f = taking.map(|lobe| lobe.eval(wo, wi, self.mode));
         let first = f.next().unwrap_or(Vec3::ZERO);
@@ -203,7 +212,7 @@ impl Bsdf {
     /// a density: each lobe's, times the probability of taking it.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> f32 {
-        self.pdf_of(self.frame.to_local(wo), self.frame.to_local(wi), mask)
+        self.pdf_world(wo, wi, mask)
     }
 
     /// `eval` and `pdf` together (next-event estimation weighs the light sample by both): the
@@ -213,20 +222,25 @@ impl Bsdf {
         if self.leaks(wo, wi) {
             return (Vec3::ZERO, 0.0);
         }
-        let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        (self.eval_local(wo, wi, LobeFlags::ALL), self.pdf_of(wo, wi, mask))
+        (self.eval_world(wo, wi, LobeFlags::ALL), self.pdf_world(wo, wi, mask))
     }
 
-    /// `pdf` in the shading frame: for a lone lobe, its own density where it is taken
-    /// (`pdf_local` with the choice of one lobe, bit for bit).
+    /// `pdf` of world directions: for a lone lobe, its own density where it is taken
+    /// (`pdf_local` with the choice of one lobe, bit for bit), the directions taken to the
+    /// shading frame by the lobe (`Lobe::pdf_by`, as `eval_world`).
     #[inline(always)]
-    fn pdf_of(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> f32 {
+    fn pdf_world(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> f32 {
+        let local = |v| self.frame.to_local(v);
         match self.lobes.as_slice() {
             [lobe] => {
-                let taken = lobe.flags().is_in(mask) && lobe.albedo(wo) > 0.0;
-                if taken && lobe.flags().is_non_delta() { 0.0 + lobe.pdf(wo, wi) } else { 0.0 }
+                let taken = lobe.flags().is_in(mask) && lobe.albedo(local(wo)) > 0.0;
+                let with_density = taken && lobe.flags().is_non_delta();
+                if with_density { 0.0 + lobe.pdf_by(local, wo, wi) } else { 0.0 }
             }
-            _ => self.pdf_local(wo, wi, &self.choice(wo, mask)),
+            _ => {
+                let wo = local(wo);
+                self.pdf_local(wo, local(wi), &self.choice(wo, mask))
+            }
         }
     }
 
@@ -427,10 +441,11 @@ mod tests {
                             .sample_among(bsdf.frame.to_local(wo), u_lobe, u, mask)
                             .map(|s| BsdfSample { wi: bsdf.frame.to_world(s.wi), ..s });
                         assert_eq!(bits(bsdf.sample(wo, u_lobe, u, mask)), bits(among));
+                        let lone = bsdf.pdf(wo, wi, mask);
                         let (wo, wi) = (bsdf.frame.to_local(wo), bsdf.frame.to_local(wi));
                         let choice = bsdf.choice(wo, mask);
                         let pdf = bsdf.pdf_local(wo, wi, &choice);
-                        assert_eq!(bsdf.pdf_of(wo, wi, mask).to_bits(), pdf.to_bits());
+                        assert_eq!(lone.to_bits(), pdf.to_bits());
                     }
                 }
             }
