@@ -12,8 +12,8 @@ use wide::{f32x8, f32x16};
 
 use crate::ray::{Hit, Ray};
 
-/// A number per lane: eight where the CPU has AVX2 (AVX-512 too: sixteen lanes, `f32x16`, are
-/// ready but not yet measured against eight there), four elsewhere.
+/// A number per lane: eight where the CPU has AVX2 (AVX-512 too: sixteen lanes, `f32x16`, were
+/// timed against eight on S1–S3 without a settled gain, docs/benchmarks.md), four elsewhere.
 #[cfg(target_feature = "avx2")]
 pub type Floats = f32x8;
 #[cfg(not(target_feature = "avx2"))]
