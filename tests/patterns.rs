@@ -489,6 +489,8 @@ fn mapping_warps_wrap_a_pattern_around_their_surface() {
         ("gradient y warp { toroidal }", Vec3::new(1.0, -0.5, 0.0), 0.25),
         ("gradient y warp { toroidal major_radius 2 }", Vec3::new(2.0, -0.5, 0.0), 0.25),
         ("gradient z warp { planar z, 0.3 }", Vec3::new(0.7, 0.2, 0.9), 0.3),
+        // The comma is optional, as in POV-Ray (textures.inc's `planar z 0`).
+        ("gradient z warp { planar z 0.3 }", Vec3::new(0.7, 0.2, 0.9), 0.3),
         ("gradient x warp { planar }", Vec3::new(0.7, 0.2, 0.9), 0.7),
     ];
     for (pattern, p, expected) in cases {
