@@ -392,10 +392,10 @@ impl Evaluator {
         let held = self.held_lights.len();
         let node = self.object(object)?;
         // The look the declared object wears, kept for the wrappers that modify it.
-        if let Some((material, look)) = self.made_look.take() {
-            if own_material(&node).is_some_and(|own| Arc::ptr_eq(own, &material)) {
-                self.worn_looks.insert(address(&material), (material, look));
-            }
+        if let Some((material, look)) = self.made_look.take()
+            && own_material(&node).is_some_and(|own| Arc::ptr_eq(own, &material))
+        {
+            self.worn_looks.insert(address(&material), (material, look));
         }
         if let Some((_, span)) = self.held_lights.get(held) {
             return Err(SceneError::at(
