@@ -622,3 +622,54 @@ fn an_image_map_finds_povray_s_test_png_in_its_library() {
         other => panic!("not an image: {other:?}"),
     }
 }
+
+/// The materials a node's shapes wear, in order: each its own, or its nearest wearer's above it.
+fn worn(node: &raydiance::graph::ObjectNode, above: Option<&MaterialDesc>) -> Vec<MaterialDesc> {
+    use raydiance::graph::Below;
+    let wearer = node.material.as_deref().or(above);
+    match node.shape.below() {
+        Below::Children(nodes) | Below::Operands(nodes) => {
+            nodes.iter().flat_map(|n| worn(n, wearer)).collect()
+        }
+        Below::Shared(target) => worn(target, wearer),
+        Below::Nothing => vec![wearer.expect("a material").clone()],
+    }
+}
+
+const WORN: &str = "#declare T = box { -1, 1 texture { pigment { rgb 1 } } }\n";
+
+#[test]
+fn a_wrapper_s_pigment_normal_and_finish_modify_the_wrapped_object_s_own_texture() {
+    let first = |text: &str| worn(&pov(&format!("{WORN}{text}")).objects[0], None).remove(0);
+    // POV-Ray 3.7 renders each box below in the wrapper's colour (measured: /tmp/wrap33).
+    let m = first("object { T pigment { rgb <1, 0, 0> } }");
+    assert!(close(solid(&m), Vec3::new(0.6, 0.0, 0.0)), "{:?}", solid(&m));
+    let m = first("object { T finish { diffuse 0.3 } }");
+    assert!(close(solid(&m), Vec3::splat(0.3)), "the white pigment kept");
+    let m = first("object { T normal { bumps 1 scale 0.1 } }");
+    assert!(m.normal.is_some() && close(solid(&m), Vec3::splat(0.6)));
+    // Down a chain of wrappers; the declared object itself is left as it was.
+    let scene = pov(&format!(
+        "{WORN}#declare A = object {{ T }}\nobject {{ A pigment {{ rgb <0, 0, 1> }} }}\n\
+         object {{ T }}"
+    ));
+    let m = worn(&scene.objects[0], None).remove(0);
+    assert!(close(solid(&m), Vec3::new(0.0, 0.0, 0.6)));
+    assert!(close(solid(&worn(&scene.objects[1], None)[0]), Vec3::splat(0.6)));
+}
+
+#[test]
+fn a_wrapper_s_texture_is_layered_over_the_wrapped_one_and_reaches_a_group_s_bare_parts() {
+    // POV-Ray layers it: half-transparent red over the white box shows pink, not the background.
+    let scene =
+        pov(&format!("{WORN}object {{ T texture {{ pigment {{ rgbt <1, 0, 0, 0.5> }} }} }}"));
+    let m = worn(&scene.objects[0], None).remove(0);
+    assert!(close(solid(&m), 0.6 * Vec3::new(1.0, 0.5, 0.5)), "{:?}", solid(&m));
+    assert_eq!(m.transmission, Vec3::ZERO);
+    // A group without a texture of its own: the wrapper's reaches only its untextured parts.
+    let scene =
+        pov("#declare U = union { sphere { -x, 1 pigment { rgb <0, 1, 0> } } sphere { x, 1 } }\n\
+         object { U pigment { rgb <1, 0, 0> } }");
+    let parts: Vec<Vec3> = worn(&scene.objects[0], None).iter().map(solid).collect();
+    assert!(close(parts[0], Vec3::new(0.0, 0.6, 0.0)) && close(parts[1], Vec3::new(0.6, 0.0, 0.0)));
+}

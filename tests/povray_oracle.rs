@@ -450,6 +450,34 @@ fn lathes_sors_and_polygons_match_povray_away_from_edges() {
     }
 }
 
+/// Object modifiers on a wrapper (`object { W pigment { } }`) modify the texture the wrapped
+/// object wears, down a chain of wrappers; a wrapper's opaque texture covers it; a group without
+/// one of its own gives the wrapper's only to its bare parts; the declared object is unchanged.
+/// (Bumps change nothing in an emitter's flat colour, in either renderer.)
+const WRAPPERS: &str = r#"
+camera { location <0, 0, -5.2> right x*image_width/image_height look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+#declare W = box { -0.6, 0.6 texture { pigment { rgb 1 } } }
+#declare A = object { W }
+#declare U = union { sphere { 0, 0.6 pigment { rgb <0, 1, 0> } } sphere { 1.4*y, 0.6 } }
+object { W pigment { rgb <1, 0, 0> } translate <-2.1, 0.8, 0> }
+object { A pigment { rgb <0, 0, 1> } translate <-0.7, 0.8, 0> }
+object { W texture { pigment { rgb <1, 1, 0> } } translate <0.7, 0.8, 0> }
+object { U pigment { rgb <1, 0, 1> } translate <2.1, -0.7, 0> }
+object { W translate <-2.1, -0.7, 0> }
+object { W finish { emission 0 } translate <-0.7, -0.7, 0> }
+object { W normal { bumps 1 scale 0.1 } pigment { rgb <0, 1, 1> } translate <0.7, -0.7, 0> }
+"#;
+
+#[test]
+fn wrappers_modify_the_wrapped_object_s_texture_as_povray_s_do() {
+    let test = "wrappers_modify_the_wrapped_object_s_texture_as_povray_s_do";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(WRAPPERS, "wrappers");
+    }
+}
+
 /// Height fields seen from above at a slant, so that their heights shape what each pixel sees:
 /// an 8-bit gray PNG (its full range), a 4-bit palette PNG (index × 256) with `smooth`, and a
 /// function of x and y (y along −z) with a water level that cuts it, each steep and lopsided.

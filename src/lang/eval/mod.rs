@@ -182,6 +182,12 @@ pub struct Evaluator {
     /// `.pov`: the look of each object being evaluated, innermost last (`None` until one of its
     /// items gives it one).
     looks: Vec<Option<Look>>,
+    /// `.pov`: the material and look of the object last made, for `unlit_object` to keep.
+    made_look: Option<(Arc<crate::graph::MaterialDesc>, Look)>,
+    /// `.pov`: the looks declared objects wear, by their material's address (the `Arc` kept so
+    /// that the address stays theirs): what a wrapper's texture, pigment, normal or finish
+    /// modifies.
+    worn_looks: std::collections::HashMap<usize, (Arc<crate::graph::MaterialDesc>, Look)>,
     /// `.pov`: `sky_sphere`, the environment light.
     sky: Option<SkyDesc>,
     /// `.pov`: `background`, seen and not lighting.

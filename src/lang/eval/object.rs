@@ -12,7 +12,7 @@ use super::{
 };
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{
-    Below, CsgOp, FLATTENING_DETERMINANT, ObjectNode, ShapeNode, Transform, compose,
+    Below, CsgOp, FLATTENING_DETERMINANT, MaterialDesc, ObjectNode, ShapeNode, Transform, compose,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{self, AppearanceKind, Item, Shape, TransformKind};
@@ -265,9 +265,22 @@ impl Evaluator {
                 ),
             ));
         }
+        // POV-Ray's modifiers on a wrapper (`object { T pigment { } }`) modify the texture the
+        // wrapped object wears itself, if it has one: they start from its look.
+        let worn = match &shape {
+            ShapeNode::Instance(target) if self.dialect == Dialect::Pov => own_material(target)
+                .map(|own| self.worn_looks.get(&address(own)).map(|(_, look)| look.clone())),
+            _ => None,
+        };
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.looks.push(None);
-        self.shapings.push(Shaping::default());
+        let worn_look = worn.clone().flatten();
+        // A `texture` given to the wrapper is layered over the worn one, as POV-Ray's is.
+        self.shapings.push(Shaping {
+            textured: worn_look.is_some(),
+            worn: worn_look,
+            ..Default::default()
+        });
         let items = match &object.shape {
             Shape::TriangleMesh { triangles } => {
                 self.mesh_items(triangles, &object.items, &mut node)
@@ -295,9 +308,29 @@ impl Evaluator {
             node.transforms.clear();
         }
         self.check_blob(&node.shape, &object.span)?;
+        let material = look.map(|look| (self.look_material(&look, &object.span), look));
+        if let (Some((material, _)), ShapeNode::Instance(target)) = (&material, &node.shape) {
+            match worn {
+                Some(Some(_)) => {
+                    node.shape = ShapeNode::Instance(Arc::new(rewear(target, material.clone())))
+                }
+                Some(None) => {
+                    let here = self.here(&object.span);
+                    self.warnings.push(format!(
+                        "{here:?}: warning: the wrapped object wears a material of its own that \
+                         this object's texture, pigment, normal or finish cannot modify: they \
+                         reach only its parts without one"
+                    ));
+                }
+                None => {}
+            }
+        }
         let mut node = shaping.shaped(node);
-        if let Some(look) = look {
-            node.material = Some(self.look_material(&look, &object.span));
+        if let Some((material, look)) = material {
+            node.material = Some(material.clone());
+            if self.dialect == Dialect::Pov {
+                self.made_look = Some((material, look));
+            }
         }
         if node.depth > MAX_OBJECT_DEPTH {
             return Err(SceneError::at(
@@ -358,6 +391,12 @@ impl Evaluator {
     ) -> Result<ObjectNode, SceneError> {
         let held = self.held_lights.len();
         let node = self.object(object)?;
+        // The look the declared object wears, kept for the wrappers that modify it.
+        if let Some((material, look)) = self.made_look.take()
+            && own_material(&node).is_some_and(|own| Arc::ptr_eq(own, &material))
+        {
+            self.worn_looks.insert(address(&material), (material, look));
+        }
         if let Some((_, span)) = self.held_lights.get(held) {
             return Err(SceneError::at(
                 span,
@@ -519,9 +558,10 @@ impl Evaluator {
                         crate::lang::povray::message("normal", None).expect("`normal` has advice");
                     return Err(SceneError::at(&appearance.span, advice));
                 }
+                let worn = self.shapings.last_mut().and_then(|shaping| shaping.worn.take());
                 let mut look = match self.looks.last_mut().and_then(Option::take) {
                     Some(look) => look,
-                    None => self.default_look.clone(),
+                    None => worn.unwrap_or_else(|| self.default_look.clone()),
                 };
                 let under = look.clone();
                 let result = self.apply_appearance(appearance, &mut look);
@@ -662,6 +702,9 @@ pub struct Shaping {
     inverse: bool,
     /// A `texture` has been given: another is layered over it.
     textured: bool,
+    /// The look of the wrapped object (`object { T ... }`) that the wrapper's first texture,
+    /// pigment, normal or finish modifies, until one does.
+    worn: Option<Look>,
     /// Each `clipped_by`'s objects, with how many of the object's transforms stood before it:
     /// those move the object alone, the later ones the object and its clipping objects.
     clips: Vec<(usize, Vec<ObjectNode>)>,
@@ -738,4 +781,31 @@ fn add_child(node: &mut ObjectNode, child: ObjectNode) {
     if let Some(children) = children(&mut node.shape) {
         children.push(child);
     }
+}
+
+/// The material a node wears itself: its own, or down a chain of instances without one, the
+/// instanced object's (POV-Ray copies a wrapped object's texture with it).
+fn own_material(node: &ObjectNode) -> Option<&Arc<MaterialDesc>> {
+    if node.material.is_some() {
+        return node.material.as_ref();
+    }
+    let ShapeNode::Instance(target) = &node.shape else { return None };
+    own_material(target)
+}
+
+/// `node` with `material` in place of the one it wears itself (`own_material`): the node that
+/// wears it copied, and the instances down to it; their meshes are shared, not copied.
+fn rewear(node: &ObjectNode, material: Arc<MaterialDesc>) -> ObjectNode {
+    let mut copy = node.clone();
+    if let (None, ShapeNode::Instance(target)) = (&node.material, &node.shape) {
+        copy.shape = ShapeNode::Instance(Arc::new(rewear(target, material)));
+    } else {
+        copy.material = Some(material);
+    }
+    copy
+}
+
+/// A material's address: the key of `Evaluator::worn_looks`.
+fn address(material: &Arc<MaterialDesc>) -> usize {
+    Arc::as_ptr(material) as usize
 }
