@@ -806,6 +806,21 @@ pub struct BlackHole {
     pub jitter: Vec3,
 }
 
+impl Default for BlackHole {
+    /// POV-Ray's: a hole of radius 1 at the origin, strength 1, falloff 2, not repeated.
+    fn default() -> Self {
+        BlackHole {
+            centre: Vec3::ZERO,
+            radius: 1.0,
+            strength: 1.0,
+            falloff: 2.0,
+            inverse: false,
+            repeat: Vec3::ZERO,
+            jitter: Vec3::ZERO,
+        }
+    }
+}
+
 /// How a value in [0, 1) is shaped (POV-Ray's wave types).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Wave {

@@ -536,15 +536,7 @@ mod tests {
         // Black hole (POV-Ray's, measured with `povray`): no effect outside its radius; inside,
         // p + s (p - c) with s = strength (1 - d / r)^falloff, so that the pattern looks drawn
         // in; `inverse` moves p the other way.
-        let hole = BlackHole {
-            centre: Vec3::ZERO,
-            radius: 1.0,
-            strength: 1.0,
-            falloff: 2.0,
-            inverse: false,
-            repeat: Vec3::ZERO,
-            jitter: Vec3::ZERO,
-        };
+        let hole = BlackHole::default();
         let far = Vec3::new(1.5, 0.2, 0.0);
         assert_eq!(warp::apply(Warp::BlackHole(hole), far), far);
         let near = Vec3::new(0.5, 0.0, 0.0);

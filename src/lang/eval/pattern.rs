@@ -253,15 +253,7 @@ impl Evaluator {
             })?;
         let mut turbulence = Turbulence { amount: Vec3::ZERO, octaves: 6, omega: 0.5, lambda: 2.0 };
         let (mut repeat, mut offset, mut flip) = (None, Vec3::ZERO, Vec3::ZERO);
-        let mut hole = BlackHole {
-            centre: Vec3::ZERO,
-            radius: 1.0,
-            strength: 1.0,
-            falloff: 2.0,
-            inverse: false,
-            repeat: Vec3::ZERO,
-            jitter: Vec3::ZERO,
-        };
+        let mut hole = BlackHole::default();
         let (mut orientation, mut dist_exp) = (Vec3::Z, 0.0);
         let (mut offset_along, mut major_radius) = (0.0, 1.0);
         for item in items {
