@@ -155,6 +155,13 @@ fn layers_that_differ_in_finish_are_warned_about_where_an_object_wears_them() {
     let own = "sphere { 0, 1 texture { pigment { rgb 1 } }\n\
                texture { pigment { rgbt <1, 0, 0, 0.5> } finish { phong 1 } } }";
     assert_eq!(differ(&pov(own)), [true]);
+    // Three layers, the lower two differing and the top one like the middle: still said.
+    let three = format!(
+        "{}\ntexture {{ pigment {{ rgbt <0, 0, 1, 0.5> }} finish {{ phong 1 }} }}\n\
+         sphere {{ 0, 1 texture {{ T }} }}",
+        declared.trim_end()
+    );
+    assert_eq!(differ(&pov(&three)), [true]);
 }
 
 #[test]

@@ -627,10 +627,13 @@ impl Evaluator {
         if over.pigment.is_opaque() {
             return;
         }
-        // `over` began as a copy of `under`, so an earlier flattening is kept.
-        if under.finish != over.finish {
-            over.finish_flattened_at = Some(format!("{:?}", self.here(span)));
-        }
+        // A texture layer replaced `over`'s mark with its own (none): an earlier flattening,
+        // under it, is kept.
+        over.finish_flattened_at = if under.finish != over.finish {
+            Some(format!("{:?}", self.here(span)))
+        } else {
+            under.finish_flattened_at.clone()
+        };
         over.pigment = over.pigment.over(&under.pigment);
     }
 
