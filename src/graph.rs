@@ -10,6 +10,7 @@ use glam::{Affine3A, Mat3, Vec2, Vec3};
 use crate::diagnostic::Span;
 pub use crate::geometry::CsgOp;
 use crate::geometry::ScalarField;
+pub use crate::material::Covers;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -232,6 +233,8 @@ pub struct MaterialDesc {
     pub coat: f32,
     /// GGX alpha of the coat, in (0, 1].
     pub coat_roughness: f32,
+    /// What the coat lies over: the diffuse base (`.scn`) or everything (POV-Ray's highlight).
+    pub coat_covers: Covers,
     /// Bump mapping: how the shading normal is perturbed; `None`: not at all.
     pub normal: Option<NormalNode>,
     /// The medium inside objects of this material (`medium { }`; POV-Ray's `interior`
@@ -315,6 +318,7 @@ impl MaterialDesc {
             roughness: 0.0,
             coat: 0.0,
             coat_roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
+            coat_covers: Covers::Base,
             normal: None,
             interior: None,
             beam: None,

@@ -9,7 +9,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{Hit, Ray, Shape};
 use raydiance::light::Light;
-use raydiance::material::{Coat, LobeFlags, Material, TransportMode, refract};
+use raydiance::material::{Coat, Covers, LobeFlags, Material, TransportMode, refract};
 use raydiance::sampling::{Sampler, cosine_hemisphere};
 
 const COS_BINS: usize = 16;
@@ -401,7 +401,7 @@ fn rough_sampling_test_detects_a_wrong_pdf() {
 
 fn plastic(diffuse: f32, specular: f32, alpha: f32) -> Material {
     Material {
-        coat: Some(Coat { strength: 1.0, roughness: alpha }),
+        coat: Some(Coat { strength: 1.0, roughness: alpha, covers: Covers::Base }),
         ..material(diffuse, specular, 0.0, false)
     }
 }
@@ -453,6 +453,54 @@ fn plastic_sampling_matches_its_pdf() {
             }
         }
     }
+}
+
+/// POV-Ray's highlight: a coat of weight 0.6 over a base, a mirror and a clear transmission
+/// (`Covers::Everything`), which carry what it lets through, and so are chosen by shares it
+/// takes from: its directions with a density follow its pdf, from near the normal and from
+/// grazing on the other side.
+#[test]
+fn a_coat_over_everything_samples_as_its_pdf() {
+    let n = Vec3::new(0.3, -0.2, 0.9).normalize();
+    let (t, _) = n.any_orthonormal_pair();
+    let bsdf = coated_over_everything(0.3, 0.2, 0.4).bsdf(n, TransportMode::Radiance);
+    let (near, grazing) = (0.3f32, 1.4f32);
+    let near = near.cos() * n + near.sin() * t;
+    let grazing = grazing.cos() * n + grazing.sin() * t;
+    for wo in [near, -grazing] {
+        plastic_lobe_matches_pdf(&format!("wo {wo}"), &bsdf, n, wo, 0.2, |wi| {
+            bsdf.pdf(wo, wi, LobeFlags::ALL)
+        });
+    }
+}
+
+/// The harness tells a coat over everything from the same coat over its base alone (`.scn`'s):
+/// seen at a grazing angle, the coat takes a larger share from the transmission.
+#[test]
+fn a_coat_over_everything_is_told_from_one_over_its_base() {
+    let n = Vec3::new(0.3, -0.2, 0.9).normalize();
+    let (t, _) = n.any_orthonormal_pair();
+    let wo = 1.4f32.cos() * n + 1.4f32.sin() * t;
+    let sampled = coated_over_everything(0.4, 0.0, 0.5);
+    let wrong = Material {
+        coat: sampled.coat.map(|coat| Coat { covers: Covers::Base, ..coat }),
+        ..sampled.clone()
+    };
+    let (bsdf, wrong) =
+        (sampled.bsdf(n, TransportMode::Radiance), wrong.bsdf(n, TransportMode::Radiance));
+    let result = std::panic::catch_unwind(|| {
+        plastic_lobe_matches_pdf("mutated", &bsdf, n, wo, 0.2, |wi| {
+            wrong.pdf(wo, wi, LobeFlags::ALL)
+        })
+    });
+    assert!(result.is_err(), "{sampled:?} passed against {wrong:?}");
+}
+
+/// A base, a mirror and a straight transmission (ior 1, POV-Ray's filter and transmit) under
+/// a coat of weight 0.6 and alpha 0.2 over them all.
+fn coated_over_everything(diffuse: f32, specular: f32, transmission: f32) -> Material {
+    let coat = Coat { strength: 0.6, roughness: 0.2, covers: Covers::Everything };
+    Material { coat: Some(coat), ior: 1.0, ..material(diffuse, specular, transmission, false) }
 }
 
 /// The harness fails on the plastic's pdf with another coat alpha or another base.

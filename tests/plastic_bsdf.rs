@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3};
 use raydiance::graph::MaterialDesc;
-use raydiance::material::{Bsdf, Coat, LobeFlags, Material, TransportMode};
+use raydiance::material::{Bsdf, Coat, Covers, LobeFlags, Material, NO_DIRECTION, TransportMode};
 use raydiance::sampling::Sampler;
 
 const IOR: f64 = 1.5;
@@ -20,7 +20,7 @@ const QUADRATURE: f64 = 2e-3;
 fn plastic(diffuse: f32, strength: f32, alpha: f32) -> Material {
     Material {
         diffuse: Vec3::splat(diffuse),
-        coat: Some(Coat { strength, roughness: alpha }),
+        coat: Some(Coat { strength, roughness: alpha, covers: Covers::Base }),
         ..Material::default()
     }
 }
@@ -100,19 +100,20 @@ fn setup(theta: f64) -> ((Vec3, Vec3, Vec3), Vec3, DVec3) {
 }
 
 /// ∫ f cos di of the code's `eval`: the coat alone (a black base) over microfacet normals, and
-/// what the base adds over the hemisphere.
+/// what the base adds over the hemisphere; `steps` of each grid's sides.
 fn eval_albedo(
     material: &Material,
     frame: (Vec3, Vec3, Vec3),
     alpha: f64,
     wo: DVec3,
+    steps: (usize, usize),
 ) -> (f64, f64) {
     let world = |v: DVec3| v.x as f32 * frame.0 + v.y as f32 * frame.1 + v.z as f32 * frame.2;
     let whole = material.bsdf(frame.2, TransportMode::Radiance);
     let coat_only = Material { diffuse: Vec3::ZERO, ..material.clone() };
     let coat_only = coat_only.bsdf(frame.2, TransportMode::Radiance);
     let mut coat = 0.0;
-    for (m, weight) in normals(alpha, 600) {
+    for (m, weight) in normals(alpha, steps.0) {
         let om = wo.dot(m);
         let wi = 2.0 * om * m - wo;
         if om > 0.0 && wi.z > 0.0 {
@@ -121,7 +122,7 @@ fn eval_albedo(
         }
     }
     let mut base = 0.0;
-    for (wi, weight) in hemisphere(1000) {
+    for (wi, weight) in hemisphere(steps.1) {
         let (o, i) = (world(wo), world(wi));
         let f = f64::from(whole.eval(o, i).x) - f64::from(coat_only.eval(o, i).x);
         base += f * wi.z * weight;
@@ -156,7 +157,7 @@ fn plastic_albedo_matches_a_quadrature_of_the_model() {
             let material = plastic(0.6, 0.8, alpha);
             let a = f64::from(alpha);
             let (model_coat, model_base) = model_albedo(0.6, 0.8, a, local);
-            let (eval_coat, eval_base) = eval_albedo(&material, frame, a, local);
+            let (eval_coat, eval_base) = eval_albedo(&material, frame, a, local, (600, 1000));
             let model = model_coat + model_base;
             let what = format!("alpha {alpha}, theta {theta}");
             assert!(
@@ -197,6 +198,53 @@ fn plastic_scatters_at_most_what_arrives() {
                 if kd == 1.0 && theta < 1.3 {
                     assert!(sampled > 0.85, "{what}: a white plastic keeps {sampled}");
                 }
+            }
+        }
+    }
+}
+
+/// The BSDF of the first object of a `.pov` scene.
+fn pov_material(text: &str) -> Material {
+    let graph = raydiance::lang::parse_scene(std::path::Path::new("tests/inline.pov"), text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    Material::from(&**graph.objects[0].material.as_ref().expect("a material"))
+}
+
+/// White furnace of POV-Ray's highlight, a coat over everything (`docs/povray.md`, issue 33):
+/// under light of radiance 1 from every direction, a surface returns at most 1 whatever lies
+/// under its coat, and a coat over a clear pigment returns all of it, passing what it does not
+/// reflect (it passed half). The coat and base by quadratures of `eval`, the mirror and the
+/// transmission (delta lobes) by `sample`'s weights over a grid of its lobe choice.
+#[test]
+fn a_highlight_over_anything_scatters_at_most_what_arrives() {
+    let materials = [
+        ("rgbf 1", "phong 1", true),
+        ("rgbt 1", "phong 0.4 phong_size 10", true),
+        ("rgbt 0.5", "diffuse 0.8 phong 0.7", false),
+        ("rgbf <1, 0.6, 0.3, 0.6>", "diffuse 1 phong 1 reflection 0.3", false),
+    ];
+    for (pigment, finish, lossless) in materials {
+        let material = pov_material(&format!(
+            "sphere {{ 0, 1 pigment {{ {pigment} }} finish {{ {finish} }} }}"
+        ));
+        let alpha = f64::from(material.coat.expect("a coat").roughness);
+        for theta in [0.0, 0.6, 1.0] {
+            let (frame, wo, local) = setup(theta);
+            let (coat, base) = eval_albedo(&material, frame, alpha, local, (150, 200));
+            let bsdf = material.bsdf(frame.2, TransportMode::Radiance);
+            let choices = 64;
+            let delta: f64 = (0..choices)
+                .filter_map(|k| {
+                    let u_lobe = (k as f32 + 0.5) / choices as f32;
+                    bsdf.sample(wo, u_lobe, NO_DIRECTION, LobeFlags::DELTA)
+                })
+                .map(|sample| f64::from(sample.weight.x) / f64::from(choices))
+                .sum();
+            let total = coat + base + delta;
+            let what = format!("{pigment} {finish}, theta {theta}: {coat} + {base} + {delta}");
+            assert!(total <= 1.0 + QUADRATURE, "{what} = {total}");
+            if lossless {
+                assert!(total > 0.99, "{what} = {total}");
             }
         }
     }
@@ -291,7 +339,7 @@ fn scn_coat_makes_the_plastic_lobe() {
     );
     let desc = graph.objects[0].material.as_ref().unwrap();
     let material = Material::from(&**desc);
-    assert_eq!(material.coat, Some(Coat { strength: 0.8, roughness: 0.3 }));
+    assert_eq!(material.coat, Some(Coat { strength: 0.8, roughness: 0.3, covers: Covers::Base }));
     let flags = material.bsdf(Vec3::Z, TransportMode::Radiance).flags();
     let expected =
         LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::DELTA | LobeFlags::REFLECTION;
@@ -300,7 +348,11 @@ fn scn_coat_makes_the_plastic_lobe() {
     let material = Material::from(&**graph.objects[0].material.as_ref().unwrap());
     assert_eq!(
         material.coat,
-        Some(Coat { strength: 1.0, roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS })
+        Some(Coat {
+            strength: 1.0,
+            roughness: MaterialDesc::DEFAULT_COAT_ROUGHNESS,
+            covers: Covers::Base
+        })
     );
     let plain = parse("sphere { 0, 1  material { diffuse rgb 0.5  coat_roughness 0.3 } }");
     assert_eq!(Material::from(&**plain.objects[0].material.as_ref().unwrap()).coat, None);

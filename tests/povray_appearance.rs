@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::common;
 
 use glam::Vec3;
-use raydiance::graph::{MaterialDesc, Pattern, SceneGraph};
+use raydiance::graph::{Covers, MaterialDesc, Pattern, SceneGraph};
 use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
 use raydiance::material::{LobeFlags, Material, TransportMode};
@@ -245,16 +245,59 @@ fn highlights_become_a_glossy_coat_over_the_diffuse_base() {
 }
 
 #[test]
-fn a_highlight_with_reflection_is_a_coat_beside_a_mirror_scaled_to_conserve_energy() {
+fn a_highlight_with_reflection_is_a_coat_over_a_mirror_scaled_to_conserve_energy() {
     let m =
         material("sphere { 0, 1 pigment { rgb 1 } finish { diffuse 0.9 phong 1 reflection 0.5 } }");
-    // The coated base counts max(0.9, coat 1) = 1, the mirror 0.5: all scaled by 1 / 1.5.
-    assert!(close(solid(&m), Vec3::splat(0.9 / 1.5)), "{}", solid(&m));
-    assert!((m.coat - 1.0 / 1.5).abs() < 1e-6, "{}", m.coat);
-    assert!(close(m.specular, Vec3::splat(0.5 / 1.5)));
+    // The base 0.9 and the mirror 0.5 are scaled by 1 / 1.4; the coat over them keeps its 1.
+    assert!(close(solid(&m), Vec3::splat(0.9 / 1.4)), "{}", solid(&m));
+    assert_eq!((m.coat, m.coat_covers), (1.0, Covers::Everything));
+    assert!(close(m.specular, Vec3::splat(0.5 / 1.4)));
     assert_eq!(m.roughness, 0.0, "the reflection stays a mirror");
     let flags = lobes("sphere { 0, 1 pigment { rgb 1 } finish { phong 1 reflection 0.3 } }");
     assert!(flags.contains(LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::DELTA), "{flags:?}");
+}
+
+/// A clear sphere under a full highlight (`rgbf 1`, `phong 1`; issue 33) in front of a glowing
+/// wall: seen head-on, the wall through it is dimmed only by what the coat reflects at its two
+/// crossings, (1 - F)^2 with F = 0.04 (POV-Ray, which adds its highlight, leaves the wall as it
+/// is); the light each reflection sends back inside, F^2 of it, adds a little. Before, the
+/// highlight took half the transmission at each crossing: a quarter of the wall.
+#[test]
+fn a_clear_sphere_under_a_highlight_lets_through_all_the_coat_does_not_reflect() {
+    for pigment in ["rgbf 1", "rgbt 1"] {
+        let mut graph = pov(&format!(
+            "camera {{ location <0, 0, -10> look_at 0 angle 2 }}\n\
+             plane {{ z, 3 pigment {{ rgb 0.5 }} finish {{ ambient 1 diffuse 0 }} }}\n\
+             sphere {{ 0, 1 pigment {{ {pigment} }} finish {{ phong 1 }} }}"
+        ));
+        graph.settings.width = 4;
+        graph.settings.height = 4;
+        graph.settings.samples = 64;
+        let seen = common::mean(&common::render_image(&build(&graph).unwrap())).x;
+        let expected = 0.5 * 0.96f32.powi(2) * (1.0 + 0.04f32.powi(2));
+        assert!((seen - expected).abs() < 0.015, "{pigment}: {seen} vs {expected}");
+    }
+}
+
+/// Light crosses a clear sphere under a highlight to the floor below as the camera's rays
+/// cross it: a shadow ray straight down through its middle keeps (1 - F)^2 of the light, F =
+/// 0.04 at normal incidence (`Scene::transmittance`; half of it at each crossing before).
+#[test]
+fn a_shadow_through_a_clear_sphere_under_a_highlight_keeps_what_the_coat_lets_through() {
+    let floor = |sphere: &str| {
+        let mut graph = pov(&format!(
+            "camera {{ location <0, 1, -6> look_at 0 angle 2 }}\n\
+             light_source {{ <0, 10, 0> color rgb 1 }}\n\
+             plane {{ y, 0 pigment {{ rgb 1 }} }}\n{sphere}"
+        ));
+        (graph.settings.width, graph.settings.height, graph.settings.samples) = (2, 2, 4);
+        graph.settings.integrator = raydiance::graph::IntegratorKind::Direct;
+        common::mean(&common::render_image(&build(&graph).unwrap())).x
+    };
+    let open = floor("");
+    let shaded = floor("sphere { <0, 2, 0>, 1 pigment { rgbf 1 } finish { phong 1 } }");
+    let ratio = shaded / open;
+    assert!(open > 0.0 && (ratio - 0.96f32.powi(2)).abs() < 0.01, "{shaded} / {open} = {ratio}");
 }
 
 #[test]

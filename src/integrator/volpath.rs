@@ -135,7 +135,7 @@ fn transmittance(scene: &Scene, shadow: &ShadowRay, mut medium: Option<u32>) -> 
             reached *= medium.transmittance(&ray, hit.map_or(left, |hit| hit.t));
         }
         let Some(hit) = hit else { return reached };
-        reached *= scene.passes(&hit);
+        reached *= scene.passes(&hit, dir);
         if reached == Vec3::ZERO {
             return reached;
         }

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 use super::fresnel::Split;
 use super::lobe::{GgxConductor, GgxDielectric, Lobe, Mirror, SmoothDielectric};
 use super::microfacet::Ggx;
-use super::{LobeFlags, Material};
+use super::{CoatLayer, LobeFlags, Material};
 use crate::geometry::Frame;
 
 /// What a path carries: radiance (camera paths) or importance (photons, light paths). They
@@ -79,6 +79,9 @@ pub struct Bsdf {
     mode: TransportMode,
     /// Its lobes' flags together.
     flags: LobeFlags,
+    /// The coat over the lobes other than its own (POV-Ray's highlight over a mirror or a
+    /// transmission, `Covers::Everything`), if any: they carry what it lets through.
+    beneath: Option<CoatLayer>,
     /// The geometric normal, where bump mapping tilted the shading normal away from it
     /// (`face`); `None` otherwise.
     geometric: Option<Vec3>,
@@ -88,7 +91,7 @@ impl Material {
     /// The BSDF of this material where the shading normal is `n`, for `mode` transport: a
     /// Lambertian lobe of `diffuse` (plastic under a `coat`); and `specular` and `transmission`
     /// as a mirror (no transmission, no Fresnel) or a smooth dielectric, or where `roughness`
-    /// > 0 their GGX forms, a conductor or a dielectric.
+    /// > 0 their GGX forms, a conductor or a dielectric, under the coat where it covers them.
     ///
     /// Always inlined, as are the BSDF's `sample` and `pdf`: made and used once per vertex, out
     /// of line they cost their calls and a copy of the BSDF (callgrind of S1–S7).
@@ -115,7 +118,8 @@ impl Material {
             });
         }
         let flags = lobes.iter().fold(LobeFlags::NONE, |flags, lobe| flags | lobe.flags());
-        Bsdf { frame: Frame::from_normal(n), lobes, mode, flags, geometric: None }
+        let beneath = self.coat.and_then(|coat| coat.over_all());
+        Bsdf { frame: Frame::from_normal(n), lobes, mode, flags, beneath, geometric: None }
     }
 }
 
@@ -188,7 +192,7 @@ impl Bsdf {
     /// much as a Lambertian lobe's work. A lone lobe (every material of S1–S7) is evaluated
     /// without the walk over lobes, which would give the same sum of one term, and takes the
     /// directions to the shading frame itself (`Lobe::eval_by`): a Lambertian lobe's cosines
-    /// alone are computed.
+    /// alone are computed. (A lone lobe is under no coat: a coat makes a lobe of its own.)
     #[inline(always)]
     fn eval_world(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
         let local = |v| self.frame.to_local(v);
@@ -203,7 +207,8 @@ impl Bsdf {
     #[inline(always)]
     fn eval_local(&self, wo: Vec3, wi: Vec3, mask: LobeFlags) -> Vec3 {
         let taking = self.lobes.iter().filter(|lobe| lobe.flags().is_in(mask));
-        let mut f = taking.map(|lobe| lobe.eval(wo, wi, self.mode));
+        let mut f =
+            taking.map(|lobe| lobe.eval(wo, wi, self.mode) * self.through_coat(lobe, wo, wi));
         let first = f.next().unwrap_or(Vec3::ZERO);
         f.fold(first, |f, lobe| f + lobe)
     }
@@ -263,16 +268,36 @@ impl Bsdf {
         taking.map(|(_, p)| p).sum()
     }
 
+    /// The coat over `lobe`, if it lies under one (`beneath`; never the coat's own lobe).
+    #[inline(always)]
+    fn coat_over(&self, lobe: &Lobe) -> Option<CoatLayer> {
+        match lobe {
+            Lobe::Plastic(_) => None,
+            Lobe::Lambertian(_)
+            | Lobe::Mirror(_)
+            | Lobe::SmoothDielectric(_)
+            | Lobe::GgxConductor(_)
+            | Lobe::GgxDielectric(_) => self.beneath,
+        }
+    }
+
+    /// The share of `lobe`'s light from `wi` to `wo` (local) that the coat over it lets
+    /// through (`CoatLayer::beneath`); 1 where no coat covers it.
+    #[inline(always)]
+    fn through_coat(&self, lobe: &Lobe, wo: Vec3, wi: Vec3) -> f32 {
+        self.coat_over(lobe).map_or(1.0, |coat| coat.beneath(wo, wi))
+    }
+
     /// The probability of taking each lobe under `mask`, seen from `wo` (local): in proportion
-    /// to its albedo (the course's per-bounce Russian roulette over kd, ks, kt); 1 for the
-    /// only lobe taking part.
+    /// to its albedo (the course's per-bounce Russian roulette over kd, ks, kt), a lobe under a
+    /// coat's times what the coat lets in; 1 for the only lobe taking part.
     #[inline]
     fn choice(&self, wo: Vec3, mask: LobeFlags) -> [f32; MAX_LOBES] {
         let mut albedo = [0.0; MAX_LOBES];
         let mut taking = 0;
         for (a, lobe) in albedo.iter_mut().zip(&self.lobes) {
             if lobe.flags().is_in(mask) {
-                *a = lobe.albedo(wo);
+                *a = lobe.albedo(wo) * self.coat_over(lobe).map_or(1.0, |coat| coat.through(wo.z));
                 taking += 1;
             }
         }
@@ -351,7 +376,7 @@ impl Bsdf {
         };
         (pdf > 0.0).then_some(BsdfSample {
             wi: sample.wi,
-            weight: sample.weight / p,
+            weight: sample.weight * self.through_coat(lobe, wo, sample.wi) / p,
             pdf,
             flags: sample.flags,
             eta: sample.eta,

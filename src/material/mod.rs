@@ -1,11 +1,13 @@
 //! Materials of the course's model — Lambertian `diffuse` (kd), mirror `specular` (ks),
 //! refractive `transmission` (kt) with `ior`, `emission`, and `roughness` that makes the mirror
-//! and refraction GGX microfacet lobes, and a glossy `coat` over the diffuse base (plastic) — and
-//! the BSDF each makes at a hit (`Material::bsdf`):
+//! and refraction GGX microfacet lobes, and a glossy `coat` over the diffuse base (plastic; over
+//! the mirror and transmission too for POV-Ray's highlights, `Covers`) — and the BSDF each
+//! makes at a hit (`Material::bsdf`):
 //! its lobes (`lobe/`, one file each) in a shading frame, `eval`, `sample`, `pdf` under a mask
 //! of lobes.
 
 mod bsdf;
+mod coat;
 mod flags;
 mod fresnel;
 pub mod lobe;
@@ -13,6 +15,7 @@ mod microfacet;
 mod pov_shares;
 
 pub use bsdf::{Bsdf, BsdfSample, NEAR_SPECULAR_ROUGHNESS, NO_DIRECTION, TransportMode};
+pub use coat::{Coat, CoatLayer, Covers};
 pub use flags::LobeFlags;
 pub use fresnel::{Split, fresnel_dielectric, refract};
 pub use pov_shares::{Shares, pov_shares};
@@ -23,20 +26,6 @@ use crate::graph::{MaterialDesc, Pattern};
 use crate::light::{Beam, SpotProfile, emitted};
 use lobe::{Lambertian, Lobe, Plastic};
 use microfacet::Ggx;
-
-/// A glossy dielectric coat over the diffuse base: the plastic lobe (`lobe::Plastic`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Coat {
-    /// The share of the coat's Fresnel reflection kept, in (0, 1]; 1 is a physical coat.
-    pub strength: f32,
-    /// GGX alpha of its microfacets, in (0, 1].
-    pub roughness: f32,
-}
-
-impl Coat {
-    /// Index of refraction of every coat: a typical plastic or varnish (F = 0.04 head-on).
-    pub const IOR: f32 = 1.5;
-}
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
@@ -92,7 +81,11 @@ impl From<&MaterialDesc> for Material {
             two_sided: d.two_sided,
             fresnel: d.fresnel,
             roughness: d.roughness,
-            coat: (d.coat > 0.0).then_some(Coat { strength: d.coat, roughness: d.coat_roughness }),
+            coat: (d.coat > 0.0).then_some(Coat {
+                strength: d.coat,
+                roughness: d.coat_roughness,
+                covers: d.coat_covers,
+            }),
             beam: d.beam.map(|b| Beam {
                 axis: b.axis,
                 profile: SpotProfile::from_degrees(b.cone.radius, b.cone.falloff, b.cone.tightness),
@@ -114,7 +107,7 @@ impl Material {
             Some(coat) => Some(Lobe::Plastic(Plastic {
                 base: self.diffuse,
                 coat: coat.strength,
-                ior: Coat::IOR,
+                layer: coat.layer(),
                 ggx: Ggx { alpha: coat.roughness },
             })),
             None if self.diffuse.max_element() > 0.0 => {
@@ -126,10 +119,21 @@ impl Material {
 
     /// Whether light crosses it straight, unbent, where it transmits: a smooth transmission at
     /// ior 1 (POV-Ray's filter and transmit without an interior's ior; pbrt's interface
-    /// material). Shadow rays cross it, weighted by `transmission` (`Scene::transmittance`).
+    /// material). Shadow rays cross it, weighted by `straight_through` (`Scene::transmittance`).
     #[inline]
     pub fn passes_straight(&self) -> bool {
         self.ior == 1.0 && self.roughness == 0.0 && !self.fresnel
+    }
+
+    /// The light it lets straight through where it `passes_straight`, crossed at cosine `cos`
+    /// to the normal: `transmission`, under a coat over it what the coat lets through of that
+    /// (`CoatLayer::beneath`, as the BSDF's transmission).
+    #[inline]
+    pub fn straight_through(&self, cos: f32) -> Vec3 {
+        match self.coat.and_then(|coat| coat.over_all()) {
+            Some(layer) => self.transmission * layer.through(cos),
+            None => self.transmission,
+        }
     }
 
     /// Takes the lobes' shares at a point (a POV-Ray pigment's, `pov_shares`).

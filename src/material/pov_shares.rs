@@ -19,28 +19,26 @@ pub struct Shares {
 /// The shares of `finish` over a pigment of `colour`, `filter` and `through` (filter +
 /// transmit): the opaque part 1 - through × `diffuse` × colour is the albedo; the sum of
 /// filter × colour and transmit passes through (POV-Ray's filter is tinted by the colour,
-/// transmit is not); the reflection is tinted by the colour when `metallic`. Where the coated base (which scatters at
-/// most the larger of its albedo and the coat's strength) and the rest sum to more than 1, all
-/// are scaled down together, so no point scatters more than it receives.
+/// transmit is not); the reflection is tinted by the colour when `metallic`. The coat lies over
+/// them all (`Covers::Everything`) and takes its reflection from what reaches them, so it
+/// shares nothing with them; where they sum to more than 1, they are scaled down together, so
+/// no point scatters more than it receives.
 pub fn pov_shares(finish: &PovFinish, colour: Vec3, filter: f32, through: f32) -> Shares {
     let through = through.clamp(0.0, 1.0);
     let filter = filter.clamp(0.0, through);
     let mut diffuse = finish.diffuse.max(0.0) * (1.0 - through);
-    let mut coat = finish.coat;
     let mut specular = finish.reflection.max(Vec3::ZERO);
     if finish.metallic {
         specular *= colour;
     }
     let mut transmission = filter * colour + Vec3::splat(through - filter);
-    let base = (diffuse * colour).max(Vec3::splat(coat));
-    let total = (base + specular + transmission).max_element();
+    let total = (diffuse * colour + specular + transmission).max_element();
     if total > 1.0 {
         diffuse /= total;
-        coat /= total;
         specular /= total;
         transmission /= total;
     }
-    Shares { diffuse: diffuse * colour, specular, transmission, coat }
+    Shares { diffuse: diffuse * colour, specular, transmission, coat: finish.coat.clamp(0.0, 1.0) }
 }
 
 #[cfg(test)]
@@ -67,17 +65,27 @@ mod tests {
         assert_eq!((s.diffuse, s.transmission), (Vec3::ZERO, Vec3::ONE));
     }
 
-    /// Energy: at no point do the shares scatter more than 1, whatever the finish asks.
+    /// Energy: at no point do the shares beneath the coat scatter more than 1, whatever the
+    /// finish asks; the coat keeps its strength (it takes its light from theirs).
     #[test]
     fn no_point_scatters_more_than_it_receives() {
         let greedy =
             PovFinish { diffuse: 1.0, reflection: Vec3::splat(0.7), metallic: false, coat: 0.9 };
         for (c, f, t) in [(1.0, 0.0, 0.0), (1.0, 1.0, 1.0), (0.8, 0.3, 0.6), (0.5, 0.0, 0.4)] {
             let s = pov_shares(&greedy, Vec3::splat(c), f, t);
-            let total =
-                (s.diffuse.max(Vec3::splat(s.coat)) + s.specular + s.transmission).max_element();
+            let total = (s.diffuse + s.specular + s.transmission).max_element();
             assert!(total <= 1.0 + 1e-6, "c {c} f {f} through {t}: {total}");
             assert!(total > 0.99, "scaled down only to 1: {total}");
+            assert_eq!(s.coat, 0.9);
         }
+    }
+
+    /// A clear pigment under a full highlight passes all its light to the coat's care: the
+    /// highlight takes none of the transmission's share (issue 33: it took half).
+    #[test]
+    fn a_highlight_takes_nothing_from_a_clear_pigment() {
+        let shiny = PovFinish { coat: 1.0, ..PLAIN };
+        let s = pov_shares(&shiny, Vec3::ONE, 1.0, 1.0);
+        assert_eq!((s.transmission, s.coat), (Vec3::ONE, 1.0));
     }
 }

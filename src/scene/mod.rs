@@ -203,7 +203,7 @@ impl Scene {
             let Some(hit) = self.intersect(&ray).filter(|hit| hit.t < left) else {
                 return reached;
             };
-            reached *= self.passes(&hit);
+            reached *= self.passes(&hit, dir);
             if reached == Vec3::ZERO {
                 return reached;
             }
@@ -214,11 +214,14 @@ impl Scene {
         Vec3::ZERO
     }
 
-    /// The light `hit`'s surface lets straight through there: its transmission where it
-    /// `passes_straight`, else none.
-    pub fn passes(&self, hit: &Hit) -> Vec3 {
+    /// The light `hit`'s surface lets straight through there, crossed by `dir`
+    /// (`Material::straight_through` where it `passes_straight`), else none.
+    pub fn passes(&self, hit: &Hit, dir: Vec3) -> Vec3 {
         let material = self.material(hit.primitive, hit.point);
-        if material.passes_straight() { material.transmission } else { Vec3::ZERO }
+        if !material.passes_straight() {
+            return Vec3::ZERO;
+        }
+        material.straight_through(dir.dot(hit.shading_normal))
     }
 
     /// Whether some material lets light straight through (`transmittance` then follows shadow

@@ -19,7 +19,7 @@ use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
 };
 use crate::lang::value::Value;
-use crate::material::pov_shares;
+use crate::material::{Covers, pov_shares};
 
 /// A finish, with POV-Ray's defaults for what is not given.
 #[derive(Debug, Clone, PartialEq)]
@@ -528,6 +528,7 @@ impl Evaluator {
             roughness,
             coat: shares.coat,
             coat_roughness,
+            coat_covers: Covers::Everything,
             normal: normal.clone(),
             interior: interior.medium(),
             beam: None,

@@ -1,14 +1,15 @@
 //! Plastic: a glossy dielectric coat over a Lambertian base (the `coat` of a material, POV-Ray's
 //! highlights). The coat reflects off GGX microfacets (Walter et al. 2007) what Fresnel's
 //! equations reflect at each microfacet; the base is Lambertian and sees only what the smooth
-//! coat's Fresnel lets through, on the way in and on the way out:
+//! coat lets through (`CoatLayer`: 1 - h F, h = 1 for `.scn`'s coat, its strength for
+//! POV-Ray's), on the way in and on the way out:
 //!
-//! f = coat F(o.m) D G / (4 |n.o| |n.i|) + base / pi (1 - F(n.o)) (1 - F(n.i)),
+//! f = coat F(o.m) D G / (4 |n.o| |n.i|) + base / pi (1 - h F(n.o)) (1 - h F(n.i)),
 //!
 //! the layered sum of pbrt-v3's `plastic` and Mitsuba's `roughplastic` without their light
 //! reflected back down by the coat's inside (lost here: a few percent darker, never brighter).
-//! It is reciprocal, and f is linear in (coat, base) with at most 1 of light scattered at
-//! (1, 1), so it scatters at most max(coat, base).
+//! It is reciprocal; with h = 1, f is linear in (coat, base) with at most 1 of light scattered
+//! at (1, 1), so it scatters at most max(coat, base); with h = coat, at most 1 where base <= 1.
 
 use std::f32::consts::FRAC_1_PI;
 
@@ -16,9 +17,9 @@ use glam::{Vec2, Vec3};
 
 use super::{LobeSample, mean, side_of};
 use crate::geometry::on_side;
-use crate::material::LobeFlags;
 use crate::material::fresnel::fresnel_dielectric;
 use crate::material::microfacet::Ggx;
+use crate::material::{CoatLayer, LobeFlags};
 use crate::sampling::cosine_hemisphere;
 
 #[derive(Debug, Clone, Copy)]
@@ -26,10 +27,10 @@ pub struct Plastic {
     /// kd: the Lambertian base's reflectance.
     pub base: Vec3,
     /// The share of the coat's Fresnel reflection kept, in [0, 1] (1: a physical coat; Mitsuba's
-    /// `specular_reflectance`). The base sees 1 - F whatever it is.
+    /// `specular_reflectance`).
     pub coat: f32,
-    /// The coat's index of refraction over the outside's.
-    pub ior: f32,
+    /// What the coat lets through to the base, and its index of refraction over the outside's.
+    pub layer: CoatLayer,
     pub ggx: Ggx,
 }
 
@@ -37,12 +38,12 @@ impl Plastic {
     pub const FLAGS: LobeFlags =
         LobeFlags::GLOSSY.union(LobeFlags::DIFFUSE).union(LobeFlags::REFLECTION);
 
-    /// The coat's share coat F and the base's (1 - F) kd seen from `wo`, by Fresnel at the
+    /// The coat's share coat F and the base's (1 - h F) kd seen from `wo`, by Fresnel at the
     /// macro-surface: what the lobe is chosen by, and how it chooses between its parts.
     #[inline]
     fn parts(&self, cos_o: f32) -> (f32, f32) {
-        let f = fresnel_dielectric(cos_o.abs(), self.ior);
-        (self.coat * f, (1.0 - f) * mean(self.base))
+        let f = fresnel_dielectric(cos_o.abs(), self.layer.ior);
+        (self.coat * f, self.layer.through(cos_o) * mean(self.base))
     }
 
     pub fn albedo(&self, wo: Vec3) -> f32 {
@@ -72,12 +73,10 @@ impl Plastic {
             return Vec3::ZERO;
         }
         let m = (wo + wi).normalize();
-        let fresnel = fresnel_dielectric(wo.dot(m), self.ior);
+        let fresnel = fresnel_dielectric(wo.dot(m), self.layer.ior);
         let masking = self.ggx.g1(wo) * self.ggx.g1(wi);
         let coat = self.coat * fresnel * self.ggx.d(m) * masking / (4.0 * wo.z * wi.z);
-        let through =
-            (1.0 - fresnel_dielectric(wo.z, self.ior)) * (1.0 - fresnel_dielectric(wi.z, self.ior));
-        Vec3::splat(coat) + self.base * (FRAC_1_PI * through)
+        Vec3::splat(coat) + self.base * (FRAC_1_PI * self.layer.beneath(wo, wi))
     }
 
     /// The coat's visible-normal density times the Jacobian 1 / (4 o.m) (Walter 2007, eq. 14)
