@@ -300,6 +300,24 @@ fn a_shadow_through_a_clear_sphere_under_a_highlight_keeps_what_the_coat_lets_th
     assert!(open > 0.0 && (ratio - 0.96f32.powi(2)).abs() < 0.01, "{shaded} / {open} = {ratio}");
 }
 
+/// glass.inc's glass wears POV-Ray's highlight as a coat over it: the coat takes nothing of the
+/// glass's transmission or reflection (it passes 1 - h F of the light where it lies).
+#[test]
+fn the_library_s_glass_keeps_its_highlight_as_a_coat_over_the_glass() {
+    let bare = material(
+        "sphere { 0, 1 pigment { rgbf <1, 1, 1, 0.7> } \
+         finish { ambient 0 diffuse 0 reflection 0.1 } }",
+    );
+    for glass in ["texture { T_Glass1 }", "texture { Glass }"] {
+        let m = material(&format!(
+            "#include \"glass.inc\"\n#include \"textures.inc\"\nsphere {{ 0, 1 {glass} }}"
+        ));
+        assert_eq!((m.coat, m.coat_covers), (1.0, Covers::Everything), "{glass}");
+        assert!(close(m.transmission, bare.transmission), "{glass}: {}", m.transmission);
+        assert!(close(m.specular, bare.specular), "{glass}: {}", m.specular);
+    }
+}
+
 #[test]
 fn a_metallic_highlight_is_the_blur_of_a_metal_s_tinted_reflection() {
     let gold = Vec3::new(1.0, 0.8, 0.3);
