@@ -823,6 +823,27 @@ fn discs_with_holes_match_povray_away_from_edges() {
     }
 }
 
+/// Patterned glows: each point emits its pigment's colour there, as POV-Ray's glow does (a
+/// sphere, sampled as an area light, and a box, in checkers of two colours each; a wall in
+/// bands of a `gradient`'s colour_map). One colour over each surface would differ from POV-Ray's
+/// on every square of one of its colours.
+const PATTERNED_GLOWS: &str = r#"
+camera { location <0, 2.5, -4.5> right x*image_width/image_height look_at <0, -0.2, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+sphere { <-1.2, 0, 0>, 1 pigment { checker rgb <1, 0, 0> rgb <0, 0, 1> scale 0.5 } }
+box { <0.3, -1, -1>, <2.3, 0.8, 1> pigment { checker rgb <0, 1, 0> rgb <1, 0, 1> scale 0.5 } }
+plane { z, 3 pigment { gradient x color_map { [0.5 rgb <1, 1, 0>] [0.5 rgb <0, 1, 1>] } scale 3 } }
+"#;
+
+#[test]
+fn patterned_glows_match_povray_away_from_edges() {
+    let test = "patterned_glows_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(PATTERNED_GLOWS, "patterned glows");
+    }
+}
+
 /// POV-Ray's parametric surfaces, cheap enough for the debug build (a ray's search of the (u, v)
 /// pieces is most of the cost): a saddle, part of a cylinder mirrored and turned, and a paraboloid
 /// cap needing a `max_gradient` above 1, each with a coarse `accuracy` (POV-Ray's hits depend on

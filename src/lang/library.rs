@@ -126,9 +126,9 @@ pub fn left_out(name: &str) -> Option<&'static str> {
     match name {
         "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1" | "O_Cloud2" => Some(
             "POV-Ray's skies.inc declares it to glow (`ambient` without `diffuse`) through \
-             transparent colours, and raydiance's glow is one colour over a whole surface: \
-             raydiance's skies.inc leaves it out (it has P_Cloud1 to P_Cloud4 and S_Cloud1 to \
-             S_Cloud5)",
+             transparent colours, and raydiance's glow does not fade where its colour lets light \
+             through, as POV-Ray's does: raydiance's skies.inc leaves it out (it has P_Cloud1 \
+             to P_Cloud4 and S_Cloud1 to S_Cloud5)",
         ),
         "Starfield1" | "Starfield2" | "Starfield3" | "Starfield4" | "Starfield5" | "Starfield6" => {
             Some(

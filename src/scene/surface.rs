@@ -1,6 +1,7 @@
 //! The part of a material that varies over a surface, evaluated at each hit in the object's
 //! own space (`Scene::material`): the `diffuse` texture, or a POV-Ray pigment's colour with its
-//! filter and transmit, from which the lobes' shares are made there (`material::pov_shares`).
+//! filter and transmit, from which the lobes' shares are made there (`material::pov_shares`),
+//! and its glow.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -13,17 +14,18 @@ use crate::texture::{ImageMap, ImageMapError, Texture};
 
 #[derive(Debug, Clone)]
 pub struct SurfaceTexture {
-    /// `diffuse`, or the pigment's colour.
-    colour: Texture,
+    /// `diffuse`, or the pigment's colour (shared with the area light of a glowing pigment).
+    colour: Arc<Texture>,
     pigment: Option<SeeThrough>,
 }
 
-/// A POV-Ray pigment's filter and filter + transmit, and its finish.
+/// A POV-Ray pigment's filter and filter + transmit, its finish, and its glow (`PigmentDesc`).
 #[derive(Debug, Clone)]
 struct SeeThrough {
     filter: Texture,
     through: Texture,
     finish: PovFinish,
+    glow: Vec3,
 }
 
 impl SurfaceTexture {
@@ -37,11 +39,19 @@ impl SurfaceTexture {
                 filter: Texture::new(&p.filter, load)?,
                 through: Texture::new(&p.through, load)?,
                 finish: p.finish,
+                glow: p.glow,
             }),
             None if matches!(desc.diffuse.pattern, Pattern::Solid(_)) => return Ok(None),
             None => None,
         };
-        Ok(Some(SurfaceTexture { colour: Texture::new(&desc.diffuse, load)?, pigment }))
+        let colour = Arc::new(Texture::new(&desc.diffuse, load)?);
+        Ok(Some(SurfaceTexture { colour, pigment }))
+    }
+
+    /// A glowing pigment's pattern: `glow` times its colour is emitted at each point.
+    pub fn glow(&self) -> Option<(Vec3, Arc<Texture>)> {
+        let glow = self.pigment.as_ref()?.glow;
+        (glow.max_element() > 0.0).then(|| (glow, Arc::clone(&self.colour)))
     }
 
     /// Fills in `material` at `p`, a point in the object's own space.
@@ -56,5 +66,6 @@ impl SurfaceTexture {
         let filter = grey(&pigment.filter);
         let through = grey(&pigment.through);
         material.share(pov_shares(&pigment.finish, colour, filter, through));
+        material.emission = pigment.glow * colour;
     }
 }

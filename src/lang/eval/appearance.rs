@@ -487,6 +487,8 @@ impl Evaluator {
             Pattern::Solid(c) => Some(c),
             _ => None,
         };
+        let glow =
+            finish.emission + if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
         let (diffuse, shares, see_through) =
             match (plain(&pigment.colour), plain(&pigment.filter), plain(&pigment.through)) {
                 (Some(c), Some(filter), Some(through)) => {
@@ -501,20 +503,14 @@ impl Evaluator {
                         filter: pigment.filter.clone(),
                         through: pigment.through.clone(),
                         finish: pov_finish,
+                        glow,
                     };
                     (pigment.colour.clone(), shares, Some(see_through))
                 }
             };
-        let glow =
-            finish.emission + if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
+        // A patterned glow is made at each point; its brightest bounds it.
         let emission = glow * colour;
         let at = self.here(span);
-        if emission != Vec3::ZERO && plain(&pigment.colour).is_none() {
-            self.warnings.push(format!(
-                "{at:?}: warning: a patterned pigment that glows emits its brightest colour \
-                 everywhere"
-            ));
-        }
         Arc::new(MaterialDesc {
             name: None,
             diffuse,
