@@ -220,18 +220,6 @@ impl Evaluator {
         self.exec(items, &mut Body::Pigment(&mut state))?;
         let transforms = state.pigment.colour.transforms.clone();
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
-            // `pigment { P_Declared color_map { ... } }`: the declared pattern in new colours.
-            if let (Some(stops), Pattern::Field { shape, .. }) =
-                (&state.pattern.color_map, &state.pigment.colour.pattern)
-                && !stops.is_empty()
-            {
-                let entries = stops.iter().map(|s| (s.position, Pigment::of_stop(s))).collect();
-                let shape = shape.clone();
-                let mut pigment =
-                    Pigment::mapped(entries, |map| Pattern::Field { shape: shape.clone(), map });
-                pigment.set_transforms(transforms);
-                return Ok((pigment, None));
-            }
             return Ok((state.pigment, None));
         };
         let (mut pigment, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
@@ -248,7 +236,17 @@ impl Evaluator {
             state.pigment.set_transforms(Vec::new());
         }
         let warp = matches!(item, Item::PovParam { key, .. } if key.name == "warp");
+        let map = matches!(item, Item::ColorMap { .. } | Item::PatternMap { .. });
         if self.pattern_item(item, &mut state.pattern)? {
+            if map && state.pattern.word.is_none() {
+                // `pigment { P_Declared color_map { ... } }` (or `pigment_map`): the declared
+                // pattern in new colours, its warps and transforms kept.
+                if let Some(entries) = self.declared_pattern_map(&state.pattern)?
+                    && let Some(pigment) = state.pigment.remapped(entries)
+                {
+                    state.pigment = pigment;
+                }
+            }
             let last = if warp { state.pattern.warps.pop() } else { None };
             match (&state.pattern.word, last) {
                 (None, Some(last)) => {
@@ -294,6 +292,23 @@ impl Evaluator {
             _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
         }
         Ok(())
+    }
+
+    /// The entries of a pigment's new color_map or pigment_map, if it has one (a normal's or
+    /// texture's map has no colours to give a declared pigment).
+    fn declared_pattern_map(
+        &mut self,
+        pattern: &PatternState,
+    ) -> Result<Option<Vec<(f32, Pigment)>>, SceneError> {
+        Ok(match (&pattern.color_map, &pattern.map) {
+            (Some(stops), _) if !stops.is_empty() => {
+                Some(stops.iter().map(|s| (s.position, Pigment::of_stop(s))).collect())
+            }
+            (_, Some((MapKind::Pigment, entries, _))) => {
+                Some(self.map_entries(MapKind::Pigment, entries, false)?.textures)
+            }
+            _ => None,
+        })
     }
 
     pub(super) fn finish_item(
