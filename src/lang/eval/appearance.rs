@@ -12,9 +12,7 @@ use super::pattern::{PatternState, block_colours};
 use super::pigment::Pigment;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{
-    MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode, Warp, compose,
-};
+use crate::graph::{MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode};
 use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
 };
@@ -259,10 +257,7 @@ impl Evaluator {
                     // The transforms written so far apply to the point after this warp.
                     let before = std::mem::take(&mut state.pigment.colour.transforms);
                     state.pigment.set_transforms(Vec::new());
-                    if !before.is_empty() {
-                        state.pattern.warps.push(Warp::Transform(compose(&before).inverse()));
-                    }
-                    state.pattern.warps.push(last);
+                    state.pattern.warp_after(&before, last);
                 }
                 (_, None) => {}
             }
