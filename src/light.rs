@@ -49,13 +49,15 @@ pub enum Light {
 }
 
 /// A glow that varies over an area light (pbrt-v4's `DiffuseAreaLight` with an image): its
-/// emission at a point is `glow` times `colour` there, in the object's own space (`to_object`
-/// takes world points there). The light is sampled uniformly by area all the same, as pbrt's
-/// is: the density is the shape's, each sample's radiance the pattern's at its point.
+/// emission at a point is `pov_glow` of `glow`, `colour` and `through` (grey) there, in the
+/// object's own space (`to_object` takes world points there). The light is sampled uniformly
+/// by area all the same, as pbrt's is: the density is the shape's, each sample's radiance the
+/// pattern's at its point.
 #[derive(Debug, Clone)]
 pub struct GlowPattern {
     pub glow: Vec3,
     pub colour: Arc<Texture>,
+    pub through: Arc<Texture>,
     pub to_object: Affine3A,
 }
 
@@ -64,8 +66,20 @@ pub struct GlowPattern {
 pub fn emission_at(emission: Vec3, pattern: Option<&GlowPattern>, point: Vec3) -> Vec3 {
     match pattern {
         None => emission,
-        Some(p) => p.glow * p.colour.eval(p.to_object.transform_point3(point)),
+        Some(p) => {
+            let q = p.to_object.transform_point3(point);
+            let through = p.through.eval(q).dot(Vec3::splat(1.0 / 3.0));
+            pov_glow(p.glow, p.colour.eval(q), through)
+        }
     }
+}
+
+/// POV-Ray's glow (`emission`, and `ambient` over `diffuse 0`) where its pigment has `colour`
+/// and lets `through` of the light through (filter + transmit): `glow` times the colour, faded
+/// as POV-Ray fades it, by 1 − f − t (`rgbt <1, 1, 1, 0.8>` glows 0.2).
+#[inline]
+pub fn pov_glow(glow: Vec3, colour: Vec3, through: f32) -> Vec3 {
+    glow * colour * (1.0 - through).max(0.0)
 }
 
 /// Incident light at a point from one sampled light position, if nothing is in the way.
@@ -432,6 +446,12 @@ mod tests {
             pattern: Some(Box::new(GlowPattern {
                 glow: Vec3::ONE,
                 colour: Arc::new(colour),
+                through: Arc::new(
+                    Texture::new(&TextureNode::solid(Vec3::ZERO), &mut |_| {
+                        unreachable!("no image")
+                    })
+                    .unwrap(),
+                ),
                 to_object: Affine3A::IDENTITY,
             })),
             beam: None,

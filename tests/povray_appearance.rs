@@ -90,6 +90,12 @@ fn only_an_object_that_does_not_diffuse_glows_with_its_ambient() {
     let ambient =
         material("sphere { 0, 1 pigment { rgb <0.2, 0.4, 0.6> } finish { ambient 1 diffuse 0 } }");
     assert!(close(ambient.emission, c));
+    // Faded by the light the pigment lets through, 1 − f − t (povray: `rgbft <1, 0.5, 0.2,
+    // 0.3, 0.4>` glows 0.3 of its colour).
+    let faded = material(
+        "sphere { 0, 1 pigment { rgbft <0.2, 0.4, 0.6, 0.3, 0.4> } finish { ambient 1 diffuse 0 } }",
+    );
+    assert!(close(faded.emission, 0.3 * c), "{}", faded.emission);
     // With diffuse, ambient is what path tracing computes: not light.
     let lit = material("sphere { 0, 1 pigment { rgb <0.2, 0.4, 0.6> } finish { ambient 1 } }");
     assert_eq!(lit.emission, Vec3::ZERO);

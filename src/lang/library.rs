@@ -126,9 +126,10 @@ pub fn left_out(name: &str) -> Option<&'static str> {
     match name {
         "T_Cloud1" | "T_Cloud2" | "T_Cloud3" | "O_Cloud1" | "O_Cloud2" => Some(
             "POV-Ray's skies.inc declares it to glow (`ambient` without `diffuse`) through \
-             transparent colours, and raydiance's glow does not fade where its colour lets light \
-             through, as POV-Ray's does: raydiance's skies.inc leaves it out (it has P_Cloud1 \
-             to P_Cloud4 and S_Cloud1 to S_Cloud5)",
+             transparent colours, T_Cloud1 and T_Cloud3 (and the objects made of them) in two \
+             layers whose glows differ, which raydiance's layered textures do not keep apart: \
+             raydiance's skies.inc does not declare it yet (it has P_Cloud1 to P_Cloud4 and \
+             S_Cloud1 to S_Cloud5)",
         ),
         "Spline_Trans" => Some(
             "POV-Ray's transforms.inc declares it as a macro that follows a `spline`, which \

@@ -166,8 +166,9 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             let (shape, emission) = (prim.shape.clone(), material.emission);
             let (beam, two_sided) = (material.beam.map(BeamSampler::new), material.two_sided);
             let texture = flat.textures[prim.material as usize].as_ref();
-            let pattern = texture.and_then(SurfaceTexture::glow).map(|(glow, colour)| {
-                Box::new(GlowPattern { glow, colour, to_object: flat.frames[prim.frame as usize] })
+            let pattern = texture.and_then(SurfaceTexture::glow).map(|(glow, colour, through)| {
+                let to_object = flat.frames[prim.frame as usize];
+                Box::new(GlowPattern { glow, colour, through, to_object })
             });
             lights.push(Light::Area {
                 shape,

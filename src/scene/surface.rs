@@ -9,6 +9,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use crate::graph::{MaterialDesc, Pattern, PovFinish};
+use crate::light::pov_glow;
 use crate::material::{Material, pov_shares};
 use crate::texture::{ImageMap, ImageMapError, Texture};
 
@@ -23,7 +24,8 @@ pub struct SurfaceTexture {
 #[derive(Debug, Clone)]
 struct SeeThrough {
     filter: Texture,
-    through: Texture,
+    /// Shared with the area light of a glowing pigment, as `colour` is.
+    through: Arc<Texture>,
     finish: PovFinish,
     glow: Vec3,
 }
@@ -37,7 +39,7 @@ impl SurfaceTexture {
         let pigment = match &desc.pigment {
             Some(p) => Some(SeeThrough {
                 filter: Texture::new(&p.filter, load)?,
-                through: Texture::new(&p.through, load)?,
+                through: Arc::new(Texture::new(&p.through, load)?),
                 finish: p.finish,
                 glow: p.glow,
             }),
@@ -48,10 +50,11 @@ impl SurfaceTexture {
         Ok(Some(SurfaceTexture { colour, pigment }))
     }
 
-    /// A glowing pigment's pattern: `glow` times its colour is emitted at each point.
-    pub fn glow(&self) -> Option<(Vec3, Arc<Texture>)> {
-        let glow = self.pigment.as_ref()?.glow;
-        (glow.max_element() > 0.0).then(|| (glow, Arc::clone(&self.colour)))
+    /// A glowing pigment's pattern: its glow, colour and light through (`light::pov_glow`).
+    pub fn glow(&self) -> Option<(Vec3, Arc<Texture>, Arc<Texture>)> {
+        let pigment = self.pigment.as_ref()?;
+        (pigment.glow.max_element() > 0.0)
+            .then(|| (pigment.glow, Arc::clone(&self.colour), Arc::clone(&pigment.through)))
     }
 
     /// Fills in `material` at `p`, a point in the object's own space.
@@ -66,6 +69,6 @@ impl SurfaceTexture {
         let filter = grey(&pigment.filter);
         let through = grey(&pigment.through);
         material.share(pov_shares(&pigment.finish, colour, filter, through));
-        material.emission = pigment.glow * colour;
+        material.emission = pov_glow(pigment.glow, colour, through);
     }
 }

@@ -17,6 +17,7 @@ use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
 };
 use crate::lang::value::Value;
+use crate::light::pov_glow;
 use crate::material::pov_shares;
 
 /// A finish, with POV-Ray's defaults for what is not given.
@@ -518,8 +519,11 @@ impl Evaluator {
                     (pigment.colour.clone(), shares, Some(see_through))
                 }
             };
-        // A patterned glow is made at each point; its brightest bounds it.
-        let emission = glow * colour;
+        let emission = match (plain(&pigment.colour), plain(&pigment.through)) {
+            (Some(c), Some(through)) => pov_glow(glow, c, through.x),
+            // Made at each point; its brightest colour, unfaded, bounds it.
+            _ => glow * colour,
+        };
         let at = self.here(span);
         Arc::new(MaterialDesc {
             name: None,
