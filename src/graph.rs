@@ -259,6 +259,10 @@ pub struct PigmentDesc {
     /// `filter` + `transmit`: all the light through, grey.
     pub through: TextureNode,
     pub finish: PovFinish,
+    /// The glow: the pigment's colour times `glow` is emitted at each point (POV-Ray's
+    /// `emission`, and `ambient` where `diffuse` is 0); `MaterialDesc::emission` is then its
+    /// brightest.
+    pub glow: Vec3,
 }
 
 /// What of a POV-Ray finish the light at a point is shared between, with the pigment.

@@ -9,22 +9,26 @@ pub use environment::Environment;
 pub use spot::{Beam, BeamSampler, Spot, SpotDirection, SpotProfile};
 
 use std::f32::consts::PI;
+use std::sync::Arc;
 
-use glam::{Vec2, Vec3};
+use glam::{Affine3A, Vec2, Vec3};
 
 use crate::geometry::{DirectionSample, Frame, Hit, Ray, Shape, offset_origin};
 use crate::sampling::{concentric_disk, cosine_hemisphere, uniform_sphere};
+use crate::texture::Texture;
 
 #[derive(Debug, Clone)]
 pub enum Light {
     /// `power` acts as radiant intensity: irradiance power / r^2 (the course's Lab 4 formula).
     Point { position: Vec3, power: Vec3 },
-    /// An emissive primitive: its shape, its material's `emission`, the beam that shapes it,
-    /// if any, and whether it leaves both sides (`light::emitted`), its surface area, and its
-    /// index in `Scene::primitives` (which names hits on it).
+    /// An emissive primitive: its shape, its material's `emission` (a glowing pattern's
+    /// brightest, where `pattern` makes it at each point), the beam that shapes it, if any, and
+    /// whether it leaves both sides (`light::emitted`), its surface area, and its index in
+    /// `Scene::primitives` (which names hits on it).
     Area {
         shape: Shape,
         emission: Vec3,
+        pattern: Option<Box<GlowPattern>>,
         beam: Option<BeamSampler>,
         two_sided: bool,
         area: f32,
@@ -42,6 +46,40 @@ pub enum Light {
     /// object) does not block it, so shadow rays stop and photons start that far from it; a
     /// `shadowless` light's direct light is never blocked.
     Modified { light: Box<Light>, bulb: f32, shadowless: bool },
+}
+
+/// A glow that varies over an area light (pbrt-v4's `DiffuseAreaLight` with an image): its
+/// emission at a point is `pov_glow` of `glow`, `colour` and `through` (grey) there, in the
+/// object's own space (`to_object` takes world points there). The light is sampled uniformly
+/// by area all the same, as pbrt's is: the density is the shape's, each sample's radiance the
+/// pattern's at its point.
+#[derive(Debug, Clone)]
+pub struct GlowPattern {
+    pub glow: Vec3,
+    pub colour: Arc<Texture>,
+    pub through: Arc<Texture>,
+    pub to_object: Affine3A,
+}
+
+/// An area light's emission at `point` on it: `emission`, or its pattern's there.
+#[inline]
+pub fn emission_at(emission: Vec3, pattern: Option<&GlowPattern>, point: Vec3) -> Vec3 {
+    match pattern {
+        None => emission,
+        Some(p) => {
+            let q = p.to_object.transform_point3(point);
+            let through = p.through.eval(q).dot(Vec3::splat(1.0 / 3.0));
+            pov_glow(p.glow, p.colour.eval(q), through)
+        }
+    }
+}
+
+/// POV-Ray's glow (`emission`, and `ambient` over `diffuse 0`) where its pigment has `colour`
+/// and lets `through` of the light through (filter + transmit): `glow` times the colour, faded
+/// as POV-Ray fades it, by 1 − f − t (`rgbt <1, 1, 1, 0.8>` glows 0.2).
+#[inline]
+pub fn pov_glow(glow: Vec3, colour: Vec3, through: f32) -> Vec3 {
+    glow * colour * (1.0 - through).max(0.0)
 }
 
 /// Incident light at a point from one sampled light position, if nothing is in the way.
@@ -94,6 +132,8 @@ impl Light {
     /// emitter (Le cos integrated over the hemisphere is pi Le), twice that for a two-sided
     /// one, a spotlight's intensity
     /// integrated over its beam (for a beamed emitter, of intensity A times its emission).
+    /// A glowing pattern's is reckoned from its brightest emission: a bound, for choosing
+    /// lights and sharing photons (each photon carries the emission where it leaves).
     pub fn power_rgb(&self) -> Vec3 {
         match self {
             Light::Point { power, .. } => 4.0 * PI * *power,
@@ -132,9 +172,12 @@ impl Light {
             {
                 return None;
             }
-            &Light::Area { ref shape, emission, ref beam, two_sided, area, .. } => {
+            &Light::Area {
+                ref shape, emission, ref pattern, ref beam, two_sided, area, ..
+            } => {
                 let DirectionSample { point, normal, error, wi, pdf } =
                     shape.sample_from(hit.point, area, u)?;
+                let emission = emission_at(emission, pattern.as_deref(), point);
                 let le = emitted(emission, beam.as_ref().map(|b| &b.beam), two_sided, normal, -wi);
                 if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
                     return None;
@@ -227,8 +270,11 @@ impl Light {
                 let ray = Ray::new(position, uniform_sphere(u_direction));
                 Some(EmissionSample { ray, power: 4.0 * PI * power * share })
             }
-            &Light::Area { ref shape, emission, beam: None, two_sided, area, .. } => {
+            &Light::Area {
+                ref shape, emission, ref pattern, beam: None, two_sided, area, ..
+            } => {
                 let s = shape.sample_area(u_point)?;
+                let emission = emission_at(emission, pattern.as_deref(), s.point);
                 // A two-sided emitter's side: the first half of u.x the front, the second the
                 // back, each half stretched back to [0, 1).
                 let (side, sides, u) = match two_sided {
@@ -243,7 +289,7 @@ impl Light {
                 let ray = Ray::new(s.point + side * s.error, dir);
                 Some(EmissionSample { ray, power: sides * PI * area * emission * share })
             }
-            Light::Area { shape, emission, beam: Some(beam), area, .. } => {
+            Light::Area { shape, emission, pattern, beam: Some(beam), area, .. } => {
                 // Each bit of area is a point spotlight: Le |cos| / (pdf_A pdf_w) is
                 // A emission P / pdf_w, the point spotlight's weight times A.
                 let s = shape.sample_area(u_point)?;
@@ -251,7 +297,8 @@ impl Light {
                 let dir = sampled.direction;
                 let side = if s.normal.dot(dir) < 0.0 { -s.normal } else { s.normal };
                 let ray = Ray::new(s.point + side * s.error, dir);
-                let intensity = *area * *emission * beam.beam.towards(dir);
+                let emission = emission_at(*emission, pattern.as_deref(), s.point);
+                let intensity = *area * emission * beam.beam.towards(dir);
                 Some(EmissionSample { ray, power: intensity / sampled.pdf * share })
             }
             Light::Environment(sky) => {
@@ -375,5 +422,51 @@ mod tests {
         assert!(!photons_reach(centre, radius, outside, Vec3::X), "the disc is downstream");
         assert!(!photons_reach(centre, radius, outside, Vec3::Y), "a line beside the sphere");
         assert!(photons_reach(centre, radius, centre + Vec3::splat(0.5), -Vec3::Y), "inside");
+    }
+
+    /// A unit sphere glowing in checkers of red and blue (one colour to each octant, so half
+    /// its area each): its photons, each carrying the radiance where it leaves, carry π A times
+    /// the mean radiance, π 4π <1, 0, 1>, not its brightest, π 4π <2, 0, 2>.
+    #[test]
+    fn a_patterned_glow_s_photons_carry_its_mean_radiance() {
+        use crate::graph::{Pattern, TextureNode};
+        let (red, blue) = (Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 2.0));
+        let checker = TextureNode {
+            pattern: Pattern::Checker(
+                Box::new(TextureNode::solid(red)),
+                Box::new(TextureNode::solid(blue)),
+            ),
+            transforms: Vec::new(),
+        };
+        let colour = Texture::new(&checker, &mut |_| unreachable!("no image")).unwrap();
+        let area = 4.0 * PI;
+        let light = Light::Area {
+            shape: Shape::Sphere { center: Vec3::ZERO, radius: 1.0 },
+            emission: red + blue,
+            pattern: Some(Box::new(GlowPattern {
+                glow: Vec3::ONE,
+                colour: Arc::new(colour),
+                through: Arc::new(
+                    Texture::new(&TextureNode::solid(Vec3::ZERO), &mut |_| {
+                        unreachable!("no image")
+                    })
+                    .unwrap(),
+                ),
+                to_object: Affine3A::IDENTITY,
+            })),
+            beam: None,
+            two_sided: false,
+            area,
+            primitive: 0,
+        };
+        let photons = 16384;
+        let carried: Vec3 = (0..photons)
+            .map(|i| {
+                let mut s = Sampler::new(1, 0, u64::from(i));
+                light.sample_emission(photons, s.next_2d(), s.next_2d()).unwrap().power
+            })
+            .sum();
+        let expected = PI * area * Vec3::new(1.0, 0.0, 1.0);
+        assert!((carried - expected).abs().max_element() < 0.03 * expected.x, "{carried}");
     }
 }

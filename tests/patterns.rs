@@ -468,6 +468,69 @@ fn bump_size_is_a_normal_s_amount() {
     assert!(tilted, "the amount changes the tilt");
 }
 
+/// A declared pigment given a `pigment_map` (or a `color_map`) is its pattern through the new
+/// map, its transforms and warps kept, as POV-Ray reads `pigment { P pigment_map { ... } }`
+/// (wallstucco.pov's wall: its bricks' pattern in brick colours instead of the grey it was
+/// declared with).
+#[test]
+fn a_declared_pigment_takes_a_new_map() {
+    let finish = "finish { diffuse 1 ambient 0 }";
+    let remapped = |pigment: &str| {
+        let s = pov(&format!(
+            "#declare P = pigment {{ gradient x pigment_map {{ [0 rgb 0] [1 rgb 1] }} scale 2 }}
+             box {{ -100, 100  pigment {{ {pigment} }} {finish} }}"
+        ));
+        move |x: f32| kd(&s, Vec3::new(x, 0.0, 0.0))
+    };
+    let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 1e-4;
+    // At 0.5 the scaled gradient is 0.25.
+    let red_to_blue = "pigment_map { [0 rgb <1, 0, 0>] [1 rgb <0, 0, 1>] }";
+    let pigments = remapped(&format!("P {red_to_blue}"));
+    assert!(close(pigments(0.5), Vec3::new(0.75, 0.0, 0.25)), "{}", pigments(0.5));
+    let colours = remapped("P color_map { [0 rgb <0, 1, 0>] [1 rgb 0] }");
+    assert!(close(colours(0.5), Vec3::new(0.0, 0.75, 0.0)), "{}", colours(0.5));
+    // Warped before the new map: 0.75 is repeated to 0.25, then scaled to 0.125.
+    let warped = remapped(&format!("P warp {{ repeat x * 0.5 }} {red_to_blue}"));
+    assert!(close(warped(0.75), Vec3::new(0.875, 0.0, 0.125)), "{}", warped(0.75));
+}
+
+/// A normal's transforms written before a warp apply to the point after it, as a pigment's do
+/// (`warps_move_points_as_povray_s_do`): `gradient x sine_wave scale 2 warp { repeat x*0.5 }`
+/// repeats every 0.5 of the object's space, so the bumps tilt at 0.75 and 1.25 as at 0.25
+/// (the pattern at 0.125 of its period, rising). Scaled before the repeat instead, 0.75 would
+/// fall at 0.375 of the period and tilt the other way.
+#[test]
+fn a_normal_s_transforms_before_a_warp_apply_after_it() {
+    use std::sync::Arc;
+    let bump = |modifiers: &str| {
+        let text = format!("sphere {{ 0, 1  normal {{ gradient x 0.5 sine_wave {modifiers} }} }}");
+        let graph =
+            parse_scene(Path::new("tests/inline.pov"), &text).unwrap_or_else(|e| panic!("{e}"));
+        let node =
+            graph.objects[0].material.as_ref().and_then(|m| m.normal.clone()).expect("a normal");
+        raydiance::texture::Bump::new(&node, &mut |path| {
+            raydiance::texture::ImageMap::load(path).map(Arc::new)
+        })
+        .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let tilt = |bump: &raydiance::texture::Bump, x: f32| {
+        bump.perturbation(Vec3::new(x, 0.3, 0.0), Vec3::NEG_Z)
+    };
+    let before = bump("scale 2  warp { repeat x * 0.5 }");
+    let first = tilt(&before, 0.25);
+    assert!(first.x.abs() > 1e-3, "the bumps tilt: {first}");
+    for x in [0.75, 1.25] {
+        assert!(
+            (tilt(&before, x) - first).length() < 1e-4,
+            "at {x}: {} not {first}",
+            tilt(&before, x)
+        );
+    }
+    // Written after the warp, the scale applies before it: 0.75 is at 0.375 of the period.
+    let after = bump("warp { repeat x * 0.5 }  scale 2");
+    assert!(tilt(&after, 0.75).x * first.x < 0.0, "{} against {first}", tilt(&after, 0.75));
+}
+
 /// POV-Ray's mapping warps (warp.cpp; `povray` renders these values): a point becomes its turns
 /// about y (x), its height on the surface (y) and its distance from it (z).
 #[test]

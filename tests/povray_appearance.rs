@@ -90,6 +90,12 @@ fn only_an_object_that_does_not_diffuse_glows_with_its_ambient() {
     let ambient =
         material("sphere { 0, 1 pigment { rgb <0.2, 0.4, 0.6> } finish { ambient 1 diffuse 0 } }");
     assert!(close(ambient.emission, c));
+    // Faded by the light the pigment lets through, 1 − f − t (povray: `rgbft <1, 0.5, 0.2,
+    // 0.3, 0.4>` glows 0.3 of its colour).
+    let faded = material(
+        "sphere { 0, 1 pigment { rgbft <0.2, 0.4, 0.6, 0.3, 0.4> } finish { ambient 1 diffuse 0 } }",
+    );
+    assert!(close(faded.emission, 0.3 * c), "{}", faded.emission);
     // With diffuse, ambient is what path tracing computes: not light.
     let lit = material("sphere { 0, 1 pigment { rgb <0.2, 0.4, 0.6> } finish { ambient 1 } }");
     assert_eq!(lit.emission, Vec3::ZERO);
@@ -614,6 +620,41 @@ fn the_back_of_a_glow_is_found_alike_by_light_and_bsdf_samples() {
     let image = common::path_with(&scene, Strategy::Mis).image();
     assert!(common::mean(&image).x > 0.05, "the floor is lit: {}", common::mean(&image));
     common::assert_light_and_bsdf_sampling_agree_with_mis(&scene, "the glow's back");
+}
+
+/// A glow whose pigment is red on one half of a square and blue on the other lights a floor
+/// as the two halves, each glowing in one colour, do; and light samples alone (each reading
+/// the pattern where it lands on the square), BSDF samples alone (each reading it where the
+/// ray hits) and MIS agree: the area light's radiance is the pattern's at each point, its
+/// density the square's, uniform by area. (Glowing with its brightest colour everywhere, the
+/// square would light the floor magenta.)
+#[test]
+fn a_patterned_glow_lights_as_its_colours_do_found_alike_by_light_and_bsdf_samples() {
+    let render = |glow: &str| {
+        let mut graph = pov(&format!(
+            "camera {{ location <0, 3, -3> look_at 0 angle 60 }}
+             #default {{ finish {{ emission 1 diffuse 0 }} }}
+             {glow}
+             plane {{ y, 0 pigment {{ rgb 0.8 }} finish {{ diffuse 1 emission 0 }} }}"
+        ));
+        (graph.settings.width, graph.settings.height) = (24, 18);
+        (graph.settings.samples, graph.settings.max_depth) = (128, 1);
+        build(&graph).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let patterned = render(
+        "box { <-2, 3, -2>, <2, 3, 2> pigment { gradient x scale 4
+           color_map { [0 rgb <2, 0, 0>] [0.5 rgb <2, 0, 0>] [0.5 rgb <0, 0, 2>] [1 rgb <0, 0, 2>] } } }",
+    );
+    let halves = render(
+        "box { <0, 3, -2>, <2, 3, 2> pigment { rgb <2, 0, 0> } }
+         box { <-2, 3, -2>, <0, 3, 2> pigment { rgb <0, 0, 2> } }",
+    );
+    common::assert_light_and_bsdf_sampling_agree_with_mis(&patterned, "a patterned glow");
+    common::assert_films_agree(
+        &common::path_with(&patterned, Strategy::Mis),
+        &common::path_with(&halves, Strategy::Mis),
+        "a patterned glow vs its halves",
+    );
 }
 
 /// `image_map { [type] "file" options }` in a pigment: the file is found beside the scene, its

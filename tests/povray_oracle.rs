@@ -823,6 +823,49 @@ fn discs_with_holes_match_povray_away_from_edges() {
     }
 }
 
+/// Patterned glows: each point emits its pigment's colour there, as POV-Ray's glow does (a
+/// sphere, sampled as an area light, and a box, in checkers of two colours each; a wall in
+/// bands of a `gradient`'s colour_map). One colour over each surface would differ from POV-Ray's
+/// on every square of one of its colours.
+const PATTERNED_GLOWS: &str = r#"
+camera { location <0, 2.5, -4.5> right x*image_width/image_height look_at <0, -0.2, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+sphere { <-1.2, 0, 0>, 1 pigment { checker rgb <1, 0, 0> rgb <0, 0, 1> scale 0.5 } }
+box { <0.3, -1, -1>, <2.3, 0.8, 1> pigment { checker rgb <0, 1, 0> rgb <1, 0, 1> scale 0.5 } }
+plane { z, 3 pigment { gradient x color_map { [0.5 rgb <1, 1, 0>] [0.5 rgb <0, 1, 1>] } scale 3 } }
+"#;
+
+#[test]
+fn patterned_glows_match_povray_away_from_edges() {
+    let test = "patterned_glows_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(PATTERNED_GLOWS, "patterned glows");
+    }
+}
+
+/// A glow fades by the light its pigment lets through, as POV-Ray's does (glow × P × (1 − f −
+/// t)): a white disc of transmit 0.8 glows 0.2, a pale yellow one of filter 0.45 glows yellow
+/// (0.55, 0.55, 0.33), and so do the transparent squares of a checker in red (0.2); unfaded,
+/// the first and the squares would glow white, the second pale yellow.
+const FADED_GLOWS: &str = r#"
+camera { location <0, 0, -3.2> right x*image_width/image_height look_at <0, 0, 0> }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+background { rgb 0 }
+disc { <-1.2, 0.8, 0.25>, -z, 0.8 pigment { rgbt <1, 1, 1, 0.8> } }
+disc { <1.2, 0.8, 0.25>, -z, 0.8 pigment { rgbf <1, 1, 0.6, 0.45> } }
+box { <-2.4, -1.9, 0.25>, <2.4, -0.1, 0.25>
+  pigment { checker rgbt <1, 1, 1, 0.8> rgb <1, 0, 0> scale 0.5 } }
+"#;
+
+#[test]
+fn glows_fade_by_their_pigment_s_transparency_as_povray_s_do() {
+    let test = "glows_fade_by_their_pigment_s_transparency_as_povray_s_do";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(FADED_GLOWS, "faded glows");
+    }
+}
+
 /// POV-Ray's parametric surfaces, cheap enough for the debug build (a ray's search of the (u, v)
 /// pieces is most of the cost): a saddle, part of a cylinder mirrored and turned, and a paraboloid
 /// cap needing a `max_gradient` above 1, each with a coarse `accuracy` (POV-Ray's hits depend on

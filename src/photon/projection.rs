@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3};
 
 use crate::aabb::Aabb;
 use crate::geometry::{Frame, Ray, Shape};
-use crate::light::{EmissionSample, Light};
+use crate::light::{EmissionSample, Light, emission_at};
 use crate::material::TransportMode;
 use crate::sampling::{concentric_disk, uniform_sphere};
 use crate::scene::Scene;
@@ -115,8 +115,9 @@ impl Projection {
                 let power = spot.intensity_towards(dir) / pdf * share;
                 Some(EmissionSample { ray: Ray::new(spot.position, dir), power })
             }
-            Light::Area { shape, emission, beam: None, two_sided, area, .. } => {
+            Light::Area { shape, emission, pattern, beam: None, two_sided, area, .. } => {
                 let s = shape.sample_area(u_point)?;
+                let emission = emission_at(*emission, pattern.as_deref(), s.point);
                 let (dir, pdf) = cones(spheres, s.point).sample(u_cone, u_direction)?;
                 // Le cos / (p_A p(ω)), with p_A = 1 / A; the back side emits nothing unless
                 // the emitter is two-sided.
@@ -126,13 +127,14 @@ impl Projection {
                     return None;
                 }
                 let ray = Ray::new(s.point + side * s.error, dir);
-                Some(EmissionSample { ray, power: *emission * cos * *area / pdf * share })
+                Some(EmissionSample { ray, power: emission * cos * *area / pdf * share })
             }
-            Light::Area { shape, emission, beam: Some(beam), area, .. } => {
+            Light::Area { shape, emission, pattern, beam: Some(beam), area, .. } => {
                 // A point spotlight at each bit of area (`Light::sample_emission`), aimed.
                 let s = shape.sample_area(u_point)?;
                 let (dir, pdf) = cones(spheres, s.point).sample(u_cone, u_direction)?;
-                let intensity = *area * *emission * beam.beam.towards(dir);
+                let emission = emission_at(*emission, pattern.as_deref(), s.point);
+                let intensity = *area * emission * beam.beam.towards(dir);
                 if intensity == Vec3::ZERO {
                     return None;
                 }
@@ -370,6 +372,7 @@ mod tests {
         let light = Light::Area {
             shape: Shape::Sphere { center: Vec3::ZERO, radius: 0.3 },
             emission: Vec3::ONE,
+            pattern: None,
             beam: None,
             two_sided: false,
             area: 4.0 * PI * 0.09,
@@ -388,6 +391,7 @@ mod tests {
         let beamed = Light::Area {
             shape: Shape::Sphere { center: Vec3::ZERO, radius: 0.3 },
             emission: Vec3::ONE,
+            pattern: None,
             beam: Some(BeamSampler::new(beam)),
             two_sided: false,
             area: 4.0 * PI * 0.09,

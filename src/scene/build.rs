@@ -21,7 +21,7 @@ use crate::graph::{
     Below, GroundDesc, IntegratorKind, LightDesc, LightForm, MaterialDesc, MediumDesc, ObjectNode,
     SceneGraph, ShapeNode, compose,
 };
-use crate::light::{BeamSampler, Light, Spot, SpotProfile};
+use crate::light::{BeamSampler, GlowPattern, Light, Spot, SpotProfile};
 use crate::material::Material;
 use crate::medium::{Density, HenyeyGreenstein, Medium};
 use crate::mesh::heights::Heights;
@@ -165,9 +165,15 @@ pub fn build(graph: &SceneGraph) -> Result<Scene, SceneError> {
             prim.light = Some(lights.len() as u32);
             let (shape, emission) = (prim.shape.clone(), material.emission);
             let (beam, two_sided) = (material.beam.map(BeamSampler::new), material.two_sided);
+            let texture = flat.textures[prim.material as usize].as_ref();
+            let pattern = texture.and_then(SurfaceTexture::glow).map(|(glow, colour, through)| {
+                let to_object = flat.frames[prim.frame as usize];
+                Box::new(GlowPattern { glow, colour, through, to_object })
+            });
             lights.push(Light::Area {
                 shape,
                 emission,
+                pattern,
                 beam,
                 two_sided,
                 area,

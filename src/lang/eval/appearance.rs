@@ -12,13 +12,12 @@ use super::pattern::{PatternState, block_colours};
 use super::pigment::Pigment;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{
-    MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode, Warp, compose,
-};
+use crate::graph::{MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode};
 use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
 };
 use crate::lang::value::Value;
+use crate::light::pov_glow;
 use crate::material::{Covers, pov_shares};
 
 /// A finish, with POV-Ray's defaults for what is not given.
@@ -220,18 +219,6 @@ impl Evaluator {
         self.exec(items, &mut Body::Pigment(&mut state))?;
         let transforms = state.pigment.colour.transforms.clone();
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
-            // `pigment { P_Declared color_map { ... } }`: the declared pattern in new colours.
-            if let (Some(stops), Pattern::Field { shape, .. }) =
-                (&state.pattern.color_map, &state.pigment.colour.pattern)
-                && !stops.is_empty()
-            {
-                let entries = stops.iter().map(|s| (s.position, Pigment::of_stop(s))).collect();
-                let shape = shape.clone();
-                let mut pigment =
-                    Pigment::mapped(entries, |map| Pattern::Field { shape: shape.clone(), map });
-                pigment.set_transforms(transforms);
-                return Ok((pigment, None));
-            }
             return Ok((state.pigment, None));
         };
         let (mut pigment, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
@@ -248,7 +235,17 @@ impl Evaluator {
             state.pigment.set_transforms(Vec::new());
         }
         let warp = matches!(item, Item::PovParam { key, .. } if key.name == "warp");
+        let map = matches!(item, Item::ColorMap { .. } | Item::PatternMap { .. });
         if self.pattern_item(item, &mut state.pattern)? {
+            if map && state.pattern.word.is_none() {
+                // `pigment { P_Declared color_map { ... } }` (or `pigment_map`): the declared
+                // pattern in new colours, its warps and transforms kept.
+                if let Some(entries) = self.declared_pattern_map(&state.pattern)?
+                    && let Some(pigment) = state.pigment.remapped(entries)
+                {
+                    state.pigment = pigment;
+                }
+            }
             let last = if warp { state.pattern.warps.pop() } else { None };
             match (&state.pattern.word, last) {
                 (None, Some(last)) => {
@@ -261,10 +258,7 @@ impl Evaluator {
                     // The transforms written so far apply to the point after this warp.
                     let before = std::mem::take(&mut state.pigment.colour.transforms);
                     state.pigment.set_transforms(Vec::new());
-                    if !before.is_empty() {
-                        state.pattern.warps.push(Warp::Transform(compose(&before).inverse()));
-                    }
-                    state.pattern.warps.push(last);
+                    state.pattern.warp_after(&before, last);
                 }
                 (_, None) => {}
             }
@@ -294,6 +288,23 @@ impl Evaluator {
             _ => return Err(Self::misplaced(item, &Body::Pigment(state))),
         }
         Ok(())
+    }
+
+    /// The entries of a pigment's new color_map or pigment_map, if it has one (a normal's or
+    /// texture's map has no colours to give a declared pigment).
+    fn declared_pattern_map(
+        &mut self,
+        pattern: &PatternState,
+    ) -> Result<Option<Vec<(f32, Pigment)>>, SceneError> {
+        Ok(match (&pattern.color_map, &pattern.map) {
+            (Some(stops), _) if !stops.is_empty() => {
+                Some(stops.iter().map(|s| (s.position, Pigment::of_stop(s))).collect())
+            }
+            (_, Some((MapKind::Pigment, entries, _))) => {
+                Some(self.map_entries(MapKind::Pigment, entries, false)?.textures)
+            }
+            _ => None,
+        })
     }
 
     pub(super) fn finish_item(
@@ -487,6 +498,8 @@ impl Evaluator {
             Pattern::Solid(c) => Some(c),
             _ => None,
         };
+        let glow =
+            finish.emission + if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
         let (diffuse, shares, see_through) =
             match (plain(&pigment.colour), plain(&pigment.filter), plain(&pigment.through)) {
                 (Some(c), Some(filter), Some(through)) => {
@@ -501,20 +514,17 @@ impl Evaluator {
                         filter: pigment.filter.clone(),
                         through: pigment.through.clone(),
                         finish: pov_finish,
+                        glow,
                     };
                     (pigment.colour.clone(), shares, Some(see_through))
                 }
             };
-        let glow =
-            finish.emission + if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
-        let emission = glow * colour;
+        let emission = match (plain(&pigment.colour), plain(&pigment.through)) {
+            (Some(c), Some(through)) => pov_glow(glow, c, through.x),
+            // Made at each point; its brightest colour, unfaded, bounds it.
+            _ => glow * colour,
+        };
         let at = self.here(span);
-        if emission != Vec3::ZERO && plain(&pigment.colour).is_none() {
-            self.warnings.push(format!(
-                "{at:?}: warning: a patterned pigment that glows emits its brightest colour \
-                 everywhere"
-            ));
-        }
         Arc::new(MaterialDesc {
             name: None,
             diffuse,

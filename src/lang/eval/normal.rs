@@ -132,7 +132,17 @@ impl Evaluator {
             state.transforms.clear();
             state.image = None;
         }
+        let warp = matches!(item, Item::PovParam { key, .. } if key.name == "warp");
         if self.pattern_item(item, &mut state.pattern)? {
+            // The transforms written so far apply to the point after this warp, as a
+            // pigment's do (a declared normal's warps are not read: it keeps its own).
+            if warp
+                && state.pattern.word.is_some()
+                && let Some(last) = state.pattern.warps.pop()
+            {
+                let before = std::mem::take(&mut state.transforms);
+                state.pattern.warp_after(&before, last);
+            }
             return Ok(());
         }
         match item {

@@ -13,7 +13,8 @@ use crate::diagnostic::{SceneError, Span};
 use crate::function::FloatFunction;
 use crate::graph::{
     BlackHole, Crackle, Field, FieldShape, Fractal, FractalColouring, FractalSet, Mapping,
-    MappingSurface, NormalNode, Pattern, PatternFunction, SlopeMap, Turbulence, Warp, Wave,
+    MappingSurface, NormalNode, Pattern, PatternFunction, SlopeMap, Transform, Turbulence, Warp,
+    Wave, compose,
 };
 use crate::lang::dialect::Dialect;
 use crate::lang::syntax::{
@@ -75,6 +76,18 @@ pub struct PatternState {
     pub color_map: Option<Vec<Stop>>,
     /// A pigment, normal, texture or slope map: its kind, entries (read by the caller) and span.
     pub map: Option<(MapKind, Vec<Item>, Span)>,
+}
+
+impl PatternState {
+    /// Adds `warp`, written after the transforms `before`: POV-Ray applies those to the point
+    /// the warp gives (its transforms and warps are one list, walked from the last written), so
+    /// `gradient x scale 2 warp { repeat x*0.5 }` repeats every 0.5 of the object's space.
+    pub fn warp_after(&mut self, before: &[Transform], warp: Warp) {
+        if !before.is_empty() {
+            self.warps.push(Warp::Transform(compose(before).inverse()));
+        }
+        self.warps.push(warp);
+    }
 }
 
 impl Evaluator {

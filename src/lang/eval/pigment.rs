@@ -115,6 +115,28 @@ impl Pigment {
         }
     }
 
+    /// This pigment's pattern through a new map (POV-Ray's `pigment { P_Declared pigment_map
+    /// { ... } }`): the pattern, its warps and the transforms around each kept; `None` where it
+    /// is not a pattern through a map (a plain colour, an image, an average).
+    pub fn remapped(&self, entries: Vec<(f32, Pigment)>) -> Option<Pigment> {
+        // The warps from the outside in, each with the transforms around it.
+        let mut warps = Vec::new();
+        let mut node = &self.colour;
+        while let Pattern::Warped { warp, node: inner } = &node.pattern {
+            warps.push((*warp, node.transforms.clone()));
+            node = inner;
+        }
+        let Pattern::Field { shape, .. } = &node.pattern else { return None };
+        let mut pigment =
+            Pigment::mapped(entries, |map| Pattern::Field { shape: shape.clone(), map });
+        pigment.set_transforms(node.transforms.clone());
+        for (warp, transforms) in warps.into_iter().rev() {
+            pigment = pigment.warped(warp);
+            pigment.set_transforms(transforms);
+        }
+        Some(pigment)
+    }
+
     /// This pigment over `under` (POV-Ray's layered textures): where this one lets light
     /// through (filter + transmit), the one under it shows; their light through multiplies.
     /// The filter's tint of the layer under it is not kept (the colours mix).
