@@ -10,7 +10,6 @@ use glam::{Affine3A, Mat3, Vec2, Vec3};
 use crate::diagnostic::Span;
 pub use crate::geometry::CsgOp;
 use crate::geometry::ScalarField;
-pub use crate::material::Covers;
 
 #[derive(Debug, Clone)]
 pub struct SceneGraph {
@@ -211,6 +210,20 @@ pub enum LightForm {
     Spot { point_at: Vec3, cone: SpotCone },
     /// From infinitely far away, along the direction from the light's position to `point_at`.
     Parallel { point_at: Vec3 },
+}
+
+/// What lies under a coat, and so what its strength takes from the light beneath.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Covers {
+    /// `.scn`'s `coat` (`docs/language.md`): the diffuse base alone, which sees a physical
+    /// coat's 1 - F whatever the strength (the strength dims only the coat's reflection,
+    /// Mitsuba's `specular_reflectance`); a mirror or transmission stands beside the coat.
+    Base,
+    /// POV-Ray's highlight (`docs/povray.md`): everything, under a coat of weight c that
+    /// reflects c F and lets 1 - c F through to the base, the mirror and the transmission
+    /// (Weidlich and Wilkie 2007's layering, pbrt-v4's `CoatedDiffuse`): a clear pigment
+    /// under a highlight passes all the light the coat does not reflect.
+    Everything,
 }
 
 /// `material { ... }`, all fields explicit (defaults filled in by `lang`).

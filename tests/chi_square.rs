@@ -8,8 +8,9 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 use raydiance::geometry::{Hit, Ray, Shape};
+use raydiance::graph::Covers;
 use raydiance::light::Light;
-use raydiance::material::{Coat, Covers, LobeFlags, Material, TransportMode, refract};
+use raydiance::material::{Coat, LobeFlags, Material, TransportMode, refract};
 use raydiance::sampling::{Sampler, cosine_hemisphere};
 
 const COS_BINS: usize = 16;

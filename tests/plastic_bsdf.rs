@@ -8,8 +8,8 @@ use crate::common;
 use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3};
-use raydiance::graph::MaterialDesc;
-use raydiance::material::{Bsdf, Coat, Covers, LobeFlags, Material, NO_DIRECTION, TransportMode};
+use raydiance::graph::{Covers, MaterialDesc};
+use raydiance::material::{Bsdf, Coat, LobeFlags, Material, NO_DIRECTION, TransportMode};
 use raydiance::sampling::Sampler;
 
 const IOR: f64 = 1.5;

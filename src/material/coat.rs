@@ -4,6 +4,7 @@
 use glam::Vec3;
 
 use super::fresnel::fresnel_dielectric;
+use crate::graph::Covers;
 
 /// A glossy dielectric coat over the diffuse base (the plastic lobe, `lobe::Plastic`), and over
 /// the mirror and transmission too where it `covers` them.
@@ -14,20 +15,6 @@ pub struct Coat {
     /// GGX alpha of its microfacets, in (0, 1].
     pub roughness: f32,
     pub covers: Covers,
-}
-
-/// What lies under a coat, and so what its strength takes from the light beneath.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Covers {
-    /// `.scn`'s `coat` (`docs/language.md`): the diffuse base alone, which sees a physical
-    /// coat's 1 - F whatever the strength (the strength dims only the coat's reflection,
-    /// Mitsuba's `specular_reflectance`); a mirror or transmission stands beside the coat.
-    Base,
-    /// POV-Ray's highlight (`docs/povray.md`): everything, under a coat of weight c that
-    /// reflects c F and lets 1 - c F through to the base, the mirror and the transmission
-    /// (Weidlich and Wilkie 2007's layering, pbrt-v4's `CoatedDiffuse`): a clear pigment
-    /// under a highlight passes all the light the coat does not reflect.
-    Everything,
 }
 
 impl Coat {

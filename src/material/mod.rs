@@ -15,7 +15,7 @@ mod microfacet;
 mod pov_shares;
 
 pub use bsdf::{Bsdf, BsdfSample, NEAR_SPECULAR_ROUGHNESS, NO_DIRECTION, TransportMode};
-pub use coat::{Coat, CoatLayer, Covers};
+pub use coat::{Coat, CoatLayer};
 pub use flags::LobeFlags;
 pub use fresnel::{Split, fresnel_dielectric, refract};
 pub use pov_shares::{Shares, pov_shares};

@@ -12,13 +12,15 @@ use super::pattern::{PatternState, block_colours};
 use super::pigment::Pigment;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
-use crate::graph::{MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode};
+use crate::graph::{
+    Covers, MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode,
+};
 use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
 };
 use crate::lang::value::Value;
 use crate::light::pov_glow;
-use crate::material::{Covers, pov_shares};
+use crate::material::pov_shares;
 
 /// A finish, with POV-Ray's defaults for what is not given.
 #[derive(Debug, Clone, PartialEq)]
