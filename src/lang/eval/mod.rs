@@ -579,7 +579,7 @@ impl Evaluator {
                         let look = self.default_look_of(&node);
                         node.material = Some(self.look_material(&look, &object.span));
                     }
-                    self.lay_textures(&mut node);
+                    self.lay_textures(&mut node)?;
                 }
                 self.objects.push(node);
                 Ok(())
@@ -607,7 +607,7 @@ impl Evaluator {
                 Value::Object(node) => {
                     let mut node = instance(node, self.here(&expr.span));
                     if self.dialect == Dialect::Pov {
-                        self.lay_textures(&mut node);
+                        self.lay_textures(&mut node)?;
                     }
                     self.objects.push(node);
                     Ok(())

@@ -257,15 +257,7 @@ impl Evaluator {
             ShapeNode::Union(glyphs) if !glyphs.is_empty() => 2,
             _ => 1,
         };
-        self.objects_made += 1;
-        if self.objects_made > MAX_OBJECTS_MADE {
-            return Err(SceneError::at(
-                &object.span,
-                format!(
-                    "the scene has made more than {MAX_OBJECTS_MADE} objects (does a loop end?)"
-                ),
-            ));
-        }
+        self.count_objects(1, &object.span)?;
         // POV-Ray's modifiers on a wrapper (`object { T pigment { } }`) modify the texture the
         // wrapped object wears itself, if it has one: they start from its look.
         let worn = match &shape {
@@ -382,6 +374,20 @@ impl Evaluator {
             }
         }
         Ok(node)
+    }
+
+    /// Counts `made` objects more, made for the object at `at`: a scene makes a bounded number.
+    pub(super) fn count_objects(&mut self, made: u64, at: &Span) -> Result<(), SceneError> {
+        self.objects_made += made;
+        if self.objects_made > MAX_OBJECTS_MADE {
+            return Err(SceneError::at(
+                at,
+                format!(
+                    "the scene has made more than {MAX_OBJECTS_MADE} objects (does a loop end?)"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// An object made to be a value (`#declare`d): a light in it would be placed once, where
@@ -571,14 +577,20 @@ impl Evaluator {
                     return Err(SceneError::at(&appearance.span, advice));
                 }
                 let worn = self.shapings.last_mut().and_then(|shaping| shaping.worn.take());
-                let mut look = match self.looks.last_mut().and_then(Option::take) {
-                    Some(look) => look,
-                    None => worn.unwrap_or_else(|| self.default_look.clone()),
+                // The object's look so far, or the one it wraps, lies in the object's space
+                // (`placed`); the default one, not yet given, in the scene's.
+                let (mut look, in_object_space) = match self.looks.last_mut().and_then(Option::take)
+                {
+                    Some(look) => (look, true),
+                    None => match worn {
+                        Some(worn) => (worn, true),
+                        None => (self.default_look.clone(), false),
+                    },
                 };
                 let under = look.clone();
-                // What it modifies lies in the object's space (`placed`); the items apply
-                // where POV-Ray applies them, after the object's transforms written so far.
-                if let Some(placed) = self.placed(node) {
+                // The items apply where POV-Ray applies them: after the object's transforms
+                // written so far.
+                if let Some(placed) = self.placed(node).filter(|_| in_object_space) {
                     look.push_transform(appearance.kind, matrix_of(placed));
                 }
                 let result = self.apply_appearance(appearance, &mut look);

@@ -12,6 +12,7 @@ use glam::Affine3A;
 use super::object::children;
 use super::transform::matrix_of;
 use super::{Evaluator, Look};
+use crate::diagnostic::{SceneError, Span};
 use crate::graph::{Below, MaterialDesc, ObjectNode, Pattern, ShapeNode, compose};
 use crate::lang::syntax::AppearanceKind;
 
@@ -24,8 +25,8 @@ impl Evaluator {
     /// `node`, placed in the scene, with its parts laid as POV-Ray lays them: a part without a
     /// material of its own, moved by transforms of its own, wears its group's patterned
     /// material moved back by them, so that the material lies where its group was given it.
-    pub(super) fn lay_textures(&mut self, node: &mut ObjectNode) {
-        self.lay(node, None);
+    pub(super) fn lay_textures(&mut self, node: &mut ObjectNode) -> Result<(), SceneError> {
+        self.lay(node, None)
     }
 
     /// POV-Ray's default texture for `node`, placed in the scene without one: laid in the
@@ -54,7 +55,11 @@ impl Evaluator {
         }
     }
 
-    fn lay(&mut self, node: &mut ObjectNode, inherited: Option<&Arc<MaterialDesc>>) {
+    fn lay(
+        &mut self,
+        node: &mut ObjectNode,
+        inherited: Option<&Arc<MaterialDesc>>,
+    ) -> Result<(), SceneError> {
         if let (None, Some(material)) = (&node.material, inherited)
             && is_patterned(material)
             && compose(&node.transforms) != Affine3A::IDENTITY
@@ -64,32 +69,36 @@ impl Evaluator {
         let worn = node.material.clone().or_else(|| inherited.cloned());
         if let ShapeNode::Instance(target) = &mut node.shape {
             if needs_laying(target, worn.as_ref()) {
-                *target = self.laid(target, worn.as_ref());
+                *target = self.laid(target, worn.as_ref(), &node.span)?;
             }
         } else if let Some(children) = children(&mut node.shape) {
             for child in children {
-                self.lay(child, worn.as_ref());
+                self.lay(child, worn.as_ref())?;
             }
         }
+        Ok(())
     }
 
     /// A copy of the declared `target` laid under `worn`, made once for both.
+    /// The copy counts as the objects it copies, placed at `at`.
     fn laid(
         &mut self,
         target: &Arc<ObjectNode>,
         worn: Option<&Arc<MaterialDesc>>,
-    ) -> Arc<ObjectNode> {
+        at: &Span,
+    ) -> Result<Arc<ObjectNode>, SceneError> {
         let key = (Arc::as_ptr(target) as usize, worn.map_or(0, |m| Arc::as_ptr(m) as usize));
         if let Some((_, _, laid)) = self.laid.get(&key) {
-            return laid.clone();
+            return Ok(laid.clone());
         }
+        self.count_objects(owned_nodes(target), at)?;
         let mut copy = (**target).clone();
-        self.lay(&mut copy, worn);
+        self.lay(&mut copy, worn)?;
         let copy = Arc::new(copy);
         if let Some(worn) = worn {
             self.laid.insert(key, (target.clone(), worn.clone(), copy.clone()));
         }
-        copy
+        Ok(copy)
     }
 }
 
@@ -119,6 +128,16 @@ fn needs_laying(node: &ObjectNode, inherited: Option<&Arc<MaterialDesc>>) -> boo
         }
         Below::Shared(target) => needs_laying(target, worn),
         Below::Nothing => false,
+    }
+}
+
+/// The nodes a copy of `node` copies: itself and its parts, not the declared objects it shares.
+fn owned_nodes(node: &ObjectNode) -> u64 {
+    match node.shape.below() {
+        Below::Children(parts) | Below::Operands(parts) => {
+            1 + parts.iter().map(owned_nodes).sum::<u64>()
+        }
+        Below::Shared(_) | Below::Nothing => 1,
     }
 }
 
