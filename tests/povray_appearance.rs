@@ -2,11 +2,12 @@
 //! normal and `#default`, each read as the material stated there.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use crate::common;
 
-use glam::Vec3;
-use raydiance::graph::{Covers, MaterialDesc, Pattern, SceneGraph};
+use glam::{Affine3A, Vec3};
+use raydiance::graph::{Covers, MaterialDesc, Pattern, SceneGraph, ShapeNode, compose};
 use raydiance::integrator::Strategy;
 use raydiance::lang::parse_scene;
 use raydiance::material::{LobeFlags, Material, TransportMode};
@@ -781,4 +782,100 @@ fn a_wrapper_s_texture_is_layered_over_the_wrapped_one_and_reaches_a_group_s_bar
          object { U pigment { rgb <1, 0, 0> } }");
     let parts: Vec<Vec3> = worn(&scene.objects[0], None).iter().map(solid).collect();
     assert!(close(parts[0], Vec3::new(0.0, 0.6, 0.0)) && close(parts[1], Vec3::new(0.6, 0.0, 0.0)));
+}
+
+/// Where the pattern and the bumps of the scene's first object lie in the scene: their own
+/// transforms, then the object's.
+fn laid(text: &str) -> (Affine3A, Option<Affine3A>) {
+    let graph = pov(text);
+    let object = &graph.objects[0];
+    let m = object.material.as_ref().expect("a material");
+    let to_world = compose(&object.transforms);
+    let normal = m.normal.as_ref().map(|n| to_world * compose(&n.transforms));
+    (to_world * compose(&m.diffuse.transforms), normal)
+}
+
+fn same(a: Affine3A, b: Affine3A) -> bool {
+    a.abs_diff_eq(b, 1e-5)
+}
+
+#[test]
+fn an_object_s_transforms_move_its_texture_only_when_written_after_it() {
+    let turned =
+        Affine3A::from_rotation_y(30f32.to_radians()) * Affine3A::from_scale(Vec3::splat(5.0));
+    let after = Affine3A::from_translation(Vec3::X);
+    for given in [
+        "pigment { checker } normal { bumps }",
+        "texture { pigment { checker } normal { bumps } }",
+        "material { texture { pigment { checker } normal { bumps } } }",
+    ] {
+        let (pigment, normal) =
+            laid(&format!("box {{ -1, 1 scale 5 rotate 30*y {given} translate x }}"));
+        assert!(same(pigment, after), "{given}: {pigment:?}");
+        assert!(same(normal.expect("bumps"), after), "{given}: {normal:?}");
+        let (pigment, normal) =
+            laid(&format!("box {{ -1, 1 {given} scale 5 rotate 30*y translate x }}"));
+        assert!(same(pigment, after * turned), "{given} first: {pigment:?}");
+        assert!(same(normal.expect("bumps"), after * turned), "{given} first: {normal:?}");
+    }
+    // POV-Ray's default texture lies in the scene's space.
+    let (pigment, _) = laid("#default { pigment { checker } } box { -1, 1 scale 5 }");
+    assert!(same(pigment, Affine3A::IDENTITY), "{pigment:?}");
+}
+
+#[test]
+fn a_pigment_modified_after_a_transform_keeps_what_moved_it_as_povray_s_does() {
+    let six = Affine3A::from_scale(Vec3::splat(6.0));
+    let (pigment, _) = laid("box { -1, 1 pigment { checker } scale 2 pigment { scale 3 } }");
+    assert!(same(pigment, six), "{pigment:?}");
+    // A new pattern keeps the pigment's transforms and those that moved it.
+    let (pigment, _) =
+        laid("box { -1, 1 pigment { checker scale 3 } scale 2 pigment { granite } }");
+    assert!(same(pigment, six), "{pigment:?}");
+    // A declared pigment is itself, laid where it is given.
+    let (pigment, _) = laid(
+        "#declare P = pigment { checker }\n\
+         box { -1, 1 pigment { granite } scale 2 pigment { P } }",
+    );
+    assert!(same(pigment, Affine3A::IDENTITY), "{pigment:?}");
+    // A wrapper's modifies the texture of the object it wraps, as that object stands.
+    let graph = pov("#declare T = box { -1, 1 scale 2 pigment { checker } }\n\
+                     object { T scale 3 pigment { scale 0.5 } }");
+    let wrapper = &graph.objects[0];
+    let ShapeNode::Instance(target) = &wrapper.shape else { panic!("{:?}", wrapper.shape) };
+    let m = target.material.as_ref().expect("the wrapped box's, modified");
+    let world = compose(&wrapper.transforms) * compose(&target.transforms);
+    let pigment = world * compose(&m.diffuse.transforms);
+    assert!(same(pigment, Affine3A::from_scale(Vec3::splat(1.5))), "{pigment:?}");
+}
+
+#[test]
+fn a_group_s_texture_lies_in_the_group_s_space_whatever_its_parts_transforms() {
+    let graph = pov("union { box { -1, 1 scale 2 } sphere { 0, 1 } scale 3 pigment { checker } }");
+    let union = &graph.objects[0];
+    let ShapeNode::Union(parts) = &union.shape else { panic!("{:?}", union.shape) };
+    let m = parts[0].material.as_ref().expect("the group's, moved back by the box's scale");
+    let world = compose(&union.transforms) * compose(&parts[0].transforms);
+    let pigment = world * compose(&m.diffuse.transforms);
+    assert!(same(pigment, Affine3A::IDENTITY), "{pigment:?}");
+    assert!(parts[1].material.is_none(), "the unmoved sphere wears the group's own");
+    // A declared object placed twice in the same place under one texture is laid once.
+    let graph = pov("#declare U = union { box { -1, 1 translate x } }\n\
+                     union { object { U } object { U } pigment { checker } }");
+    let ShapeNode::Union(parts) = &graph.objects[0].shape else { panic!() };
+    let (ShapeNode::Instance(a), ShapeNode::Instance(b)) = (&parts[0].shape, &parts[1].shape)
+    else {
+        panic!("{parts:?}")
+    };
+    assert!(Arc::ptr_eq(a, b), "one copy");
+    // `.scn` lays a material in the space of each shape that wears it, as it always has.
+    let scn = parse_scene(
+        Path::new("tests/inline.scn"),
+        "camera { location <0, 0, -5> look_at <0, 0, 0> }\n\
+         union { box { <-1, -1, -1>, <1, 1, 1> scale 2 } scale 3\n\
+         material { diffuse checker { rgb 1, rgb 0 } } }",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let ShapeNode::Union(parts) = &scn.objects[0].shape else { panic!() };
+    assert!(parts[0].material.is_none(), "the box wears the union's, in its own space");
 }

@@ -8,7 +8,8 @@
 //! `smooth_triangle` and `mesh2`; julia fractals; lathes, sors and polygons; height fields, alone
 //! and in CSG; sphere sweeps; points and triangles made by directives; shapes2.inc's `Pyramid2`;
 //! ovus, and lemons (which POV-Ray 3.7.0 lacks) against the CSG of a quartic that is the same
-//! solid; parametric surfaces.
+//! solid; parametric surfaces; where an object's texture lies (only the transforms written after
+//! it move it).
 
 use crate::common;
 
@@ -475,6 +476,53 @@ fn wrappers_modify_the_wrapped_object_s_texture_as_povray_s_do() {
     let test = "wrappers_modify_the_wrapped_object_s_texture_as_povray_s_do";
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(WRAPPERS, "wrappers");
+    }
+}
+
+/// Cells of a checker, clear and black, over a red emitter: where a texture lies shows as light
+/// and dark cells (a patterned pigment glows in one colour, so the cells are seen through).
+/// Thin slabs, each within one layer of cells in depth.
+const CELLS: &str = r#"
+camera { orthographic location <0, 0, -10> right 8*x*image_width/image_height up 8*y
+         look_at <0, 0, 0> }
+background { rgb 0 }
+#default { finish { ambient 0 diffuse 0 } }
+plane { -z, -1 pigment { rgb <1, 0, 0> } finish { emission 1 } }
+#declare Cells = pigment { checker rgbt <1, 1, 1, 1>, rgb 0 }
+#declare Slab = box { <-1, -1, 0.1>, <1, 1, 0.2> }
+"#;
+
+/// An object's transforms written before its texture do not move it; those after do: cells of
+/// 1 on a slab scaled before its pigment, of 0.9 under a pigment scaled and then moved with its
+/// slab, of 1 unturned under a texture given after a turn, and a wrapper's pigment given after
+/// its `translate` lies where the scene's cells do.
+const LAID_ON_OBJECTS: &str = r#"
+object { Slab scale <1.8, 1.8, 1> translate <-2.6, 1.9, 0> pigment { checker rgbt <1, 1, 1, 1>, rgb 0 } }
+object { Slab pigment { Cells scale 0.5 } scale <1.8, 1.8, 1> translate <2.6, 1.9, 0> }
+object { Slab scale <1.8, 1.8, 1> rotate 30*z texture { pigment { Cells } } translate <-2.6, -1.9, 0> }
+#declare T = object { Slab scale <1.8, 1.8, 1> pigment { Cells } }
+object { T translate <2.6, -1.9, 0> pigment { Cells scale 0.7 } }
+"#;
+
+/// A group's texture lies in the group's space as it stands when it is given, whatever its
+/// parts' own transforms: a union's given after its scale, one given before it, a part's own
+/// under the union's scale, and an intersection's.
+const LAID_ON_GROUPS: &str = r#"
+union { object { Slab scale <1.2, 1.2, 1> } scale 1.5 translate <-2.6, 1.9, 0> pigment { Cells } }
+union { object { Slab scale <1.2, 1.2, 1> } pigment { Cells } scale 1.5 translate <2.6, 1.9, 0> }
+union { object { Slab pigment { Cells } } scale <1.8, 1.8, 1> translate <-2.6, -1.9, 0> }
+intersection {
+  object { Slab scale <1.2, 1.2, 1> } sphere { 0, 10 }
+  scale 1.5 translate <2.6, -1.9, 0> pigment { Cells }
+}
+"#;
+
+#[test]
+fn only_the_transforms_after_a_texture_move_it_as_povray_s_do() {
+    let test = "only_the_transforms_after_a_texture_move_it_as_povray_s_do";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(&format!("{CELLS}{LAID_ON_OBJECTS}"), "textures on objects");
+        agree_with_povray(&format!("{CELLS}{LAID_ON_GROUPS}"), "textures on groups");
     }
 }
 

@@ -13,7 +13,8 @@ use super::pigment::Pigment;
 use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{
-    Covers, MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode,
+    Covers, MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode, Transform,
+    Warp, compose,
 };
 use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
@@ -95,6 +96,25 @@ pub struct Look {
     /// applies to both): warned about when the look is given to an object, so that a declared
     /// texture no object wears (the library's) says nothing.
     pub finish_flattened_at: Option<String>,
+}
+
+impl Look {
+    /// Moves what `kind` of appearance makes of it: a pigment's pattern, a normal's bumps, or
+    /// both for a texture (a finish and an interior lie nowhere in particular).
+    pub fn push_transform(&mut self, kind: AppearanceKind, transform: Transform) {
+        let (pigment, normal) = match kind {
+            AppearanceKind::Pigment => (true, false),
+            AppearanceKind::Normal => (false, true),
+            AppearanceKind::Texture => (true, true),
+            AppearanceKind::Finish | AppearanceKind::Interior => (false, false),
+        };
+        if pigment {
+            self.pigment.push_transform(transform);
+        }
+        if let Some(normal) = self.normal.as_mut().filter(|_| normal) {
+            normal.transforms.push(transform);
+        }
+    }
 }
 
 impl Default for Look {
@@ -233,9 +253,6 @@ impl Evaluator {
         item: &Item,
         state: &mut PigmentState,
     ) -> Result<(), SceneError> {
-        if let Item::Pattern { .. } = item {
-            state.pigment.set_transforms(Vec::new());
-        }
         let warp = matches!(item, Item::PovParam { key, .. } if key.name == "warp");
         let map = matches!(item, Item::ColorMap { .. } | Item::PatternMap { .. });
         if self.pattern_item(item, &mut state.pattern)? {
@@ -408,10 +425,7 @@ impl Evaluator {
             }
             Item::Transform(t) => {
                 let transform = self.transform(t)?;
-                look.pigment.push_transform(transform);
-                if let Some(normal) = &mut look.normal {
-                    normal.transforms.push(transform);
-                }
+                look.push_transform(AppearanceKind::Texture, transform);
             }
             Item::Value(expr) => match self.value(expr)? {
                 Value::Look(l) => {

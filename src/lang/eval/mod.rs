@@ -39,6 +39,7 @@ mod scope;
 mod sky;
 mod sphere_sweep;
 mod text;
+mod texture_space;
 mod transform;
 mod triangles;
 
@@ -188,6 +189,8 @@ pub struct Evaluator {
     /// that the address stays theirs): what a wrapper's texture, pigment, normal or finish
     /// modifies.
     worn_looks: std::collections::HashMap<usize, (Arc<crate::graph::MaterialDesc>, Look)>,
+    /// `.pov`: the declared objects laid under each material they were placed with.
+    laid: texture_space::Laid,
     /// `.pov`: `sky_sphere`, the environment light.
     sky: Option<SkyDesc>,
     /// `.pov`: `background`, seen and not lighting.
@@ -570,10 +573,13 @@ impl Evaluator {
                 for (light, span) in std::mem::take(&mut self.held_lights) {
                     self.place_light(light, &span)?;
                 }
-                if self.dialect == Dialect::Pov && node.material.is_none() {
-                    // POV-Ray's default texture, where nothing gives the object one.
-                    let look = self.default_look.clone();
-                    node.material = Some(self.look_material(&look, &object.span));
+                if self.dialect == Dialect::Pov {
+                    if node.material.is_none() {
+                        // POV-Ray's default texture, where nothing gives the object one.
+                        let look = self.default_look_of(&node);
+                        node.material = Some(self.look_material(&look, &object.span));
+                    }
+                    self.lay_textures(&mut node)?;
                 }
                 self.objects.push(node);
                 Ok(())
@@ -599,7 +605,11 @@ impl Evaluator {
             Item::Value(expr) => match self.value(expr)? {
                 // A macro or array element that holds an object, standing as a statement.
                 Value::Object(node) => {
-                    self.objects.push(instance(node, self.here(&expr.span)));
+                    let mut node = instance(node, self.here(&expr.span));
+                    if self.dialect == Dialect::Pov {
+                        self.lay_textures(&mut node)?;
+                    }
+                    self.objects.push(node);
                     Ok(())
                 }
                 _ => Err(Self::misplaced(item, &Body::Scene)),

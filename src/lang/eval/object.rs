@@ -2,10 +2,11 @@
 
 use std::sync::Arc;
 
-use glam::{Mat3, Vec3};
+use glam::{Affine3A, Mat3, Vec3};
 
 use super::Look;
 use super::expression::{single, single_vector, text_of};
+use super::texture_space::worn_space;
 use super::transform::matrix_of;
 use super::{
     Body, Evaluator, MAX_CSG_DEPTH, MAX_CSG_OPERANDS, MAX_OBJECT_DEPTH, MAX_OBJECTS_MADE, resolve,
@@ -256,21 +257,17 @@ impl Evaluator {
             ShapeNode::Union(glyphs) if !glyphs.is_empty() => 2,
             _ => 1,
         };
-        self.objects_made += 1;
-        if self.objects_made > MAX_OBJECTS_MADE {
-            return Err(SceneError::at(
-                &object.span,
-                format!(
-                    "the scene has made more than {MAX_OBJECTS_MADE} objects (does a loop end?)"
-                ),
-            ));
-        }
+        self.count_objects(1, &object.span)?;
         // POV-Ray's modifiers on a wrapper (`object { T pigment { } }`) modify the texture the
         // wrapped object wears itself, if it has one: they start from its look.
         let worn = match &shape {
             ShapeNode::Instance(target) if self.dialect == Dialect::Pov => own_material(target)
                 .map(|own| self.worn_looks.get(&address(own)).map(|(_, look)| look.clone())),
             _ => None,
+        };
+        let worn_space = match (&shape, &worn) {
+            (ShapeNode::Instance(target), Some(Some(_))) => worn_space(target),
+            _ => Affine3A::IDENTITY,
         };
         let mut node = ObjectNode { shape, material: None, transforms: Vec::new(), depth, span };
         self.looks.push(None);
@@ -279,6 +276,7 @@ impl Evaluator {
         self.shapings.push(Shaping {
             textured: worn_look.is_some(),
             worn: worn_look,
+            worn_space,
             ..Default::default()
         });
         let items = match &object.shape {
@@ -324,6 +322,11 @@ impl Evaluator {
                 }
                 None => {}
             }
+        }
+        if let Some((material, _)) = &material {
+            // Laid in the space of all the object's transforms, which `clipped_by` splits
+            // between the object and its clipping (`lay_textures` keeps it there).
+            node.material = Some(material.clone());
         }
         let mut node = shaping.shaped(node);
         if let Some((material, look)) = material {
@@ -371,6 +374,20 @@ impl Evaluator {
             }
         }
         Ok(node)
+    }
+
+    /// Counts `made` objects more, made for the object at `at`: a scene makes a bounded number.
+    pub(super) fn count_objects(&mut self, made: u64, at: &Span) -> Result<(), SceneError> {
+        self.objects_made += made;
+        if self.objects_made > MAX_OBJECTS_MADE {
+            return Err(SceneError::at(
+                at,
+                format!(
+                    "the scene has made more than {MAX_OBJECTS_MADE} objects (does a loop end?)"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// An object made to be a value (`#declare`d): a light in it would be placed once, where
@@ -495,7 +512,8 @@ impl Evaluator {
     ) -> Result<(), SceneError> {
         match item {
             Item::Material(m) if self.dialect == Dialect::Pov => {
-                let look = self.pov_material(m)?;
+                let mut look = self.pov_material(m)?;
+                self.lay_given(node, &mut look, AppearanceKind::Texture);
                 if let Some(slot) = self.looks.last_mut() {
                     *slot = Some(look);
                 }
@@ -559,12 +577,24 @@ impl Evaluator {
                     return Err(SceneError::at(&appearance.span, advice));
                 }
                 let worn = self.shapings.last_mut().and_then(|shaping| shaping.worn.take());
-                let mut look = match self.looks.last_mut().and_then(Option::take) {
-                    Some(look) => look,
-                    None => worn.unwrap_or_else(|| self.default_look.clone()),
+                // The object's look so far, or the one it wraps, lies in the object's space
+                // (`placed`); the default one, not yet given, in the scene's.
+                let (mut look, in_object_space) = match self.looks.last_mut().and_then(Option::take)
+                {
+                    Some(look) => (look, true),
+                    None => match worn {
+                        Some(worn) => (worn, true),
+                        None => (self.default_look.clone(), false),
+                    },
                 };
                 let under = look.clone();
+                // The items apply where POV-Ray applies them: after the object's transforms
+                // written so far.
+                if let Some(placed) = self.placed(node).filter(|_| in_object_space) {
+                    look.push_transform(appearance.kind, matrix_of(placed));
+                }
                 let result = self.apply_appearance(appearance, &mut look);
+                self.lay_given(node, &mut look, appearance.kind);
                 let texture = appearance.kind == AppearanceKind::Texture;
                 let layered = match self.shapings.last_mut() {
                     Some(shaping) if texture => std::mem::replace(&mut shaping.textured, true),
@@ -604,8 +634,10 @@ impl Evaluator {
                 // or CSG object.
                 Value::Material(m) => node.material = Some(m),
                 Value::Look(look) => {
+                    let mut look = (*look).clone();
+                    self.lay_given(node, &mut look, AppearanceKind::Texture);
                     if let Some(slot) = self.looks.last_mut() {
-                        *slot = Some((*look).clone());
+                        *slot = Some(look);
                     }
                 }
                 Value::Object(child) if children(&mut node.shape).is_some() => {
@@ -708,6 +740,8 @@ pub struct Shaping {
     /// The look of the wrapped object (`object { T ... }`) that the wrapper's first texture,
     /// pigment, normal or finish modifies, until one does.
     worn: Option<Look>,
+    /// The space that look lies in, in the wrapper's (`worn_space`): the identity elsewhere.
+    pub(super) worn_space: Affine3A,
     /// Each `clipped_by`'s objects, with how many of the object's transforms stood before it:
     /// those move the object alone, the later ones the object and its clipping objects.
     clips: Vec<(usize, Vec<ObjectNode>)>,
