@@ -14,7 +14,6 @@ use super::{Body, Evaluator};
 use crate::diagnostic::{SceneError, Span};
 use crate::graph::{
     Covers, MaterialDesc, NormalNode, Pattern, PigmentDesc, PovFinish, TextureNode, Transform,
-    Warp, compose,
 };
 use crate::lang::syntax::{
     Appearance, AppearanceKind, Colour, Expr, ExprKind, Ident, Item, MapKind,
