@@ -118,7 +118,12 @@ impl Lobe {
     }
 
     /// A direction from the lobe: `u` draws it, `u_split` chooses between reflection and
-    /// refraction, or coat and base, where the lobe has both.
+    /// refraction, or coat and base, where the lobe has both. Every lobe's `sample` is always
+    /// inlined here, as is `Bsdf::sample_among`: with one arm out of line, its returned
+    /// `Option<LobeSample>` kept the result of every arm in memory, and the Lambertian lobe's
+    /// sample, stored field by field, was copied out by wider loads that wait for those stores
+    /// (store forwarding fails): inlined, S2 and S7 take 22 % less CPU time, S3–S5 4–14 %
+    /// (docs/benchmarks.md).
     #[inline(always)]
     pub fn sample(
         &self,
