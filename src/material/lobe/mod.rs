@@ -122,8 +122,8 @@ impl Lobe {
     /// inlined here, as is `Bsdf::sample_among`: with one arm out of line, its returned
     /// `Option<LobeSample>` kept the result of every arm in memory, and the Lambertian lobe's
     /// sample, stored field by field, was copied out by wider loads that wait for those stores
-    /// (store forwarding fails): inlined, S2 and S7 take 22 % less CPU time, S3–S5 4–14 %
-    /// (docs/benchmarks.md).
+    /// (store forwarding fails). Inlined, S2, S4, S5 and S7 took 4–22 % less CPU time in two
+    /// alternated runs, S3 from 14 % less to 2 % more (docs/benchmarks.md).
     #[inline(always)]
     pub fn sample(
         &self,
