@@ -355,7 +355,10 @@ impl Bsdf {
         })
     }
 
-    /// `sample` in the shading frame (`wi` too), over any number of lobes.
+    /// `sample` in the shading frame (`wi` too), over any number of lobes. Always inlined, as
+    /// the lobes' `sample`s are (`Lobe::sample`): out of line, the BSDF sample it returns kept
+    /// the lone lobe's in memory too.
+    #[inline(always)]
     fn sample_among(&self, wo: Vec3, u_lobe: f32, u: Vec2, mask: LobeFlags) -> Option<BsdfSample> {
         let choice = self.choice(wo, mask);
         let (index, u_split) = take(&choice, u_lobe)?;

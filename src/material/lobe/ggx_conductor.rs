@@ -51,7 +51,8 @@ impl GgxConductor {
 
     /// A microfacet normal visible from wo (Heitz 2018), and the reflection about it: f |cos|
     /// / pdf reduces to ks G1(wi).
-    #[inline]
+    // Always inlined into `Lobe::sample` (see there).
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<LobeSample> {
         let side = side_of(wo);
         let wo = on_side(wo, side);

@@ -101,7 +101,8 @@ impl GgxDielectric {
     /// A microfacet normal m visible from wo (Heitz 2018), then reflection or refraction about
     /// m with probability from their shares at m (`u_split`). The weight f |cos| / pdf reduces
     /// to k G1(wi) / p, k the share chosen at m and p the probability of choosing it.
-    #[inline]
+    // Always inlined into `Lobe::sample` (see there).
+    #[inline(always)]
     pub fn sample(
         &self,
         wo: Vec3,

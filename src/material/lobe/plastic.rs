@@ -103,7 +103,8 @@ impl Plastic {
     /// The coat (a microfacet normal visible from wo, Heitz 2018, and the reflection about it)
     /// or the base (cosine-weighted), chosen by `u_split`; the weight is f cos / pdf with the
     /// density of both parts, so that either part's sample counts the other's.
-    #[inline]
+    // Always inlined into `Lobe::sample` (see there).
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u_split: f32, u: Vec2) -> Option<LobeSample> {
         let side = side_of(wo);
         let wo = on_side(wo, side);
