@@ -68,8 +68,7 @@ pub fn emission_at(emission: Vec3, pattern: Option<&GlowPattern>, point: Vec3) -
         None => emission,
         Some(p) => {
             let q = p.to_object.transform_point3(point);
-            let through = p.through.eval(q).dot(Vec3::splat(1.0 / 3.0));
-            pov_glow(p.glow, p.colour.eval(q), through)
+            pov_glow(p.glow, p.colour.eval(q), p.through.grey(q))
         }
     }
 }

@@ -65,9 +65,8 @@ impl SurfaceTexture {
             material.diffuse = colour;
             return;
         };
-        let grey = |texture: &Texture| texture.eval(p).dot(Vec3::splat(1.0 / 3.0));
-        let filter = grey(&pigment.filter);
-        let through = grey(&pigment.through);
+        let filter = pigment.filter.grey(p);
+        let through = pigment.through.grey(p);
         material.share(pov_shares(&pigment.finish, colour, filter, through));
         material.emission = pov_glow(pigment.glow, colour, through);
     }

@@ -129,6 +129,13 @@ impl Texture {
         Ok(Texture { kind, to_pattern: compose(&node.transforms).inverse() })
     }
 
+    /// The mean of its three channels at `p`: one grey value, as a filter, a see-through part
+    /// or a mix's weight is read.
+    #[inline]
+    pub fn grey(&self, p: Vec3) -> f32 {
+        self.eval(p).dot(Vec3::splat(1.0 / 3.0))
+    }
+
     /// The texture's value at `p`, a point in the object's own space.
     pub fn eval(&self, p: Vec3) -> Vec3 {
         let q = self.to_pattern.transform_point3(p);
@@ -158,7 +165,7 @@ impl Texture {
             }
             Kind::Image { image, look, curve } => image.sample(q, look, curve),
             Kind::Mix { a, b, t } => {
-                let t = t.eval(q).dot(Vec3::splat(1.0 / 3.0)).clamp(0.0, 1.0);
+                let t = t.grey(q).clamp(0.0, 1.0);
                 a.eval(q) * (1.0 - t) + b.eval(q) * t
             }
             Kind::Field { shape, map } => {
