@@ -542,11 +542,26 @@ box { <-6, -1.2, 0>, <6, 1.2, 1> pigment { P onion translate <0.3, 0.4, 0> } }
 box { <-6, -3.8, 0>, <6, -1.4, 1> texture { T pigment { onion } } }
 "#;
 
+/// Its frequency, phase and wave stay too, unless the word has its own wave: marble's triangle
+/// wave and frequency on a gradient, and a gradient's phase on marble, which waves it its way.
+const NEW_WORD_MODIFIERS: &str = r#"
+camera { orthographic location <0, 0, -10> right 4*x up 3*y look_at <0, 0, 0> }
+background { rgb 0 }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+#declare P = pigment { marble color_map { [0.5 rgb <1, 0, 0>] [0.5 rgb <0, 1, 0>] } frequency 2
+                       scale 0.7 }
+#declare Q = pigment { gradient y color_map { [0.3 rgb <1, 0, 0>] [0.3 rgb <0, 0, 1>] } phase 0.2
+                       scale 0.5 }
+box { <-2, 0, 0>, <2, 1.5, 1> pigment { P gradient y } }
+box { <-2, -1.5, 0>, <2, 0, 1> pigment { Q marble } }
+"#;
+
 #[test]
 fn a_new_pattern_word_keeps_the_declared_pigment_s_map_warps_and_transforms() {
     let test = "a_new_pattern_word_keeps_the_declared_pigment_s_map_warps_and_transforms";
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(NEW_WORD, "a new pattern word");
+        agree_with_povray(NEW_WORD_MODIFIERS, "a new pattern word's modifiers");
     }
 }
 
