@@ -9,7 +9,7 @@
 //! and in CSG; sphere sweeps; points and triangles made by directives; shapes2.inc's `Pyramid2`;
 //! ovus, and lemons (which POV-Ray 3.7.0 lacks) against the CSG of a quartic that is the same
 //! solid; parametric surfaces; where an object's texture lies (only the transforms written after
-//! it move it).
+//! it move it), and what a new pattern word over a declared pigment keeps.
 
 use crate::common;
 
@@ -523,6 +523,45 @@ fn only_the_transforms_after_a_texture_move_it_as_povray_s_do() {
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(&format!("{CELLS}{LAID_ON_OBJECTS}"), "textures on objects");
         agree_with_povray(&format!("{CELLS}{LAID_ON_GROUPS}"), "textures on groups");
+    }
+}
+
+/// A new pattern word over a declared pigment changes only its pattern: its color_map, its
+/// warp and its transforms stay (onion rings in red and green, repeated every 1.2 along x),
+/// whether it is named in a pigment, moved after the word, or under a declared texture.
+const NEW_WORD: &str = r#"
+camera { orthographic location <0, 0, -10> right 8*x*image_width/image_height up 8*y
+         look_at <0, 0, 0> }
+background { rgb 0 }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+#declare P = pigment { gradient x color_map { [0.5 rgb <1, 0, 0>] [0.5 rgb <0, 1, 0>] }
+                       warp { repeat x*0.6 } scale 2 }
+#declare T = texture { pigment { P } }
+box { <-6, 1.4, 0>, <6, 3.8, 1> pigment { P onion } }
+box { <-6, -1.2, 0>, <6, 1.2, 1> pigment { P onion translate <0.3, 0.4, 0> } }
+box { <-6, -3.8, 0>, <6, -1.4, 1> texture { T pigment { onion } } }
+"#;
+
+/// Its frequency, phase and wave stay too, unless the word has its own wave: marble's triangle
+/// wave and frequency on a gradient, and a gradient's phase on marble, which waves it its way.
+const NEW_WORD_MODIFIERS: &str = r#"
+camera { orthographic location <0, 0, -10> right 4*x up 3*y look_at <0, 0, 0> }
+background { rgb 0 }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+#declare P = pigment { marble color_map { [0.5 rgb <1, 0, 0>] [0.5 rgb <0, 1, 0>] } frequency 2
+                       scale 0.7 }
+#declare Q = pigment { gradient y color_map { [0.3 rgb <1, 0, 0>] [0.3 rgb <0, 0, 1>] } phase 0.2
+                       scale 0.5 }
+box { <-2, 0, 0>, <2, 1.5, 1> pigment { P gradient y } }
+box { <-2, -1.5, 0>, <2, 0, 1> pigment { Q marble } }
+"#;
+
+#[test]
+fn a_new_pattern_word_keeps_the_declared_pigment_s_map_warps_and_transforms() {
+    let test = "a_new_pattern_word_keeps_the_declared_pigment_s_map_warps_and_transforms";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(NEW_WORD, "a new pattern word");
+        agree_with_povray(NEW_WORD_MODIFIERS, "a new pattern word's modifiers");
     }
 }
 

@@ -242,6 +242,15 @@ impl Evaluator {
         let Some((kind, arguments, at)) = state.pattern.word.clone() else {
             return Ok((state.pigment, None));
         };
+        // A new word over a pattern (`pigment { P_Declared granite }`) changes only its type, as
+        // in POV-Ray: its warps, transforms and modifiers stay (`field_shape`), and so does its
+        // map unless one is given or the word is a block pattern's, which has its own colours.
+        state.pattern.base = state.pigment.pattern_shape().cloned();
+        let new_map = state.pattern.color_map.is_some() || state.pattern.map.is_some();
+        if state.pattern.base.is_some() && !new_map && block_colours(kind).is_none() {
+            let shape = self.field_shape(kind, &arguments, &state.pattern, &at)?;
+            return Ok((state.pigment.reshaped(&shape), None));
+        }
         let (mut pigment, finish) = self.pattern_texture(kind, &arguments, &state.pattern, &at)?;
         pigment.set_transforms(transforms);
         Ok((pigment, finish))

@@ -1,10 +1,10 @@
 //! POV-Ray's `normal { PATTERN AMOUNT ... }` (both dialects): bump mapping, read into a
 //! `NormalNode` (`docs/language.md`, Bump mapping).
 
-use super::pattern::{PatternState, own_arguments};
+use super::pattern::{PatternState, block_colours, own_arguments};
 use super::{Body, Evaluator};
 use crate::diagnostic::SceneError;
-use crate::graph::{NormalNode, NormalPattern, Transform};
+use crate::graph::{FieldShape, NormalNode, NormalPattern, Transform};
 use crate::lang::syntax::{Appearance, Item, MapKind, PatternKind};
 use crate::lang::value::Value;
 use crate::texture::DEFAULT_ACCURACY;
@@ -26,6 +26,14 @@ impl NormalNode {
     /// No perturbation.
     pub fn flat() -> NormalNode {
         NormalNode { pattern: NormalPattern::Average(Vec::new()), transforms: Vec::new() }
+    }
+
+    /// The shape of its pattern, where it has one (bumps or a normal_map's).
+    fn shape(&self) -> Option<&FieldShape> {
+        match &self.pattern {
+            NormalPattern::Bumps { shape, .. } | NormalPattern::Map { shape, .. } => Some(shape),
+            NormalPattern::Average(_) | NormalPattern::Image { .. } => None,
+        }
     }
 }
 
@@ -72,11 +80,25 @@ impl Evaluator {
                 node
             }));
         };
+        // A new word over a declared normal's pattern changes only its type, as a pigment's
+        // does (`field_shape`): its amount, accuracy and map stay unless given (a block
+        // pattern's map is its own).
+        let base = state.base.filter(|base| base.shape().is_some());
+        state.pattern.base = base.as_ref().and_then(|base| base.shape().cloned());
+        let (kept_amount, kept_slopes, kept_accuracy, kept_map) = match base.map(|b| b.pattern) {
+            Some(NormalPattern::Bumps { amount, slopes, accuracy, .. }) => {
+                (Some(amount), slopes, Some(accuracy), None)
+            }
+            Some(NormalPattern::Map { map, .. }) => (None, Vec::new(), None, Some(map)),
+            _ => (None, Vec::new(), None, None),
+        };
+        let kept_map = kept_map.filter(|_| block_colours(kind).is_none());
         let amount = match (state.pattern.bump_size, arguments.get(own_arguments(kind))) {
             (Some(size), _) => size,
             (None, Some(a)) => self.single(&a.value)?,
-            (None, None) => DEFAULT_AMOUNT,
+            (None, None) => kept_amount.unwrap_or(DEFAULT_AMOUNT),
         };
+        let accuracy = state.pattern.accuracy.or(kept_accuracy).unwrap_or(DEFAULT_ACCURACY);
         let average = kind == PatternKind::Average;
         let map = match &state.pattern.map {
             Some((map_kind, entries, _)) => Some(self.map_entries(*map_kind, entries, average)?),
@@ -93,12 +115,9 @@ impl Evaluator {
                 let shape = Box::new(self.field_shape(kind, &arguments, &state.pattern, &at)?);
                 match map.kind {
                     MapKind::Normal => NormalPattern::Map { shape, map: map.normals },
-                    MapKind::Slope => NormalPattern::Bumps {
-                        shape,
-                        amount,
-                        slopes: map.slopes,
-                        accuracy: state.pattern.accuracy.unwrap_or(DEFAULT_ACCURACY),
-                    },
+                    MapKind::Slope => {
+                        NormalPattern::Bumps { shape, amount, slopes: map.slopes, accuracy }
+                    }
                     MapKind::Pigment | MapKind::Texture => {
                         return Err(SceneError::at(
                             &at,
@@ -112,11 +131,9 @@ impl Evaluator {
                     return Err(SceneError::at(&at, "a color_map stands in a pigment"));
                 }
                 let shape = Box::new(self.field_shape(kind, &arguments, &state.pattern, &at)?);
-                NormalPattern::Bumps {
-                    shape,
-                    amount,
-                    slopes: Vec::new(),
-                    accuracy: state.pattern.accuracy.unwrap_or(DEFAULT_ACCURACY),
+                match kept_map {
+                    Some(map) => NormalPattern::Map { shape, map },
+                    None => NormalPattern::Bumps { shape, amount, slopes: kept_slopes, accuracy },
                 }
             }
         };
@@ -129,7 +146,16 @@ impl Evaluator {
         state: &mut NormalState,
     ) -> Result<(), SceneError> {
         if let Item::Pattern { .. } = item {
-            state.transforms.clear();
+            // A new word over a declared normal's pattern keeps its transforms, as POV-Ray's
+            // does (`normal_of`); over a bump_map or nothing, the ones written so far go.
+            match state.base.as_mut().filter(|base| base.shape().is_some()) {
+                Some(base) => {
+                    let written = std::mem::take(&mut state.transforms);
+                    state.transforms = std::mem::take(&mut base.transforms);
+                    state.transforms.extend(written);
+                }
+                None => state.transforms.clear(),
+            }
             state.image = None;
         }
         let warp = matches!(item, Item::PovParam { key, .. } if key.name == "warp");

@@ -76,6 +76,10 @@ pub struct PatternState {
     pub color_map: Option<Vec<Stop>>,
     /// A pigment, normal, texture or slope map: its kind, entries (read by the caller) and span.
     pub map: Option<(MapKind, Vec<Item>, Span)>,
+    /// The pattern a new word replaces (`pigment { P_Declared granite }`, `normal { N dents }`):
+    /// POV-Ray's word changes only the pattern's type, so what the new one is not given is this
+    /// one's (`field_shape`).
+    pub base: Option<FieldShape>,
 }
 
 impl PatternState {
@@ -757,19 +761,27 @@ impl Evaluator {
                 ));
             }
         };
-        let turbulence = state.turbulence.map(|amount| Turbulence {
+        // Over a base (POV-Ray 3.7's Parse_Pattern sets the new type and keeps the rest): its
+        // warps and transforms first, its turbulence, frequency and phase unless given, and its
+        // wave unless given or the word has its own (marble's and wood's triangle).
+        let base = state.base.as_ref();
+        let kept = base.and_then(|b| b.turbulence);
+        let turbulence = state.turbulence.or(kept.map(|t| t.amount)).map(|amount| Turbulence {
             amount,
-            octaves: state.octaves.unwrap_or(6),
-            omega: state.omega.unwrap_or(0.5),
-            lambda: state.lambda.unwrap_or(2.0),
+            octaves: state.octaves.or(kept.map(|t| t.octaves)).unwrap_or(6),
+            omega: state.omega.or(kept.map(|t| t.omega)).unwrap_or(0.5),
+            lambda: state.lambda.or(kept.map(|t| t.lambda)).unwrap_or(2.0),
         });
+        let own_wave = default_wave(&field);
+        let kept_wave = base.map(|b| b.wave).filter(|_| own_wave == Wave::Ramp);
+        let kept_warps = base.map_or(&[][..], |b| &b.warps[..]);
         Ok(FieldShape {
-            wave: state.wave.unwrap_or(default_wave(&field)),
+            wave: state.wave.or(kept_wave).unwrap_or(own_wave),
             field,
             turbulence,
-            warps: state.warps.clone(),
-            frequency: state.frequency.unwrap_or(1.0),
-            phase: state.phase.unwrap_or(0.0),
+            warps: kept_warps.iter().chain(&state.warps).copied().collect(),
+            frequency: state.frequency.or(base.map(|b| b.frequency)).unwrap_or(1.0),
+            phase: state.phase.or(base.map(|b| b.phase)).unwrap_or(0.0),
         })
     }
 }

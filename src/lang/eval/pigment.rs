@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::graph::{Pattern, TextureMap, TextureNode, Transform, Warp};
+use crate::graph::{FieldShape, Pattern, TextureMap, TextureNode, Transform, Warp};
 
 /// A pigment: three textures of one pattern and transforms: the colour, the filter and
 /// filter + transmit (grey). Kept as filter and filter + transmit so that layering and the
@@ -135,6 +135,26 @@ impl Pigment {
             pigment.set_transforms(transforms);
         }
         Some(pigment)
+    }
+
+    /// The shape of this pigment's pattern where it is a pattern through a map, not warped
+    /// after it is made (a `pigment { P_Declared warp { } }`).
+    pub fn pattern_shape(&self) -> Option<&FieldShape> {
+        match &self.colour.pattern {
+            Pattern::Field { shape, .. } => Some(shape),
+            _ => None,
+        }
+    }
+
+    /// This pattern through a map with its shape replaced (a new pattern word over it), its map
+    /// and transforms kept.
+    pub fn reshaped(mut self, shape: &FieldShape) -> Pigment {
+        for node in [&mut self.colour, &mut self.filter, &mut self.through] {
+            if let Pattern::Field { shape: own, .. } = &mut node.pattern {
+                **own = shape.clone();
+            }
+        }
+        self
     }
 
     /// This pigment over `under` (POV-Ray's layered textures): where this one lets light
