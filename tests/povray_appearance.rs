@@ -103,6 +103,29 @@ fn only_an_object_that_does_not_diffuse_glows_with_its_ambient() {
 }
 
 #[test]
+fn a_glow_by_ambient_is_multiplied_by_ambient_light_and_emission_is_not() {
+    // POV-Ray 3.7's manual (3.4.1.2): Ambient = Finish_Ambient × Global_Ambient.
+    let m = material(
+        "global_settings { assumed_gamma 1 ambient_light <1, 0.5, 0.25> }\n\
+         sphere { 0, 1 pigment { rgb <0.2, 0.4, 0.6> } \
+         finish { ambient 0.8 emission 0.1 diffuse 0 } }",
+    );
+    let glow = (0.8 * Vec3::new(1.0, 0.5, 0.25) + Vec3::splat(0.1)) * Vec3::new(0.2, 0.4, 0.6);
+    assert!(close(m.emission, glow), "{} against {glow}", m.emission);
+    // Only the block's other settings are warned about.
+    assert_eq!(pov("global_settings { ambient_light 0.5 }").warnings, Vec::<String>::new());
+    let late = "sphere { 0, 1 pigment { rgb 1 } finish { ambient 1 diffuse 0 } }\n\
+                global_settings { ambient_light 0.5 }";
+    let error = parse_scene(Path::new("tests/inline.pov"), late).map(|_| ()).unwrap_err();
+    let error = error.to_string();
+    assert!(error.starts_with("tests/inline.pov:2:33:"), "{error}");
+    assert!(error.contains("glows by its `ambient` (tests/inline.pov:1:1)"), "{error}");
+    // After a surface whose ambient is not light, or with the light unchanged, it is read.
+    pov("sphere { 0, 1 finish { ambient 1 } }\nglobal_settings { ambient_light 0.5 }");
+    pov("sphere { 0, 1 finish { ambient 1 diffuse 0 } }\nglobal_settings { ambient_light 1 }");
+}
+
+#[test]
 fn metallic_reflection_is_tinted_and_a_reflection_range_keeps_its_largest() {
     let m = material(
         "sphere { 0, 1 pigment { rgb <1, 0.5, 0> } finish { diffuse 0 reflection 0.8 metallic } }",

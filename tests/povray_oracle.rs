@@ -953,6 +953,25 @@ fn glows_fade_by_their_pigment_s_transparency_as_povray_s_do() {
     }
 }
 
+/// `ambient_light` multiplies a glow by `ambient` and not one by `emission`, as POV-Ray's
+/// does: the left disc glows (1, 0.1, 0), red, and the right one cyan (unmultiplied, the left
+/// would be yellow).
+const AMBIENT_LIGHT: &str = r#"
+camera { location <0, 0, -3.2> right x*image_width/image_height look_at <0, 0, 0> }
+global_settings { max_trace_level 5 ambient_light rgb <1, 0.1, 1> }
+background { rgb 0 }
+disc { <-1.2, 0, 0.25>, -z, 1 pigment { rgb <1, 1, 0> } finish { ambient 1 diffuse 0 } }
+disc { <1.2, 0, 0.25>, -z, 1 pigment { rgb <0, 1, 1> } finish { emission 1 ambient 0 diffuse 0 } }
+"#;
+
+#[test]
+fn ambient_light_multiplies_an_ambient_glow_as_povray_s_does() {
+    let test = "ambient_light_multiplies_an_ambient_glow_as_povray_s_does";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(AMBIENT_LIGHT, "ambient_light");
+    }
+}
+
 /// POV-Ray's parametric surfaces, cheap enough for the debug build (a ray's search of the (u, v)
 /// pieces is most of the cost): a saddle, part of a cylinder mirrored and turned, and a paraboloid
 /// cap needing a `max_gradient` above 1, each with a coarse `accuracy` (POV-Ray's hits depend on

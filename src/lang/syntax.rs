@@ -58,7 +58,15 @@ pub enum Item {
     },
     /// POV-Ray's `#fopen`, `#read`, `#write` or `#fclose` (`.pov`).
     File(FileDirective),
-    /// POV-Ray's `#version` or `global_settings`: accepted, with a warning.
+    /// POV-Ray's `global_settings`: its `ambient_light` (the last one written), and whether
+    /// anything else stands in it (accepted, with a warning).
+    GlobalSettings {
+        ambient_light: Option<Colour>,
+        others: bool,
+        span: Span,
+    },
+    /// POV-Ray's `#version`, a lone `#`, a light's media flag or `photons { }`: accepted, with
+    /// a warning.
     Ignored {
         what: Ignored,
         span: Span,
@@ -374,9 +382,9 @@ impl Item {
                 FileAction::Write(_) => "`#write`",
                 FileAction::Close => "`#fclose`",
             },
+            Item::GlobalSettings { .. } => "`global_settings`",
             Item::Ignored { what: Ignored::Version, .. } => "`#version`",
             Item::Ignored { what: Ignored::StrayHash, .. } => "a lone `#`",
-            Item::Ignored { what: Ignored::GlobalSettings, .. } => "`global_settings`",
             Item::Ignored { what: Ignored::LightMedia, .. } => "a light's media flag",
             Item::Ignored { what: Ignored::Photons, .. } => "`photons { }`",
             Item::Call(_) => "a macro call",
@@ -434,6 +442,7 @@ impl Item {
             | Item::Message { span, .. }
             | Item::File(FileDirective { span, .. })
             | Item::Ignored { span, .. }
+            | Item::GlobalSettings { span, .. }
             | Item::Settings { span, .. }
             | Item::Camera { span, .. }
             | Item::CameraProjection { span, .. }
@@ -473,7 +482,6 @@ pub enum Ignored {
     Version,
     /// A `#` with no directive's word after it.
     StrayHash,
-    GlobalSettings,
     /// A light's `media_interaction` or `media_attenuation`.
     LightMedia,
     /// The `photons { }` block of a light or an object.
@@ -490,11 +498,6 @@ impl Ignored {
             Ignored::StrayHash => {
                 "this `#` begins no directive (no word follows it): it is read as nothing, as \
                  POV-Ray reads it"
-            }
-            Ignored::GlobalSettings => {
-                "POV-Ray's `global_settings` has no effect here: raydiance's settings are \
-                 `settings { resolution ..., samples ..., integrator ..., max_depth ..., seed ..., \
-                 background ... }`"
             }
             Ignored::LightMedia => {
                 "POV-Ray's `media_interaction` and `media_attenuation` have no effect here: a \

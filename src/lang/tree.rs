@@ -442,7 +442,20 @@ impl Builder {
                 self.pov_only(&pair, None)?;
                 Item::Ignored { what: Ignored::StrayHash, span }
             }
-            Rule::global_settings => Item::Ignored { what: Ignored::GlobalSettings, span },
+            Rule::global_settings => {
+                let (mut ambient_light, mut others) = (None, false);
+                for part in pair.into_inner().skip(1) {
+                    match part.as_rule() {
+                        Rule::ambient_light => {
+                            ambient_light =
+                                Some(self.colour(part.into_inner().nth(1).expect("a colour"))?)
+                        }
+                        Rule::global_other => others = true,
+                        rule => unreachable!("no `{rule:?}` in global_settings"),
+                    }
+                }
+                Item::GlobalSettings { ambient_light, others, span }
+            }
             Rule::media_flag => {
                 self.pov_only(&inner_pair(&pair), Some("light_source"))?;
                 Item::Ignored { what: Ignored::LightMedia, span }

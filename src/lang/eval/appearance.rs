@@ -454,6 +454,28 @@ impl Evaluator {
         Ok(())
     }
 
+    /// `global_settings { ambient_light C }`: POV-Ray's glow by `ambient` is ambient × C
+    /// (its manual, 3.4.1.2: Ambient = Finish_Ambient × Global_Ambient; `emission` is not
+    /// multiplied). A glow is made with the light known then, so a different one written after
+    /// a surface that glows by its `ambient` is refused, naming that surface.
+    pub(super) fn set_ambient_light(&mut self, colour: &Colour) -> Result<(), SceneError> {
+        let light = self.pov_colour(colour)?.0;
+        if let Some(glow) = self.ambient_glow_at.as_ref()
+            && light != self.ambient_light.unwrap_or(Vec3::ONE)
+        {
+            return Err(SceneError::at(
+                &self.here(&colour.span),
+                format!(
+                    "`ambient_light` comes after a surface that glows by its `ambient` ({glow:?}), \
+                     which it would change: POV-Ray's applies to the whole scene, so write \
+                     `global_settings` before that surface"
+                ),
+            ));
+        }
+        self.ambient_light = Some(light);
+        Ok(())
+    }
+
     /// A POV-Ray colour: its red, green and blue, filter and transmit.
     pub(super) fn pov_colour(&mut self, colour: &Colour) -> Result<(Vec3, f32, f32), SceneError> {
         let value = self.value(&colour.value)?;
@@ -490,7 +512,7 @@ impl Evaluator {
     /// pigment's filter and transmit the transmission through the interior's `ior`; how they
     /// share the light is `material::pov_shares`'s, made here for a plain pigment and at each
     /// point of a patterned one. `ambient` is light only where `diffuse` is 0 (the object only
-    /// glows); `emission` always is.
+    /// glows), times `global_settings`' `ambient_light`; `emission` always is.
     pub(super) fn look_material(&mut self, look: &Look, span: &Span) -> Arc<MaterialDesc> {
         let Look { pigment, finish, normal, interior, finish_flattened_at } = look;
         if let Some(at) = finish_flattened_at.as_ref().filter(|_| !self.warned_layer_finish) {
@@ -522,8 +544,11 @@ impl Evaluator {
             Pattern::Solid(c) => Some(c),
             _ => None,
         };
-        let glow =
-            finish.emission + if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
+        let ambient_glow = if finish.diffuse == 0.0 { finish.ambient } else { Vec3::ZERO };
+        if ambient_glow != Vec3::ZERO && self.ambient_glow_at.is_none() {
+            self.ambient_glow_at = Some(self.here(span));
+        }
+        let glow = finish.emission + ambient_glow * self.ambient_light.unwrap_or(Vec3::ONE);
         let (diffuse, shares, see_through) =
             match (plain(&pigment.colour), plain(&pigment.filter), plain(&pigment.through)) {
                 (Some(c), Some(filter), Some(through)) => {

@@ -210,6 +210,12 @@ pub struct Evaluator {
     warned_layer_finish: bool,
     /// `.pov`: whether the warning that a surface's negative colour is clamped has been given.
     warned_negative_colour: bool,
+    /// `.pov`: `global_settings { ambient_light }`, by which a glow's `ambient` is multiplied
+    /// (`None`: POV-Ray's default, white).
+    ambient_light: Option<Vec3>,
+    /// `.pov`: where the first surface that glows by its `ambient` was made (an `ambient_light`
+    /// after it would change what it already is).
+    ambient_glow_at: Option<Span>,
     /// `.pov`: the files opened by `#fopen`.
     files: file_io::Files,
     /// `.pov`: the objects `min_extent`, `max_extent`, `trace` and `inside` have asked about.
@@ -478,6 +484,20 @@ impl Evaluator {
                 Ok(())
             }
             Item::File(directive) => self.file_directive(directive),
+            Item::GlobalSettings { ambient_light, others, span } => {
+                if let Some(colour) = ambient_light {
+                    self.set_ambient_light(colour)?;
+                }
+                if *others {
+                    self.warnings.push(format!(
+                        "{:?}: warning: POV-Ray's `global_settings` has no effect here apart from \
+                         its `ambient_light`: raydiance's settings are `settings {{ resolution ..., \
+                         samples ..., integrator ..., max_depth ..., seed ..., background ... }}`",
+                        self.here(span)
+                    ));
+                }
+                Ok(())
+            }
             Item::Ignored { what, span } => {
                 self.warnings.push(format!("{:?}: warning: {}", self.here(span), what.warning()));
                 Ok(())
