@@ -9,7 +9,7 @@
 //! and in CSG; sphere sweeps; points and triangles made by directives; shapes2.inc's `Pyramid2`;
 //! ovus, and lemons (which POV-Ray 3.7.0 lacks) against the CSG of a quartic that is the same
 //! solid; parametric surfaces; where an object's texture lies (only the transforms written after
-//! it move it), and what a new pattern word over a declared pigment keeps.
+//! it move it), what a new pattern word over a declared pigment keeps, and the spirals.
 
 use crate::common;
 
@@ -562,6 +562,29 @@ fn a_new_pattern_word_keeps_the_declared_pigment_s_map_warps_and_transforms() {
     if common::outside_tool("povray", "povray", test) {
         agree_with_povray(NEW_WORD, "a new pattern word");
         agree_with_povray(NEW_WORD_MODIFIERS, "a new pattern word's modifiers");
+    }
+}
+
+/// The spirals as POV-Ray's: `spiral1` (its own triangle wave, and a ramp), `spiral2` (the
+/// rings' and the spiral's triangle waves summed), each split by its map at one value.
+const SPIRALS: &str = r#"
+camera { orthographic location <0, 0, -10> right 4*x up 3*y look_at <0, 0, 0> }
+background { rgb 0 }
+#default { finish { emission 1 ambient 0 diffuse 0 } }
+#declare Split = color_map { [0.45 rgb <1, 0, 0>] [0.45 rgb <0, 1, 0>] }
+box { <-2, 0, 0>, <0, 1.5, 1> pigment { spiral1 3 color_map { Split } translate <-1, 0.75, 0.3> } }
+box { <0, 0, 0>, <2, 1.5, 1>
+  pigment { spiral1 2 ramp_wave color_map { Split } translate <1, 0.75, 0> } }
+box { <-2, -1.5, 0>, <0, 0, 1>
+  pigment { spiral2 3 color_map { Split } scale 1.5 translate <-1, -0.75, 0.2> } }
+box { <0, -1.5, 0>, <2, 0, 1> pigment { spiral2 5 color_map { Split } translate <1, -0.75, 0> } }
+"#;
+
+#[test]
+fn spirals_match_povray_away_from_edges() {
+    let test = "spirals_match_povray_away_from_edges";
+    if common::outside_tool("povray", "povray", test) {
+        agree_with_povray(SPIRALS, "spirals");
     }
 }
 

@@ -2,7 +2,7 @@
 //! [0, 1] at a point of pattern space, then shaped by `frequency`, `phase` and the wave. Same
 //! scale, contrast and orientation as POV-Ray's, not its noise bit for bit.
 
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::LazyLock;
 
 use glam::{IVec3, Vec2, Vec3};
@@ -49,10 +49,13 @@ pub fn shaped_value(shape: &FieldShape, p: Vec3) -> f32 {
     }
 }
 
-/// The wave type a pattern takes unless told (POV-Ray's: triangle for marble and wood).
+/// The wave type a pattern takes unless told (POV-Ray's: triangle for marble, wood and the
+/// spirals).
 pub fn default_wave(field: &Field) -> Wave {
     match field {
-        Field::Marble | Field::Wood => Wave::Triangle,
+        Field::Marble | Field::Wood | Field::Spiral1 { .. } | Field::Spiral2 { .. } => {
+            Wave::Triangle
+        }
         Field::Agate { .. }
         | Field::Bozo
         | Field::Brick { .. }
@@ -75,8 +78,6 @@ pub fn default_wave(field: &Field) -> Wave {
         | Field::Quilted { .. }
         | Field::Radial
         | Field::Ripples
-        | Field::Spiral1 { .. }
-        | Field::Spiral2 { .. }
         | Field::Spotted
         | Field::Waves
         | Field::Wrinkles => Wave::Ramp,
@@ -168,10 +169,10 @@ fn raw(field: &Field, q: Vec3, shape: &FieldShape) -> f32 {
         Field::Ripples | Field::Waves => sources(field, q, shape.frequency, shape.phase),
         Field::Spiral1 { arms } => spiral(q, *arms, amount.x * octaves(turbulence).scalar(q)),
         Field::Spiral2 { arms } => {
-            let turb = amount.x * octaves(turbulence).scalar(q);
-            let a = spiral(q, *arms, turb).rem_euclid(1.0);
-            let b = spiral(q, -*arms, turb).rem_euclid(1.0);
-            0.5 * ((1.0 - (2.0 * a - 1.0).abs()) + (1.0 - (2.0 * b - 1.0).abs()))
+            // POV-Ray's: the spiral's triangle wave over the rings' (measured with `povray`).
+            let turbulence = amount.x * octaves(turbulence).scalar(q);
+            let triangle = |v| wave(Wave::Triangle, 1.0, 0.0, v);
+            triangle(Vec2::new(q.x, q.y).length()) + triangle(spiral(q, *arms, turbulence))
         }
         Field::Wood => {
             let d = amount * octaves(turbulence).vector(q);
@@ -190,10 +191,12 @@ fn raw(field: &Field, q: Vec3, shape: &FieldShape) -> f32 {
     }
 }
 
-/// z plus `arms` turns per turn about z (plus turbulence).
+/// POV-Ray's spiral about z: z plus the distance from the axis plus `arms` times the part of a
+/// turn from −y (plus turbulence), so that each arm rises one unit a turn and one a unit out.
 fn spiral(q: Vec3, arms: f32, turbulence: f32) -> f32 {
-    let turn = if q.x == 0.0 && q.y == 0.0 { 0.0 } else { q.y.atan2(q.x) / TAU };
-    q.z + arms * turn + turbulence
+    let radius = Vec2::new(q.x, q.y).length();
+    let turn = if radius == 0.0 { 0.0 } else { (q.y.atan2(q.x) + FRAC_PI_2).rem_euclid(TAU) / TAU };
+    q.z + radius + arms * turn + turbulence
 }
 
 /// POV-Ray's brick: 1 in a brick, 0 in the mortar.
