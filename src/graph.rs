@@ -410,9 +410,7 @@ impl TextureNode {
                 Pattern::Field { shape: shape.clone(), map: textures(map) }
             }
             Pattern::Average(map) => Pattern::Average(textures(map)),
-            Pattern::Warped { warp, node: n } => {
-                Pattern::Warped { warp: warp.clone(), node: node(n) }
-            }
+            Pattern::Warped { warp, node: n } => Pattern::Warped { warp: *warp, node: node(n) },
         };
         TextureNode { pattern, transforms: self.transforms.clone() }
     }
