@@ -380,6 +380,41 @@ impl TextureNode {
             .fold((1, 1), |(size, depth), (s, d)| (size + s, depth.max(d + 1)))
     }
 
+    /// The texture with each colour c made c^gamma: colours encoded with that gamma, decoded to
+    /// linear light (POV-Ray's `assumed_gamma`). A mix's weights are not colours, and an image
+    /// is decoded by its own gamma, so both stay.
+    pub fn gamma_decoded(&self, gamma: f32) -> TextureNode {
+        let node = |n: &TextureNode| Box::new(n.gamma_decoded(gamma));
+        let colours = |m: &ColorMap| m.iter().map(|(at, c)| (*at, c.powf(gamma))).collect();
+        let textures =
+            |m: &TextureMap| m.iter().map(|(at, n)| (*at, n.gamma_decoded(gamma))).collect();
+        let pattern = match &self.pattern {
+            Pattern::Solid(c) => Pattern::Solid(c.powf(gamma)),
+            Pattern::Checker(a, b) => Pattern::Checker(node(a), node(b)),
+            Pattern::Stripes { a, b, axis } => {
+                Pattern::Stripes { a: node(a), b: node(b), axis: *axis }
+            }
+            Pattern::Gradient { axis, map } => Pattern::Gradient { axis: *axis, map: colours(map) },
+            Pattern::Noise { octaves, map } => {
+                Pattern::Noise { octaves: *octaves, map: colours(map) }
+            }
+            Pattern::Marble { turbulence, octaves, map } => {
+                Pattern::Marble { turbulence: *turbulence, octaves: *octaves, map: colours(map) }
+            }
+            Pattern::Wood { turbulence, octaves, map } => {
+                Pattern::Wood { turbulence: *turbulence, octaves: *octaves, map: colours(map) }
+            }
+            Pattern::Image { .. } => self.pattern.clone(),
+            Pattern::Mix { a, b, t } => Pattern::Mix { a: node(a), b: node(b), t: t.clone() },
+            Pattern::Field { shape, map } => {
+                Pattern::Field { shape: shape.clone(), map: textures(map) }
+            }
+            Pattern::Average(map) => Pattern::Average(textures(map)),
+            Pattern::Warped { warp, node: n } => Pattern::Warped { warp: *warp, node: node(n) },
+        };
+        TextureNode { pattern, transforms: self.transforms.clone() }
+    }
+
     /// The largest value in any channel the texture can take (for the energy check).
     pub fn max_value(&self) -> Vec3 {
         match &self.pattern {

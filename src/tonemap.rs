@@ -252,7 +252,7 @@ fn aces(x: Vec3) -> Vec3 {
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) from linear to encoded values.
-fn srgb_transfer(c: f32) -> f32 {
+pub fn srgb_transfer(c: f32) -> f32 {
     if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 

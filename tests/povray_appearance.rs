@@ -23,9 +23,13 @@ fn material(text: &str) -> MaterialDesc {
 }
 
 fn solid(m: &MaterialDesc) -> Vec3 {
-    match m.diffuse.pattern {
-        Pattern::Solid(c) => c,
-        ref other => panic!("not a solid colour: {other:?}"),
+    solid_node(&m.diffuse.pattern)
+}
+
+fn solid_node(pattern: &Pattern) -> Vec3 {
+    match pattern {
+        Pattern::Solid(c) => *c,
+        other => panic!("not a solid colour: {other:?}"),
     }
 }
 
@@ -123,6 +127,60 @@ fn a_glow_by_ambient_is_multiplied_by_ambient_light_and_emission_is_not() {
     // After a surface whose ambient is not light, or with the light unchanged, it is read.
     pov("sphere { 0, 1 finish { ambient 1 } }\nglobal_settings { ambient_light 0.5 }");
     pov("sphere { 0, 1 finish { ambient 1 diffuse 0 } }\nglobal_settings { ambient_light 1 }");
+}
+
+#[test]
+fn assumed_gamma_makes_surface_and_light_colours_c_to_the_gamma_in_linear_light() {
+    // POV-Ray 3.7 takes colours as encoded with `assumed_gamma` G: a colour c is c^G of linear
+    // light, whether declared before `global_settings` (colors.inc is) or after it.
+    let g: f32 = 2.2;
+    let decoded = |c: Vec3| c.powf(g);
+    let scene = |items: &str| {
+        pov(&format!(
+            "#declare C = rgb <0.2, 0.8, 0.1>;\n\
+             global_settings {{ assumed_gamma {g} }}\n\
+             light_source {{ <0, 5, 0> color rgb <0.5, 1, 0.25> }}\n\
+             sphere {{ 0, 1 {items} finish {{ ambient 1 diffuse 0 }} }}"
+        ))
+    };
+    let flat = scene("pigment { C }");
+    let c = Vec3::new(0.2, 0.8, 0.1);
+    let glow = flat.objects[0].material.as_ref().expect("a material").emission;
+    assert!(close(glow, decoded(c)), "{glow} against {}", decoded(c));
+    // The light's power is its colour times π d² (Lights): its colour's proportions decoded.
+    let power = flat.lights[0].power;
+    let shades = power / power.y;
+    assert!(close(shades, decoded(Vec3::new(0.5, 1.0, 0.25))), "{power}");
+    // A pattern's map: each entry's colour, decoded.
+    let mapped = scene("pigment { gradient x color_map { [0 rgb 0.5] [1 C] } }");
+    let m = mapped.objects[0].material.as_ref().expect("a material");
+    let Pattern::Field { map, .. } = &m.diffuse.pattern else { panic!("{:?}", m.diffuse) };
+    let entries: Vec<Vec3> = map.iter().map(|(_, node)| solid_node(&node.pattern)).collect();
+    assert_eq!(entries.len(), 2, "{entries:?}");
+    assert!(close(entries[0], decoded(Vec3::splat(0.5))), "{entries:?}");
+    assert!(close(entries[1], decoded(c)), "{entries:?}");
+    // A gamma of 1, or none, leaves colours as written.
+    let linear =
+        material("global_settings { assumed_gamma 1 }\nsphere { 0, 1 pigment { rgb 0.5 } }");
+    assert!(close(solid(&linear), Vec3::splat(0.6 * 0.5)));
+}
+
+#[test]
+fn assumed_gamma_after_a_surface_or_light_it_would_change_is_refused_by_place() {
+    let refused = |text: &str| {
+        parse_scene(Path::new("tests/inline.pov"), text).map(|_| ()).unwrap_err().to_string()
+    };
+    let error = refused("sphere { 0, 1 pigment { rgb 1 } }\nglobal_settings { assumed_gamma 2.2 }");
+    assert!(error.starts_with("tests/inline.pov:2:33:"), "{error}");
+    assert!(error.contains("takes a colour (tests/inline.pov:1:1)"), "{error}");
+    let error = refused("light_source { 0, rgb 1 }\nglobal_settings { assumed_gamma 1.5 }");
+    assert!(error.contains("takes a colour (tests/inline.pov:1:1)"), "{error}");
+    let error = refused("global_settings { assumed_gamma 0 }");
+    assert!(error.contains("must be positive"), "{error}");
+    // The same gamma again changes nothing, and is read.
+    pov("global_settings { assumed_gamma 2.2 }\nsphere { 0, 1 pigment { rgb 1 } }\n\
+         global_settings { assumed_gamma 2.2 }");
+    assert_eq!(pov("global_settings { assumed_gamma 2.2 }").warnings, Vec::<String>::new());
 }
 
 #[test]

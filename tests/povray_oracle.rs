@@ -13,6 +13,8 @@
 
 use crate::common;
 
+use glam::Vec3;
+use raydiance::tonemap::srgb_transfer;
 use std::path::Path;
 use std::process::Command;
 
@@ -995,6 +997,36 @@ fn ambient_light_multiplies_an_ambient_glow_as_povray_s_does() {
     }
 }
 
+/// `assumed_gamma G`: POV-Ray 3.7 takes the scene's colours as encoded with gamma G and writes
+/// what it computes re-encoded for the file (sRGB), so a flat colour c shows as linear c^G does:
+/// `rgb 0.5` as 128 under 2.2 (raydiance's linear 0.5 would show as 188). Flat glows of a few
+/// colours, plain and in a checker, by `ambient` and by `emission`.
+fn gamma_glows(gamma: f32) -> String {
+    format!(
+        "global_settings {{ assumed_gamma {gamma} }}
+camera {{ location <0, 0, -3.2> right x*image_width/image_height look_at <0, 0, 0> }}
+#default {{ finish {{ ambient 1 diffuse 0 }} }}
+background {{ rgb 0 }}
+box {{ <-2.4, 0.1, 0.25>, <-0.9, 1.6, 0.25> pigment {{ rgb 0.5 }} }}
+box {{ <-0.75, 0.1, 0.25>, <0.75, 1.6, 0.25> pigment {{ rgb <0.2, 0.8, 0.1> }} }}
+box {{ <0.9, 0.1, 0.25>, <2.4, 1.6, 0.25> pigment {{ rgb 0.25 }}
+  finish {{ emission 1 ambient 0 diffuse 0 }} }}
+box {{ <-2.4, -1.9, 0.25>, <2.4, -0.1, 0.25>
+  pigment {{ checker rgb <0.9, 0.4, 0.6> rgb <0.05, 0.3, 0.7> scale 0.6 }} }}
+"
+    )
+}
+
+#[test]
+fn assumed_gamma_makes_flat_colours_show_as_povray_s_values() {
+    let test = "assumed_gamma_makes_flat_colours_show_as_povray_s_values";
+    if common::outside_tool("povray", "povray", test) {
+        for gamma in [2.2, 1.5] {
+            values_agree_with_povray(&gamma_glows(gamma), &format!("assumed_gamma {gamma}"), 3.0);
+        }
+    }
+}
+
 /// POV-Ray's parametric surfaces, cheap enough for the debug build (a ray's search of the (u, v)
 /// pieces is most of the cost): a saddle, part of a cylinder mirrored and turned, and a paraboloid
 /// cap needing a `max_gradient` above 1, each with a coarse `accuracy` (POV-Ray's hits depend on
@@ -1046,6 +1078,62 @@ fn compare_with_povray(
     files: &[(&str, Vec<u8>)],
     render: Render,
 ) {
+    let (theirs, ours, _) = render_both(text, theirs_text, files, render);
+    let (a, b) = (classes(&theirs), classes(&ours));
+    let wrong: Vec<usize> = (0..a.len())
+        .filter(|&k| a[k] != b[k] && !on_edge(k, render, 1, |j| a[j] != a[k]))
+        .collect();
+    assert!(wrong.is_empty(), "{name}: pixels {wrong:?} differ from POV-Ray's");
+    let lit = a.iter().filter(|c| c.iter().any(|&l| l)).count();
+    assert!(lit > a.len() / 4, "{name}: the scene is in view ({lit} pixels lit)");
+}
+
+/// Renders `text` with POV-Ray and with raydiance and compares each pixel's values, raydiance's
+/// linear light sRGB-encoded as POV-Ray's output is by default: they must agree within `levels`
+/// of 255 away from edges (within two pixels of where POV-Ray's own values differ by more: a
+/// pixel of raydiance's takes samples a little beyond its square).
+fn values_agree_with_povray(text: &str, name: &str, levels: f32) {
+    let render = Render { samples: 4, ..USUAL };
+    let (theirs, ours, max) = render_both(text, text, &[], render);
+    let ours: Vec<f32> = ours.iter().map(|c| srgb_transfer(c * max)).collect();
+    let pixel = |image: &[f32], k: usize| Vec3::from_slice(&image[3 * k..3 * k + 3]) * 255.0;
+    let apart = |a: Vec3, b: Vec3| (a - b).abs().max_element() > levels;
+    let wrong: Vec<(usize, Vec3, Vec3)> = (0..render.width * render.height)
+        .filter(|&k| !on_edge(k, render, 2, |j| apart(pixel(&theirs, j), pixel(&theirs, k))))
+        .map(|k| (k, pixel(&theirs, k), pixel(&ours, k)))
+        .filter(|&(_, a, b)| apart(a, b))
+        .collect();
+    let first = &wrong[..wrong.len().min(5)];
+    assert!(
+        wrong.is_empty(),
+        "{name}: {} pixels differ, first (index, POV-Ray's, ours) {first:?}",
+        wrong.len()
+    );
+    let lit = (0..render.width * render.height).filter(|&k| pixel(&theirs, k).max_element() > 10.0);
+    assert!(lit.count() > render.width * render.height / 4, "{name}: the scene is in view");
+}
+
+/// Whether pixel `k` lies on an edge: a pixel j at most `reach` steps away along rows and
+/// columns `differs` (its four neighbours for a reach of 1).
+fn on_edge(k: usize, render: Render, reach: i64, differs: impl Fn(usize) -> bool) -> bool {
+    let (width, height) = (render.width as i64, render.height as i64);
+    let (x, y) = ((k as i64) % width, (k as i64) / width);
+    let steps = (-reach..=reach).flat_map(|dx| (-reach..=reach).map(move |dy| (dx, dy)));
+    steps.filter(|(dx, dy)| dx.abs() + dy.abs() <= reach).any(|(dx, dy)| {
+        let (u, v) = (x + dx, y + dy);
+        (0..width).contains(&u) && (0..height).contains(&v) && differs((v * width + u) as usize)
+    })
+}
+
+/// Renders `text` with raydiance and `theirs_text` with POV-Ray, with `files` (name, contents)
+/// beside them: POV-Ray's pixels and raydiance's, each channel in [0, 1], and the linear light
+/// raydiance's 1 stands for (its HDR `.ppm`'s `#MAX`).
+fn render_both(
+    text: &str,
+    theirs_text: &str,
+    files: &[(&str, Vec<u8>)],
+    render: Render,
+) -> (Vec<f32>, Vec<f32>, f32) {
     let Render { width, height, samples } = render;
     let dir = tempfile::tempdir().unwrap();
     for (file, contents) in files {
@@ -1073,20 +1161,9 @@ fn compare_with_povray(
         .output()
         .unwrap();
     assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
-    let (a, b) = (classes(&ppm(&theirs)), classes(&ppm(&ours)));
-    assert_eq!((a.len(), b.len()), (width * height, width * height));
-    // A pixel differs only on an edge: where POV-Ray's own neighbours differ.
-    let edge = |k: usize| {
-        let (x, y) = ((k % width) as i64, (k / width) as i64);
-        [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
-            let (u, v) = (x + dx, y + dy);
-            (0..width as i64).contains(&u)
-                && (0..height as i64).contains(&v)
-                && a[(v * width as i64 + u) as usize] != a[k]
-        })
-    };
-    let wrong: Vec<usize> = (0..a.len()).filter(|&k| a[k] != b[k] && !edge(k)).collect();
-    assert!(wrong.is_empty(), "{name}: pixels {wrong:?} differ from POV-Ray's");
-    let lit = a.iter().filter(|c| c.iter().any(|&l| l)).count();
-    assert!(lit > a.len() / 4, "{name}: the scene is in view ({lit} pixels lit)");
+    let text = std::fs::read_to_string(&ours).unwrap();
+    let max = text.lines().find_map(|line| line.strip_prefix("#MAX=")).expect("a #MAX line");
+    let (theirs, ours) = (ppm(&theirs), ppm(&ours));
+    assert_eq!((theirs.len(), ours.len()), (3 * width * height, 3 * width * height));
+    (theirs, ours, max.parse().unwrap())
 }

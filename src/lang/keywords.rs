@@ -130,7 +130,8 @@ use KeywordKind::{Constant as C, Function as F, Syntax as S};
 pub const KEYWORDS: &[Keyword] = keywords![
     "settings" => S, "resolution" => S, "samples" => S, "integrator" => S, "max_depth" => S,
     "seed" => F(Function::Seed), "background" => S, "photons" => S, "photon_k" => S,
-    "photon_radius" => S, "global_settings" => S, "ambient_light" => S, "sky_sphere" => S,
+    "photon_radius" => S, "global_settings" => S, "ambient_light" => S, "assumed_gamma" => S,
+    "sky_sphere" => S,
     "camera" => S, "origin" => S, "left" => S, "up" => S, "forward" => S, "location" => S,
     "look_at" => S, "angle" => S, "aperture" => S, "focal_distance" => S, "right" => S,
     "direction" => S, "sky" => S, "focal_point" => S, "blur_samples" => S, "perspective" => S, "orthographic" => S,

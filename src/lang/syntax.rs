@@ -58,10 +58,11 @@ pub enum Item {
     },
     /// POV-Ray's `#fopen`, `#read`, `#write` or `#fclose` (`.pov`).
     File(FileDirective),
-    /// POV-Ray's `global_settings`: its `ambient_light` (the last one written), and whether
-    /// anything else stands in it (accepted, with a warning).
+    /// POV-Ray's `global_settings`: its `ambient_light` and `assumed_gamma` (the last of each
+    /// written), and whether anything else stands in it (accepted, with a warning).
     GlobalSettings {
         ambient_light: Option<Colour>,
+        assumed_gamma: Option<Expr>,
         others: bool,
         span: Span,
     },

@@ -443,18 +443,22 @@ impl Builder {
                 Item::Ignored { what: Ignored::StrayHash, span }
             }
             Rule::global_settings => {
-                let (mut ambient_light, mut others) = (None, false);
+                let (mut ambient_light, mut assumed_gamma, mut others) = (None, None, false);
                 for part in pair.into_inner().skip(1) {
                     match part.as_rule() {
                         Rule::ambient_light => {
                             ambient_light =
                                 Some(self.colour(part.into_inner().nth(1).expect("a colour"))?)
                         }
+                        Rule::assumed_gamma => {
+                            assumed_gamma =
+                                Some(self.expr(part.into_inner().nth(1).expect("a gamma"))?)
+                        }
                         Rule::global_other => others = true,
                         rule => unreachable!("no `{rule:?}` in global_settings"),
                     }
                 }
-                Item::GlobalSettings { ambient_light, others, span }
+                Item::GlobalSettings { ambient_light, assumed_gamma, others, span }
             }
             Rule::media_flag => {
                 self.pov_only(&inner_pair(&pair), Some("light_source"))?;

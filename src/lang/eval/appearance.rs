@@ -476,6 +476,44 @@ impl Evaluator {
         Ok(())
     }
 
+    /// `global_settings { assumed_gamma G }`: POV-Ray 3.7 takes the scene's colours as encoded
+    /// with gamma G (it shades in that space and encodes the result for the file), so a colour
+    /// c that a surface or light takes is c^G of linear light here, and a flat colour shows as
+    /// POV-Ray's does. It is applied where they are made, so a different gamma written after
+    /// one is refused, naming it.
+    pub(super) fn set_assumed_gamma(&mut self, expr: &Expr) -> Result<(), SceneError> {
+        let gamma = self.single(expr)?;
+        if !(gamma > 0.0 && gamma.is_finite()) {
+            return Err(SceneError::at(
+                &self.here(&expr.span),
+                format!("`assumed_gamma` {gamma} is not a gamma: it must be positive"),
+            ));
+        }
+        if let Some(first) = self.coloured_at.as_ref()
+            && gamma != self.assumed_gamma.unwrap_or(1.0)
+        {
+            return Err(SceneError::at(
+                &self.here(&expr.span),
+                format!(
+                    "`assumed_gamma` comes after a surface or light that takes a colour \
+                     ({first:?}), which it would change: POV-Ray's applies to the whole scene, \
+                     so write `global_settings` before that surface or light"
+                ),
+            ));
+        }
+        self.assumed_gamma = Some(gamma);
+        Ok(())
+    }
+
+    /// The `assumed_gamma` G by which the colours c of a surface or light made at `span` are
+    /// c^G in linear light (`None` where G is 1).
+    pub(super) fn colour_gamma(&mut self, span: &Span) -> Option<f32> {
+        if self.coloured_at.is_none() {
+            self.coloured_at = Some(self.here(span));
+        }
+        self.assumed_gamma.filter(|&gamma| gamma != 1.0)
+    }
+
     /// A POV-Ray colour: its red, green and blue, filter and transmit.
     pub(super) fn pov_colour(&mut self, colour: &Colour) -> Result<(Vec3, f32, f32), SceneError> {
         let value = self.value(&colour.value)?;
@@ -522,7 +560,11 @@ impl Evaluator {
                  one's applies to both (said once a scene)"
             ));
         }
-        let colour = pigment.colour.max_value();
+        let colours = match self.colour_gamma(span) {
+            Some(gamma) => pigment.colour.gamma_decoded(gamma),
+            None => pigment.colour.clone(),
+        };
+        let colour = colours.max_value();
         let refracts = !pigment.is_opaque();
         let mut reflection = finish.reflection.max(Vec3::ZERO);
         // A metal's highlight is its own reflection's blur; elsewhere it is a coat.
@@ -550,7 +592,7 @@ impl Evaluator {
         }
         let glow = finish.emission + ambient_glow * self.ambient_light.unwrap_or(Vec3::ONE);
         let (diffuse, shares, see_through) =
-            match (plain(&pigment.colour), plain(&pigment.filter), plain(&pigment.through)) {
+            match (plain(&colours), plain(&pigment.filter), plain(&pigment.through)) {
                 (Some(c), Some(filter), Some(through)) => {
                     let shares = pov_shares(&pov_finish, c, filter.x, through.x);
                     (TextureNode::solid(shares.diffuse), shares, None)
@@ -565,10 +607,10 @@ impl Evaluator {
                         finish: pov_finish,
                         glow,
                     };
-                    (pigment.colour.clone(), shares, Some(see_through))
+                    (colours.clone(), shares, Some(see_through))
                 }
             };
-        let emission = match (plain(&pigment.colour), plain(&pigment.through)) {
+        let emission = match (plain(&colours), plain(&pigment.through)) {
             (Some(c), Some(through)) => pov_glow(glow, c, through.x),
             // Made at each point; its brightest colour, unfaded, bounds it.
             _ => glow * colour,

@@ -141,6 +141,8 @@ impl Evaluator {
             ));
             return Ok(());
         }
+        // `assumed_gamma`: the light's colour in linear light.
+        let power = self.colour_gamma(span).map_or(power, |gamma| power.powf(gamma));
         let position = state.position;
         let form = light_form(&state)?;
         let fade = (state.fade_distance > 0.0 && state.fade_power > 0.0)

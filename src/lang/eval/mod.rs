@@ -216,6 +216,12 @@ pub struct Evaluator {
     /// `.pov`: where the first surface that glows by its `ambient` was made (an `ambient_light`
     /// after it would change what it already is).
     ambient_glow_at: Option<Span>,
+    /// `.pov`: `global_settings { assumed_gamma G }`, the gamma the scene's colours are
+    /// encoded with (`None`: 1, linear).
+    assumed_gamma: Option<f32>,
+    /// `.pov`: where the first surface or light took its colour (an `assumed_gamma` after it
+    /// would change what it already is).
+    coloured_at: Option<Span>,
     /// `.pov`: the files opened by `#fopen`.
     files: file_io::Files,
     /// `.pov`: the objects `min_extent`, `max_extent`, `trace` and `inside` have asked about.
@@ -484,15 +490,21 @@ impl Evaluator {
                 Ok(())
             }
             Item::File(directive) => self.file_directive(directive),
-            Item::GlobalSettings { ambient_light, others, span } => {
+            Item::GlobalSettings { ambient_light, assumed_gamma, others, span } => {
                 if let Some(colour) = ambient_light {
                     self.set_ambient_light(colour)?;
                 }
-                if *others {
+                // `.scn`'s colours are linear light: its `assumed_gamma` is one of the others.
+                let pov = self.dialect == Dialect::Pov;
+                if let Some(gamma) = assumed_gamma.as_ref().filter(|_| pov) {
+                    self.set_assumed_gamma(gamma)?;
+                }
+                if *others || (assumed_gamma.is_some() && !pov) {
                     self.warnings.push(format!(
                         "{:?}: warning: POV-Ray's `global_settings` has no effect here apart from \
-                         its `ambient_light`: raydiance's settings are `settings {{ resolution ..., \
-                         samples ..., integrator ..., max_depth ..., seed ..., background ... }}`",
+                         its `ambient_light` (and in `.pov` its `assumed_gamma`): raydiance's \
+                         settings are `settings {{ resolution ..., samples ..., integrator ..., \
+                         max_depth ..., seed ..., background ... }}`",
                         self.here(span)
                     ));
                 }
