@@ -315,7 +315,7 @@ pub(super) fn lit_one_at_a_time(
 ) -> Vec3 {
     let mut lit = Vec3::ZERO;
     for (shadow, reflected) in light_samples(scene, vertex, mask, sampler).flatten() {
-        lit += reflected * scene.transmittance(&shadow.ray, shadow.t_max);
+        lit += reflected * scene.transmittance(&shadow.ray(), shadow.t_max());
     }
     lit
 }

@@ -105,7 +105,7 @@ impl MissedLight {
                         let li = f * sample.li * cos * weight / sample.pdf;
                         if li != Vec3::ZERO {
                             let reached =
-                                scene.transmittance(&sample.shadow.ray, sample.shadow.t_max);
+                                scene.transmittance(&sample.shadow.ray(), sample.shadow.t_max());
                             path.radiance += path.beta * li * reached;
                         }
                     }

@@ -222,8 +222,8 @@ impl ShadowLanes {
 
     fn set_lane(&mut self, lane: usize, (shadow, radiance): (ShadowRay, Vec3)) {
         self.found.set_lane(lane, true);
-        self.rays.set_lane(lane, &shadow.ray);
-        self.t_max.set_lane(lane, shadow.t_max);
+        self.rays.set_lane(lane, &shadow.ray());
+        self.t_max.set_lane(lane, shadow.t_max());
         self.radiance[lane] = radiance;
     }
 

@@ -101,7 +101,7 @@ impl SampleIntegrator for Path {
             let hit = scene.intersect(&path.ray);
             let bounce = self.bounce(scene, &mut path, hit, sampler);
             if let Some((shadow, li)) = bounce.shadowed {
-                path.radiance += li * scene.transmittance(&shadow.ray, shadow.t_max);
+                path.radiance += li * scene.transmittance(&shadow.ray(), shadow.t_max());
             }
             if !bounce.continues {
                 return path.radiance;

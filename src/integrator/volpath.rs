@@ -62,7 +62,7 @@ impl Path {
             crossings = 0;
             let bounce = self.bounce(scene, &mut path, hit, sampler);
             if let (Some((shadow, li)), Some(hit)) = (bounce.shadowed, hit) {
-                let towards = scene.medium_towards(&hit, shadow.ray.dir.into());
+                let towards = scene.medium_towards(&hit, shadow.ray().dir.into());
                 path.radiance += li * transmittance(scene, &shadow, towards);
             }
             match hit {
@@ -124,9 +124,9 @@ impl Path {
 /// transmittances of the media along it and of the surfaces that let light straight through
 /// (`Scene::passes`: those that only bound a medium pass all).
 fn transmittance(scene: &Scene, shadow: &ShadowRay, mut medium: Option<u32>) -> Vec3 {
-    let dir = Vec3::from(shadow.ray.dir);
-    let mut ray = shadow.ray;
-    let mut left = shadow.t_max;
+    let dir = Vec3::from(shadow.ray().dir);
+    let mut ray = shadow.ray();
+    let mut left = shadow.t_max();
     let mut reached = Vec3::ONE;
     for _ in 0..=MOST_CROSSINGS {
         let hit = scene.intersect(&ray).filter(|hit| hit.t < left);
