@@ -270,10 +270,13 @@ fn a_signal_while_tone_mapping_leaves_no_temporary_file() {
         .unwrap();
     let start = std::time::Instant::now();
     let writing = || others(dir.path(), &input).into_iter().any(|p| p != out);
-    while !writing() && start.elapsed().as_secs() < 60 {
+    // What the poll saw, not a second look: the write may end between the two.
+    let mut seen = writing();
+    while !seen && start.elapsed().as_secs() < 60 {
         std::thread::sleep(std::time::Duration::from_millis(2));
+        seen = writing();
     }
-    assert!(writing(), "the temporary output was never seen");
+    assert!(seen, "the temporary output was never seen");
     send("-TERM", &child);
     let output = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
