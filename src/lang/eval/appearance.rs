@@ -591,6 +591,11 @@ impl Evaluator {
             self.ambient_glow_at = Some(self.here(span));
         }
         let glow = finish.emission + ambient_glow * self.ambient_light.unwrap_or(Vec3::ONE);
+        let emission = match (plain(&colours), plain(&pigment.through)) {
+            (Some(c), Some(through)) => pov_glow(glow, c, through.x),
+            // Made at each point; its brightest colour, unfaded, bounds it.
+            _ => glow * colour,
+        };
         let (diffuse, shares, see_through) =
             match (plain(&colours), plain(&pigment.filter), plain(&pigment.through)) {
                 (Some(c), Some(filter), Some(through)) => {
@@ -607,14 +612,9 @@ impl Evaluator {
                         finish: pov_finish,
                         glow,
                     };
-                    (colours.clone(), shares, Some(see_through))
+                    (colours, shares, Some(see_through))
                 }
             };
-        let emission = match (plain(&colours), plain(&pigment.through)) {
-            (Some(c), Some(through)) => pov_glow(glow, c, through.x),
-            // Made at each point; its brightest colour, unfaded, bounds it.
-            _ => glow * colour,
-        };
         let at = self.here(span);
         Arc::new(MaterialDesc {
             name: None,
