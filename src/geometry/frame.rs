@@ -4,29 +4,55 @@
 
 use glam::Vec3;
 
+use crate::lanes::{Real, Vector};
+
+/// Written once over `Real`: one frame (`f32`, the default), or a frame per lane.
 #[derive(Debug, Clone, Copy)]
-pub struct Frame {
-    tangent: Vec3,
-    bitangent: Vec3,
-    normal: Vec3,
+pub struct Frame<F = f32> {
+    tangent: Vector<F>,
+    bitangent: Vector<F>,
+    normal: Vector<F>,
 }
 
 impl Frame {
-    /// The frame around unit `n` (Duff et al. 2017: no branch but the sign of n.z).
+    /// The frame around unit `n`.
     #[inline]
     pub fn from_normal(normal: Vec3) -> Self {
-        let (tangent, bitangent) = normal.any_orthonormal_pair();
-        Frame { tangent, bitangent, normal }
+        Frame::around(normal.into())
     }
 
     #[inline]
     pub fn to_local(&self, v: Vec3) -> Vec3 {
-        Vec3::new(v.dot(self.tangent), v.dot(self.bitangent), v.dot(self.normal))
+        self.local(v.into()).into()
     }
 
     #[inline]
     pub fn to_world(&self, v: Vec3) -> Vec3 {
-        v.x * self.tangent + v.y * self.bitangent + v.z * self.normal
+        self.world(v.into()).into()
+    }
+}
+
+impl<F: Real> Frame<F> {
+    /// The frame around unit `n` (Duff et al. 2017: no branch but the sign of n.z), as glam's
+    /// `Vec3::any_orthonormal_pair` computes it.
+    #[inline(always)]
+    pub fn around(n: Vector<F>) -> Self {
+        let sign = n.z.signum();
+        let a = -F::ONE / (sign + n.z);
+        let b = n.x * n.y * a;
+        let tangent = Vector { x: F::ONE + sign * n.x * n.x * a, y: sign * b, z: -sign * n.x };
+        let bitangent = Vector { x: b, y: sign + n.y * n.y * a, z: -n.y };
+        Frame { tangent, bitangent, normal: n }
+    }
+
+    #[inline(always)]
+    pub fn local(&self, v: Vector<F>) -> Vector<F> {
+        Vector { x: v.dot(self.tangent), y: v.dot(self.bitangent), z: v.dot(self.normal) }
+    }
+
+    #[inline(always)]
+    pub fn world(&self, v: Vector<F>) -> Vector<F> {
+        self.tangent * v.x + self.bitangent * v.y + self.normal * v.z
     }
 }
 
@@ -45,6 +71,9 @@ mod tests {
     fn local_and_world_round_trip_for_every_orientation() {
         for n in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize()] {
             let frame = Frame::from_normal(n);
+            let (tangent, bitangent) = n.any_orthonormal_pair();
+            assert_eq!(frame.to_world(Vec3::X), tangent, "glam's frame, bit for bit");
+            assert_eq!(frame.to_world(Vec3::Y), bitangent);
             assert!((frame.to_local(n) - Vec3::Z).length() < 1e-6, "{n}");
             for v in [Vec3::new(0.2, 0.4, -0.9).normalize(), Vec3::Y] {
                 assert!((frame.to_world(frame.to_local(v)) - v).length() < 1e-6, "{n}, {v}");

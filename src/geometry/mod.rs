@@ -29,7 +29,8 @@ mod torus;
 mod triangle_mesh;
 
 pub use crate::aabb::Aabb;
-pub use crate::ray::{Hit, Ray, offset_origin};
+pub use crate::lanes::offset_origin;
+pub use crate::ray::{Hit, Ray};
 pub use algebraic::{Algebraic, Term, pov_ray_term_count, pov_ray_terms};
 pub use arc_solid::{ArcSolid, lemon_min_inner_radius};
 pub use blob::{Blob, BlobComponent, ComponentShape};

@@ -3,6 +3,7 @@
 //! per-sample rung (`SampleIntegrator`, `render_samples`), and `sppm` renders by iterations of
 //! its own.
 
+mod diffuse_lanes;
 mod direct;
 mod final_gather;
 mod missed_light;

@@ -4,32 +4,39 @@ use std::f32::consts::{FRAC_PI_4, PI};
 
 use glam::{Vec2, Vec3};
 
+use crate::lanes::{Real, Vector};
+
 /// Shirley–Chiu concentric map onto the unit disk (area-preserving up to a constant).
 #[inline]
 pub fn concentric_disk(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
+    let (x, y) = concentric_disk_of(u.x, u.y);
+    Vec2::new(x, y)
+}
+
+/// `concentric_disk` written once over `Real`: for one point or a point per lane.
+#[inline(always)]
+pub fn concentric_disk_of<F: Real>(ux: F, uy: F) -> (F, F) {
+    let (ox, oy) = (F::splat(2.0) * ux - F::ONE, F::splat(2.0) * uy - F::ONE);
     // The angle from the axis of the larger coordinate is within pi/4 of it, where a short
-    // polynomial gives sin and cos at a fraction of the cost of general ones.
-    if o.x.abs() > o.y.abs() {
-        let (sin, cos) = sin_cos_within_quarter(FRAC_PI_4 * (o.y / o.x));
-        o.x * Vec2::new(cos, sin)
-    } else {
-        // At pi/2 - phi, cos and sin trade places.
-        let (sin, cos) = sin_cos_within_quarter(FRAC_PI_4 * (o.x / o.y));
-        o.y * Vec2::new(sin, cos)
-    }
+    // polynomial gives sin and cos at a fraction of the cost of general ones; at pi/2 - phi
+    // (y the larger) cos and sin trade places.
+    let x_larger = ox.abs().gt(oy.abs());
+    let (larger, smaller) = (F::select(x_larger, ox, oy), F::select(x_larger, oy, ox));
+    let (sin, cos) = sin_cos_within_quarter(F::splat(FRAC_PI_4) * (smaller / larger));
+    let (x, y) = (larger * F::select(x_larger, cos, sin), larger * F::select(x_larger, sin, cos));
+    let centre = ox.eq(F::ZERO) & oy.eq(F::ZERO);
+    (F::select(centre, F::ZERO, x), F::select(centre, F::ZERO, y))
 }
 
 /// sin and cos of `x` in [-pi/4, pi/4], to within a few ulps: the minimax polynomials of
 /// Cephes' `sinf` and `cosf` (Moshier 1989).
-#[inline]
-fn sin_cos_within_quarter(x: f32) -> (f32, f32) {
+#[inline(always)]
+fn sin_cos_within_quarter<F: Real>(x: F) -> (F, F) {
+    let c = F::splat;
     let z = x * x;
-    let sin = x + x * z * (-1.666_665_5e-1 + z * (8.332_161e-3 + z * -1.951_529_6e-4));
-    let cos = 1.0 - 0.5 * z + z * z * (4.166_664_6e-2 + z * (-1.388_731_6e-3 + z * 2.443_315_7e-5));
+    let sin = x + x * z * (c(-1.666_665_5e-1) + z * (c(8.332_161e-3) + z * c(-1.951_529_6e-4)));
+    let cos = F::ONE - c(0.5) * z
+        + z * z * (c(4.166_664_6e-2) + z * (c(-1.388_731_6e-3) + z * c(2.443_315_7e-5)));
     (sin, cos)
 }
 
@@ -44,8 +51,15 @@ pub fn uniform_sphere(u: Vec2) -> Vec3 {
 /// Cosine-weighted on the hemisphere around +z (Malley's method); pdf cos(theta) / pi.
 #[inline]
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = concentric_disk(u);
-    Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
+    cosine_hemisphere_of(u.x, u.y).into()
+}
+
+/// `cosine_hemisphere` written once over `Real`: for one point or a point per lane.
+#[inline(always)]
+pub fn cosine_hemisphere_of<F: Real>(ux: F, uy: F) -> Vector<F> {
+    let (x, y) = concentric_disk_of(ux, uy);
+    let z_squared = F::ONE - (x * x + y * y);
+    Vector { x, y, z: F::select(z_squared.gt(F::ZERO), z_squared, F::ZERO).sqrt() }
 }
 
 /// Barycentric coordinates (b1, b2) uniform over a triangle: the point is
