@@ -4,7 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::diffuse_lanes::{DiffuseLanes, DiffuseSamples};
+use super::diffuse_lanes::{DiffuseLanes, DiffuseSamples, DiffuseVertex};
 use super::{CameraSample, Lanes, SampleIntegrator, ShadowLanes, power_heuristic};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
@@ -163,10 +163,7 @@ impl SampleIntegrator for Path {
                 let hit = found.hit(lane);
                 let bounce = self.bounce_by(scene, &mut path.state, hit, &mut path.sampler, {
                     let diffuse = &mut diffuse;
-                    move |hit: &Hit, wo, u| {
-                        diffuse.set_lane(lane, hit, wo, u);
-                        true
-                    }
+                    move |vertex| diffuse.set_lane(scene, lane, vertex)
                 });
                 if let Some(shadowed) = bounce.shadowed {
                     shadows.set_lane(lane, shadowed);
@@ -175,7 +172,7 @@ impl SampleIntegrator for Path {
             }
             let set = diffuse.set();
             if set != 0 {
-                let sampled = diffuse.sample();
+                let sampled = diffuse.scatter(scene, &mut shadows);
                 for (lane, path) in lanes.paths_mut().filter(|(lane, _)| set & (1 << lane) != 0) {
                     done[lane] = !path.state.follow_diffuse(&sampled, lane, &mut path.sampler);
                 }
@@ -208,12 +205,13 @@ impl Path {
         hit: Option<Hit>,
         sampler: &mut Sampler,
     ) -> Bounce {
-        self.bounce_by(scene, path, hit, sampler, |_: &Hit, _, _| false)
+        self.bounce_by(scene, path, hit, sampler, |_| false)
     }
 
-    /// `bounce`, but a lone Lambertian lobe's sample (`Bsdf::lone_lambertian`) may be left to
-    /// `defer(hit, wo, u)`: where it takes it, the throughput is multiplied by kd and the bounce
-    /// goes on, its next ray and roulette left to `PathState::follow_diffuse`.
+    /// `bounce`, but under multiple importance sampling a vertex on a lone Lambertian lobe
+    /// (`Bsdf::lone_lambertian`) may be left to `defer`, with its light sample and its BSDF
+    /// sample: where it takes it, the throughput is multiplied by kd and the bounce goes on, its
+    /// next ray and roulette left to `PathState::follow_diffuse`.
     #[inline(always)]
     fn bounce_by(
         &self,
@@ -221,7 +219,7 @@ impl Path {
         path: &mut PathState,
         hit: Option<Hit>,
         sampler: &mut Sampler,
-        defer: impl FnOnce(&Hit, Vec3, Vec2) -> bool,
+        defer: impl FnOnce(DiffuseVertex) -> bool,
     ) -> Bounce {
         let ends = Bounce { shadowed: None, continues: false };
         let Some(mut hit) = hit else {
@@ -243,18 +241,19 @@ impl Path {
         let u_lobe = sampler.next_1d_if(flags.chooses_lobe());
         let u = sampler.next_2d();
         let beta = path.beta;
+        if self.strategy == Strategy::Mis
+            && let Some(lambertian) = bsdf.lone_lambertian()
+            && defer(DiffuseVertex { hit: &hit, wo, kd: lambertian.reflectance, beta, light, u })
+        {
+            path.beta *= lambertian.reflectance;
+            return Bounce { shadowed: None, continues: true };
+        }
         let shadowed = match light {
             Some((light, probability, u_light)) => self
                 .next_event(scene, &hit, wo, &bsdf, (light, probability), u_light)
                 .map(|(shadow, li)| (shadow, beta * li)),
             None => None,
         };
-        if let Some(lambertian) = bsdf.lone_lambertian()
-            && defer(&hit, wo, u)
-        {
-            path.beta *= lambertian.reflectance;
-            return Bounce { shadowed, continues: true };
-        }
         let Some(sample) = bsdf.sample(wo, u_lobe, u, LobeFlags::ALL) else {
             return Bounce { shadowed, continues: false };
         };

@@ -6,5 +6,5 @@ mod warp;
 pub use sampler::{PixelSampler, Sampler};
 pub use warp::{
     concentric_disk, concentric_disk_of, cosine_hemisphere, cosine_hemisphere_of, uniform_sphere,
-    uniform_triangle,
+    uniform_triangle, uniform_triangle_of,
 };

@@ -66,8 +66,15 @@ pub fn cosine_hemisphere_of<F: Real>(ux: F, uy: F) -> Vector<F> {
 /// `a + b1 (b - a) + b2 (c - a)` (the square-root warp).
 #[inline]
 pub fn uniform_triangle(u: Vec2) -> Vec2 {
-    let su = u.x.sqrt();
-    Vec2::new(1.0 - su, u.y * su)
+    let (s, t) = uniform_triangle_of(u.x, u.y);
+    Vec2::new(s, t)
+}
+
+/// `uniform_triangle` written once over `Real`: for one point or a point per lane.
+#[inline(always)]
+pub fn uniform_triangle_of<F: Real>(ux: F, uy: F) -> (F, F) {
+    let su = ux.sqrt();
+    (F::ONE - su, uy * su)
 }
 
 #[cfg(test)]

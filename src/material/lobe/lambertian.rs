@@ -26,13 +26,26 @@ impl Lambertian {
     /// kd / pi where `wo` and `wi` are on the same side (reflection only, from both sides).
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        if wo.z * wi.z > 0.0 { self.reflectance * FRAC_1_PI } else { Vec3::ZERO }
+        Self::eval_of(self.reflectance.into(), wo.z, wi.z).into()
     }
 
     /// |cos| / pi on wo's side.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z * wi.z > 0.0 { wi.z.abs() * FRAC_1_PI } else { 0.0 }
+        Self::pdf_of(wo.z, wi.z)
+    }
+
+    /// `eval` of reflectance `kd` where the local z of `wo` and `wi` are `wo_z` and `wi_z`,
+    /// written once over `Real`: for one vertex or a vertex per lane.
+    #[inline(always)]
+    pub fn eval_of<F: Real>(kd: Vector<F>, wo_z: F, wi_z: F) -> Vector<F> {
+        Vector::select((wo_z * wi_z).gt(F::ZERO), kd * F::splat(FRAC_1_PI), Vector::ZERO)
+    }
+
+    /// `pdf` where the local z of `wo` and `wi` are `wo_z` and `wi_z`, written once over `Real`.
+    #[inline(always)]
+    pub fn pdf_of<F: Real>(wo_z: F, wi_z: F) -> F {
+        F::select((wo_z * wi_z).gt(F::ZERO), wi_z.abs() * F::splat(FRAC_1_PI), F::ZERO)
     }
 
     /// Cosine-weighted on wo's side: f |cos| / pdf = (kd / pi) cos / (cos / pi) = kd.
