@@ -524,8 +524,9 @@ pub fn offset_point<F: Real>(
     error: F,
     dir: Vector<F>,
 ) -> Vector<F> {
+    // p - o is p + (-o), exactly: one sum, of the offset turned to `dir`'s side.
     let offset = normal * error;
-    Vector::select(normal.dot(dir).ge(F::ZERO), point + offset, point - offset)
+    point + Vector::select(normal.dot(dir).ge(F::ZERO), offset, -offset)
 }
 
 /// The hits of four lanes, coordinate by coordinate: the fields of `Hit` that shading reads.

@@ -66,6 +66,35 @@ pub fn on_side(v: Vec3, z_sign: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::{LANES, Lane, Vec3Lanes};
+
+    /// The lanes' frames are each normal's own, bit for bit, a normal of z = -0 (whose sign
+    /// picks the frame) among them.
+    #[test]
+    fn frames_in_lanes_are_each_normal_s() {
+        let normals = [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(1.0, 0.0, -0.0),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+            Vec3::new(-0.6, 0.0, -0.8),
+            Vec3::new(0.48, 0.6, 0.64),
+            Vec3::new(-0.0, 0.6, -0.8),
+        ];
+        let lanes =
+            Frame::around(Vec3Lanes::from_lanes(std::array::from_fn::<_, LANES, _>(|lane| {
+                normals[lane % normals.len()]
+            })));
+        let v = Vec3::new(0.2, 0.4, -0.9);
+        let (world, local) = (lanes.world(Vec3Lanes::splat(v)), lanes.local(Vec3Lanes::splat(v)));
+        for lane in 0..LANES {
+            let one = Frame::from_normal(normals[lane % normals.len()]);
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            assert_eq!(bits(world.lane(lane)), bits(one.to_world(v)), "lane {lane}");
+            assert_eq!(bits(local.lane(lane)), bits(one.to_local(v)), "lane {lane}");
+        }
+    }
 
     #[test]
     fn local_and_world_round_trip_for_every_orientation() {

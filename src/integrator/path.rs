@@ -136,10 +136,10 @@ impl SampleIntegrator for Path {
 
     /// Traces `LANES` paths at a time, bounce by bounce, so that their rays and their shadow
     /// rays meet the scene together (`Scene::intersect_lanes`, `Scene::occluded_lanes`); each
-    /// path's bounce is `bounce`, as for one path, but for the BSDF sample of a lone Lambertian
-    /// lobe, which the lanes with one take together (`DiffuseLanes`) by the same kernels, so
-    /// each path gets the same radiance, bit for bit. A finished path's lane takes the next
-    /// camera sample.
+    /// path's bounce is `bounce`, as for one path, but for the light and BSDF samples of a
+    /// vertex on a lone Lambertian lobe, which the lanes with one take together (`DiffuseLanes`)
+    /// by the same kernels, so each path gets the same radiance, bit for bit. A finished path's
+    /// lane takes the next camera sample.
     fn radiance_of_all(
         &self,
         scene: &Scene,

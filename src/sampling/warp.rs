@@ -80,6 +80,7 @@ pub fn uniform_triangle_of<F: Real>(ux: F, uy: F) -> (F, F) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::{Floats, LANES, Lane, Wide};
 
     /// Midpoint-rule grid over the unit square.
     fn grid(n: usize) -> impl Iterator<Item = Vec2> {
@@ -94,6 +95,33 @@ mod tests {
         assert!(points.iter().all(|p| p.length() <= 1.0 + 1e-6));
         let inner = points.iter().filter(|p| p.length_squared() < 0.5).count();
         assert!((inner as f32 / points.len() as f32 - 0.5).abs() < 0.005);
+    }
+
+    /// The lanes' instance of the cosine-weighted warp (the concentric map's branches taken by
+    /// selects) gives each lane what one point gives, bit for bit: at the centre, on the
+    /// diagonals where neither coordinate is the larger, on the edges, and between.
+    #[test]
+    fn cosine_hemisphere_in_lanes_is_each_point_s() {
+        let mut u: Vec<Vec2> = grid(37).collect();
+        u.extend([0.0, 0.25, 0.5, 0.75, 1.0 - f32::EPSILON / 2.0].iter().flat_map(|&x| {
+            [Vec2::new(x, x), Vec2::new(x, 1.0 - x), Vec2::new(x, 0.0), Vec2::new(0.5, x)]
+        }));
+        for chunk in u.chunks(LANES) {
+            let at = |lane: usize| chunk[lane.min(chunk.len() - 1)];
+            let lanes = cosine_hemisphere_of(
+                Floats::from_fn(|lane| at(lane).x),
+                Floats::from_fn(|lane| at(lane).y),
+            );
+            for lane in 0..chunk.len() {
+                let one = cosine_hemisphere(at(lane));
+                assert_eq!(
+                    lanes.lane(lane).to_array().map(f32::to_bits),
+                    one.to_array().map(f32::to_bits),
+                    "{}",
+                    at(lane)
+                );
+            }
+        }
     }
 
     #[test]
