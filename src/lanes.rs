@@ -524,9 +524,8 @@ pub fn offset_point<F: Real>(
     error: F,
     dir: Vector<F>,
 ) -> Vector<F> {
-    // p - o is p + (-o), exactly: one sum, of the offset turned to `dir`'s side.
     let offset = normal * error;
-    point + Vector::select(normal.dot(dir).ge(F::ZERO), offset, -offset)
+    Vector::select(normal.dot(dir).ge(F::ZERO), point + offset, point - offset)
 }
 
 /// The hits of four lanes, coordinate by coordinate: the fields of `Hit` that shading reads.
