@@ -65,6 +65,8 @@ pub trait Real:
     fn splat(value: f32) -> Self;
     fn sqrt(self) -> Self;
     fn abs(self) -> Self;
+    /// 1 with the sign of `self` (-1 for -0), NaN for NaN: `f32::signum`.
+    fn signum(self) -> Self;
     fn gt(self, rhs: Self) -> Self::Mask;
     fn lt(self, rhs: Self) -> Self::Mask;
     fn ge(self, rhs: Self) -> Self::Mask;
@@ -94,6 +96,10 @@ macro_rules! real_for_float {
             #[inline]
             fn abs(self) -> Self {
                 <$t>::abs(self)
+            }
+            #[inline]
+            fn signum(self) -> Self {
+                <$t>::signum(self)
             }
             #[inline]
             fn gt(self, rhs: Self) -> bool {
@@ -146,6 +152,10 @@ impl Real for Vec4 {
     #[inline]
     fn abs(self) -> Self {
         Vec4::abs(self)
+    }
+    #[inline]
+    fn signum(self) -> Self {
+        Vec4::signum(self)
     }
     #[inline]
     fn gt(self, rhs: Self) -> BVec4A {
@@ -328,6 +338,12 @@ macro_rules! wide_lanes {
                 $floats::abs(self)
             }
             #[inline]
+            fn signum(self) -> Self {
+                // The sign bit on 1's bits, as glam's `Vec4::signum`.
+                let one = (self & $floats::splat(-0.0)) | $floats::ONE;
+                self.is_nan().select(self, one)
+            }
+            #[inline]
             fn gt(self, rhs: Self) -> $mask {
                 $mask(self.simd_gt(rhs))
             }
@@ -491,6 +507,27 @@ impl<F: Real> Vector<F> {
     }
 }
 
+/// Ray origin for leaving `hit` towards `dir`: the hit point pushed past its error bound along
+/// the normal, to the side `dir` goes (pbrt's robust spawning). Scales with the scene, so a scene
+/// scaled by 1000 or 0.001 renders the same.
+#[inline]
+pub fn offset_origin(hit: &Hit, dir: Vec3) -> Vec3 {
+    offset_point(hit.point.into(), hit.normal.into(), hit.error, dir.into()).into()
+}
+
+/// `offset_origin`, written once: `point` (of geometric `normal` and error bound `error`)
+/// pushed past its error bound along the normal, to the side `dir` goes.
+#[inline(always)]
+pub fn offset_point<F: Real>(
+    point: Vector<F>,
+    normal: Vector<F>,
+    error: F,
+    dir: Vector<F>,
+) -> Vector<F> {
+    let offset = normal * error;
+    Vector::select(normal.dot(dir).ge(F::ZERO), point + offset, point - offset)
+}
+
 /// The hits of four lanes, coordinate by coordinate: the fields of `Hit` that shading reads.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct HitLanes {
@@ -525,9 +562,7 @@ impl HitLanes {
     /// `offset_origin` in lanes.
     #[inline]
     pub fn offset_origin(&self, dir: Vec3Lanes) -> Vec3Lanes {
-        let offset = self.normal * self.error;
-        let outside = self.normal.dot(dir).ge(Floats::ZERO);
-        Vec3Lanes::select(outside, self.point + offset, self.point - offset)
+        offset_point(self.point, self.normal, self.error, dir)
     }
 }
 

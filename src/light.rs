@@ -3,9 +3,11 @@
 //! estimation) and for emission (photon tracing).
 
 mod environment;
+mod lanes;
 mod spot;
 
 pub use environment::Environment;
+pub use lanes::{LanesLight, LightLanes};
 pub use spot::{Beam, BeamSampler, Spot, SpotDirection, SpotProfile};
 
 use std::f32::consts::PI;
@@ -14,6 +16,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Vec2, Vec3, Vec3A, Vec4};
 
 use crate::geometry::{DirectionSample, Frame, Hit, Ray, Shape, offset_origin};
+use crate::lanes::{Real, Vector};
 use crate::sampling::{concentric_disk, cosine_hemisphere, uniform_sphere};
 use crate::texture::Texture;
 
@@ -178,19 +181,10 @@ impl Light {
     pub fn sample(&self, hit: &Hit, u: Vec2) -> Option<LightSample> {
         let (target, wi, li, pdf, is_delta) = match self {
             &Light::Point { position, power } => {
-                let to_light = position - hit.point;
-                let distance_squared = to_light.length_squared();
-                let wi = to_light / distance_squared.sqrt();
-                (position, wi, power / distance_squared, 1.0, true)
+                let (wi, li) = point_towards(position.into(), power.into(), hit.point.into());
+                (position, wi.into(), li.into(), 1.0, true)
             }
-            // A one-sided emitter of any shape but the torus is convex or emits outwards only:
-            // it never lights itself (and a sample from its own surface would be degenerate).
-            // A two-sided sphere lights its own inside.
-            Light::Area { primitive, shape, two_sided: false, .. }
-                if *primitive == hit.primitive && !matches!(shape, Shape::Torus(_)) =>
-            {
-                return None;
-            }
+            Light::Area { .. } if self.never_lights(hit.primitive) => return None,
             &Light::Area {
                 ref shape, emission, ref pattern, ref beam, two_sided, area, ..
             } => {
@@ -198,12 +192,10 @@ impl Light {
                     shape.sample_from(hit.point, area, u)?;
                 let emission = emission_at(emission, pattern.as_deref(), point);
                 let le = emitted(emission, beam.as_ref().map(|b| &b.beam), two_sided, normal, -wi);
-                if le == Vec3::ZERO || !(pdf.is_finite() && pdf > 0.0) {
+                if le == Vec3::ZERO || !usable_pdf(pdf) {
                     return None;
                 }
-                // Aim just off the light's surface, on the side we see, so it does not shadow itself.
-                let seen = if normal.dot(wi) < 0.0 { normal } else { -normal };
-                (point + seen * error, wi, le, pdf, false)
+                (aim(point.into(), normal.into(), error, wi.into()).into(), wi, le, pdf, false)
             }
             Light::Environment(sky) => {
                 let s = sky.sample(u).filter(|s| s.le != Vec3::ZERO)?;
@@ -239,6 +231,24 @@ impl Light {
         };
         let shadow = shadow_ray(hit, target, wi);
         Some(LightSample { wi, li, pdf, is_delta, shadow })
+    }
+
+    /// Whether this is an emitter that never lights a point of `primitive`: a one-sided emitter
+    /// of any shape but the torus is convex or emits outwards only, so it never lights itself
+    /// (and a sample from its own surface would be degenerate). A two-sided sphere lights its
+    /// own inside.
+    #[inline(always)]
+    pub fn never_lights(&self, primitive: u32) -> bool {
+        match self {
+            Light::Area { primitive: own, shape, two_sided, .. } => {
+                !two_sided && *own == primitive && !matches!(shape, Shape::Torus(_))
+            }
+            Light::Point { .. }
+            | Light::Spot(_)
+            | Light::Distant { .. }
+            | Light::Environment(_)
+            | Light::Modified { .. } => false,
+        }
     }
 
     /// The solid-angle density with which `sample` from `from` returns the direction towards
@@ -378,7 +388,7 @@ fn modified_sample(
 pub fn emitted(emission: Vec3, beam: Option<&Beam>, two_sided: bool, n: Vec3, wo: Vec3) -> Vec3 {
     let cos = n.dot(wo);
     match beam {
-        None if cos > 0.0 || (two_sided && cos < 0.0) => emission,
+        None if faces(two_sided, cos) => emission,
         None => Vec3::ZERO,
         Some(beam) => {
             let share = beam.towards(wo);
@@ -391,10 +401,55 @@ pub fn emitted(emission: Vec3, beam: Option<&Beam>, two_sided: bool, n: Vec3, wo
 #[inline]
 fn shadow_ray(hit: &Hit, target: Vec3, wi: Vec3) -> ShadowRay {
     let origin = offset_origin(hit, wi);
+    let (dir, t_max) = shadow_segment(origin.into(), target.into());
+    ShadowRay::new(Ray::new(origin, dir.into()), t_max)
+}
+
+// The kernels of a light sample, written once over `Real`: `Light::sample` computes them for one
+// point, `LanesLight::sample` for a point per lane.
+
+/// A point light at `position` of intensity `power` seen from `from`: the unit direction
+/// towards it and the radiance arriving, intensity / r^2.
+#[inline(always)]
+fn point_towards<F: Real>(
+    position: Vector<F>,
+    power: Vector<F>,
+    from: Vector<F>,
+) -> (Vector<F>, Vector<F>) {
+    let to_light = position - from;
+    let distance_squared = to_light.length_squared();
+    (to_light / distance_squared.sqrt(), power / distance_squared)
+}
+
+/// Whether a diffuse emitter whose normal makes cosine `cos` with a direction emits that way:
+/// towards its normal's side, or either side where `two_sided` (`emitted`).
+#[inline(always)]
+fn faces<F: Real>(two_sided: bool, cos: F) -> F::Mask {
+    let front = cos.gt(F::ZERO);
+    if two_sided { front | cos.lt(F::ZERO) } else { front }
+}
+
+/// Whether a solid-angle density can weigh a sample: a positive finite number.
+#[inline(always)]
+fn usable_pdf<F: Real>(pdf: F) -> F::Mask {
+    pdf.gt(F::ZERO) & pdf.lt(F::splat(f32::INFINITY))
+}
+
+/// Where a shadow ray aims at a point of an emitter (`normal`, error bound `error`) it meets
+/// along `wi`: just off the surface, on the side seen, so that it does not shadow itself.
+#[inline(always)]
+fn aim<F: Real>(point: Vector<F>, normal: Vector<F>, error: F, wi: Vector<F>) -> Vector<F> {
+    let seen = Vector::select(normal.dot(wi).lt(F::ZERO), normal, -normal);
+    point + seen * error
+}
+
+/// The segment from `origin` to `target`: its unit direction and its length, stopped just short
+/// of the target so that the light's own surface does not occlude it.
+#[inline(always)]
+fn shadow_segment<F: Real>(origin: Vector<F>, target: Vector<F>) -> (Vector<F>, F) {
     let to_target = target - origin;
-    let distance = to_target.length();
-    // Stop just short of the target so that the light's own surface does not occlude it.
-    ShadowRay::new(Ray::new(origin, to_target / distance), distance * (1.0 - 1e-4))
+    let distance = to_target.length_squared().sqrt();
+    (to_target / distance, distance * F::splat(1.0 - 1e-4))
 }
 
 /// Whether photons leaving a disc of radius `radius` at distance `radius` from `centre` towards

@@ -38,11 +38,3 @@ pub struct Hit {
     /// Index of the primitive hit, into `Scene::primitives`.
     pub primitive: u32,
 }
-
-/// Ray origin for leaving `hit` towards `dir`: the hit point pushed past its error bound along
-/// the normal, to the side `dir` goes (pbrt's robust spawning). Scales with the scene, so a scene
-/// scaled by 1000 or 0.001 renders the same.
-pub fn offset_origin(hit: &Hit, dir: Vec3) -> Vec3 {
-    let offset = hit.normal * hit.error;
-    if hit.normal.dot(dir) >= 0.0 { hit.point + offset } else { hit.point - offset }
-}

@@ -231,7 +231,8 @@ const EVERY_LIGHT: &str = "settings { max_depth 6 }
     quad { <-0.3, 1.2, -0.3>, <0.6, 0, 0>, <0, 0, 0.6>  material { emission rgb 3 } }
     triangle { <0.8, -1, 0.5>, <1.2, -1, 0.9>, <1, 0, 0.7>  material { emission rgb 2 } }
     disk { <-1, 0.5, 1>, <1, 0, -1>, 0.2  material { emission rgb <1, 2, 3> } }
-    sphere { <0.5, 0.6, 1>, 0.1  material { emission rgb 6 } }";
+    sphere { <0.5, 0.6, 1>, 0.1  material { emission rgb 6 } }
+    quad { <-1.5, -1, 1.5>, <0, 0, -0.6>, <0, 0.6, 0>  material { diffuse rgb 0.5  emission rgb 1 } }";
 
 #[test]
 fn paths_traced_together_get_the_radiance_each_gets_alone() {

@@ -29,7 +29,8 @@ mod torus;
 mod triangle_mesh;
 
 pub use crate::aabb::Aabb;
-pub use crate::ray::{Hit, Ray, offset_origin};
+pub use crate::lanes::offset_origin;
+pub use crate::ray::{Hit, Ray};
 pub use algebraic::{Algebraic, Term, pov_ray_term_count, pov_ray_terms};
 pub use arc_solid::{ArcSolid, lemon_min_inner_radius};
 pub use blob::{Blob, BlobComponent, ComponentShape};
@@ -45,13 +46,13 @@ pub use julia::{
 };
 pub use lathe::Lathe;
 pub use parametric::{Parametric, ParametricDesc};
-pub use planar::{Planar, PlanarKind, planar_coordinates, planar_error};
+pub use planar::{Planar, PlanarKind, planar_coordinates, planar_coordinates_of, planar_error};
 pub use polygon::{Polygon, close_outlines, outline_normal};
 pub use polynomial::{MAX_DEGREE, polynomial_roots};
 pub use prism::{Prism, Sweep};
 pub use quadric::{QuadricFrame, QuadricKind};
 pub use shape::{Intersection, Shape, SurfaceSample, similarity_scale, sphere_error};
-pub use solid_angle::DirectionSample;
+pub use solid_angle::{DirectionSample, towards_by_area};
 pub use sor::{Sor, SorError, SorPiece, sor_pieces};
 pub use spline::{Segment, SplineError, SplineKind, open_spline_segments, spline_segments};
 pub use superellipsoid::Superellipsoid;

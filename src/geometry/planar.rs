@@ -8,7 +8,7 @@ use super::shape::{Intersection, REL_ERROR, SurfaceSample};
 use super::shape::{ahead, ray_vectors};
 use super::{Aabb, Hit, Ray};
 use crate::lanes::{Real, Vector};
-use crate::sampling::{concentric_disk, uniform_triangle};
+use crate::sampling::{concentric_disk, concentric_disk_of, uniform_triangle_of};
 
 /// Which coordinates (s, t) along the edges of `origin + s * edge1 + t * edge2` are inside.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -123,10 +123,17 @@ impl Planar {
     pub fn sample(&self, u: Vec2) -> SurfaceSample {
         let (s, t) = planar_coordinates(self.kind, self.hole, u).into();
         SurfaceSample {
-            point: self.origin + s * self.edge1 + t * self.edge2,
+            point: self.point_at(s, t).into(),
             normal: self.normal,
             error: self.error(),
         }
+    }
+
+    /// The point at coordinates (s, t) along the edges, written once over `Real`: one, or one
+    /// per lane.
+    #[inline(always)]
+    pub fn point_at<F: Real>(&self, s: F, t: F) -> Vector<F> {
+        Vector::splat(self.origin) + Vector::splat(self.edge1) * s + Vector::splat(self.edge2) * t
     }
 
     /// Error bound of its points.
@@ -140,18 +147,26 @@ impl Planar {
 /// with its `hole`), from a point `u` of the unit square.
 #[inline]
 pub fn planar_coordinates(kind: PlanarKind, hole: f32, u: Vec2) -> Vec2 {
+    if let Some((s, t)) = planar_coordinates_of(kind, hole, u.x, u.y) {
+        return Vec2::new(s, t);
+    }
+    // A disk's ring: the squared radius of a point of the disk is uniform in [0, 1]: mapped to
+    // [hole^2, 1] linearly, the point stays uniform by area, now in the ring.
+    let p = concentric_disk(u);
+    let squared = p.length_squared();
+    let ring = (hole * hole + squared * (1.0 - hole * hole)).sqrt();
+    if squared > 0.0 { p * (ring / squared.sqrt()) } else { Vec2::new(ring, 0.0) }
+}
+
+/// `planar_coordinates` written once over `Real` (one point, or a point per lane), but for a
+/// disk with a hole: `None`.
+#[inline(always)]
+pub fn planar_coordinates_of<F: Real>(kind: PlanarKind, hole: f32, ux: F, uy: F) -> Option<(F, F)> {
     match kind {
-        PlanarKind::Triangle => uniform_triangle(u),
-        PlanarKind::Quad => u,
-        PlanarKind::Disk if hole > 0.0 => {
-            // The squared radius of a point of the disk is uniform in [0, 1]: mapped to
-            // [hole^2, 1] linearly, the point stays uniform by area, now in the ring.
-            let p = concentric_disk(u);
-            let squared = p.length_squared();
-            let ring = (hole * hole + squared * (1.0 - hole * hole)).sqrt();
-            if squared > 0.0 { p * (ring / squared.sqrt()) } else { Vec2::new(ring, 0.0) }
-        }
-        PlanarKind::Disk => concentric_disk(u),
+        PlanarKind::Triangle => Some(uniform_triangle_of(ux, uy)),
+        PlanarKind::Quad => Some((ux, uy)),
+        PlanarKind::Disk if hole > 0.0 => None,
+        PlanarKind::Disk => Some(concentric_disk_of(ux, uy)),
     }
 }
 

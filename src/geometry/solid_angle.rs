@@ -7,6 +7,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::{Frame, Shape, SurfaceSample, sphere_error};
+use crate::lanes::{Real, Vector};
 
 /// A point on a shape drawn from `from`: the point, the shape's unit normal and error bound
 /// there, the unit direction towards it and that direction's solid-angle density.
@@ -71,11 +72,23 @@ fn outside(center: Vec3, radius: f32, from: Vec3) -> bool {
 /// and that direction's density, the area density 1/A in solid angle, r^2 / (A cos).
 #[inline(always)]
 fn by_area(s: SurfaceSample, from: Vec3, area: f32) -> DirectionSample {
-    let to_point = s.point - from;
+    let (wi, pdf) = towards_by_area(s.point.into(), s.normal.into(), from.into(), area);
+    DirectionSample { point: s.point, normal: s.normal, error: s.error, wi: wi.into(), pdf }
+}
+
+/// `by_area` written once over `Real`: the unit direction from `from` to `point` (where the
+/// normal is `normal`) and its density, for one point or a point per lane.
+#[inline(always)]
+pub fn towards_by_area<F: Real>(
+    point: Vector<F>,
+    normal: Vector<F>,
+    from: Vector<F>,
+    area: F,
+) -> (Vector<F>, F) {
+    let to_point = point - from;
     let distance_squared = to_point.length_squared();
     let wi = to_point / distance_squared.sqrt();
-    let pdf = distance_squared / (area * s.normal.dot(wi).abs());
-    DirectionSample { point: s.point, normal: s.normal, error: s.error, wi, pdf }
+    (wi, distance_squared / (area * normal.dot(wi).abs()))
 }
 
 /// Solid angle of the cone of directions from `from` that meet the sphere:

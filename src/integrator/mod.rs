@@ -3,6 +3,7 @@
 //! per-sample rung (`SampleIntegrator`, `render_samples`), and `sppm` renders by iterations of
 //! its own.
 
+mod diffuse_lanes;
 mod direct;
 mod final_gather;
 mod missed_light;
@@ -26,7 +27,7 @@ use glam::{Vec2, Vec3};
 use crate::film::Film;
 use crate::geometry::{Hit, Ray};
 use crate::graph::{IntegratorKind, Settings};
-use crate::lanes::{Floats, LANES, Lane, Mask, MaskLanes, RayLanes, Vec3Lanes};
+use crate::lanes::{Floats, LANES, Lane, Mask, MaskLanes, RayLanes, Real, Vec3Lanes};
 use crate::light::{Light, ShadowRay};
 use crate::material::{Bsdf, LobeFlags};
 use crate::progress::{Progress, RenderStats};
@@ -129,11 +130,16 @@ fn direct_from_light(
 /// where a pdf is huge (an area light seen edge-on from far away: a solid-angle pdf of 1e20),
 /// and inf / inf is NaN. Both infinite: an even split.
 pub(super) fn power_heuristic(pdf: f32, other: f32) -> f32 {
-    if pdf == 0.0 {
-        return 0.0;
-    }
+    power_heuristic_of(pdf, other)
+}
+
+/// `power_heuristic` written once over `Real`: for one sample or a sample per lane.
+#[inline(always)]
+fn power_heuristic_of<F: Real>(pdf: F, other: F) -> F {
     let ratio = other / pdf;
-    if ratio.is_nan() { 0.5 } else { 1.0 / (1.0 + ratio * ratio) }
+    let is_nan = ratio.ne(ratio);
+    let weight = F::select(is_nan, F::splat(0.5), F::ONE / (F::ONE + ratio * ratio));
+    F::select(pdf.eq(F::ZERO), F::ZERO, weight)
 }
 
 /// A path traced in a lane: which camera sample it is (where its radiance goes), its own
@@ -225,6 +231,24 @@ impl ShadowLanes {
         self.rays.set_lane(lane, &shadow.ray());
         self.t_max.set_lane(lane, shadow.t_max());
         self.radiance[lane] = radiance;
+    }
+
+    /// Sets the lanes of `lanes`: shadow rays from `origin` along `dir` up to `t_max`, each
+    /// bringing its lane of `radiance` if unoccluded.
+    #[inline(always)]
+    fn set_lanes(
+        &mut self,
+        lanes: Mask,
+        (origin, dir, t_max): (Vec3Lanes, Vec3Lanes, Floats),
+        radiance: Vec3Lanes,
+    ) {
+        self.found = self.found | lanes;
+        self.rays.origin = Vec3Lanes::select(lanes, origin, self.rays.origin);
+        self.rays.dir = Vec3Lanes::select(lanes, dir, self.rays.dir);
+        self.t_max = <Floats as Real>::select(lanes, t_max, self.t_max);
+        for lane in (0..LANES).filter(|&lane| lanes.lane(lane)) {
+            self.radiance[lane] = radiance.lane(lane);
+        }
     }
 
     /// The radiance each lane's shadow ray brings: its light sample's, times the fraction that

@@ -4,6 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::diffuse_lanes::{DiffuseLanes, DiffuseSamples, DiffuseVertex};
 use super::{CameraSample, Lanes, SampleIntegrator, ShadowLanes, power_heuristic};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::lanes::LANES;
@@ -66,6 +67,30 @@ impl PathState {
         }
     }
 
+    /// The rest of a bounce whose lone Lambertian lobe's sample was left to the lanes
+    /// (`Path::bounce_by`), from `lane` of their samples: the next ray and roulette, as
+    /// `Path::bounce` does after its BSDF sample. Whether the path goes on.
+    #[inline(always)]
+    pub(super) fn follow_diffuse(
+        &mut self,
+        sampled: &DiffuseSamples,
+        lane: usize,
+        sampler: &mut Sampler,
+    ) -> bool {
+        if !sampled.continues(lane) {
+            return false;
+        }
+        let (ray, previous) = sampled.lane(lane);
+        self.previous = Some(previous);
+        self.seen = false;
+        self.ray = ray;
+        if !self.survives_roulette(sampler) {
+            return false;
+        }
+        self.bounces += 1;
+        true
+    }
+
     /// Russian roulette before the next bounce: whether the path goes on, with probability tied
     /// to its throughput, which is divided by it so that the estimate stays unbiased.
     #[inline(always)]
@@ -111,8 +136,10 @@ impl SampleIntegrator for Path {
 
     /// Traces `LANES` paths at a time, bounce by bounce, so that their rays and their shadow
     /// rays meet the scene together (`Scene::intersect_lanes`, `Scene::occluded_lanes`); each
-    /// path's bounce is `bounce`, as for one path, so it gets the same radiance, bit for bit.
-    /// A finished path's lane takes the next camera sample.
+    /// path's bounce is `bounce`, as for one path, but for the light and BSDF samples of a
+    /// vertex on a lone Lambertian lobe, which the lanes with one take together (`DiffuseLanes`)
+    /// by the same kernels, so each path gets the same radiance, bit for bit. A finished path's
+    /// lane takes the next camera sample.
     fn radiance_of_all(
         &self,
         scene: &Scene,
@@ -130,14 +157,25 @@ impl SampleIntegrator for Path {
             let rays = lanes.rays(|path| path.ray);
             let found = scene.intersect_lanes(&rays, active);
             let mut shadows = ShadowLanes::new();
+            let mut diffuse = DiffuseLanes::new();
             let mut done = [false; LANES];
             for (lane, path) in lanes.paths_mut() {
-                let bounce =
-                    self.bounce(scene, &mut path.state, found.hit(lane), &mut path.sampler);
+                let hit = found.hit(lane);
+                let bounce = self.bounce_by(scene, &mut path.state, hit, &mut path.sampler, {
+                    let diffuse = &mut diffuse;
+                    move |vertex| diffuse.set_lane(scene, lane, vertex)
+                });
                 if let Some(shadowed) = bounce.shadowed {
                     shadows.set_lane(lane, shadowed);
                 }
                 done[lane] = !bounce.continues;
+            }
+            let set = diffuse.set();
+            if set != 0 {
+                let sampled = diffuse.scatter(scene, &mut shadows);
+                for (lane, path) in lanes.paths_mut().filter(|(lane, _)| set & (1 << lane) != 0) {
+                    done[lane] = !path.state.follow_diffuse(&sampled, lane, &mut path.sampler);
+                }
             }
             for (lane, reached) in shadows.reached(scene).into_iter().enumerate() {
                 if let Some(path) = lanes.path_mut(lane) {
@@ -167,6 +205,22 @@ impl Path {
         hit: Option<Hit>,
         sampler: &mut Sampler,
     ) -> Bounce {
+        self.bounce_by(scene, path, hit, sampler, |_| false)
+    }
+
+    /// `bounce`, but under multiple importance sampling a vertex on a lone Lambertian lobe
+    /// (`Bsdf::lone_lambertian`) may be left to `defer`, with its light sample and its BSDF
+    /// sample: where it takes it, the throughput is multiplied by kd and the bounce goes on, its
+    /// next ray and roulette left to `PathState::follow_diffuse`.
+    #[inline(always)]
+    fn bounce_by(
+        &self,
+        scene: &Scene,
+        path: &mut PathState,
+        hit: Option<Hit>,
+        sampler: &mut Sampler,
+        defer: impl FnOnce(DiffuseVertex) -> bool,
+    ) -> Bounce {
         let ends = Bounce { shadowed: None, continues: false };
         let Some(mut hit) = hit else {
             path.radiance += path.beta * self.beyond(scene, path);
@@ -187,6 +241,13 @@ impl Path {
         let u_lobe = sampler.next_1d_if(flags.chooses_lobe());
         let u = sampler.next_2d();
         let beta = path.beta;
+        if self.strategy == Strategy::Mis
+            && let Some(lambertian) = bsdf.lone_lambertian()
+            && defer(DiffuseVertex { hit: &hit, wo, kd: lambertian.reflectance, beta, light, u })
+        {
+            path.beta *= lambertian.reflectance;
+            return Bounce { shadowed: None, continues: true };
+        }
         let shadowed = match light {
             Some((light, probability, u_light)) => self
                 .next_event(scene, &hit, wo, &bsdf, (light, probability), u_light)

@@ -8,7 +8,7 @@ use arrayvec::ArrayVec;
 use glam::{Vec2, Vec3};
 
 use super::fresnel::Split;
-use super::lobe::{GgxConductor, GgxDielectric, Lobe, Mirror, SmoothDielectric};
+use super::lobe::{GgxConductor, GgxDielectric, Lambertian, Lobe, Mirror, SmoothDielectric};
 use super::microfacet::Ggx;
 use super::{CoatLayer, LobeFlags, Material};
 use crate::geometry::Frame;
@@ -140,6 +140,19 @@ impl Bsdf {
         let Some(n) = self.geometric else { return false };
         let shading = self.frame.to_local(wo).z * self.frame.to_local(wi).z > 0.0;
         (wo.dot(n) * wi.dot(n) > 0.0) != shading
+    }
+
+    /// Its lobe where it has one, a Lambertian one that scatters light (kd > 0), on a surface
+    /// that bump mapping did not tilt: `sample` gives `Lambertian::direction` in the frame of
+    /// the shading normal, weighted by kd, and never ends a path for a leak.
+    #[inline(always)]
+    pub fn lone_lambertian(&self) -> Option<&Lambertian> {
+        match self.lobes.as_slice() {
+            [Lobe::Lambertian(lobe)] if self.geometric.is_none() && lobe.albedo() > 0.0 => {
+                Some(lobe)
+            }
+            _ => None,
+        }
     }
 
     /// The kinds of lobes it has.

@@ -4,32 +4,39 @@ use std::f32::consts::{FRAC_PI_4, PI};
 
 use glam::{Vec2, Vec3};
 
+use crate::lanes::{Real, Vector};
+
 /// Shirley–Chiu concentric map onto the unit disk (area-preserving up to a constant).
 #[inline]
 pub fn concentric_disk(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
+    let (x, y) = concentric_disk_of(u.x, u.y);
+    Vec2::new(x, y)
+}
+
+/// `concentric_disk` written once over `Real`: for one point or a point per lane.
+#[inline(always)]
+pub fn concentric_disk_of<F: Real>(ux: F, uy: F) -> (F, F) {
+    let (ox, oy) = (F::splat(2.0) * ux - F::ONE, F::splat(2.0) * uy - F::ONE);
     // The angle from the axis of the larger coordinate is within pi/4 of it, where a short
-    // polynomial gives sin and cos at a fraction of the cost of general ones.
-    if o.x.abs() > o.y.abs() {
-        let (sin, cos) = sin_cos_within_quarter(FRAC_PI_4 * (o.y / o.x));
-        o.x * Vec2::new(cos, sin)
-    } else {
-        // At pi/2 - phi, cos and sin trade places.
-        let (sin, cos) = sin_cos_within_quarter(FRAC_PI_4 * (o.x / o.y));
-        o.y * Vec2::new(sin, cos)
-    }
+    // polynomial gives sin and cos at a fraction of the cost of general ones; at pi/2 - phi
+    // (y the larger) cos and sin trade places.
+    let x_larger = ox.abs().gt(oy.abs());
+    let (larger, smaller) = (F::select(x_larger, ox, oy), F::select(x_larger, oy, ox));
+    let (sin, cos) = sin_cos_within_quarter(F::splat(FRAC_PI_4) * (smaller / larger));
+    let (x, y) = (larger * F::select(x_larger, cos, sin), larger * F::select(x_larger, sin, cos));
+    let centre = ox.eq(F::ZERO) & oy.eq(F::ZERO);
+    (F::select(centre, F::ZERO, x), F::select(centre, F::ZERO, y))
 }
 
 /// sin and cos of `x` in [-pi/4, pi/4], to within a few ulps: the minimax polynomials of
 /// Cephes' `sinf` and `cosf` (Moshier 1989).
-#[inline]
-fn sin_cos_within_quarter(x: f32) -> (f32, f32) {
+#[inline(always)]
+fn sin_cos_within_quarter<F: Real>(x: F) -> (F, F) {
+    let c = F::splat;
     let z = x * x;
-    let sin = x + x * z * (-1.666_665_5e-1 + z * (8.332_161e-3 + z * -1.951_529_6e-4));
-    let cos = 1.0 - 0.5 * z + z * z * (4.166_664_6e-2 + z * (-1.388_731_6e-3 + z * 2.443_315_7e-5));
+    let sin = x + x * z * (c(-1.666_665_5e-1) + z * (c(8.332_161e-3) + z * c(-1.951_529_6e-4)));
+    let cos = F::ONE - c(0.5) * z
+        + z * z * (c(4.166_664_6e-2) + z * (c(-1.388_731_6e-3) + z * c(2.443_315_7e-5)));
     (sin, cos)
 }
 
@@ -44,21 +51,36 @@ pub fn uniform_sphere(u: Vec2) -> Vec3 {
 /// Cosine-weighted on the hemisphere around +z (Malley's method); pdf cos(theta) / pi.
 #[inline]
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = concentric_disk(u);
-    Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
+    cosine_hemisphere_of(u.x, u.y).into()
+}
+
+/// `cosine_hemisphere` written once over `Real`: for one point or a point per lane.
+#[inline(always)]
+pub fn cosine_hemisphere_of<F: Real>(ux: F, uy: F) -> Vector<F> {
+    let (x, y) = concentric_disk_of(ux, uy);
+    let z_squared = F::ONE - (x * x + y * y);
+    Vector { x, y, z: F::select(z_squared.gt(F::ZERO), z_squared, F::ZERO).sqrt() }
 }
 
 /// Barycentric coordinates (b1, b2) uniform over a triangle: the point is
 /// `a + b1 (b - a) + b2 (c - a)` (the square-root warp).
 #[inline]
 pub fn uniform_triangle(u: Vec2) -> Vec2 {
-    let su = u.x.sqrt();
-    Vec2::new(1.0 - su, u.y * su)
+    let (s, t) = uniform_triangle_of(u.x, u.y);
+    Vec2::new(s, t)
+}
+
+/// `uniform_triangle` written once over `Real`: for one point or a point per lane.
+#[inline(always)]
+pub fn uniform_triangle_of<F: Real>(ux: F, uy: F) -> (F, F) {
+    let su = ux.sqrt();
+    (F::ONE - su, uy * su)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::{Floats, LANES, Lane, Wide};
 
     /// Midpoint-rule grid over the unit square.
     fn grid(n: usize) -> impl Iterator<Item = Vec2> {
@@ -73,6 +95,33 @@ mod tests {
         assert!(points.iter().all(|p| p.length() <= 1.0 + 1e-6));
         let inner = points.iter().filter(|p| p.length_squared() < 0.5).count();
         assert!((inner as f32 / points.len() as f32 - 0.5).abs() < 0.005);
+    }
+
+    /// The lanes' instance of the cosine-weighted warp (the concentric map's branches taken by
+    /// selects) gives each lane what one point gives, bit for bit: at the centre, on the
+    /// diagonals where neither coordinate is the larger, on the edges, and between.
+    #[test]
+    fn cosine_hemisphere_in_lanes_is_each_point_s() {
+        let mut u: Vec<Vec2> = grid(37).collect();
+        u.extend([0.0, 0.25, 0.5, 0.75, 1.0 - f32::EPSILON / 2.0].iter().flat_map(|&x| {
+            [Vec2::new(x, x), Vec2::new(x, 1.0 - x), Vec2::new(x, 0.0), Vec2::new(0.5, x)]
+        }));
+        for chunk in u.chunks(LANES) {
+            let at = |lane: usize| chunk[lane.min(chunk.len() - 1)];
+            let lanes = cosine_hemisphere_of(
+                Floats::from_fn(|lane| at(lane).x),
+                Floats::from_fn(|lane| at(lane).y),
+            );
+            for lane in 0..chunk.len() {
+                let one = cosine_hemisphere(at(lane));
+                assert_eq!(
+                    lanes.lane(lane).to_array().map(f32::to_bits),
+                    one.to_array().map(f32::to_bits),
+                    "{}",
+                    at(lane)
+                );
+            }
+        }
     }
 
     #[test]

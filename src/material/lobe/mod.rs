@@ -19,6 +19,7 @@ pub use smooth_dielectric::SmoothDielectric;
 use glam::{Vec2, Vec3};
 
 use super::{LobeFlags, TransportMode};
+use crate::lanes::Real;
 
 /// A direction drawn from one lobe, in the shading frame. `weight` is f |cos| / pdf of the
 /// lobe's own sampling (its choice between reflection and refraction included); `pdf` is in
@@ -146,7 +147,13 @@ impl Lobe {
 /// +1 where `wo` (local) is on the normal's side, -1 below: the side a two-sided lobe turns to.
 #[inline]
 fn side_of(wo: Vec3) -> f32 {
-    if wo.z < 0.0 { -1.0 } else { 1.0 }
+    side_of_z(wo.z)
+}
+
+/// `side_of` a direction whose local z is `z`, written once over `Real`.
+#[inline(always)]
+fn side_of_z<F: Real>(z: F) -> F {
+    F::select(z.lt(F::ZERO), -F::ONE, F::ONE)
 }
 
 /// The mirror direction of `wo` about the +z normal.
