@@ -247,7 +247,7 @@ fn light_sample(
     mask: LobeFlags,
     sampler: &mut Sampler,
 ) -> Option<(ShadowRay, Vec3)> {
-    let u = sampler.next_2d();
+    let u = sampler.next_2d_if(!light.is_delta());
     let gathered = vertex.gathered & mask;
     let followed = vertex.followed();
     let followed = if (followed & mask).is_non_delta() { followed } else { LobeFlags::NONE };

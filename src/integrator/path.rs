@@ -239,7 +239,8 @@ impl Path {
         let flags = bsdf.flags();
         let light = if flags.is_non_delta() { self.choose_light(scene, sampler) } else { None };
         let u_lobe = sampler.next_1d_if(flags.chooses_lobe());
-        let u = sampler.next_2d();
+        // Delta lobes read no direction sample.
+        let u = sampler.next_2d_if(flags.is_non_delta());
         let beta = path.beta;
         if self.strategy == Strategy::Mis
             && let Some(lambertian) = bsdf.lone_lambertian()
@@ -332,8 +333,11 @@ impl Path {
         sampler: &mut Sampler,
     ) -> Option<(usize, f32, Vec2)> {
         let u_select = sampler.next_1d_if(scene.lights.len() > 1);
-        let u = sampler.next_2d();
-        let (index, probability) = scene.choose_light(u_select)?;
+        let chosen = scene.choose_light(u_select);
+        // A delta light (a point) reads no sample.
+        let u =
+            sampler.next_2d_if(chosen.is_some_and(|(index, _)| !scene.lights[index].is_delta()));
+        let (index, probability) = chosen?;
         if !scene.lights[index].is_delta() && self.strategy == Strategy::BsdfSampling {
             return None;
         }
