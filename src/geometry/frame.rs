@@ -12,6 +12,9 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// The world's own axes.
+    pub const Z: Frame = Frame { tangent: Vec3::X, bitangent: Vec3::Y, normal: Vec3::Z };
+
     /// The frame around unit `n` (Duff et al. 2017: no branch but the sign of n.z).
     #[inline]
     pub fn from_normal(normal: Vec3) -> Self {
