@@ -15,6 +15,13 @@ pub struct Frame<F = f32> {
 }
 
 impl Frame {
+    /// The world's own axes.
+    pub const Z: Frame = Frame {
+        tangent: Vector { x: 1.0, y: 0.0, z: 0.0 },
+        bitangent: Vector { x: 0.0, y: 1.0, z: 0.0 },
+        normal: Vector { x: 0.0, y: 0.0, z: 1.0 },
+    };
+
     /// The frame around unit `n`.
     #[inline]
     pub fn from_normal(normal: Vec3) -> Self {

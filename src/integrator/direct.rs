@@ -64,13 +64,17 @@ impl SampleIntegrator for Direct {
         samples: &mut dyn Iterator<Item = CameraSample>,
         radiance: &mut [Vec3],
     ) {
-        let mut lanes: Lanes<WhittedLane> = Lanes::new();
-        let start = |ray| WhittedLane { path: WhittedPath::new(ray), vertex: None };
-        while let Some(active) = lanes.fill(samples, start) {
-            let found = scene.intersect_lanes(&lanes.rays(|lane| lane.path.ray), active);
+        let mut lanes: Lanes<WhittedPath> = Lanes::new();
+        // Each lane's vertex, made in place by each bounce (`arrive_in`) where its path
+        // `scatters`.
+        let mut vertices = [Vertex::UNSET; LANES];
+        let mut scatters = [false; LANES];
+        while let Some(active) = lanes.fill(samples, WhittedPath::new) {
+            let found = scene.intersect_lanes(&lanes.rays(|path| path.ray), active);
             for (lane, path) in lanes.paths_mut() {
-                let state = &mut path.state;
-                state.vertex = arrive(scene, &mut state.path, found.hit(lane), self.max_depth);
+                let hit = found.hit(lane);
+                let vertex = &mut vertices[lane];
+                scatters[lane] = arrive_in(scene, &mut path.state, hit, self.max_depth, vertex);
             }
             // Each light in turn, sampled at every lit vertex: a lane's sampler draws for the
             // lights in their order, as in `light_samples`.
@@ -78,9 +82,10 @@ impl SampleIntegrator for Direct {
             for light in &scene.lights {
                 let mut shadows = ShadowLanes::new();
                 for (lane, path) in lanes.paths_mut() {
-                    let Some(vertex) = path.state.vertex.as_ref().filter(|v| v.is_lit()) else {
+                    let vertex = &vertices[lane];
+                    if !(scatters[lane] && vertex.is_lit()) {
                         continue;
-                    };
+                    }
                     let sampler = &mut path.sampler;
                     if let Some(shadowed) = light_sample(light, vertex, LobeFlags::ALL, sampler) {
                         shadows.set_lane(lane, shadowed);
@@ -92,24 +97,15 @@ impl SampleIntegrator for Direct {
             }
             for (lane, lit) in lit.into_iter().enumerate() {
                 let Some(path) = lanes.path_mut(lane) else { continue };
-                let WhittedLane { path: whitted, vertex } = &mut path.state;
-                // Read in place: the next bounce's `arrive` overwrites it (taken out, the
-                // vertex was copied).
-                let continues = vertex.as_ref().is_some_and(|vertex| {
-                    leave(scene, whitted, vertex, lit, &mut path.sampler, None)
-                });
+                let (vertex, sampler) = (&vertices[lane], &mut path.sampler);
+                let continues =
+                    scatters[lane] && leave(scene, &mut path.state, vertex, lit, sampler, None);
                 if !continues && let Some(path) = lanes.take(lane) {
-                    radiance[path.slot] = path.state.path.radiance;
+                    radiance[path.slot] = path.state.radiance;
                 }
             }
         }
     }
-}
-
-/// A path of `whitted` traced in a lane: its state and its vertex this bounce.
-struct WhittedLane {
-    path: WhittedPath,
-    vertex: Option<Vertex>,
 }
 
 /// A path of `whitted` (or of sppm's camera pass) between bounces.
@@ -168,6 +164,21 @@ pub(super) struct Vertex {
 }
 
 impl Vertex {
+    /// A vertex slot before `arrive_in` fills it.
+    const UNSET: Vertex = Vertex {
+        hit: Hit {
+            t: 0.0,
+            point: Vec3::ZERO,
+            normal: Vec3::Z,
+            shading_normal: Vec3::Z,
+            error: 0.0,
+            primitive: 0,
+        },
+        wo: Vec3::Z,
+        bsdf: Bsdf::BLACK,
+        gathered: LobeFlags::NONE,
+    };
+
     /// Whether it has lobes with a density, which light samples light.
     fn is_lit(&self) -> bool {
         self.bsdf.flags().is_non_delta()
@@ -191,6 +202,22 @@ pub(super) fn arrive(
     hit: Option<Hit>,
     max_depth: u32,
 ) -> Option<Vertex> {
+    let mut vertex = Vertex::UNSET;
+    arrive_in(scene, path, hit, max_depth, &mut vertex).then_some(vertex)
+}
+
+/// `arrive` with the vertex made in place in `vertex` (whatever it held; meaningful only where
+/// the path scatters, which it returns). The lanes keep a vertex per lane this way: returned
+/// and moved into its lane, a vertex was copied three times, and those copies' wide loads
+/// waited on the narrower stores that made it (a fifth of S1's time, perf).
+#[inline(always)]
+fn arrive_in(
+    scene: &Scene,
+    path: &mut WhittedPath,
+    hit: Option<Hit>,
+    max_depth: u32,
+    vertex: &mut Vertex,
+) -> bool {
     let Some(mut hit) = hit else {
         // Only followed lobes lead here: the camera sees what lies beyond.
         let dir = Vec3::from(path.ray.dir);
@@ -201,7 +228,7 @@ pub(super) fn arrive(
             _ => scene.beyond(dir, true),
         };
         path.radiance += path.beta * beyond;
-        return None;
+        return false;
     };
     let wo = -Vec3::from(path.ray.dir);
     let material = scene.material(hit.primitive, hit.point);
@@ -212,15 +239,17 @@ pub(super) fn arrive(
         path.radiance += path.beta * emitted * path.found_weight(found);
     }
     if path.bounces == max_depth {
-        return None;
+        return false;
     }
-    let bsdf = scene.shade(&mut hit, wo, &material, TransportMode::Radiance);
-    let gathered = if path.follows_near_specular {
-        bsdf.gathered_lobes()
+    scene.shade(&mut vertex.bsdf, &mut hit, wo, &material, TransportMode::Radiance);
+    vertex.gathered = if path.follows_near_specular {
+        vertex.bsdf.gathered_lobes()
     } else {
-        bsdf.flags() & LobeFlags::NON_DELTA
+        vertex.bsdf.flags() & LobeFlags::NON_DELTA
     };
-    Some(Vertex { hit, wo, bsdf, gathered })
+    vertex.hit = hit;
+    vertex.wo = wo;
+    true
 }
 
 /// A sample of every light at a lit vertex, in order: its shadow ray and the light it reflects

@@ -21,7 +21,7 @@ use super::path::PathState;
 use super::power_heuristic;
 use crate::geometry::{Ray, offset_origin};
 use crate::light::photons_reach;
-use crate::material::{LobeFlags, TransportMode};
+use crate::material::{Bsdf, LobeFlags, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -87,7 +87,8 @@ impl MissedLight {
             }
             let wo = -Vec3::from(path.ray.dir);
             let material = scene.material(hit.primitive, hit.point);
-            let bsdf = scene.shade(&mut hit, wo, &material, TransportMode::Radiance);
+            let mut bsdf = Bsdf::BLACK;
+            scene.shade(&mut bsdf, &mut hit, wo, &material, TransportMode::Radiance);
             let flags = bsdf.flags();
             if flags.is_non_delta() && !self.inside(hit.point) {
                 for &(light, ..) in &self.lights {

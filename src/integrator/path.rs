@@ -235,7 +235,8 @@ impl Path {
         if path.bounces == self.max_depth {
             return ends;
         }
-        let bsdf = scene.shade(&mut hit, wo, &material, TransportMode::Radiance);
+        let mut bsdf = Bsdf::BLACK;
+        scene.shade(&mut bsdf, &mut hit, wo, &material, TransportMode::Radiance);
         let flags = bsdf.flags();
         let light = if flags.is_non_delta() { self.choose_light(scene, sampler) } else { None };
         let u_lobe = sampler.next_1d_if(flags.chooses_lobe());

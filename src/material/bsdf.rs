@@ -97,9 +97,18 @@ impl Material {
     /// of line they cost their calls and a copy of the BSDF (callgrind of S1–S7).
     #[inline(always)]
     pub fn bsdf(&self, n: Vec3, mode: TransportMode) -> Bsdf {
-        let mut lobes = ArrayVec::new();
+        let mut bsdf = Bsdf::BLACK;
+        self.bsdf_in(&mut bsdf, n, mode);
+        bsdf
+    }
+
+    /// `bsdf` made in place in `bsdf`, whatever it held.
+    #[inline(always)]
+    pub fn bsdf_in(&self, bsdf: &mut Bsdf, n: Vec3, mode: TransportMode) {
+        bsdf.frame = Frame::from_normal(n);
+        bsdf.lobes.clear();
         if let Some(base) = self.base_lobe() {
-            lobes.push(base);
+            bsdf.lobes.push(base);
         }
         let (ks, kt) = (self.specular, self.transmission);
         if ks.max_element() > 0.0 || kt.max_element() > 0.0 {
@@ -110,20 +119,31 @@ impl Material {
                 Split::Fixed { reflect: ks, transmit: kt }
             };
             let (ior, ggx) = (self.ior, Ggx { alpha: self.roughness });
-            lobes.push(match (self.roughness > 0.0, dielectric) {
+            bsdf.lobes.push(match (self.roughness > 0.0, dielectric) {
                 (false, false) => Lobe::Mirror(Mirror { reflectance: ks }),
                 (false, true) => Lobe::SmoothDielectric(SmoothDielectric { split, ior }),
                 (true, false) => Lobe::GgxConductor(GgxConductor { reflectance: ks, ggx }),
                 (true, true) => Lobe::GgxDielectric(GgxDielectric { split, ior, ggx }),
             });
         }
-        let flags = lobes.iter().fold(LobeFlags::NONE, |flags, lobe| flags | lobe.flags());
-        let beneath = self.coat.and_then(|coat| coat.over_all());
-        Bsdf { frame: Frame::from_normal(n), lobes, mode, flags, beneath, geometric: None }
+        bsdf.flags = bsdf.lobes.iter().fold(LobeFlags::NONE, |flags, lobe| flags | lobe.flags());
+        bsdf.beneath = self.coat.and_then(|coat| coat.over_all());
+        bsdf.mode = mode;
+        bsdf.geometric = None;
     }
 }
 
 impl Bsdf {
+    /// A BSDF of no lobes, for `Material::bsdf_in` to fill.
+    pub const BLACK: Bsdf = Bsdf {
+        frame: Frame::Z,
+        lobes: ArrayVec::new_const(),
+        mode: TransportMode::Radiance,
+        flags: LobeFlags::NONE,
+        beneath: None,
+        geometric: None,
+    };
+
     /// Puts this BSDF on a surface of geometric normal `geometric` (bump mapping's tilted shading
     /// frame): a pair of directions that the geometric surface and the shading frame see on
     /// different sides (one reflects where the other transmits) carries nothing, so no light

@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::Emission;
 use crate::geometry::{Hit, Ray, offset_origin};
-use crate::material::{LobeFlags, TransportMode};
+use crate::material::{Bsdf, LobeFlags, TransportMode};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -69,7 +69,8 @@ pub fn trace_photon(
         let Some(mut hit) = scene.intersect(&ray) else { break };
         let wo = -Vec3::from(ray.dir);
         let material = scene.material(hit.primitive, hit.point);
-        let bsdf = scene.shade(&mut hit, wo, &material, TransportMode::Importance);
+        let mut bsdf = Bsdf::BLACK;
+        scene.shade(&mut bsdf, &mut hit, wo, &material, TransportMode::Importance);
         let gathered = bsdf.gathered_lobes();
         if !gathered.is_empty() {
             deposit(&Deposit { hit, wi: wo, power, arrival });

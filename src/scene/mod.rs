@@ -321,14 +321,22 @@ impl Scene {
         material
     }
 
-    /// The BSDF of `material` (`Scene::material`'s at `hit`) seen from `wo`, with `hit`'s
-    /// shading normal bumped by the material's bump mapping, if any, and then kept consistent
-    /// with the geometric normal (`texture::tilt`, `Bsdf::face`). Without bump mapping,
-    /// `material.bsdf(hit.shading_normal, mode)` and the hit as it is. Always inlined, the BSDF
-    /// built once in place: every path vertex calls it, and a BSDF built on two branches (or
-    /// returned with the hit) is moved through memory (callgrind, S2: 2 % of its instructions).
+    /// Makes in `bsdf` the BSDF of `material` (`Scene::material`'s at `hit`) seen from `wo`,
+    /// with `hit`'s shading normal bumped by the material's bump mapping, if any, and then kept
+    /// consistent with the geometric normal (`texture::tilt`, `Bsdf::face`). Without bump
+    /// mapping, `material.bsdf(hit.shading_normal, mode)` and the hit as it is. Always inlined,
+    /// the BSDF built once in place, where the caller keeps it: every path vertex calls it, and
+    /// a BSDF returned (or built on two branches) is moved through memory, its wide loads
+    /// waiting on the narrower stores that made it (perf of S1, S3).
     #[inline(always)]
-    pub fn shade(&self, hit: &mut Hit, wo: Vec3, material: &Material, mode: TransportMode) -> Bsdf {
+    pub fn shade(
+        &self,
+        bsdf: &mut Bsdf,
+        hit: &mut Hit,
+        wo: Vec3,
+        material: &Material,
+        mode: TransportMode,
+    ) {
         let primitive = &self.primitives[hit.primitive as usize];
         let tilted = match &self.bumps[primitive.material as usize] {
             Some(bump) => self.bumped(bump, primitive.frame, hit, wo),
@@ -337,11 +345,10 @@ impl Scene {
         if let Some(shading_normal) = tilted {
             hit.shading_normal = shading_normal;
         }
-        let mut bsdf = material.bsdf(hit.shading_normal, mode);
+        material.bsdf_in(bsdf, hit.shading_normal, mode);
         if tilted.is_some() {
             bsdf.face(hit.normal);
         }
-        bsdf
     }
 
     /// The shading normal of `hit` tilted by `bump` (in object space `frame`), seen from `wo`;
