@@ -113,15 +113,11 @@ impl SampleIntegrator for Path {
     /// rays meet the scene together (`Scene::intersect_lanes`, `Scene::occluded_lanes`); each
     /// path's bounce is `bounce`, as for one path, so it gets the same radiance, bit for bit.
     /// A finished path's lane takes the next camera sample.
-    fn radiance_of_all(
-        &self,
-        scene: &Scene,
-        samples: &mut dyn Iterator<Item = CameraSample>,
-        radiance: &mut [Vec3],
-    ) {
+    fn radiance_of_all(&self, scene: &Scene, samples: &[CameraSample], radiance: &mut [Vec3]) {
+        let samples = &mut samples.iter();
         if scene.has_media() {
-            for CameraSample { slot, ray, mut sampler } in samples {
-                radiance[slot] = self.radiance_in_media(scene, ray, &mut sampler);
+            for CameraSample { slot, ray, sampler } in samples {
+                radiance[*slot] = self.radiance_in_media(scene, *ray, &mut sampler.clone());
             }
             return;
         }
