@@ -253,8 +253,8 @@ fn paths_together_match_paths_alone(scene: &Scene, max_depth: u32) {
     let count = 1001; // not a multiple of the lane count
     let untouched = Vec3::splat(-1.0);
     let mut together = vec![untouched; count];
-    let mut samples = (0..count).filter(|i| i % 7 != 3).map(camera_sample);
-    integrator.radiance_of_all(scene, &mut samples, &mut together);
+    let samples: Vec<_> = (0..count).filter(|i| i % 7 != 3).map(camera_sample).collect();
+    integrator.radiance_of_all(scene, &samples, &mut together);
     for (i, radiance) in together.iter().enumerate() {
         if i % 7 == 3 {
             assert_eq!(*radiance, untouched, "slot {i} has no sample");

@@ -58,12 +58,8 @@ impl SampleIntegrator for Direct {
     /// and so do the shadow rays towards each light in turn. Each path's vertex is `arrive`,
     /// a sample of each light (`light_sample`) and `leave`, as in `whitted`, with the lights' contributions added in
     /// the same order, so it gets the same radiance, bit for bit.
-    fn radiance_of_all(
-        &self,
-        scene: &Scene,
-        samples: &mut dyn Iterator<Item = CameraSample>,
-        radiance: &mut [Vec3],
-    ) {
+    fn radiance_of_all(&self, scene: &Scene, samples: &[CameraSample], radiance: &mut [Vec3]) {
+        let samples = &mut samples.iter();
         let mut lanes: Lanes<WhittedPath> = Lanes::new();
         // Each lane's vertex, made in place by each bounce (`arrive_in`) where its path
         // `scatters`.

@@ -167,12 +167,12 @@ impl<S> Lanes<S> {
     /// traced.
     fn fill(
         &mut self,
-        samples: &mut dyn Iterator<Item = CameraSample>,
+        samples: &mut std::slice::Iter<CameraSample>,
         start: impl Fn(Ray) -> S,
     ) -> Option<[bool; LANES]> {
         for path in self.paths.iter_mut().filter(|path| path.is_none()) {
             let Some(CameraSample { slot, ray, sampler }) = samples.next() else { break };
-            *path = Some(LanePath { slot, sampler, state: start(ray) });
+            *path = Some(LanePath { slot: *slot, sampler: sampler.clone(), state: start(*ray) });
         }
         let active = self.paths.each_ref().map(Option::is_some);
         active.contains(&true).then_some(active)

@@ -140,15 +140,11 @@ impl SampleIntegrator for Path {
     /// vertex on a lone Lambertian lobe, which the lanes with one take together (`DiffuseLanes`)
     /// by the same kernels, so each path gets the same radiance, bit for bit. A finished path's
     /// lane takes the next camera sample.
-    fn radiance_of_all(
-        &self,
-        scene: &Scene,
-        samples: &mut dyn Iterator<Item = CameraSample>,
-        radiance: &mut [Vec3],
-    ) {
+    fn radiance_of_all(&self, scene: &Scene, samples: &[CameraSample], radiance: &mut [Vec3]) {
+        let samples = &mut samples.iter();
         if scene.has_media() {
-            for CameraSample { slot, ray, mut sampler } in samples {
-                radiance[slot] = self.radiance_in_media(scene, ray, &mut sampler);
+            for CameraSample { slot, ray, sampler } in samples {
+                radiance[*slot] = self.radiance_in_media(scene, *ray, &mut sampler.clone());
             }
             return;
         }
