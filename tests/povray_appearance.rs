@@ -17,6 +17,11 @@ fn pov(text: &str) -> SceneGraph {
     parse_scene(Path::new("tests/inline.pov"), text).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The error that refuses `text`.
+fn pov_error(text: &str) -> String {
+    parse_scene(Path::new("tests/inline.pov"), text).map(|_| ()).unwrap_err().to_string()
+}
+
 /// The material of the scene's first object.
 fn material(text: &str) -> MaterialDesc {
     (*pov(text).objects[0].material.clone().expect("a material")).clone()
@@ -120,8 +125,7 @@ fn a_glow_by_ambient_is_multiplied_by_ambient_light_and_emission_is_not() {
     assert_eq!(pov("global_settings { ambient_light 0.5 }").warnings, Vec::<String>::new());
     let late = "sphere { 0, 1 pigment { rgb 1 } finish { ambient 1 diffuse 0 } }\n\
                 global_settings { ambient_light 0.5 }";
-    let error = parse_scene(Path::new("tests/inline.pov"), late).map(|_| ()).unwrap_err();
-    let error = error.to_string();
+    let error = pov_error(late);
     assert!(error.starts_with("tests/inline.pov:2:33:"), "{error}");
     assert!(error.contains("glows by its `ambient` (tests/inline.pov:1:1)"), "{error}");
     // After a surface whose ambient is not light, or with the light unchanged, it is read.
@@ -167,15 +171,13 @@ fn assumed_gamma_makes_surface_and_light_colours_c_to_the_gamma_in_linear_light(
 
 #[test]
 fn assumed_gamma_after_a_surface_or_light_it_would_change_is_refused_by_place() {
-    let refused = |text: &str| {
-        parse_scene(Path::new("tests/inline.pov"), text).map(|_| ()).unwrap_err().to_string()
-    };
-    let error = refused("sphere { 0, 1 pigment { rgb 1 } }\nglobal_settings { assumed_gamma 2.2 }");
+    let error =
+        pov_error("sphere { 0, 1 pigment { rgb 1 } }\nglobal_settings { assumed_gamma 2.2 }");
     assert!(error.starts_with("tests/inline.pov:2:33:"), "{error}");
     assert!(error.contains("takes a colour (tests/inline.pov:1:1)"), "{error}");
-    let error = refused("light_source { 0, rgb 1 }\nglobal_settings { assumed_gamma 1.5 }");
+    let error = pov_error("light_source { 0, rgb 1 }\nglobal_settings { assumed_gamma 1.5 }");
     assert!(error.contains("takes a colour (tests/inline.pov:1:1)"), "{error}");
-    let error = refused("global_settings { assumed_gamma 0 }");
+    let error = pov_error("global_settings { assumed_gamma 0 }");
     assert!(error.contains("must be positive"), "{error}");
     // The same gamma again changes nothing, and is read.
     pov("global_settings { assumed_gamma 2.2 }\nsphere { 0, 1 pigment { rgb 1 } }\n\
@@ -271,12 +273,7 @@ fn normal_is_bump_mapping_and_srgb_is_decoded() {
     assert!(m.normal.is_some(), "bumps: bump mapping");
     assert!(bumped.warnings.iter().all(|w| !w.contains("`normal`")), "{:?}", bumped.warnings);
     // An image's bumps (`bump_map`) are read too: a missing file is refused where it is named.
-    let missing = parse_scene(
-        Path::new("tests/inline.pov"),
-        "sphere { 0, 1 normal { bump_map { png \"b.png\" } } }",
-    )
-    .unwrap_err()
-    .to_string();
+    let missing = pov_error("sphere { 0, 1 normal { bump_map { png \"b.png\" } } }");
     assert!(missing.contains(":1:39:") && missing.contains("b.png"), "{missing}");
     let graph = pov("sphere { 0, 1 pigment { srgb <1, 0.5, 0> } finish { diffuse 1 } }");
     let m = graph.objects[0].material.as_ref().unwrap();
@@ -493,10 +490,8 @@ fn a_pigment_map_blends_its_pigments_as_a_color_map_blends_colours() {
     let one = "sky_sphere { pigment { bozo pigment_map { [0.5 rgb <0, 1, 0>] } } }";
     assert!(close(sky_at(one, Vec3::new(0.3, 0.2, 0.1)), Vec3::new(0.0, 1.0, 0.0)));
 
-    let error = |text: &str| {
-        parse_scene(Path::new("tests/inline.pov"), text).map(|_| ()).unwrap_err().to_string()
-    };
-    let order = error("sphere { 0, 1 pigment { marble pigment_map { [0.5 rgb 0] [0.2 rgb 1] } } }");
+    let order =
+        pov_error("sphere { 0, 1 pigment { marble pigment_map { [0.5 rgb 0] [0.2 rgb 1] } } }");
     assert!(order.contains(":1:59:") && order.contains("0.2 must be"), "{order}");
     // A pigment's transmit in a pigment_map is kept: the material lets light through where
     // the pattern picks it.
@@ -602,13 +597,7 @@ fn a_colour_function_gives_its_pigment_s_colour_and_in_a_function_a_component() 
         }
     }
     // A colour function is no number: a function takes its components.
-    let error = parse_scene(
-        Path::new("tests/inline.pov"),
-        &format!("{declare}#declare F = function {{ C(x, y, z) + 1 }}"),
-    )
-    .map(|_| ())
-    .unwrap_err()
-    .to_string();
+    let error = pov_error(&format!("{declare}#declare F = function {{ C(x, y, z) + 1 }}"));
     assert!(error.contains(":3:") && error.contains("`C` is a colour function"), "{error}");
 }
 
