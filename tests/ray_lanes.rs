@@ -32,7 +32,7 @@ fn assert_lanes_agree_with_single_rays(scene: &Scene) {
             let key = |hit: Option<Hit>| {
                 hit.map(|h| (h.primitive, h.t, h.point, h.normal, h.shading_normal, h.error))
             };
-            assert_eq!(key(found.hit(lane)), key(alone), "ray {ray:?}");
+            assert_eq!(key(found.hits()[lane]), key(alone), "ray {ray:?}");
             let blocked = active[lane] && scene.occluded(ray, t_max[lane]);
             assert_eq!(occluded.lane(lane), blocked, "ray {ray:?} to {}", t_max[lane]);
             let bounded = |h: &Hit| scene.primitives[h.primitive as usize].shape.bounds().is_some();

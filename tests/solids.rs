@@ -1418,7 +1418,7 @@ fn csg_in_a_scene_shadow_rays_and_ray_batches_agree_with_one_ray_at_a_time() {
             let key = |h: Option<raydiance::geometry::Hit>| {
                 h.map(|h| (h.primitive, h.t, h.point, h.normal))
             };
-            assert_eq!(key(nearest.hit(lane)), key(one));
+            assert_eq!(key(nearest.hits()[lane]), key(one));
             let blocked = one.is_some_and(|h| h.t < t_max[lane]);
             assert_eq!(scene.occluded(&rays[lane], t_max[lane]), blocked);
             assert_eq!(occluded.lane(lane), blocked);

@@ -51,10 +51,14 @@ pub struct Nearest {
 }
 
 impl Nearest {
-    /// The hit record of a lane whose ray met a shape, named as its primitive.
+    /// The hit record of each lane whose ray met a shape, named as its primitive. All lanes are
+    /// read at once, each at a lane known when compiling: read one lane at a time by a variable
+    /// lane, LLVM gathered a lane's ten coordinates (`vgatherqps`), which cannot take them from
+    /// the stores that had just made them and waited for those (the hottest instruction of S3's
+    /// `radiance_of_all` in `perf annotate`).
     #[inline]
-    pub fn hit(&self, lane: usize) -> Option<Hit> {
-        Some(self.hits.lane(lane, self.names[lane]?, self.t.lane(lane)))
+    pub fn hits(&self) -> [Option<Hit>; LANES] {
+        std::array::from_fn(|lane| Some(self.hits.lane(lane, self.names[lane]?, self.t.lane(lane))))
     }
 }
 
@@ -293,7 +297,7 @@ mod tests {
                 let key = |hit: Option<Hit>| {
                     hit.map(|h| (h.primitive, h.t, h.point, h.normal, h.shading_normal, h.error))
                 };
-                assert_eq!(key(nearest.hit(lane)), key(one_by_one));
+                assert_eq!(key(nearest.hits()[lane]), key(one_by_one));
                 assert_eq!(occluded.lane(lane), one_by_one.is_some());
                 if let Some(i) = one_by_one.map(|h| h.primitive as usize) {
                     hits[match shapes[i] {

@@ -60,15 +60,16 @@ impl SampleIntegrator for Direct {
     /// the same order, so it gets the same radiance, bit for bit.
     fn radiance_of_all(&self, scene: &Scene, samples: &[CameraSample], radiance: &mut [Vec3]) {
         let samples = &mut samples.iter();
-        let mut lanes: Lanes<WhittedPath> = Lanes::new();
+        let mut lanes: Lanes<WhittedPath> = Lanes::new(WhittedPath::new);
         // Each lane's vertex, made in place by each bounce (`arrive_in`) where its path
         // `scatters`.
         let mut vertices = [Vertex::UNSET; LANES];
         let mut scatters = [false; LANES];
         while let Some(active) = lanes.fill(samples, WhittedPath::new) {
             let found = scene.intersect_lanes(&lanes.rays(|path| path.ray), active);
+            let hits = found.hits();
             for (lane, path) in lanes.paths_mut() {
-                let hit = found.hit(lane);
+                let hit = hits[lane];
                 let vertex = &mut vertices[lane];
                 scatters[lane] = arrive_in(scene, &mut path.state, hit, self.max_depth, vertex);
             }
@@ -96,7 +97,7 @@ impl SampleIntegrator for Direct {
                 let (vertex, sampler) = (&vertices[lane], &mut path.sampler);
                 let continues =
                     scatters[lane] && leave(scene, &mut path.state, vertex, lit, sampler, None);
-                if !continues && let Some(path) = lanes.take(lane) {
+                if !continues && let Some(path) = lanes.end(lane) {
                     radiance[path.slot] = path.state.radiance;
                 }
             }

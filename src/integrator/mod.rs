@@ -154,12 +154,17 @@ struct LanePath<S> {
 /// each path's bounce is computed alone, by the same code as one path at a time (pbrt-v4's
 /// wavefront way: ray queries batched, kernels written once).
 struct Lanes<S> {
-    paths: [Option<LanePath<S>>; LANES],
+    /// Each lane's path; a free lane's (see `traced`) is stale and not read.
+    paths: [LanePath<S>; LANES],
+    /// The lanes whose path is being traced.
+    traced: [bool; LANES],
 }
 
 impl<S> Lanes<S> {
-    fn new() -> Self {
-        Lanes { paths: std::array::from_fn(|_| None) }
+    /// Free lanes, for paths whose state `start` makes from their camera ray.
+    fn new(start: impl Fn(Ray) -> S) -> Self {
+        let idle = || LanePath { slot: 0, sampler: Sampler::new(0, 0, 0), state: start(IDLE) };
+        Lanes { paths: std::array::from_fn(|_| idle()), traced: [false; LANES] }
     }
 
     /// Gives each free lane the next camera sample, its state made by `start` from the camera
@@ -170,32 +175,39 @@ impl<S> Lanes<S> {
         samples: &mut std::slice::Iter<CameraSample>,
         start: impl Fn(Ray) -> S,
     ) -> Option<[bool; LANES]> {
-        for path in self.paths.iter_mut().filter(|path| path.is_none()) {
+        let free = self.paths.iter_mut().zip(&mut self.traced).filter(|(_, traced)| !**traced);
+        for (path, traced) in free {
             let Some(CameraSample { slot, ray, sampler }) = samples.next() else { break };
-            *path = Some(LanePath { slot: *slot, sampler: sampler.clone(), state: start(*ray) });
+            // Written into the lane field by field: a whole path made aside and moved in
+            // (into an `Option`) was read back by wider loads than the stores that had made
+            // it, which waited for those stores (3 % of S3's `radiance_of_all`, perf).
+            path.slot = *slot;
+            path.sampler = sampler.clone();
+            path.state = start(*ray);
+            *traced = true;
         }
-        let active = self.paths.each_ref().map(Option::is_some);
-        active.contains(&true).then_some(active)
+        self.traced.contains(&true).then_some(self.traced)
     }
 
     /// The paths' next rays, coordinate by coordinate (`IDLE` in free lanes).
     fn rays(&self, ray: impl Fn(&S) -> Ray) -> RayLanes {
-        RayLanes::new(
-            &self.paths.each_ref().map(|path| path.as_ref().map_or(IDLE, |p| ray(&p.state))),
-        )
+        RayLanes::new(&std::array::from_fn(|lane| {
+            if self.traced[lane] { ray(&self.paths[lane].state) } else { IDLE }
+        }))
     }
 
     fn paths_mut(&mut self) -> impl Iterator<Item = (usize, &mut LanePath<S>)> {
-        self.paths.iter_mut().enumerate().filter_map(|(lane, path)| Some((lane, path.as_mut()?)))
+        let traced = self.traced;
+        self.paths.iter_mut().enumerate().filter(move |(lane, _)| traced[*lane])
     }
 
     fn path_mut(&mut self, lane: usize) -> Option<&mut LanePath<S>> {
-        self.paths[lane].as_mut()
+        self.traced[lane].then(|| &mut self.paths[lane])
     }
 
-    /// Ends the path in `lane`, freeing the lane.
-    fn take(&mut self, lane: usize) -> Option<LanePath<S>> {
-        self.paths[lane].take()
+    /// Ends the path in `lane`, freeing the lane: the path as it ended.
+    fn end(&mut self, lane: usize) -> Option<&LanePath<S>> {
+        std::mem::take(&mut self.traced[lane]).then(|| &self.paths[lane])
     }
 }
 

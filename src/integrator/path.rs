@@ -148,15 +148,16 @@ impl SampleIntegrator for Path {
             }
             return;
         }
-        let mut lanes: Lanes<PathState> = Lanes::new();
+        let mut lanes: Lanes<PathState> = Lanes::new(PathState::new);
         while let Some(active) = lanes.fill(samples, PathState::new) {
             let rays = lanes.rays(|path| path.ray);
             let found = scene.intersect_lanes(&rays, active);
             let mut shadows = ShadowLanes::new();
             let mut diffuse = DiffuseLanes::new();
             let mut done = [false; LANES];
+            let hits = found.hits();
             for (lane, path) in lanes.paths_mut() {
-                let hit = found.hit(lane);
+                let hit = hits[lane];
                 let bounce = self.bounce_by(scene, &mut path.state, hit, &mut path.sampler, {
                     let diffuse = &mut diffuse;
                     move |vertex| diffuse.set_lane(scene, lane, vertex)
@@ -179,7 +180,7 @@ impl SampleIntegrator for Path {
                 }
             }
             for (lane, _) in done.iter().enumerate().filter(|(_, done)| **done) {
-                if let Some(path) = lanes.take(lane) {
+                if let Some(path) = lanes.end(lane) {
                     radiance[path.slot] = path.state.radiance;
                 }
             }
