@@ -1,4 +1,4 @@
-//! Path vertices on a lone Lambertian lobe (`Bsdf::lone_lambertian`) under multiple importance
+//! Path vertices on a lone Lambertian lobe (`Material::lone_lambertian`) under multiple importance
 //! sampling, computed for all lanes at once: the light sample of a point or planar light
 //! (`LanesLight`), the lobe's f and pdf there, the power heuristic and the shadow ray, then the
 //! shading frame, the cosine-weighted direction and its density, and the next ray. Each lane is

@@ -102,6 +102,26 @@ impl Material {
         bsdf
     }
 
+    /// The lobe of its BSDF where that is its one lobe, a Lambertian one that scatters light
+    /// (kd > 0): `Bsdf::sample` then gives `Lambertian::direction` in the frame of the shading
+    /// normal, weighted by kd, and never ends a path for a leak where bump mapping did not tilt
+    /// that normal (`Bsdf::face`).
+    #[inline(always)]
+    pub fn lone_lambertian(&self) -> Option<Lambertian> {
+        match self.base_lobe() {
+            Some(Lobe::Lambertian(lobe)) if !self.has_specular_lobe() && lobe.albedo() > 0.0 => {
+                Some(lobe)
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether its BSDF has a specular or transmission lobe beside the base (`bsdf_in`).
+    #[inline(always)]
+    fn has_specular_lobe(&self) -> bool {
+        self.specular.max_element() > 0.0 || self.transmission.max_element() > 0.0
+    }
+
     /// `bsdf` made in place in `bsdf`, whatever it held.
     #[inline(always)]
     pub fn bsdf_in(&self, bsdf: &mut Bsdf, n: Vec3, mode: TransportMode) {
@@ -110,8 +130,8 @@ impl Material {
         if let Some(base) = self.base_lobe() {
             bsdf.lobes.push(base);
         }
-        let (ks, kt) = (self.specular, self.transmission);
-        if ks.max_element() > 0.0 || kt.max_element() > 0.0 {
+        if self.has_specular_lobe() {
+            let (ks, kt) = (self.specular, self.transmission);
             let dielectric = kt.max_element() > 0.0 || self.fresnel;
             let split = if self.fresnel {
                 Split::Fresnel { total: ks + kt }
@@ -160,19 +180,6 @@ impl Bsdf {
         let Some(n) = self.geometric else { return false };
         let shading = self.frame.to_local(wo).z * self.frame.to_local(wi).z > 0.0;
         (wo.dot(n) * wi.dot(n) > 0.0) != shading
-    }
-
-    /// Its lobe where it has one, a Lambertian one that scatters light (kd > 0), on a surface
-    /// that bump mapping did not tilt: `sample` gives `Lambertian::direction` in the frame of
-    /// the shading normal, weighted by kd, and never ends a path for a leak.
-    #[inline(always)]
-    pub fn lone_lambertian(&self) -> Option<&Lambertian> {
-        match self.lobes.as_slice() {
-            [Lobe::Lambertian(lobe)] if self.geometric.is_none() && lobe.albedo() > 0.0 => {
-                Some(lobe)
-            }
-            _ => None,
-        }
     }
 
     /// The kinds of lobes it has.

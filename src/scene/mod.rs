@@ -351,6 +351,12 @@ impl Scene {
         }
     }
 
+    /// Whether the material of `primitive` has bump mapping (`shade` may tilt its normals).
+    #[inline]
+    pub fn is_bumped(&self, primitive: u32) -> bool {
+        self.bumps[self.primitives[primitive as usize].material as usize].is_some()
+    }
+
     /// The shading normal of `hit` tilted by `bump` (in object space `frame`), seen from `wo`;
     /// none where it does not tilt (amount 0, a flat stretch): exactly the surface without
     /// bumps there.
