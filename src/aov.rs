@@ -241,9 +241,9 @@ pub fn render(scene: &Scene, region: &Region, taken: u32, list: &AovList) -> Aov
                 let share = layout.samples_of((row * width + column) as u64);
                 let indices = share.start..share.end.min(share.start.saturating_add(taken));
                 let count = indices.len();
-                let camera_sample = camera_samples(scene, x0 + column, y0 + row);
+                let pixel = camera_samples(scene, x0 + column, y0 + row);
                 for index in indices {
-                    let (ray, mut sampler) = camera_sample(index);
+                    let (ray, mut sampler) = pixel.sample(index);
                     // Where no light reaches the film, every AOV is 0, as the beauty is.
                     let Some(ray) = ray else { continue };
                     let seen = seen(scene, ray, &mut sampler);

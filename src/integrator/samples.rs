@@ -156,16 +156,16 @@ fn render_pass(
                     // those without a ray (where the film is dark) are traced by no integrator
                     // and stay black.
                     camera.clear();
-                    camera.extend(
-                        task.iter()
-                            .flat_map(|(column, indices)| {
-                                indices.clone().map(camera_samples(scene, x0 + column, y))
-                            })
-                            .enumerate()
-                            .filter_map(|(slot, (ray, sampler))| {
-                                Some(CameraSample { slot, ray: ray?, sampler })
-                            }),
-                    );
+                    let mut slot = 0;
+                    for (column, indices) in &task {
+                        let pixel = camera_samples(scene, x0 + column, y);
+                        for index in indices.clone() {
+                            if let (Some(ray), sampler) = pixel.sample(index) {
+                                camera.push(CameraSample { slot, ray, sampler });
+                            }
+                            slot += 1;
+                        }
+                    }
                     let taken: usize = task.iter().map(|(_, indices)| indices.len()).sum();
                     let radiance = &mut radiance[..taken];
                     radiance.fill(Vec3::ZERO);

@@ -460,28 +460,43 @@ impl Scene {
 /// projection leaves the film dark: no light arrives there), and the sampler its path goes on
 /// drawing from.
 pub fn camera_sample(scene: &Scene, x: usize, y: usize, index: u32) -> (Option<Ray>, Sampler) {
-    camera_samples(scene, x, y)(index)
+    camera_samples(scene, x, y).sample(index)
 }
 
-/// The camera samples of pixel (x, y) by index (`camera_sample`), the hash their samplers share
-/// made once (`PixelSampler`).
-pub fn camera_samples(
-    scene: &Scene,
-    x: usize,
-    y: usize,
-) -> impl Fn(u32) -> (Option<Ray>, Sampler) + '_ {
+/// The camera samples of pixel (x, y) by index (`PixelSamples::sample`), the hash their
+/// samplers share made once (`PixelSampler`).
+pub fn camera_samples(scene: &Scene, x: usize, y: usize) -> PixelSamples<'_> {
     let (width, height) = (scene.settings.width as usize, scene.settings.height as usize);
     let pixel = PixelSampler::new(scene.settings.seed, (y * width + x) as u64);
     // Converted once for the pixel's samples: from `usize`, each conversion costs about ten
     // instructions (callgrind of S1).
     let (x, y, width, height) = (x as f32, y as f32, width as f32, height as f32);
-    move |index| {
-        let mut sampler = pixel.sample(u64::from(index));
+    PixelSamples { scene, pixel, x, y, width, height }
+}
+
+/// The camera samples of one pixel (`camera_samples`).
+pub struct PixelSamples<'a> {
+    scene: &'a Scene,
+    pixel: PixelSampler,
+    x: f32,
+    y: f32,
+    width: f32,
+    height: f32,
+}
+
+impl PixelSamples<'_> {
+    /// Camera sample `index` (`camera_sample`). Always inlined: returned from a call (a closure
+    /// LLVM left out of line), the ray and sampler went through memory, and the copy into a
+    /// task's buffer waited on the narrower stores that had written them (perf of S1).
+    #[inline(always)]
+    pub fn sample(&self, index: u32) -> (Option<Ray>, Sampler) {
+        let camera = &self.scene.camera;
+        let mut sampler = self.pixel.sample(u64::from(index));
         let jitter = sampler.next_2d();
         // A pinhole camera needs no lens sample.
-        let lens = if scene.camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
-        let (u, v) = ((x + jitter.x) / width, (y + jitter.y) / height);
-        let ray = scene.camera.sees(u, v).then(|| scene.camera.ray(u, v, lens));
+        let lens = if camera.aperture > 0.0 { sampler.next_2d() } else { glam::Vec2::ZERO };
+        let (u, v) = ((self.x + jitter.x) / self.width, (self.y + jitter.y) / self.height);
+        let ray = camera.sees(u, v).then(|| camera.ray(u, v, lens));
         (ray, sampler)
     }
 }
