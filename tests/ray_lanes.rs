@@ -1,6 +1,7 @@
-//! Rays traced four at a time (`Scene::intersect_lanes`, `Scene::occluded_lanes`) meet the scene
+//! Rays traced in lanes (`Scene::intersect_lanes`, `Scene::occluded_lanes`) meet the scene
 //! where each meets it alone (`Scene::intersect`, `Scene::occluded`), whether the lanes test
-//! every shape (a scene of few simple shapes) or traverse the BVH (a scene of many).
+//! every shape (a scene of few simple shapes), test the simple ones beside a lone other under its
+//! own BVH, or traverse the BVH (a scene of many).
 
 use crate::common;
 
@@ -51,6 +52,18 @@ fn lanes_that_test_every_shape_agree_with_single_rays() {
         quad {{ <-0.25, 0.99, -0.25>, <0.5, 0, 0>, <0, 0, 0.5> }}
         triangle {{ <-0.9, 0, 0.9>, <0.9, 0, 0.9>, <0, 0.9, 0.5> }}
         disk {{ <0, 0.3, 0>, <0, 1, 0>, 0.4 }}"
+    )));
+}
+
+#[test]
+fn lanes_that_test_simple_shapes_beside_a_lone_other_agree_with_single_rays() {
+    // A cylinder is not simple: each lane meets it under a BVH of its own (as S5's mesh), the
+    // simple shapes in lanes.
+    assert_lanes_agree_with_single_rays(&scene(&format!(
+        "{LAB_BOX}
+        sphere {{ <-0.5, -0.7, 0.25>, 0.3 }}
+        quad {{ <-0.25, 0.99, -0.25>, <0.5, 0, 0>, <0, 0, 0.5> }}
+        cylinder {{ <0.5, -1, -0.25>, <0.5, 0.2, -0.25>, 0.3 }}"
     )));
 }
 

@@ -63,10 +63,14 @@ pub struct Scene {
     /// Unbounded primitives other than planes (CSG objects without bounds), after the planes:
     /// tested by every ray.
     others: Range<usize>,
-    /// For rays traced in lanes: the planes, and the bounded primitives too when they are all
-    /// simple and few (`few_holds_bounded`: the BVH is then not traversed).
+    /// For rays traced in lanes: the planes, and the simple bounded primitives too when they
+    /// are few and the others fewer still (`few_holds_bounded`: the BVH is then not traversed).
     few: FewShapes,
     few_holds_bounded: bool,
+    /// Where `few_holds_bounded`, the bounded primitives it does not take, which rays traced in
+    /// lanes meet one lane at a time, in the order of `alone_bvh`'s leaves; else none.
+    alone: Vec<usize>,
+    alone_bvh: Bvh,
     pub materials: Vec<Material>,
     /// Per material, what of it varies over the surface, if anything.
     textures: Vec<Option<SurfaceTexture>>,
@@ -127,16 +131,21 @@ impl Scene {
     pub fn intersect_lanes(&self, rays: &RayLanes, active: [bool; LANES]) -> Nearest {
         let mut closest = [None; LANES];
         let mut t_max = active.map(|active| if active { f32::INFINITY } else { 0.0 });
-        if !self.few_holds_bounded {
+        if !self.few_holds_bounded || !self.alone.is_empty() {
             let bounded = &self.primitives[..self.bounded];
             for lane in (0..LANES).filter(|&lane| active[lane]) {
                 let ray = &rays.lane(lane);
-                let test = |i: usize, t_max| {
+                let mut test = |i: usize, t_max| {
                     let at = bounded[i].shape.intersection(ray, t_max)?;
                     closest[lane] = Some(Found { primitive: i as u32, at });
                     Some(at.t)
                 };
-                t_max[lane] = self.bvh.closest(ray, t_max[lane], test, |leaf| self.preload(leaf));
+                t_max[lane] = if self.few_holds_bounded {
+                    let test = |k: usize, t_max| test(self.alone[k], t_max);
+                    self.alone_bvh.closest(ray, t_max[lane], test, |_| ())
+                } else {
+                    self.bvh.closest(ray, t_max[lane], test, |leaf| self.preload(leaf))
+                };
             }
         }
         if !self.others.is_empty() {
@@ -254,13 +263,18 @@ impl Scene {
                 }
             }
         }
-        if !self.few_holds_bounded {
+        if !self.few_holds_bounded || !self.alone.is_empty() {
             let bounded = &self.primitives[..self.bounded];
             let open = occluded;
             for lane in (0..LANES).filter(|&lane| !open.lane(lane) && t_max.lane(lane) > 0.0) {
                 let (ray, t_max) = (&rays.lane(lane), t_max.lane(lane));
                 let occludes = |i: usize| bounded[i].shape.occludes(ray, t_max);
-                if self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf)) {
+                let met = if self.few_holds_bounded {
+                    self.alone_bvh.any(ray, t_max, |k| occludes(self.alone[k]), |_| ())
+                } else {
+                    self.bvh.any(ray, t_max, occludes, |leaf| self.preload(leaf))
+                };
+                if met {
                     occluded.set_lane(lane, true);
                 }
             }
