@@ -120,7 +120,7 @@ impl Camera {
     /// lens position `lens` in [0, 1]^2 when the camera has an aperture. (Where the camera does
     /// not `see`, the projection's formula continued.) Always inlined, but for a `normal`'s
     /// tilt: out of line, the ray came back through memory, and the copy of it into a task's
-    /// camera samples waited on the narrower stores that had written it (5 % of S1, perf).
+    /// camera samples waited on the narrower stores that had written it (perf of S1).
     #[inline(always)]
     pub fn ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
         let ray = self.straight_ray(x, y, lens);

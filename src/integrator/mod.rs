@@ -178,9 +178,9 @@ impl<S> Lanes<S> {
         let free = self.paths.iter_mut().zip(&mut self.traced).filter(|(_, traced)| !**traced);
         for (path, traced) in free {
             let Some(CameraSample { slot, ray, sampler }) = samples.next() else { break };
-            // Written into the lane field by field: a whole path made aside and moved in
-            // (into an `Option`) was read back by wider loads than the stores that had made
-            // it, which waited for those stores (3 % of S3's `radiance_of_all`, perf).
+            // Assigned to the lane's fields: a whole `Option<LanePath>` made aside and moved in
+            // was read back by wider loads than the stores that had made it, which waited for
+            // them (perf of S3; LLVM still makes the state aside, 1–2 % of S3's samples).
             path.slot = *slot;
             path.sampler = sampler.clone();
             path.state = start(*ray);

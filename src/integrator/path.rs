@@ -207,9 +207,9 @@ impl Path {
     }
 
     /// `bounce`, but under multiple importance sampling a vertex on a lone Lambertian lobe
-    /// (`Material::lone_lambertian`, no bump mapping) may be left to `defer`, with its light sample and its BSDF
-    /// sample: where it takes it, the throughput is multiplied by kd and the bounce goes on, its
-    /// next ray and roulette left to `PathState::follow_diffuse`.
+    /// (`Material::lone_lambertian`, without bump mapping) may be left to `defer`, with its
+    /// light sample and its BSDF sample: where it takes it, the throughput is multiplied by kd
+    /// and the bounce goes on, its next ray and roulette left to `PathState::follow_diffuse`.
     #[inline(always)]
     fn bounce_by(
         &self,
