@@ -170,7 +170,7 @@ impl SampleIntegrator for Path {
             }
             let set = diffuse.set();
             if set != 0 {
-                let sampled = diffuse.scatter(scene, &mut shadows);
+                let sampled = diffuse.scatter(scene, &found.hits, -rays.dir, &mut shadows);
                 for (lane, path) in lanes.paths_mut().filter(|(lane, _)| set & (1 << lane) != 0) {
                     done[lane] = !path.state.follow_diffuse(&sampled, lane, &mut path.sampler);
                 }
@@ -254,7 +254,7 @@ impl Path {
         let u = sampler.next_2d_if(flags.is_non_delta());
         let beta = path.beta;
         if let Some(Lambertian { reflectance: kd }) = lone {
-            if defer(DiffuseVertex { hit: &hit, wo, kd, beta, light, u }) {
+            if defer(DiffuseVertex { primitive: hit.primitive, kd, beta, light, u }) {
                 path.beta *= kd;
                 return Bounce { shadowed: None, continues: true };
             }
