@@ -166,7 +166,7 @@ fn render_pass(
                             slot += 1;
                         }
                     }
-                    let taken: usize = task.iter().map(|(_, indices)| indices.len()).sum();
+                    let taken = slot; // every sample index took a slot, with a ray or not
                     let radiance = &mut radiance[..taken];
                     radiance.fill(Vec3::ZERO);
                     integrator.radiance_of_all(scene, &camera, radiance);
